@@ -1,0 +1,60 @@
+#include "core/atomic_file.hpp"
+
+#include "core/error.hpp"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fcntl.h>
+#include <random>
+#include <unistd.h>
+
+namespace pr {
+
+void write_file_atomic(const std::filesystem::path& path, std::span<const std::uint8_t> bytes)
+{
+    namespace fs = std::filesystem;
+    const std::string subject = path.string();
+    if (path.empty()) throw Error("--out", "empty file name");
+    fs::path dir = path.parent_path();
+    if (dir.empty()) dir = ".";
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) throw Error(subject, "folder " + dir.string() + " does not exist");
+    if (fs::is_directory(path, ec)) throw Error(subject, "is a folder");
+
+    std::random_device rd;
+    const fs::path tmp = dir / ("." + path.filename().string() + ".tmp" + std::to_string(rd() % 1000000));
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd < 0) throw Error(subject, std::string("cannot write: ") + std::strerror(errno));
+    std::size_t done = 0;
+    while (done < bytes.size()) {
+        const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            const int err = errno;
+            ::close(fd);
+            ::unlink(tmp.c_str());
+            throw Error(subject, std::string("cannot write: ") + std::strerror(err));
+        }
+        done += static_cast<std::size_t>(n);
+    }
+    if (::fsync(fd) != 0 && errno != EINVAL && errno != EROFS) {
+        const int err = errno;
+        ::close(fd);
+        ::unlink(tmp.c_str());
+        throw Error(subject, std::string("cannot write: ") + std::strerror(err));
+    }
+    ::close(fd);
+    if (::rename(tmp.c_str(), path.c_str()) != 0) {
+        const int err = errno;
+        ::unlink(tmp.c_str());
+        throw Error(subject, std::string("cannot write: ") + std::strerror(err));
+    }
+}
+
+void write_file_atomic(const std::filesystem::path& path, std::string_view text)
+{
+    write_file_atomic(path, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
+}
+
+} // namespace pr

@@ -1,0 +1,17 @@
+#pragma once
+// Every output is written to a temporary file in the destination's folder and renamed into
+// place when complete, so an interrupted or failed run never leaves a partial file behind.
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <span>
+#include <string_view>
+
+namespace pr {
+
+// Writes `bytes` to `path` atomically. Throws pr::Error naming `path` on failure; on failure
+// neither `path` (if it did not exist) nor a temporary file is left behind.
+void write_file_atomic(const std::filesystem::path& path, std::span<const std::uint8_t> bytes);
+void write_file_atomic(const std::filesystem::path& path, std::string_view text);
+
+} // namespace pr

@@ -1,0 +1,3 @@
+#include "core/image.hpp"
+#include "core/error.hpp"
+// placeholder: implemented by the image module

@@ -1,0 +1,69 @@
+#pragma once
+// Images and height fields: loading (stb), built-in procedural maps, PNG output. No GL here.
+//
+// Row order: every in-memory image in prismrelief stores its *bottom* row first (row 0 is
+// v = 0), matching the contract's UV origin (bottom-left) and glTexImage2D. Files store the top
+// row first, so loaders flip and writers flip back.
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec4.hpp>
+
+namespace pr {
+
+// Limits on what inputs may claim (pre-checked before decoding, so absurd headers fail early).
+struct ImageLimits {
+    int max_dimension = 16384;          // width and height, each
+    std::int64_t max_pixels = 1 << 26;  // 64 Mpixel
+};
+
+// Scalar height field h in [0,1]: the first channel of the image, full precision (16-bit input
+// keeps 16 bits). Repeat wrap; texel centres at ((i+0.5)/w, (j+0.5)/h).
+struct HeightField {
+    int width = 0;
+    int height = 0;
+    int bits = 8;                // 8 or 16: precision of the source, chooses R8 or R16 on the GPU
+    std::string name;            // file path or "builtin:NAME", for messages and cache keys
+    std::vector<float> texels;   // width*height, bottom row first
+
+    float at(int x, int y) const; // wrapped texel fetch
+    // Bilinear sample at uv (UV origin bottom-left, repeat wrap, texel centres at (i+0.5)/n):
+    // the exact function the reference geometry and the GPU's level-0 bilinear fetch share.
+    float sample(glm::vec2 uv) const;
+    float min_value() const;
+    float max_value() const;
+};
+
+// RGBA8 straight-alpha image, bottom row first.
+struct RgbaImage {
+    int width = 0;
+    int height = 0;
+    std::vector<std::uint8_t> pixels; // width*height*4
+
+    glm::u8vec4 at(int x, int y) const { const auto* p = &pixels[4 * (std::size_t(y) * width + x)]; return {p[0], p[1], p[2], p[3]}; }
+};
+
+// `spec` is a file (PNG, JPG, BMP, TGA; 8 or 16 bit; first channel) or "builtin:NAME" (see
+// builtin_height_names()). Throws pr::Error naming the file on any problem (missing, not an
+// image, truncated, 0x0, too large).
+HeightField load_height(const std::string& spec, const ImageLimits& limits = {});
+
+// Colour texture: a file (any stb format; grey, grey+alpha, RGB, RGBA, paletted) or "builtin:NAME"
+// (see builtin_color_names()). Throws pr::Error naming the file.
+RgbaImage load_color(const std::string& spec, const ImageLimits& limits = {});
+
+// Names accepted after "builtin:" (e.g. "bumps", "bricks", "noise", ...), each tileable.
+std::vector<std::string> builtin_height_names();
+std::vector<std::string> builtin_color_names();
+
+// Encodes `image` (bottom row first) as PNG, top row first as files store it.
+std::vector<std::uint8_t> encode_png(const RgbaImage& image);
+// Encodes and writes atomically (temporary file + rename). Throws pr::Error naming `path`.
+void write_png(const std::filesystem::path& path, const RgbaImage& image);
+// Reads a PNG written by write_png (or any 8-bit image) back as RGBA, bottom row first.
+RgbaImage read_rgba(const std::filesystem::path& path);
+
+} // namespace pr

@@ -1,0 +1,1 @@
+// eval: compare metrics and bench (later issue)

@@ -1,0 +1,6 @@
+#include "app/cli.hpp"
+
+int main(int argc, char** argv)
+{
+    return pr::run_cli(argc, argv);
+}

@@ -1,0 +1,1 @@
+// maps: normal-from-height, cone maps (later issues)

@@ -1,0 +1,58 @@
+#pragma once
+// Mesh loading and preparation. This module is the only place that includes OpenMesh; what it
+// returns is plain data (PreparedMesh), so nothing else depends on OpenMesh types.
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+namespace pr {
+
+// One render vertex: a unique (welded position, UV) pair. Vertices split by UV seams keep the
+// same `normal` and `weld_id`.
+struct MeshVertex {
+    glm::vec3 position{0.0f};  // object space
+    glm::vec3 normal{0.0f, 0.0f, 1.0f}; // unit, angle-weighted, welded by position (shell direction)
+    glm::vec2 uv{0.0f};        // texture space, origin bottom-left
+    // Metric tangent frame (contract): tangent.xyz = dP/du, bitangent = dP/dv, both unnormalized
+    // (object units per UV unit), averaged over the faces around this (position, UV) vertex and
+    // made perpendicular to `normal`. tangent.w = handedness: +1 when (T, B, N) is right-handed,
+    // -1 for mirrored UVs. Degenerate UVs fall back to a finite frame, never NaN.
+    glm::vec4 tangent{1.0f, 0.0f, 0.0f, 1.0f};
+    glm::vec3 bitangent{0.0f, 1.0f, 0.0f};
+    std::uint32_t weld_id = 0; // index of the welded position: equal for every copy of a position
+};
+
+struct MeshOptions {
+    std::size_t max_triangles = 20'000'000; // after triangulation; more fails early with an error
+    // Automatic UVs for meshes without them (see docs/techniques.md "UVs"): box projection on the
+    // dominant axis of each face's welded normal; `uv_scale` UV units (texture repeats) across the
+    // largest extent of the bounding box.
+    float uv_scale = 2.0f;
+    bool force_generated_uvs = false; // ignore the file's UVs
+};
+
+struct PreparedMesh {
+    std::vector<MeshVertex> vertices;
+    std::vector<std::uint32_t> indices; // triangles, counter-clockwise seen from outside
+    std::uint32_t weld_count = 0;       // number of distinct welded positions
+    glm::vec3 bbox_min{0.0f};
+    glm::vec3 bbox_max{0.0f};
+    bool had_uvs = false;               // false: UVs were generated
+    bool had_normals = false;           // file normals are read but the shell always uses welded ones
+    std::size_t dropped_triangles = 0;  // degenerate (zero area) triangles removed
+    std::size_t triangle_count() const { return indices.size() / 3; }
+};
+
+// Reads OBJ (v/vt/vn, polygons, negative indices), OFF, PLY, STL (ASCII or binary) through
+// OpenMesh, validates what it returns, and prepares it. Throws pr::Error("<file>", "<problem>")
+// for a missing/unreadable/malformed/empty file or one over the limits. Oddities that still
+// render (non-manifold, degenerate faces dropped, generated UVs) produce pr::warn lines.
+PreparedMesh load_mesh(const std::filesystem::path& path, const MeshOptions& options = {});
+
+} // namespace pr
