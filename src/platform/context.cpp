@@ -1,0 +1,57 @@
+#include "platform/context.hpp"
+
+#include "core/error.hpp"
+#include "gl/gl.hpp"
+
+namespace pr {
+
+Backend parse_backend(const std::string& name)
+{
+    if (name == "osmesa") return Backend::OSMesa;
+    if (name == "egl") return Backend::Egl;
+    throw Error("--backend", "unknown backend '" + name + "' (expected osmesa or egl)");
+}
+
+std::string backend_name(Backend backend)
+{
+    return backend == Backend::OSMesa ? "osmesa" : "egl";
+}
+
+std::vector<std::string> available_backends()
+{
+#ifdef PRISMRELIEF_HAVE_EGL
+    return {"osmesa", "egl"};
+#else
+    return {"osmesa"};
+#endif
+}
+
+void Context::load_gl(ProcLoader get_proc, const std::string& subject, const std::string& backend)
+{
+    const int version = gladLoadGL(reinterpret_cast<GLADloadfunc>(get_proc));
+    if (version == 0) throw Error(subject, "could not load OpenGL entry points");
+    const int major = GLAD_VERSION_MAJOR(version);
+    const int minor = GLAD_VERSION_MINOR(version);
+    if (major < 4 || (major == 4 && minor < 5))
+        throw Error(subject, "OpenGL " + std::to_string(major) + "." + std::to_string(minor) +
+                                 " context, 4.5 core needed");
+    const auto str = [](GLenum name) {
+        const auto* s = reinterpret_cast<const char*>(glGetString(name));
+        return std::string(s ? s : "?");
+    };
+    description_ = backend + ": " + str(GL_RENDERER) + ", OpenGL " + str(GL_VERSION);
+}
+
+std::unique_ptr<Context> create_headless_context(Backend backend)
+{
+    return backend == Backend::OSMesa ? create_osmesa_context() : create_egl_context();
+}
+
+#ifndef PRISMRELIEF_HAVE_EGL
+std::unique_ptr<Context> create_egl_context()
+{
+    throw Error("--backend", "egl: this build has no EGL support (EGL headers were missing)");
+}
+#endif
+
+} // namespace pr

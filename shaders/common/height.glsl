@@ -1,0 +1,70 @@
+// Height and colour sampling. Every fetch inside a marcher goes through height_at(), which uses
+// textureGrad with the gradients of the *entry* uv taken once before the loop: inside a loop
+// (non-uniform control flow) implicit derivatives are undefined and cause seams of wrong mip
+// levels (the seed's note on derivative artifacts).
+layout(binding = PR_TEX_HEIGHT) uniform sampler2D s_height;
+layout(binding = PR_TEX_COLOR) uniform sampler2D s_color;
+
+struct UvGrad {
+    vec2 dx; // d(uv)/dx in texture space per pixel
+    vec2 dy;
+};
+
+// Height samples taken by this fragment (contract: one fetch of the height or cone texture in a
+// marcher, refinement included). Written to the counters buffer by instrumented variants.
+int g_height_samples = 0;
+
+float height_at(vec2 uv, UvGrad g)
+{
+    ++g_height_samples;
+    return textureGrad(s_height, uv, g.dx, g.dy).r;
+}
+
+vec3 albedo_at(vec2 uv, UvGrad g)
+{
+    if ((u_march.w & PR_FLAG_COLOR_TEXTURE) != 0) return textureGrad(s_color, uv, g.dx, g.dy).rgb;
+    return u_base_color.rgb;
+}
+
+// Slopes of the height field (dh/du, dh/dv per UV unit) at uv, from level-0 texels: the three
+// qualities of the seed. Not counted as marcher samples (shading, not search).
+vec2 height_slopes(vec2 uv)
+{
+    vec2 size = vec2(textureSize(s_height, 0));
+    vec2 texel = 1.0 / size;
+#if PR_NORMAL_QUALITY == PR_NORMAL_GATHER
+    // 4 texels around uv in one fetch: w=(0,0) z=(1,0) x=(0,1) y=(1,1). Cheapest, coarsest
+    // (the slope is constant across each texel quad).
+    vec4 q = textureGather(s_height, uv, 0);
+    vec2 d = vec2((q.y - q.x) + (q.z - q.w), (q.x - q.w) + (q.y - q.z)) * 0.5;
+    return d * size;
+#elif PR_NORMAL_QUALITY == PR_NORMAL_CENTRAL
+    float hl = textureLod(s_height, uv - vec2(texel.x, 0.0), 0.0).r;
+    float hr = textureLod(s_height, uv + vec2(texel.x, 0.0), 0.0).r;
+    float hd = textureLod(s_height, uv - vec2(0.0, texel.y), 0.0).r;
+    float hu = textureLod(s_height, uv + vec2(0.0, texel.y), 0.0).r;
+    return vec2(hr - hl, hu - hd) * 0.5 * size;
+#else
+    // Sobel: 3x3 neighbourhood, smoothest and most robust to 8-bit stair steps.
+    float h[9];
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i)
+            h[j * 3 + i] = textureLod(s_height, uv + vec2(i - 1, j - 1) * texel, 0.0).r;
+    float gx = (h[2] + 2.0 * h[5] + h[8]) - (h[0] + 2.0 * h[3] + h[6]);
+    float gy = (h[6] + 2.0 * h[7] + h[8]) - (h[0] + 2.0 * h[1] + h[2]);
+    return vec2(gx, gy) / 8.0 * size;
+#endif
+}
+
+// World-space normal of the displaced surface S = P + T u + B v + N depth h(u,v) at uv:
+// dS/du = T + N depth dh/du, dS/dv = B + N depth dh/dv (metric frame, contract). Oriented to
+// the side of n_geom, so mirrored UVs (left-handed T, B) give the same result.
+vec3 height_normal(vec2 uv, vec3 t, vec3 b, vec3 n_geom, float depth)
+{
+    vec2 s = height_slopes(uv) * depth;
+    vec3 n = cross(t + n_geom * s.x, b + n_geom * s.y);
+    float len = length(n);
+    if (!(len > 1e-20)) return n_geom;
+    n /= len;
+    return dot(n, n_geom) < 0.0 ? -n : n;
+}

@@ -1,0 +1,16 @@
+// Blinn-Phong with one directional light (energy-normalized specular lobe).
+// n: unit shading normal, l: unit direction towards the light, v: unit direction towards the
+// eye, all world space. Returns linear RGB.
+vec3 shade_blinn_phong(vec3 albedo, vec3 n, vec3 l, vec3 v)
+{
+    const float ambient = u_material.x;
+    const float diffuse = u_material.y;
+    const float specular = u_material.z;
+    const float shininess = u_material.w;
+    float n_dot_l = max(dot(n, l), 0.0);
+    vec3 h = normalize(l + v);
+    float spec = n_dot_l > 0.0
+        ? (shininess + 8.0) / (8.0 * 3.14159265) * pow(max(dot(n, h), 0.0), shininess)
+        : 0.0;
+    return albedo * (ambient + diffuse * n_dot_l) + vec3(specular * spec);
+}

@@ -1,0 +1,73 @@
+// One source of truth for attribute locations, bindings and uniform-block layouts, included by
+// C++ (src/render) and by GLSL (shaders/). Blocks hold only vec4/ivec4/mat4 members so std140
+// and the C++ layout agree without padding rules; a GL test checks every offset.
+#pragma once
+#ifdef __cplusplus
+#include <glm/glm.hpp>
+namespace pr::shader {
+using vec4 = glm::vec4;
+using ivec4 = glm::ivec4;
+using mat4 = glm::mat4;
+#define PR_UNIFORM_BLOCK(name, b) struct name
+#else
+#define PR_UNIFORM_BLOCK(name, b) layout(std140, binding = b) uniform name
+#endif
+
+// Vertex attribute locations (MeshVertex in src/mesh/mesh.hpp).
+#define PR_ATTR_POSITION 0
+#define PR_ATTR_NORMAL 1
+#define PR_ATTR_UV 2
+#define PR_ATTR_TANGENT 3
+#define PR_ATTR_BITANGENT 4
+#define PR_ATTR_WELD_ID 5
+
+// Uniform-block, texture-unit and storage-buffer bindings.
+#define PR_UBO_FRAME 0
+#define PR_UBO_OBJECT 1
+#define PR_TEX_HEIGHT 0
+#define PR_TEX_COLOR 1
+#define PR_TEX_CONE 2
+#define PR_SSBO_COUNTERS 0
+
+// Technique ids (PR_TECHNIQUE is defined to one of them per program variant).
+#define PR_TECH_FLAT 0
+#define PR_TECH_NORMAL 1
+#define PR_TECH_OFFSET 2
+#define PR_TECH_STEEP 3
+#define PR_TECH_POM 4
+#define PR_TECH_RELIEF 5
+
+// Normal-from-height qualities (PR_NORMAL_QUALITY): the seed's three.
+#define PR_NORMAL_GATHER 0
+#define PR_NORMAL_CENTRAL 1
+#define PR_NORMAL_SOBEL 2
+
+// Bits of ObjectBlock.u_march.w.
+#define PR_FLAG_COLOR_TEXTURE 1
+
+// Per frame: camera and light, world space.
+PR_UNIFORM_BLOCK(FrameBlock, PR_UBO_FRAME)
+{
+    mat4 u_view;
+    mat4 u_proj;
+    mat4 u_view_proj;
+    vec4 u_eye;       // xyz: eye position
+    vec4 u_light_dir; // xyz: unit direction towards the light
+    vec4 u_viewport;  // width, height, 1/width, 1/height (pixels)
+};
+
+// Per object: transform, displacement and marching parameters.
+PR_UNIFORM_BLOCK(ObjectBlock, PR_UBO_OBJECT)
+{
+    mat4 u_model;
+    mat4 u_normal_matrix; // inverse transpose of the model's 3x3 part
+    vec4 u_displace;      // x: depth (scene units), y: midlevel, z/w: height map size (texels)
+    ivec4 u_march;        // x: linear steps over the full height range, y: binary steps,
+                          // z: unused, w: PR_FLAG_* bits
+    vec4 u_material;      // ambient, diffuse, specular, shininess
+    vec4 u_base_color;    // albedo when there is no colour texture (rgb), a unused
+};
+
+#ifdef __cplusplus
+} // namespace pr::shader
+#endif

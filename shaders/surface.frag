@@ -1,0 +1,92 @@
+// Base-surface techniques (contract): the polygon is the top of the height range and the
+// techniques carve inward by `depth` along the normal, in the metric tangent frame
+// (T = dP/du, B = dP/dv unnormalized; height axis depth * N). Texture space is (u, v, s) with
+// s = 1 at the polygon and s = h(u, v) on the surface.
+#include "common/shared.h"
+#include "common/height.glsl"
+#include "common/lighting.glsl"
+#include "march/relief.glsl"
+
+in vec3 v_world_pos;
+in vec3 v_normal;
+in vec2 v_uv;
+in vec3 v_tangent;
+in vec3 v_bitangent;
+
+layout(location = 0) out vec4 o_color;
+
+#ifdef PR_COUNT_SAMPLES
+layout(std430, binding = PR_SSBO_COUNTERS) buffer Counters {
+    uint c_fragments;
+    uint c_samples;
+    uint c_histogram[];
+};
+#endif
+
+void main()
+{
+    float depth = u_displace.x;
+    vec3 n_geom = normalize(v_normal);
+    if (!gl_FrontFacing) n_geom = -n_geom; // seen from behind: carve into the visible side
+    vec3 t_axis = v_tangent;
+    vec3 b_axis = v_bitangent;
+    UvGrad g = UvGrad(dFdx(v_uv), dFdy(v_uv));
+    vec3 view = v_world_pos - u_eye.xyz; // eye to fragment, world units
+
+    vec2 uv = v_uv;
+    float t_hit = 0.0; // along `view`: the hit is v_world_pos + t_hit * view
+
+#if PR_TECHNIQUE >= PR_TECH_OFFSET
+    // The view ray in texture space: solve view = d.x T + d.y B + d.z (depth N).
+    mat3 frame = mat3(t_axis, b_axis, n_geom * depth);
+    float det = determinant(frame);
+    if (depth > 0.0 && abs(det) > 1e-30) {
+        vec3 d = inverse(frame) * view;
+        // Descent per unit of height: at s the ray is at uv + (1 - s) * slope. A ray parallel to
+        // the surface would never descend; clamp so uv stays finite at grazing angles.
+        float descent = max(-d.z, 1e-6 * length(d.xy) + 1e-12);
+        vec2 slope = d.xy / descent;
+#if PR_TECHNIQUE == PR_TECH_OFFSET
+        // Offset limiting (Welsh 2004): the parallax offset (1 - h) * slope scaled by cos(theta),
+        // which bounds it by (1 - h) * depth in world units at grazing angles.
+        float h = height_at(uv, g);
+        float cos_theta = max(-dot(normalize(view), n_geom), 0.0);
+        uv += (1.0 - h) * slope * cos_theta;
+        t_hit = 0.0;
+#else
+        MarchRay ray = MarchRay(vec3(uv, 1.0), vec3(slope, -1.0), 1.0, max(u_march.x, 1));
+        Bracket b = march_linear(ray, g);
+        float s_t = b.hit ? b.t_below : 1.0;
+#if PR_TECHNIQUE == PR_TECH_POM
+        if (b.hit) s_t = interpolate_bracket(b);
+#elif PR_TECHNIQUE == PR_TECH_RELIEF
+        if (b.hit) s_t = refine_binary(ray, b, u_march.y, g);
+#endif
+        uv += s_t * slope;
+        t_hit = s_t / descent;
+#endif
+    }
+#endif
+
+#if PR_TECHNIQUE == PR_TECH_FLAT
+    vec3 n = n_geom;
+#else
+    vec3 n = height_normal(uv, t_axis, b_axis, n_geom, depth);
+#endif
+    vec3 to_eye = -normalize(view);
+    vec3 color = shade_blinn_phong(albedo_at(uv, g), n, normalize(u_light_dir.xyz), to_eye);
+    o_color = vec4(color, 1.0);
+
+#ifdef PR_DEPTH_WRITE
+    // Depth of what is shown (--depth-write). A variant of its own: writing gl_FragDepth at all
+    // turns off early depth rejection, so the plain variants never touch it.
+    vec4 clip = u_view_proj * vec4(v_world_pos + t_hit * view, 1.0);
+    gl_FragDepth = clamp(clip.z / clip.w * 0.5 + 0.5, 0.0, 1.0);
+#endif
+
+#ifdef PR_COUNT_SAMPLES
+    atomicAdd(c_fragments, 1u);
+    atomicAdd(c_samples, uint(g_height_samples));
+    atomicAdd(c_histogram[min(g_height_samples, int(c_histogram.length()) - 1)], 1u);
+#endif
+}

@@ -1,0 +1,14 @@
+#pragma once
+// One function per subcommand: each registers its options on the parser and returns the action
+// to run after parsing.
+#include <CLI/CLI.hpp>
+
+#include <functional>
+
+namespace pr {
+
+using CommandAction = std::function<int()>;
+
+CommandAction add_render_command(CLI::App& app);
+
+} // namespace pr

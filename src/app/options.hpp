@@ -1,0 +1,53 @@
+#pragma once
+// Command-line options shared by the subcommands (scene, camera, technique, output), and the
+// translation of what was given into a SceneSpec and DrawSettings.
+#include "render/scene.hpp"
+#include "render/technique.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <optional>
+#include <string>
+
+namespace pr {
+
+struct SceneOptions {
+    std::string scene_file;
+    std::string mesh;
+    std::optional<std::string> height; // default: ObjectSpec's (builtin:bumps)
+    std::string color;
+    std::optional<float> depth;
+    std::optional<float> midlevel;
+    std::string light, eye, target, up;
+    std::optional<float> fovy, elevation, azimuth;
+    std::string size = "800x600";
+    std::string backend = "osmesa";
+    std::size_t max_triangles = MeshOptions{}.max_triangles;
+    float uv_scale = MeshOptions{}.uv_scale;
+    bool generate_uvs = false;
+
+    CLI::Option* size_option = nullptr;
+};
+
+struct TechniqueOptions {
+    std::string technique = "relief";
+    int steps = DrawSettings{}.steps;
+    int refine = DrawSettings{}.refine;
+    std::string normal_quality = "sobel";
+    bool depth_write = false;
+};
+
+void add_scene_options(CLI::App& app, SceneOptions& o);
+void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_technique);
+
+// Builds the SceneSpec: --scene JSON first (paths relative to the JSON file), then flags on top
+// (flags override a single-object scene's object, and the camera/light/size). Throws pr::Error.
+SceneSpec make_scene_spec(const SceneOptions& o);
+DrawSettings make_draw_settings(const TechniqueOptions& o, const std::string& technique);
+
+// "x,y,z" -> vec3; throws pr::Error(option, …).
+glm::vec3 parse_vec3(const std::string& text, const std::string& option);
+// "WxH" -> (w, h); throws pr::Error(option, …).
+std::pair<int, int> parse_size(const std::string& text, const std::string& option);
+
+} // namespace pr

@@ -1,0 +1,62 @@
+#include "core/camera.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace pr {
+
+glm::mat4 Camera::view() const
+{
+    return glm::lookAt(eye, target, up);
+}
+
+glm::mat4 Camera::projection(float aspect) const
+{
+    return glm::perspective(glm::radians(fovy_deg), aspect, near_plane, far_plane);
+}
+
+Camera frame_sphere(const Sphere& bounds, float fovy_deg, float aspect, float elevation_deg,
+                    float azimuth_deg, glm::vec3 up)
+{
+    Camera c;
+    c.fovy_deg = fovy_deg;
+    c.up = glm::normalize(up);
+    // A basis around `up`: `fwd` is the azimuth-0 horizontal direction towards the eye.
+    glm::vec3 ref = std::abs(c.up.z) < 0.9f ? glm::vec3(0, 0, 1) : glm::vec3(1, 0, 0);
+    glm::vec3 side = glm::normalize(glm::cross(c.up, ref));
+    glm::vec3 fwd = glm::normalize(glm::cross(side, c.up));
+    const float el = glm::radians(elevation_deg);
+    const float az = glm::radians(azimuth_deg);
+    glm::vec3 dir = std::cos(el) * (std::cos(az) * fwd + std::sin(az) * side) + std::sin(el) * c.up;
+    // Looking straight along `up` makes lookAt degenerate: tilt the up vector instead.
+    if (std::abs(glm::dot(dir, c.up)) > 0.999f) c.up = -fwd;
+    const float half_v = glm::radians(fovy_deg) * 0.5f;
+    const float half_h = std::atan(std::tan(half_v) * aspect);
+    const float half = std::min(half_v, half_h);
+    const float distance = bounds.radius / std::sin(half) * 1.02f;
+    c.target = bounds.center;
+    c.eye = bounds.center + dir * distance;
+    fit_clip_planes(c, bounds);
+    return c;
+}
+
+void fit_clip_planes(Camera& camera, const Sphere& bounds)
+{
+    const float d = glm::length(camera.eye - bounds.center);
+    const float r = bounds.radius * 1.05f;
+    camera.far_plane = d + r;
+    camera.near_plane = std::max(d - r, camera.far_plane * 1e-4f);
+}
+
+float depth_to_distance(const Camera& camera, int width, int height, float x, float y, float window_depth)
+{
+    const float aspect = static_cast<float>(width) / static_cast<float>(height);
+    const glm::mat4 inv = glm::inverse(camera.projection(aspect));
+    const glm::vec4 ndc((x + 0.5f) / width * 2.0f - 1.0f, (y + 0.5f) / height * 2.0f - 1.0f,
+                        window_depth * 2.0f - 1.0f, 1.0f);
+    const glm::vec4 v = inv * ndc;
+    return glm::length(glm::vec3(v) / v.w);
+}
+
+} // namespace pr

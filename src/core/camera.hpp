@@ -1,0 +1,39 @@
+#pragma once
+// Perspective camera (contract): vertical field of view in degrees, eye/target/up, and
+// auto-framing on a bounding sphere. World space throughout; OpenGL clip conventions.
+#include <glm/glm.hpp>
+
+namespace pr {
+
+struct Sphere {
+    glm::vec3 center{0.0f};
+    float radius = 1.0f;
+};
+
+struct Camera {
+    glm::vec3 eye{0.0f, 0.0f, 5.0f};
+    glm::vec3 target{0.0f};
+    glm::vec3 up{0.0f, 1.0f, 0.0f};
+    float fovy_deg = 40.0f;
+    float near_plane = 0.01f; // chosen from the scene's bounds (see fit_clip_planes)
+    float far_plane = 100.0f;
+
+    glm::mat4 view() const;
+    glm::mat4 projection(float aspect) const;
+};
+
+// Auto-framing: looks at `bounds.center` from `elevation_deg` above the horizontal plane
+// (perpendicular to `up`) and `azimuth_deg` around `up` (0 looks along -Z from +Z, 90 from +X),
+// at the distance where the sphere fits both the vertical and the horizontal field of view.
+Camera frame_sphere(const Sphere& bounds, float fovy_deg, float aspect, float elevation_deg,
+                    float azimuth_deg, glm::vec3 up = {0.0f, 1.0f, 0.0f});
+
+// Near and far planes that enclose `bounds` as seen from the camera (near never below a small
+// fraction of the distance, so depth precision holds).
+void fit_clip_planes(Camera& camera, const Sphere& bounds);
+
+// Distance from the eye along the pixel's ray for a window-space depth value (0..1) at pixel
+// centre (x + 0.5, y + 0.5) of a width x height image: the contract's depth-error measure.
+float depth_to_distance(const Camera& camera, int width, int height, float x, float y, float window_depth);
+
+} // namespace pr

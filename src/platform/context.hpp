@@ -1,0 +1,48 @@
+#pragma once
+// An OpenGL 4.5 core context behind one small interface. Backends are sibling files
+// (context_osmesa.cpp, context_egl.cpp, and the viewer's GLFW window); only they include
+// osmesa.h / EGL / GLFW headers. Each loads the GL entry points through its own
+// GetProcAddress into glad, so libGL is never linked next to libOSMesa (contract: linked
+// together, nothing draws).
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace pr {
+
+enum class Backend { OSMesa, Egl };
+
+Backend parse_backend(const std::string& name); // "osmesa" | "egl"; throws pr::Error("--backend", …)
+std::string backend_name(Backend backend);
+std::vector<std::string> available_backends(); // compiled in (EGL needs headers at build time)
+
+class Context {
+public:
+    virtual ~Context() = default;
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
+
+    // "OSMesa: llvmpipe (LLVM 15.0.6, 256 bits), OpenGL 4.5 (Core Profile) Mesa 22.3.6"
+    const std::string& description() const { return description_; }
+
+protected:
+    Context() = default;
+    // Loads GL entry points through `get_proc` into glad, checks for 4.5 core and fills the
+    // description. Throws pr::Error(subject, …) when GL is too old or loading fails.
+    using ProcLoader = void* (*)(const char* name);
+    void load_gl(ProcLoader get_proc, const std::string& subject, const std::string& backend);
+
+private:
+    std::string description_;
+};
+
+// Creates a headless context and makes it current. All rendering goes to framebuffer objects,
+// so the context's own surface is tiny. Throws pr::Error("--backend", …) when the backend's
+// library is missing or no 4.5 core context can be created.
+std::unique_ptr<Context> create_headless_context(Backend backend);
+
+// Backend factories (defined in their own files).
+std::unique_ptr<Context> create_osmesa_context();
+std::unique_ptr<Context> create_egl_context(); // throws when built without EGL headers
+
+} // namespace pr

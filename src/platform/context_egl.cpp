@@ -1,0 +1,138 @@
+// EGL backend: headless OpenGL 4.5 core without a window system. Tries, in order, the first
+// EGL device (an NVIDIA GPU where present: EGL_EXT_platform_device), Mesa's surfaceless platform
+// (llvmpipe or a Mesa GPU driver), then the default display. libEGL is opened at run time, like
+// OSMesa, so neither library is linked into the binary and a machine without it gets one line.
+#include "platform/context.hpp"
+
+#include "core/error.hpp"
+
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+#include <dlfcn.h>
+
+#include <cstdlib>
+#include <string>
+
+namespace pr {
+namespace {
+
+struct EglApi {
+    void* lib = nullptr;
+    PFNEGLGETPROCADDRESSPROC get_proc = nullptr;
+    template <typename F> F load(const char* name) const { return reinterpret_cast<F>(get_proc(name)); }
+};
+
+EglApi& api()
+{
+    static EglApi a;
+    if (!a.lib) {
+        for (const char* name : {"libEGL.so.1", "libEGL.so"})
+            if ((a.lib = dlopen(name, RTLD_NOW | RTLD_LOCAL))) break;
+        if (!a.lib) throw Error("--backend", "egl: libEGL is not installed");
+        a.get_proc = reinterpret_cast<PFNEGLGETPROCADDRESSPROC>(dlsym(a.lib, "eglGetProcAddress"));
+        if (!a.get_proc) throw Error("--backend", "egl: libEGL has no eglGetProcAddress");
+    }
+    return a;
+}
+
+void* egl_get_proc(const char* name)
+{
+    return reinterpret_cast<void*>(api().get_proc(name));
+}
+
+class EglContextImpl final : public Context {
+public:
+    EglContextImpl()
+    {
+        const EglApi& a = api();
+        auto get_platform_display = a.load<PFNEGLGETPLATFORMDISPLAYEXTPROC>("eglGetPlatformDisplayEXT");
+        auto query_devices = a.load<PFNEGLQUERYDEVICESEXTPROC>("eglQueryDevicesEXT");
+        auto initialize = a.load<PFNEGLINITIALIZEPROC>("eglInitialize");
+        auto get_display = a.load<PFNEGLGETDISPLAYPROC>("eglGetDisplay");
+        bind_api_ = a.load<PFNEGLBINDAPIPROC>("eglBindAPI");
+        auto choose_config = a.load<PFNEGLCHOOSECONFIGPROC>("eglChooseConfig");
+        auto create_context = a.load<PFNEGLCREATECONTEXTPROC>("eglCreateContext");
+        auto make_current = a.load<PFNEGLMAKECURRENTPROC>("eglMakeCurrent");
+        destroy_context_ = a.load<PFNEGLDESTROYCONTEXTPROC>("eglDestroyContext");
+        terminate_ = a.load<PFNEGLTERMINATEPROC>("eglTerminate");
+        if (!initialize || !bind_api_ || !choose_config || !create_context || !make_current)
+            throw Error("--backend", "egl: libEGL lacks core entry points");
+
+        std::string tried;
+        auto try_display = [&](EGLDisplay d, const char* what) {
+            EGLint major = 0, minor = 0;
+            if (d != EGL_NO_DISPLAY && initialize(d, &major, &minor)) {
+                display_ = d;
+                platform_ = what;
+                return true;
+            }
+            tried += std::string(tried.empty() ? "" : ", ") + what;
+            return false;
+        };
+        const char* prefer = std::getenv("PRISMRELIEF_EGL_PLATFORM"); // device | surfaceless
+        const bool want_device = !prefer || std::string(prefer) == "device";
+        if (want_device && get_platform_display && query_devices) {
+            EGLDeviceEXT devices[8];
+            EGLint count = 0;
+            if (query_devices(8, devices, &count) && count > 0)
+                try_display(get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[0], nullptr), "device");
+        }
+        if (!display_ && get_platform_display)
+            try_display(get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr),
+                        "surfaceless");
+        if (!display_ && get_display) try_display(get_display(EGL_DEFAULT_DISPLAY), "default");
+        if (!display_) throw Error("--backend", "egl: no EGL display could be initialized (tried " + tried + ")");
+
+        if (!bind_api_(EGL_OPENGL_API)) fail("egl: OpenGL API not supported");
+        const EGLint config_attribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
+        EGLConfig config = nullptr;
+        EGLint n = 0;
+        if (!choose_config(display_, config_attribs, &config, 1, &n) || n < 1)
+            fail("egl: no OpenGL-capable config");
+        const EGLint ctx_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
+                                      EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                      EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+        ctx_ = create_context(display_, config, EGL_NO_CONTEXT, ctx_attribs);
+        if (ctx_ == EGL_NO_CONTEXT) fail("egl: could not create an OpenGL 4.5 core context");
+        // Surfaceless: rendering goes to framebuffer objects only (EGL_KHR_surfaceless_context).
+        if (!make_current(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx_))
+            fail("egl: could not make the context current without a surface");
+        try {
+            load_gl(&egl_get_proc, "--backend", std::string("EGL (") + platform_ + ")");
+        } catch (...) {
+            release();
+            throw;
+        }
+    }
+    ~EglContextImpl() override { release(); }
+
+private:
+    [[noreturn]] void fail(const std::string& message)
+    {
+        release();
+        throw Error("--backend", message);
+    }
+    void release()
+    {
+        if (ctx_ != EGL_NO_CONTEXT && destroy_context_) destroy_context_(display_, ctx_);
+        ctx_ = EGL_NO_CONTEXT;
+        if (display_ && terminate_) terminate_(display_);
+        display_ = nullptr;
+    }
+
+    EGLDisplay display_ = nullptr;
+    EGLContext ctx_ = EGL_NO_CONTEXT;
+    const char* platform_ = "";
+    PFNEGLBINDAPIPROC bind_api_ = nullptr;
+    PFNEGLDESTROYCONTEXTPROC destroy_context_ = nullptr;
+    PFNEGLTERMINATEPROC terminate_ = nullptr;
+};
+
+} // namespace
+
+std::unique_ptr<Context> create_egl_context()
+{
+    return std::make_unique<EglContextImpl>();
+}
+
+} // namespace pr

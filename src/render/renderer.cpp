@@ -1,0 +1,275 @@
+#include "render/renderer.hpp"
+
+#include "core/error.hpp"
+#include "render/shader_program.hpp"
+
+#include "common/shared.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <glm/gtc/type_ptr.hpp>
+
+namespace pr {
+namespace {
+
+constexpr int kHistogramBins = 256;
+
+int mip_levels(int w, int h)
+{
+    int levels = 1;
+    while ((w | h) >> levels) ++levels;
+    return levels;
+}
+
+gl::Texture make_height_texture(const HeightField& hf)
+{
+    // Full precision on the GPU (contract): R16 for 16-bit input, R8 otherwise; bilinear,
+    // trilinear between mip levels, repeat wrap.
+    gl::Texture t = gl::Texture::create(GL_TEXTURE_2D);
+    const GLenum format = hf.bits > 8 ? GL_R16 : GL_R8;
+    glTextureStorage2D(t.id(), mip_levels(hf.width, hf.height), format, hf.width, hf.height);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(t.id(), 0, 0, 0, hf.width, hf.height, GL_RED, GL_FLOAT, hf.texels.data());
+    glGenerateTextureMipmap(t.id());
+    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+    return t;
+}
+
+gl::Texture make_color_texture(const RgbaImage& img)
+{
+    gl::Texture t = gl::Texture::create(GL_TEXTURE_2D);
+    glTextureStorage2D(t.id(), mip_levels(img.width, img.height), GL_RGBA8, img.width, img.height);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(t.id(), 0, 0, 0, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, img.pixels.data());
+    glGenerateTextureMipmap(t.id());
+    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+    return t;
+}
+
+std::string variant_key(const ShaderDefines& defines)
+{
+    std::string key;
+    for (const auto& [k, v] : defines) key += k + "=" + v + ";";
+    return key;
+}
+
+ShaderDefines defines_for(const DrawSettings& s)
+{
+    static const char* tech[] = {"PR_TECH_FLAT", "PR_TECH_NORMAL", "PR_TECH_OFFSET",
+                                 "PR_TECH_STEEP", "PR_TECH_POM", "PR_TECH_RELIEF"};
+    static const char* quality[] = {"PR_NORMAL_GATHER", "PR_NORMAL_CENTRAL", "PR_NORMAL_SOBEL"};
+    ShaderDefines d = {{"PR_TECHNIQUE", tech[static_cast<int>(s.technique)]},
+                       {"PR_NORMAL_QUALITY", quality[static_cast<int>(s.normal_quality)]}};
+    if (s.depth_write) d.emplace_back("PR_DEPTH_WRITE", "1");
+    if (s.count_samples) d.emplace_back("PR_COUNT_SAMPLES", "1");
+    return d;
+}
+
+} // namespace
+
+Renderer::Renderer(int width, int height) : width_(width), height_(height)
+{
+    create_target();
+    frame_ubo_ = gl::Buffer::create();
+    glNamedBufferStorage(frame_ubo_.id(), sizeof(shader::FrameBlock), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    object_ubo_ = gl::Buffer::create();
+    glNamedBufferStorage(object_ubo_.id(), sizeof(shader::ObjectBlock), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    counters_ = gl::Buffer::create();
+    const std::size_t counter_bytes = (2 + kHistogramBins) * sizeof(std::uint32_t);
+    glNamedBufferStorage(counters_.id(), counter_bytes, nullptr,
+                         GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
+}
+
+Renderer::~Renderer() = default;
+
+void Renderer::create_target()
+{
+    GLint max_size = 0;
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
+    if (width_ < 1 || height_ < 1 || width_ > max_size || height_ > max_size)
+        throw Error("--size", std::to_string(width_) + "x" + std::to_string(height_) +
+                                  " is outside 1.." + std::to_string(max_size) + " per side");
+    color_target_ = gl::Texture::create(GL_TEXTURE_2D);
+    glTextureStorage2D(color_target_.id(), 1, GL_RGBA8, width_, height_);
+    depth_target_ = gl::Texture::create(GL_TEXTURE_2D);
+    glTextureStorage2D(depth_target_.id(), 1, GL_DEPTH_COMPONENT32F, width_, height_);
+    fbo_ = gl::Framebuffer::create();
+    glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT0, color_target_.id(), 0);
+    glNamedFramebufferTexture(fbo_.id(), GL_DEPTH_ATTACHMENT, depth_target_.id(), 0);
+    if (glCheckNamedFramebufferStatus(fbo_.id(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw Error("--size", "could not create a " + std::to_string(width_) + "x" +
+                                  std::to_string(height_) + " render target (out of memory?)");
+}
+
+void Renderer::resize(int width, int height)
+{
+    if (width == width_ && height == height_) return;
+    width_ = width;
+    height_ = height;
+    create_target();
+}
+
+void Renderer::upload(const Scene& scene)
+{
+    objects_.clear();
+    texture_cache_.clear();
+    for (const SceneObject& so : scene.objects) {
+        GpuObject o;
+        o.source = &so;
+        const auto& verts = so.mesh.vertices;
+        const auto& idx = so.mesh.indices;
+        o.vertices = gl::Buffer::create();
+        glNamedBufferStorage(o.vertices.id(), static_cast<GLsizeiptr>(verts.size() * sizeof(MeshVertex)),
+                             verts.data(), 0);
+        o.indices = gl::Buffer::create();
+        glNamedBufferStorage(o.indices.id(), static_cast<GLsizeiptr>(idx.size() * sizeof(std::uint32_t)),
+                             idx.data(), 0);
+        o.index_count = static_cast<GLsizei>(idx.size());
+        o.vao = gl::VertexArray::create();
+        const GLuint vao = o.vao.id();
+        glVertexArrayVertexBuffer(vao, 0, o.vertices.id(), 0, sizeof(MeshVertex));
+        glVertexArrayElementBuffer(vao, o.indices.id());
+        const auto attrib = [vao](GLuint loc, GLint n, std::size_t offset) {
+            glEnableVertexArrayAttrib(vao, loc);
+            glVertexArrayAttribFormat(vao, loc, n, GL_FLOAT, GL_FALSE, static_cast<GLuint>(offset));
+            glVertexArrayAttribBinding(vao, loc, 0);
+        };
+        attrib(PR_ATTR_POSITION, 3, offsetof(MeshVertex, position));
+        attrib(PR_ATTR_NORMAL, 3, offsetof(MeshVertex, normal));
+        attrib(PR_ATTR_UV, 2, offsetof(MeshVertex, uv));
+        attrib(PR_ATTR_TANGENT, 4, offsetof(MeshVertex, tangent));
+        attrib(PR_ATTR_BITANGENT, 3, offsetof(MeshVertex, bitangent));
+        glEnableVertexArrayAttrib(vao, PR_ATTR_WELD_ID);
+        glVertexArrayAttribIFormat(vao, PR_ATTR_WELD_ID, 1, GL_UNSIGNED_INT, offsetof(MeshVertex, weld_id));
+        glVertexArrayAttribBinding(vao, PR_ATTR_WELD_ID, 0);
+
+        // Textures shared between objects are uploaded once; the cache owns them and each
+        // object refers to the cached name (gl::Texture is move-only, so objects hold none).
+        auto& h = texture_cache_[so.height.get()];
+        if (!h) h = make_height_texture(*so.height);
+        o.height_size = {so.height->width, so.height->height};
+        if (so.color) {
+            auto& c = texture_cache_[so.color.get()];
+            if (!c) c = make_color_texture(*so.color);
+        }
+        objects_.push_back(std::move(o));
+    }
+    if (glGetError() == GL_OUT_OF_MEMORY) throw Error("scene", "out of GPU memory while uploading");
+}
+
+GLuint Renderer::program_for(const DrawSettings& settings)
+{
+    const ShaderDefines defines = defines_for(settings);
+    const std::string key = variant_key(defines);
+    auto it = programs_.find(key);
+    if (it == programs_.end()) {
+        gl::Program p = build_program({{GL_VERTEX_SHADER, "surface.vert"},
+                                       {GL_FRAGMENT_SHADER, "surface.frag"}},
+                                      defines);
+        it = programs_.emplace(key, std::move(p)).first;
+    }
+    return it->second.id();
+}
+
+double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSettings& settings)
+{
+    const GLuint program = program_for(settings);
+    const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
+
+    shader::FrameBlock frame{};
+    frame.u_view = camera.view();
+    frame.u_proj = camera.projection(aspect);
+    frame.u_view_proj = frame.u_proj * frame.u_view;
+    frame.u_eye = glm::vec4(camera.eye, 1.0f);
+    frame.u_light_dir = glm::vec4(glm::normalize(light_dir), 0.0f);
+    frame.u_viewport = glm::vec4(width_, height_, 1.0f / width_, 1.0f / height_);
+    glNamedBufferSubData(frame_ubo_.id(), 0, sizeof(frame), &frame);
+    glBindBufferBase(GL_UNIFORM_BUFFER, PR_UBO_FRAME, frame_ubo_.id());
+    glBindBufferBase(GL_UNIFORM_BUFFER, PR_UBO_OBJECT, object_ubo_.id());
+    if (settings.count_samples) {
+        const GLuint zero = 0;
+        glClearNamedBufferData(counters_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_COUNTERS, counters_.id());
+    }
+
+    glFinish();
+    const auto start = std::chrono::steady_clock::now();
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+    glViewport(0, 0, width_, height_);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_CULL_FACE); // open meshes are seen from both sides
+    glDisable(GL_BLEND);
+    const GLfloat clear_color[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    const GLfloat clear_depth = 1.0f;
+    glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, clear_color);
+    glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
+    glUseProgram(program);
+    for (const GpuObject& o : objects_) {
+        const SceneObject& so = *o.source;
+        shader::ObjectBlock ob{};
+        ob.u_model = so.transform;
+        ob.u_normal_matrix = glm::mat4(glm::transpose(glm::inverse(glm::mat3(so.transform))));
+        ob.u_displace = glm::vec4(so.depth, so.midlevel, o.height_size.x, o.height_size.y);
+        ob.u_march = glm::ivec4(settings.steps, settings.refine, 0, so.color ? PR_FLAG_COLOR_TEXTURE : 0);
+        ob.u_material = glm::vec4(0.12f, 0.88f, 0.18f, 48.0f);
+        ob.u_base_color = glm::vec4(so.base_color, 1.0f);
+        glNamedBufferSubData(object_ubo_.id(), 0, sizeof(ob), &ob);
+        glBindTextureUnit(PR_TEX_HEIGHT, texture_cache_.at(so.height.get()).id());
+        glBindTextureUnit(PR_TEX_COLOR, so.color ? texture_cache_.at(so.color.get()).id()
+                                                 : texture_cache_.at(so.height.get()).id());
+        glBindVertexArray(o.vao.id());
+        glDrawElements(GL_TRIANGLES, o.index_count, GL_UNSIGNED_INT, nullptr);
+    }
+    glFinish();
+    const auto end = std::chrono::steady_clock::now();
+    glBindVertexArray(0);
+    glUseProgram(0);
+    if (const GLenum err = glGetError(); err != GL_NO_ERROR) {
+        throw Error("render", err == GL_OUT_OF_MEMORY ? "out of GPU memory"
+                                                      : "OpenGL error " + std::to_string(err));
+    }
+    return std::chrono::duration<double, std::milli>(end - start).count();
+}
+
+RgbaImage Renderer::read_color() const
+{
+    RgbaImage img;
+    img.width = width_;
+    img.height = height_;
+    img.pixels.resize(std::size_t(width_) * height_ * 4);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glGetTextureImage(color_target_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                      static_cast<GLsizei>(img.pixels.size()), img.pixels.data());
+    return img;
+}
+
+std::vector<float> Renderer::read_depth() const
+{
+    std::vector<float> depth(std::size_t(width_) * height_);
+    glGetTextureImage(depth_target_.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT,
+                      static_cast<GLsizei>(depth.size() * sizeof(float)), depth.data());
+    return depth;
+}
+
+SampleCounters Renderer::read_counters() const
+{
+    std::vector<std::uint32_t> raw(2 + kHistogramBins);
+    glGetNamedBufferSubData(counters_.id(), 0, static_cast<GLsizeiptr>(raw.size() * sizeof(std::uint32_t)),
+                            raw.data());
+    SampleCounters c;
+    c.fragments = raw[0];
+    c.samples = raw[1];
+    c.histogram.assign(raw.begin() + 2, raw.end());
+    return c;
+}
+
+} // namespace pr

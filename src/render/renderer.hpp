@@ -1,0 +1,78 @@
+#pragma once
+// The one renderer shared by render, compare, bench and the viewer: uploads a Scene, draws it
+// with a technique into an offscreen target, and reads colour, depth and counters back.
+// Needs a current GL 4.5 context (platform/context.hpp).
+#include "core/camera.hpp"
+#include "core/image.hpp"
+#include "gl/objects.hpp"
+#include "render/scene.hpp"
+#include "render/technique.hpp"
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace pr {
+
+// Per-draw GPU counters (instrumented variants only).
+struct SampleCounters {
+    std::uint64_t fragments = 0;  // fragments that ran the technique's shader
+    std::uint64_t samples = 0;    // height samples taken by marchers (contract definition)
+    std::vector<std::uint32_t> histogram; // fragments by samples taken (last bin: that many or more)
+};
+
+class Renderer {
+public:
+    Renderer(int width, int height);
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    int width() const { return width_; }
+    int height() const { return height_; }
+    void resize(int width, int height);
+
+    // Uploads meshes and textures (mip-mapped, repeat wrap; R16 for 16-bit heights).
+    void upload(const Scene& scene);
+
+    // Clears to transparent and draws every object. Returns the wall time of the draw up to
+    // glFinish in milliseconds (contract "ms"). Builds the shader variant on first use.
+    double draw(const Camera& camera, glm::vec3 light_dir, const DrawSettings& settings);
+
+    RgbaImage read_color() const;               // RGBA8, alpha = coverage, bottom row first
+    std::vector<float> read_depth() const;      // window depth in [0,1], 1 = nothing drawn
+    SampleCounters read_counters() const;       // after a draw with settings.count_samples
+
+    // Builds (or returns the cached) program for a variant; throws pr::Error with the log.
+    GLuint program_for(const DrawSettings& settings);
+
+    GLuint framebuffer() const { return fbo_.id(); }
+
+private:
+    struct GpuObject {
+        gl::VertexArray vao;
+        gl::Buffer vertices;
+        gl::Buffer indices;
+        GLsizei index_count = 0;
+        gl::Texture height;
+        gl::Texture color;
+        glm::ivec2 height_size{0};
+        const SceneObject* source = nullptr;
+    };
+
+    void create_target();
+
+    int width_;
+    int height_;
+    gl::Framebuffer fbo_;
+    gl::Texture color_target_;
+    gl::Texture depth_target_;
+    gl::Buffer frame_ubo_;
+    gl::Buffer object_ubo_;
+    gl::Buffer counters_;
+    std::vector<GpuObject> objects_;
+    std::map<std::string, gl::Program> programs_;
+    std::map<const void*, gl::Texture> texture_cache_; // heights/colours shared by objects
+};
+
+} // namespace pr

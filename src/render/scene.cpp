@@ -1,0 +1,93 @@
+#include "render/scene.hpp"
+
+#include "core/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace pr {
+
+Scene load_scene(const SceneSpec& spec)
+{
+    if (spec.objects.empty()) throw Error("--mesh", "no mesh given");
+    Scene scene;
+    std::map<std::string, std::shared_ptr<const HeightField>> heights;
+    std::map<std::string, std::shared_ptr<const RgbaImage>> colors;
+    glm::vec3 lo(INFINITY), hi(-INFINITY);
+    for (const ObjectSpec& o : spec.objects) {
+        SceneObject obj;
+        obj.mesh_name = o.mesh;
+        obj.mesh = load_mesh(o.mesh, spec.mesh_options);
+        auto& h = heights[o.height];
+        if (!h) h = std::make_shared<HeightField>(load_height(o.height, spec.image_limits));
+        obj.height = h;
+        if (!o.color.empty()) {
+            auto& c = colors[o.color];
+            if (!c) c = std::make_shared<RgbaImage>(load_color(o.color, spec.image_limits));
+            obj.color = c;
+        }
+        obj.transform = o.transform;
+        obj.midlevel = o.midlevel;
+        obj.base_color = o.base_color;
+
+        // World-space bounds of the base mesh (transformed bbox corners).
+        glm::vec3 olo(INFINITY), ohi(-INFINITY);
+        for (int i = 0; i < 8; ++i) {
+            glm::vec3 c((i & 1) ? obj.mesh.bbox_max.x : obj.mesh.bbox_min.x,
+                        (i & 2) ? obj.mesh.bbox_max.y : obj.mesh.bbox_min.y,
+                        (i & 4) ? obj.mesh.bbox_max.z : obj.mesh.bbox_min.z);
+            glm::vec3 w = glm::vec3(o.transform * glm::vec4(c, 1.0f));
+            olo = glm::min(olo, w);
+            ohi = glm::max(ohi, w);
+        }
+        const float diagonal = glm::length(ohi - olo);
+        obj.depth = o.depth.value_or(0.04f * diagonal);
+        if (!std::isfinite(obj.depth) || obj.depth < 0.0f)
+            throw Error("--depth", "must be a finite number >= 0");
+        // The shell spans depth * (h - midlevel) for h in [0,1] along unit normals.
+        const float reach = obj.depth * std::max(obj.midlevel, 1.0f - obj.midlevel);
+        lo = glm::min(lo, olo - glm::vec3(reach));
+        hi = glm::max(hi, ohi + glm::vec3(reach));
+        scene.objects.push_back(std::move(obj));
+    }
+    scene.shell_bounds.center = 0.5f * (lo + hi);
+    scene.shell_bounds.radius = std::max(0.5f * glm::length(hi - lo), 1e-6f);
+    return scene;
+}
+
+Camera scene_camera(const SceneSpec& spec, const Scene& scene)
+{
+    const CameraSpec& c = spec.camera;
+    const float aspect = static_cast<float>(spec.width) / static_cast<float>(spec.height);
+    Camera camera;
+    if (c.eye) {
+        camera.eye = *c.eye;
+        camera.target = c.target.value_or(scene.shell_bounds.center);
+        camera.up = c.up;
+        camera.fovy_deg = c.fovy_deg;
+        if (glm::length(camera.eye - camera.target) <= 0.0f)
+            throw Error("--eye", "eye and target are the same point");
+        if (glm::length(glm::cross(camera.target - camera.eye, camera.up)) <= 1e-12f)
+            throw Error("--up", "up is parallel to the viewing direction");
+        fit_clip_planes(camera, scene.shell_bounds);
+        return camera;
+    }
+    Sphere s = scene.shell_bounds;
+    if (c.target) {
+        s.radius = glm::length(s.center - *c.target) + s.radius;
+        s.center = *c.target;
+    }
+    camera = frame_sphere(s, c.fovy_deg, aspect, c.elevation_deg, c.azimuth_deg, c.up);
+    fit_clip_planes(camera, scene.shell_bounds);
+    return camera;
+}
+
+glm::vec3 scene_light(const SceneSpec& spec, const Camera& camera)
+{
+    if (spec.light) return glm::normalize(*spec.light);
+    const glm::mat3 to_world = glm::transpose(glm::mat3(camera.view()));
+    return glm::normalize(to_world * glm::vec3(-0.4f, 0.75f, 0.55f));
+}
+
+} // namespace pr

@@ -1,0 +1,72 @@
+#pragma once
+// SceneSpec: what the user asked for (plain data, filled from flags or --scene JSON).
+// Scene: the loaded CPU data (prepared meshes, height fields, colours) ready to upload.
+#include "core/camera.hpp"
+#include "core/image.hpp"
+#include "mesh/mesh.hpp"
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace pr {
+
+struct ObjectSpec {
+    std::string mesh;                    // file path
+    std::string height = "builtin:bumps"; // file or builtin:NAME
+    std::string color;                   // file, builtin:NAME, or empty (uniform base colour)
+    std::optional<float> depth;          // scene units; default: 4% of the object's bbox diagonal
+    float midlevel = 0.0f;               // height that stays on the base surface (0: outward)
+    glm::mat4 transform{1.0f};           // object to world
+    glm::vec3 base_color{0.80f, 0.76f, 0.70f};
+};
+
+struct CameraSpec {
+    std::optional<glm::vec3> eye;    // with target: explicit camera
+    std::optional<glm::vec3> target; // alone: auto-framed distance around this point
+    glm::vec3 up{0.0f, 1.0f, 0.0f};
+    float fovy_deg = 40.0f;
+    float elevation_deg = 25.0f; // auto-framing (no --eye)
+    float azimuth_deg = 35.0f;
+};
+
+struct SceneSpec {
+    std::vector<ObjectSpec> objects;
+    CameraSpec camera;
+    std::optional<glm::vec3> light; // world direction towards the light; default: camera-relative
+    int width = 800;
+    int height = 600;
+    MeshOptions mesh_options;
+    ImageLimits image_limits;
+};
+
+struct SceneObject {
+    std::string mesh_name;
+    PreparedMesh mesh;
+    std::shared_ptr<const HeightField> height;
+    std::shared_ptr<const RgbaImage> color; // may be null
+    float depth = 0.0f;
+    float midlevel = 0.0f;
+    glm::mat4 transform{1.0f};
+    glm::vec3 base_color{0.8f};
+};
+
+struct Scene {
+    std::vector<SceneObject> objects;
+    Sphere shell_bounds; // world space, encloses every object's full displacement shell
+};
+
+// Loads every mesh and image (each distinct file once). Throws pr::Error naming the file.
+Scene load_scene(const SceneSpec& spec);
+
+// The camera the spec asks for, or auto-framing on the shell's bounding sphere; near/far from it.
+Camera scene_camera(const SceneSpec& spec, const Scene& scene);
+
+// Unit direction towards the light, world space. Default: from above-left-behind the viewer
+// (camera space (-0.4, 0.75, 0.55)), so auto-framed views are lit from the front.
+glm::vec3 scene_light(const SceneSpec& spec, const Camera& camera);
+
+} // namespace pr

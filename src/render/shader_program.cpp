@@ -1,0 +1,139 @@
+#include "render/shader_program.hpp"
+
+#include "core/error.hpp"
+#include "render/shader_sources.hpp"
+
+#include <cstdlib>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+
+namespace pr {
+
+std::string shader_file(const std::string& path)
+{
+    if (const char* dir = std::getenv("PRISMRELIEF_SHADER_DIR"); dir && *dir) {
+        std::ifstream in(std::string(dir) + "/" + path, std::ios::binary);
+        if (!in) throw Error("shaders/" + path, "not found in PRISMRELIEF_SHADER_DIR=" + std::string(dir));
+        std::ostringstream s;
+        s << in.rdbuf();
+        return s.str();
+    }
+    for (const EmbeddedShader& e : embedded_shaders())
+        if (path == e.path) return e.source;
+    throw Error("shaders/" + path, "no such embedded shader");
+}
+
+std::vector<std::string> shader_file_list()
+{
+    std::vector<std::string> out;
+    for (const EmbeddedShader& e : embedded_shaders()) out.emplace_back(e.path);
+    return out;
+}
+
+namespace {
+
+void append_file(const std::string& path, PreprocessedShader& out, std::set<std::string>& seen,
+                 int depth)
+{
+    if (depth > 16) throw Error("shaders/" + path, "#include nested too deeply");
+    if (!seen.insert(path).second) return; // every file is included once (like #pragma once)
+    const int id = static_cast<int>(out.files.size());
+    out.files.push_back(path);
+    std::istringstream in(shader_file(path));
+    std::string line;
+    int number = 0;
+    out.text += "#line 1 " + std::to_string(id) + "\n";
+    static const std::regex include_re(R"(^\s*#\s*include\s+\"([^\"]+)\"\s*$)");
+    static const std::regex pragma_once_re(R"(^\s*#\s*pragma\s+once\s*$)");
+    while (std::getline(in, line)) {
+        ++number;
+        std::smatch m;
+        if (std::regex_match(line, m, include_re)) {
+            append_file(m[1].str(), out, seen, depth + 1);
+            out.text += "#line " + std::to_string(number + 1) + " " + std::to_string(id) + "\n";
+        } else if (std::regex_match(line, pragma_once_re)) {
+            out.text += "\n"; // GLSL has no #pragma once; C++ uses it in shared headers
+        } else {
+            out.text += line + "\n";
+        }
+    }
+}
+
+// Rewrites "0:12(5): error: …" (Mesa) and "0(12) : error …" (NVIDIA) to "surface.frag:12: …".
+std::string map_log(const std::string& log, const std::vector<std::string>& files)
+{
+    static const std::regex mesa(R"((\d+):(\d+)\((\d+)\))");
+    static const std::regex nvidia(R"((\d+)\((\d+)\) ?)");
+    std::string out;
+    std::istringstream in(log);
+    std::string line;
+    while (std::getline(in, line)) {
+        std::smatch m;
+        const auto name = [&](const std::string& id) {
+            const auto i = static_cast<std::size_t>(std::stoul(id));
+            return i < files.size() ? "shaders/" + files[i] : "source " + id;
+        };
+        if (std::regex_search(line, m, mesa) && m.position(0) == 0)
+            line = name(m[1]) + ":" + m[2].str() + ":" + m[3].str() + m.suffix().str();
+        else if (std::regex_search(line, m, nvidia) && m.position(0) == 0)
+            line = name(m[1]) + ":" + m[2].str() + m.suffix().str();
+        out += line + "\n";
+    }
+    while (!out.empty() && out.back() == '\n') out.pop_back();
+    return out;
+}
+
+} // namespace
+
+PreprocessedShader preprocess_shader(const std::string& file, const ShaderDefines& defines)
+{
+    PreprocessedShader out;
+    out.text = "#version 450 core\n";
+    for (const auto& [name, value] : defines) out.text += "#define " + name + " " + value + "\n";
+    std::set<std::string> seen;
+    append_file(file, out, seen, 0);
+    return out;
+}
+
+gl::Program build_program(const std::vector<ShaderStage>& stages, const ShaderDefines& defines)
+{
+    gl::Program program = gl::Program::create();
+    std::vector<gl::Shader> shaders;
+    for (const ShaderStage& s : stages) {
+        const PreprocessedShader pre = preprocess_shader(s.file, defines);
+        gl::Shader shader = gl::Shader::create(s.stage);
+        const char* text = pre.text.c_str();
+        glShaderSource(shader.id(), 1, &text, nullptr);
+        glCompileShader(shader.id());
+        GLint ok = 0;
+        glGetShaderiv(shader.id(), GL_COMPILE_STATUS, &ok);
+        if (!ok) {
+            GLint len = 0;
+            glGetShaderiv(shader.id(), GL_INFO_LOG_LENGTH, &len);
+            std::string log(static_cast<std::size_t>(std::max(len, 1)), '\0');
+            glGetShaderInfoLog(shader.id(), len, nullptr, log.data());
+            std::string variant;
+            for (const auto& [name, value] : defines) variant += " " + name + "=" + value;
+            throw Error("shaders/" + s.file, "compile error (variant:" + variant + ")\n" +
+                                                 map_log(log.c_str(), pre.files));
+        }
+        glAttachShader(program.id(), shader.id());
+        shaders.push_back(std::move(shader));
+    }
+    glLinkProgram(program.id());
+    GLint ok = 0;
+    glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);
+    for (const gl::Shader& s : shaders) glDetachShader(program.id(), s.id());
+    if (!ok) {
+        GLint len = 0;
+        glGetProgramiv(program.id(), GL_INFO_LOG_LENGTH, &len);
+        std::string log(static_cast<std::size_t>(std::max(len, 1)), '\0');
+        glGetProgramInfoLog(program.id(), len, nullptr, log.data());
+        throw Error("shaders/" + stages.front().file, "link error\n" + std::string(log.c_str()));
+    }
+    return program;
+}
+
+} // namespace pr

@@ -1,0 +1,39 @@
+#pragma once
+// Builds GL programs from the embedded shader files. Variants are chosen by #define lines placed
+// after `#version` (never by editing shader text); `#include "path"` (relative to shaders/) is
+// resolved once per file with `#line` directives, so compile errors name the real file and line.
+#include "gl/objects.hpp"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace pr {
+
+struct ShaderStage {
+    GLenum stage;        // GL_VERTEX_SHADER, GL_GEOMETRY_SHADER, GL_FRAGMENT_SHADER, GL_COMPUTE_SHADER
+    std::string file;    // relative to shaders/, e.g. "surface.frag"
+};
+
+using ShaderDefines = std::vector<std::pair<std::string, std::string>>; // name, value
+
+// The text of shaders/<path>: embedded at build time, or read from the folder named by the
+// environment variable PRISMRELIEF_SHADER_DIR when it is set (development override for hot
+// reload). Throws pr::Error("shaders/<path>", …) when there is no such file.
+std::string shader_file(const std::string& path);
+
+// The full source handed to the compiler for one stage, and the files it was made of (the
+// index is the source-string number used in #line directives).
+struct PreprocessedShader {
+    std::string text;
+    std::vector<std::string> files;
+};
+PreprocessedShader preprocess_shader(const std::string& file, const ShaderDefines& defines);
+
+// Compiles and links. Throws pr::Error("shaders/<file>", "<log with file:line>") on failure.
+gl::Program build_program(const std::vector<ShaderStage>& stages, const ShaderDefines& defines);
+
+// Every shader file the program table knows, for the test that compiles every variant.
+std::vector<std::string> shader_file_list();
+
+} // namespace pr

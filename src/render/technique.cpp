@@ -1,0 +1,59 @@
+#include "render/technique.hpp"
+
+#include "core/error.hpp"
+
+namespace pr {
+
+const std::vector<TechniqueInfo>& technique_table()
+{
+    static const std::vector<TechniqueInfo> table = {
+        {Technique::Flat, "flat", "colour and the mesh's smooth normal; no height"},
+        {Technique::Normal, "normal", "normal mapping with normals computed from the height map"},
+        {Technique::Offset, "offset", "parallax mapping with offset limiting (one height sample)"},
+        {Technique::Steep, "steep", "steep parallax: linear search, first sample below the surface"},
+        {Technique::Pom, "pom", "parallax occlusion mapping: linear search + linear interpolation"},
+        {Technique::Relief, "relief", "relief mapping: linear search + binary refinement"},
+    };
+    return table;
+}
+
+Technique parse_technique(const std::string& name, const std::string& option)
+{
+    for (const TechniqueInfo& t : technique_table())
+        if (name == t.name) return t.technique;
+    throw Error(option, "unknown technique '" + name + "' (expected " + technique_names() + ")");
+}
+
+std::string technique_name(Technique t)
+{
+    for (const TechniqueInfo& i : technique_table())
+        if (i.technique == t) return i.name;
+    return "?";
+}
+
+std::string technique_names()
+{
+    std::string s;
+    for (const TechniqueInfo& t : technique_table()) s += (s.empty() ? "" : "|") + std::string(t.name);
+    return s;
+}
+
+NormalQuality parse_normal_quality(const std::string& name)
+{
+    if (name == "gather") return NormalQuality::Gather;
+    if (name == "central") return NormalQuality::Central;
+    if (name == "sobel") return NormalQuality::Sobel;
+    throw Error("--normal-quality", "unknown quality '" + name + "' (expected gather|central|sobel)");
+}
+
+std::string normal_quality_name(NormalQuality q)
+{
+    switch (q) {
+    case NormalQuality::Gather: return "gather";
+    case NormalQuality::Central: return "central";
+    case NormalQuality::Sobel: return "sobel";
+    }
+    return "?";
+}
+
+} // namespace pr
