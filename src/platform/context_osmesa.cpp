@@ -8,6 +8,8 @@
 #include <GL/osmesa.h>
 #include <dlfcn.h>
 
+#include <cstdlib>
+#include <string>
 #include <vector>
 
 namespace pr {
@@ -38,8 +40,14 @@ public:
     {
         OSMesaApi& a = api();
         if (!a.lib) {
+            // PRISMRELIEF_OSMESA_LIBRARY names another build of libOSMesa (a newer Mesa, say).
+            if (const char* lib = std::getenv("PRISMRELIEF_OSMESA_LIBRARY"); lib && *lib) {
+                a.lib = dlopen(lib, RTLD_NOW | RTLD_LOCAL);
+                if (!a.lib) throw Error("--backend", std::string("osmesa: cannot load ") + lib);
+            }
             for (const char* name : {"libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so"}) {
-                if ((a.lib = dlopen(name, RTLD_NOW | RTLD_LOCAL))) break;
+                if (a.lib) break;
+                a.lib = dlopen(name, RTLD_NOW | RTLD_LOCAL);
             }
             if (!a.lib) throw Error("--backend", "osmesa: libOSMesa is not installed (run scripts/setup.sh)");
             a.create_attribs = reinterpret_cast<decltype(a.create_attribs)>(dlsym(a.lib, "OSMesaCreateContextAttribs"));

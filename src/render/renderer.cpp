@@ -122,7 +122,10 @@ void Renderer::upload(const Scene& scene)
     texture_cache_.clear();
     for (const SceneObject& so : scene.objects) {
         GpuObject o;
-        o.source = &so;
+        o.depth = so.depth;
+        o.midlevel = so.midlevel;
+        o.transform = so.transform;
+        o.base_color = so.base_color;
         const auto& verts = so.mesh.vertices;
         const auto& idx = so.mesh.indices;
         o.vertices = gl::Buffer::create();
@@ -154,10 +157,12 @@ void Renderer::upload(const Scene& scene)
         // object refers to the cached name (gl::Texture is move-only, so objects hold none).
         auto& h = texture_cache_[so.height.get()];
         if (!h) h = make_height_texture(*so.height);
+        o.height_texture = h.id();
         o.height_size = {so.height->width, so.height->height};
         if (so.color) {
             auto& c = texture_cache_[so.color.get()];
             if (!c) c = make_color_texture(*so.color);
+            o.color_texture = c.id();
         }
         objects_.push_back(std::move(o));
     }
@@ -214,18 +219,18 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
     glUseProgram(program);
     for (const GpuObject& o : objects_) {
-        const SceneObject& so = *o.source;
         shader::ObjectBlock ob{};
-        ob.u_model = so.transform;
-        ob.u_normal_matrix = glm::mat4(glm::transpose(glm::inverse(glm::mat3(so.transform))));
-        ob.u_displace = glm::vec4(so.depth, so.midlevel, o.height_size.x, o.height_size.y);
-        ob.u_march = glm::ivec4(settings.steps, settings.refine, 0, so.color ? PR_FLAG_COLOR_TEXTURE : 0);
+        ob.u_model = o.transform;
+        ob.u_normal_matrix = glm::mat4(glm::transpose(glm::inverse(glm::mat3(o.transform))));
+        ob.u_displace = glm::vec4(o.depth, o.midlevel, o.height_size.x, o.height_size.y);
+        ob.u_march = glm::ivec4(settings.steps, settings.refine, 0,
+                                o.color_texture ? PR_FLAG_COLOR_TEXTURE : 0);
         ob.u_material = glm::vec4(0.12f, 0.88f, 0.18f, 48.0f);
-        ob.u_base_color = glm::vec4(so.base_color, 1.0f);
+        ob.u_base_color = glm::vec4(o.base_color, 1.0f);
         glNamedBufferSubData(object_ubo_.id(), 0, sizeof(ob), &ob);
-        glBindTextureUnit(PR_TEX_HEIGHT, texture_cache_.at(so.height.get()).id());
-        glBindTextureUnit(PR_TEX_COLOR, so.color ? texture_cache_.at(so.color.get()).id()
-                                                 : texture_cache_.at(so.height.get()).id());
+        glBindTextureUnit(PR_TEX_HEIGHT, o.height_texture);
+        // Without a colour texture the unit still needs a valid texture; it is not sampled.
+        glBindTextureUnit(PR_TEX_COLOR, o.color_texture ? o.color_texture : o.height_texture);
         glBindVertexArray(o.vao.id());
         glDrawElements(GL_TRIANGLES, o.index_count, GL_UNSIGNED_INT, nullptr);
     }

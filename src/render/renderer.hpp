@@ -32,7 +32,8 @@ public:
     int height() const { return height_; }
     void resize(int width, int height);
 
-    // Uploads meshes and textures (mip-mapped, repeat wrap; R16 for 16-bit heights).
+    // Uploads meshes and textures (mip-mapped, repeat wrap; R16 for 16-bit heights). The scene
+    // may be dropped afterwards: the renderer keeps copies of what it draws with.
     void upload(const Scene& scene);
 
     // Clears to transparent and draws every object. Returns the wall time of the draw up to
@@ -54,10 +55,14 @@ private:
         gl::Buffer vertices;
         gl::Buffer indices;
         GLsizei index_count = 0;
-        gl::Texture height;
-        gl::Texture color;
+        GLuint height_texture = 0; // owned by texture_cache_
+        GLuint color_texture = 0;  // 0: plain base colour
         glm::ivec2 height_size{0};
-        const SceneObject* source = nullptr;
+        // Copied from the SceneObject, so the Scene need not outlive the upload.
+        float depth = 0.0f;
+        float midlevel = 0.0f;
+        glm::mat4 transform{1.0f};
+        glm::vec3 base_color{0.8f};
     };
 
     void create_target();

@@ -1,1 +1,90 @@
-# CLI tests are added in this file (see run_cli.cmake for what each checks).
+# Command-line tests: each runs prismrelief once and checks the exit code, stderr/stdout, and
+# that no output (and no temporary file) is left behind on failure. See run_cli.cmake.
+set(PR_CLI_WORK ${CMAKE_CURRENT_BINARY_DIR}/cli_work)
+set(M ${PROJECT_SOURCE_DIR}/meshes)
+set(BAD ${PROJECT_SOURCE_DIR}/tests/bad)
+
+function(pr_cli name)
+    cmake_parse_arguments(T "ONE_LINE" "EXIT;STDERR;STDOUT;NO_FILE;EXPECT_FILE;ENV" "ARGS" ${ARGN})
+    string(REPLACE ";" "|" args "${T_ARGS}")
+    set(cmd ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:prismrelief> "-DARGS=${args}"
+            -DWORKDIR=${PR_CLI_WORK}/${name} -DEXPECT_EXIT=${T_EXIT}
+            "-DSTDERR_REGEX=${T_STDERR}" "-DSTDOUT_REGEX=${T_STDOUT}" -DNO_FILE=${T_NO_FILE}
+            -DEXPECT_FILE=${T_EXPECT_FILE} -DONE_LINE=${T_ONE_LINE})
+    if(T_ENV)
+        set(cmd ${CMAKE_COMMAND} -E env ${T_ENV} ${cmd})
+    endif()
+    add_test(NAME cli.${name} COMMAND ${cmd} -P ${CMAKE_CURRENT_SOURCE_DIR}/cli/run_cli.cmake)
+    set_tests_properties(cli.${name} PROPERTIES LABELS "cli" TIMEOUT 180)
+endfunction()
+
+# Usage (exit 2) and information (exit 0).
+pr_cli(no_arguments EXIT 2 STDERR "usage: .*subcommand")
+pr_cli(unknown_option EXIT 2 STDERR "usage: .*--bogus" ARGS render --bogus --out x.png)
+pr_cli(render_needs_out EXIT 2 STDERR "usage: .*--out" ARGS render --mesh ${M}/cube.obj)
+pr_cli(non_numeric_steps EXIT 2 STDERR "usage: .*--steps" ARGS render --mesh ${M}/cube.obj --steps many --out x.png NO_FILE x.png)
+pr_cli(version EXIT 0 STDOUT "^prismrelief [0-9]+\\.[0-9]+\\.[0-9]+" ARGS --version)
+pr_cli(help EXIT 0 STDOUT "render" ARGS --help)
+pr_cli(render_help EXIT 0 STDOUT "--technique.*--steps.*--refine.*--out" ARGS render --help)
+
+# Bad input (exit 1, one line naming the file or option, nothing written).
+set(E "^prismrelief: error: ")
+pr_cli(missing_mesh EXIT 1 ONE_LINE STDERR "${E}.*nonexistent.obj: " NO_FILE out.png
+       ARGS render --mesh nonexistent.obj --out out.png)
+pr_cli(mesh_is_garbage EXIT 1 ONE_LINE STDERR "${E}.*garbage.obj: " NO_FILE out.png
+       ARGS render --mesh ${BAD}/garbage.obj --out out.png)
+pr_cli(mesh_is_empty EXIT 1 ONE_LINE STDERR "${E}.*empty.obj: " NO_FILE out.png
+       ARGS render --mesh ${BAD}/empty.obj --out out.png)
+pr_cli(mesh_without_faces EXIT 1 ONE_LINE STDERR "${E}.*no_faces.obj: " NO_FILE out.png
+       ARGS render --mesh ${BAD}/no_faces.obj --out out.png)
+pr_cli(mesh_bad_index EXIT 1 ONE_LINE STDERR "${E}.*bad_index.obj: " NO_FILE out.png
+       ARGS render --mesh ${BAD}/bad_index.obj --out out.png)
+pr_cli(mesh_absurd_header EXIT 1 ONE_LINE STDERR "${E}.*huge_header.off: " NO_FILE out.png
+       ARGS render --mesh ${BAD}/huge_header.off --out out.png)
+pr_cli(mesh_unknown_format EXIT 1 ONE_LINE STDERR "${E}.*bad_scene.json: .*(OBJ|obj)" NO_FILE out.png
+       ARGS render --mesh ${BAD}/bad_scene.json --out out.png)
+pr_cli(missing_height EXIT 1 ONE_LINE STDERR "${E}nonexistent.png: " NO_FILE out.png
+       ARGS render --mesh ${M}/cube.obj --height nonexistent.png --out out.png)
+pr_cli(height_not_an_image EXIT 1 ONE_LINE STDERR "${E}.*not_an_image.png: " NO_FILE out.png
+       ARGS render --mesh ${M}/cube.obj --height ${BAD}/not_an_image.png --out out.png)
+pr_cli(unknown_builtin EXIT 1 ONE_LINE STDERR "${E}builtin:nope: .*bumps" NO_FILE out.png
+       ARGS render --mesh ${M}/cube.obj --height builtin:nope --out out.png)
+pr_cli(missing_color EXIT 1 ONE_LINE STDERR "${E}nocolor.png: " NO_FILE out.png
+       ARGS render --mesh ${M}/cube.obj --color nocolor.png --out out.png)
+pr_cli(unknown_technique EXIT 1 ONE_LINE STDERR "${E}--technique: .*pom" NO_FILE out.png
+       ARGS render --mesh ${M}/cube.obj --technique magic --out out.png)
+pr_cli(bad_size EXIT 1 ONE_LINE STDERR "${E}--size: " NO_FILE out.png
+       ARGS render --mesh ${M}/cube.obj --size 12 --out out.png)
+pr_cli(image_too_large EXIT 1 ONE_LINE STDERR "${E}--size: " NO_FILE out.png
+       ARGS render --mesh ${M}/cube.obj --size 20000x20000 --out out.png)
+pr_cli(bad_eye EXIT 1 ONE_LINE STDERR "${E}--eye: expected x,y,z" NO_FILE out.png
+       ARGS render --mesh ${M}/cube.obj --eye 1,2 --out out.png)
+pr_cli(bad_steps EXIT 1 ONE_LINE STDERR "${E}--steps: " NO_FILE out.png
+       ARGS render --mesh ${M}/cube.obj --steps 0 --out out.png)
+pr_cli(negative_depth EXIT 1 ONE_LINE STDERR "${E}--depth: " NO_FILE out.png
+       ARGS render --mesh ${M}/cube.obj --depth -1 --out out.png)
+pr_cli(bad_midlevel EXIT 1 ONE_LINE STDERR "${E}--midlevel: " NO_FILE out.png
+       ARGS render --mesh ${M}/cube.obj --midlevel 2 --out out.png)
+pr_cli(bad_backend EXIT 1 ONE_LINE STDERR "${E}--backend: " NO_FILE out.png
+       ARGS render --mesh ${M}/cube.obj --backend vulkan --out out.png)
+pr_cli(no_gl_context EXIT 1 ONE_LINE STDERR "${E}--backend: osmesa: cannot load" NO_FILE out.png
+       ENV PRISMRELIEF_OSMESA_LIBRARY=/nonexistent/libOSMesa.so
+       ARGS render --mesh ${M}/cube.obj --out out.png)
+pr_cli(out_folder_missing EXIT 1 ONE_LINE STDERR "${E}no/such/dir/out.png: " 
+       ARGS render --mesh ${M}/cube.obj --size 32x32 --out no/such/dir/out.png)
+pr_cli(scene_bad_value EXIT 1 ONE_LINE STDERR "${E}.*bad_scene.json: objects\\[0\\].mesh: expected a string" NO_FILE out.png
+       ARGS render --scene ${BAD}/bad_scene.json --out out.png)
+pr_cli(scene_truncated EXIT 1 ONE_LINE STDERR "${E}.*truncated_scene.json: not valid JSON" NO_FILE out.png
+       ARGS render --scene ${BAD}/truncated_scene.json --out out.png)
+pr_cli(missing_scene EXIT 1 ONE_LINE STDERR "${E}nope.json: cannot open" NO_FILE out.png
+       ARGS render --scene nope.json --out out.png)
+
+# Every technique renders a real OBJ with UVs and an OFF without them.
+foreach(t flat normal offset steep pom relief)
+    pr_cli(render_torus_${t} EXIT 0 EXPECT_FILE t.png STDOUT "t.png: 96x64 ${t}"
+           ARGS render --mesh ${M}/torus.obj --height builtin:bricks --technique ${t} --size 96x64 --out t.png)
+    pr_cli(render_blob_off_${t} EXIT 0 EXPECT_FILE b.png STDOUT "b.png: 64x64 ${t}"
+           ARGS render --mesh ${M}/blob.off --height builtin:noise --technique ${t} --size 64x64 --out b.png)
+endforeach()
+pr_cli(render_scene_file EXIT 0 EXPECT_FILE s.png STDOUT "s.png: 96x64"
+       ARGS render --scene ${M}/scenes/plane_and_torus.json --size 96x64 --out s.png)

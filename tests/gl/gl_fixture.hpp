@@ -1,0 +1,78 @@
+#pragma once
+// Shared set-up for GL tests: one OSMesa context per test process, small hand-made scenes.
+#include "core/image.hpp"
+#include "platform/context.hpp"
+#include "render/renderer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+namespace prtest {
+
+inline pr::Context& context()
+{
+    static std::unique_ptr<pr::Context> ctx = pr::create_headless_context(pr::Backend::OSMesa);
+    return *ctx;
+}
+
+// A height field from a function of (u, v) in [0,1)^2, sampled at texel centres.
+template <typename F>
+std::shared_ptr<pr::HeightField> height_from(int n, F f)
+{
+    auto hf = std::make_shared<pr::HeightField>();
+    hf->width = hf->height = n;
+    hf->name = "test";
+    hf->texels.resize(std::size_t(n) * n);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) hf->texels[std::size_t(y) * n + x] = f((x + 0.5f) / n, (y + 0.5f) / n);
+    return hf;
+}
+
+// The square [-s, s]^2 in the z = 0 plane facing +Z, UV 0..uv_repeat, metric tangent frame.
+inline pr::PreparedMesh square(float s = 1.0f, float uv_repeat = 1.0f)
+{
+    pr::PreparedMesh m;
+    const glm::vec2 corners[4] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+    for (int i = 0; i < 4; ++i) {
+        pr::MeshVertex v;
+        v.position = glm::vec3(corners[i] * s, 0.0f);
+        v.normal = {0, 0, 1};
+        v.uv = (corners[i] * 0.5f + 0.5f) * uv_repeat;
+        v.tangent = glm::vec4(2.0f * s / uv_repeat, 0, 0, 1);
+        v.bitangent = glm::vec3(0, 2.0f * s / uv_repeat, 0);
+        v.weld_id = static_cast<std::uint32_t>(i);
+        m.vertices.push_back(v);
+    }
+    m.indices = {0, 1, 2, 0, 2, 3};
+    m.weld_count = 4;
+    m.bbox_min = {-s, -s, 0};
+    m.bbox_max = {s, s, 0};
+    m.had_uvs = true;
+    return m;
+}
+
+inline pr::Scene one_object(pr::PreparedMesh mesh, std::shared_ptr<pr::HeightField> height, float depth)
+{
+    pr::Scene scene;
+    pr::SceneObject o;
+    o.mesh_name = "test";
+    o.mesh = std::move(mesh);
+    o.height = std::move(height);
+    o.depth = depth;
+    scene.objects.push_back(std::move(o));
+    const auto& m = scene.objects[0].mesh;
+    scene.shell_bounds.center = 0.5f * (m.bbox_min + m.bbox_max);
+    scene.shell_bounds.radius = 0.5f * glm::length(m.bbox_max - m.bbox_min) + depth;
+    return scene;
+}
+
+inline std::size_t coverage(const pr::RgbaImage& img)
+{
+    std::size_t n = 0;
+    for (std::size_t i = 3; i < img.pixels.size(); i += 4) n += img.pixels[i] >= 128;
+    return n;
+}
+
+} // namespace prtest

@@ -1,0 +1,107 @@
+// Every shader variant compiles and links; the C++ and GLSL views of the uniform blocks agree.
+#include "gl_fixture.hpp"
+
+#include "core/error.hpp"
+#include "render/shader_program.hpp"
+
+#include "common/shared.h"
+
+#include <cstddef>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+using namespace pr;
+
+TEST(ShaderVariants, EveryTechniqueQualityAndInstrumentationCompiles)
+{
+    prtest::context();
+    Renderer r(8, 8);
+    for (const TechniqueInfo& t : technique_table())
+        for (NormalQuality q : {NormalQuality::Gather, NormalQuality::Central, NormalQuality::Sobel})
+            for (bool depth_write : {false, true})
+                for (bool count : {false, true}) {
+                    DrawSettings s;
+                    s.technique = t.technique;
+                    s.normal_quality = q;
+                    s.depth_write = depth_write;
+                    s.count_samples = count;
+                    EXPECT_NO_THROW(r.program_for(s)) << t.name << " " << normal_quality_name(q);
+                }
+}
+
+// A broken shader (through the PRISMRELIEF_SHADER_DIR override) fails with the file and the
+// line of the mistake, also inside an included file.
+TEST(ShaderVariants, CompileErrorNamesFileAndLine)
+{
+    prtest::context();
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "pr_broken_shaders";
+    for (const std::string& f : shader_file_list()) {
+        std::filesystem::create_directories((dir / f).parent_path());
+        std::string text = shader_file(f);
+        if (f == "march/linear.glsl") {
+            // Break line 3 of the included marcher.
+            std::size_t pos = 0;
+            for (int i = 0; i < 2; ++i) pos = text.find('\n', pos) + 1;
+            text.insert(pos, "this is not glsl;\n");
+        }
+        std::ofstream(dir / f) << text;
+    }
+    setenv("PRISMRELIEF_SHADER_DIR", dir.c_str(), 1);
+    std::string what;
+    try {
+        build_program({{GL_FRAGMENT_SHADER, "surface.frag"}},
+                      {{"PR_TECHNIQUE", "PR_TECH_POM"}, {"PR_NORMAL_QUALITY", "PR_NORMAL_SOBEL"}});
+    } catch (const Error& e) {
+        what = e.what();
+    }
+    unsetenv("PRISMRELIEF_SHADER_DIR");
+    std::filesystem::remove_all(dir);
+    EXPECT_NE(what.find("shaders/surface.frag: compile error"), std::string::npos) << what;
+    EXPECT_NE(what.find("shaders/march/linear.glsl:3:"), std::string::npos) << what;
+}
+
+TEST(SharedLayout, UniformBlockOffsetsMatchCpp)
+{
+    prtest::context();
+    Renderer r(8, 8);
+    DrawSettings s;
+    s.technique = Technique::Relief;
+    const GLuint program = r.program_for(s);
+    const auto offset_of = [program](const char* name) {
+        GLuint index = GL_INVALID_INDEX;
+        glGetUniformIndices(program, 1, &name, &index);
+        EXPECT_NE(index, GL_INVALID_INDEX) << name;
+        GLint offset = -1;
+        glGetActiveUniformsiv(program, 1, &index, GL_UNIFORM_OFFSET, &offset);
+        return offset;
+    };
+    const auto block_size = [program](const char* name) {
+        const GLuint b = glGetUniformBlockIndex(program, name);
+        GLint size = 0;
+        glGetActiveUniformBlockiv(program, b, GL_UNIFORM_BLOCK_DATA_SIZE, &size);
+        return size;
+    };
+    EXPECT_EQ(block_size("FrameBlock"), GLint(sizeof(shader::FrameBlock)));
+    EXPECT_EQ(block_size("ObjectBlock"), GLint(sizeof(shader::ObjectBlock)));
+    EXPECT_EQ(offset_of("u_view_proj"), GLint(offsetof(shader::FrameBlock, u_view_proj)));
+    EXPECT_EQ(offset_of("u_eye"), GLint(offsetof(shader::FrameBlock, u_eye)));
+    EXPECT_EQ(offset_of("u_light_dir"), GLint(offsetof(shader::FrameBlock, u_light_dir)));
+    EXPECT_EQ(offset_of("u_normal_matrix"), GLint(offsetof(shader::ObjectBlock, u_normal_matrix)));
+    EXPECT_EQ(offset_of("u_displace"), GLint(offsetof(shader::ObjectBlock, u_displace)));
+    EXPECT_EQ(offset_of("u_march"), GLint(offsetof(shader::ObjectBlock, u_march)));
+    EXPECT_EQ(offset_of("u_material"), GLint(offsetof(shader::ObjectBlock, u_material)));
+    EXPECT_EQ(offset_of("u_base_color"), GLint(offsetof(shader::ObjectBlock, u_base_color)));
+}
+
+TEST(Context, IsOpenGL45Core)
+{
+    const std::string d = prtest::context().description();
+    EXPECT_NE(d.find("OpenGL 4."), std::string::npos) << d;
+    GLint major = 0, minor = 0, mask = 0;
+    glGetIntegerv(GL_MAJOR_VERSION, &major);
+    glGetIntegerv(GL_MINOR_VERSION, &minor);
+    glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &mask);
+    EXPECT_GE(major * 10 + minor, 45);
+    EXPECT_TRUE(mask & GL_CONTEXT_CORE_PROFILE_BIT);
+}
