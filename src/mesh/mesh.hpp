@@ -13,8 +13,10 @@
 
 namespace pr {
 
-// One render vertex: a unique (welded position, UV) pair. Vertices split by UV seams keep the
-// same `normal` and `weld_id`.
+// One render vertex: a unique (welded position, UV) pair, split once more where the faces
+// sharing that pair have incompatible tangent frames (more than ~75 degrees apart, e.g. mirror
+// seams, or a cube's faces sharing UV (1, 1) at a corner; docs/mesh-input.md). Vertices split by
+// UV seams or frames keep the same `normal` and `weld_id`.
 struct MeshVertex {
     glm::vec3 position{0.0f};  // object space
     glm::vec3 normal{0.0f, 0.0f, 1.0f}; // unit, angle-weighted, welded by position (shell direction)
@@ -30,7 +32,7 @@ struct MeshVertex {
 
 struct MeshOptions {
     std::size_t max_triangles = 20'000'000; // after triangulation; more fails early with an error
-    // Automatic UVs for meshes without them (see docs/techniques.md "UVs"): box projection on the
+    // Automatic UVs for meshes without them (see docs/mesh-input.md): box projection on the
     // dominant axis of each face's welded normal; `uv_scale` UV units (texture repeats) across the
     // largest extent of the bounding box.
     float uv_scale = 2.0f;

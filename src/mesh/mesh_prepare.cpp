@@ -1,0 +1,615 @@
+// From a polygon soup to render data (contract, "Geometry and sampling"): triangulation,
+// welding by exact position, angle-weighted welded normals, UVs (the file's or box-projected),
+// render vertices per (welded position, UV, tangent frame) and metric tangent frames.
+#include "mesh/dense_index.hpp"
+#include "mesh/raw_mesh.hpp"
+
+#include "core/error.hpp"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+namespace pr {
+namespace {
+
+using glm::dvec2;
+using glm::dvec3;
+using std::size_t;
+using std::uint32_t;
+using std::uint64_t;
+
+constexpr uint32_t kNone = 0xffffffffu;
+
+// Bit pattern of a float with -0 folded into +0, so that equal coordinates weld.
+uint32_t float_bits(float f)
+{
+    if (f == 0.0f) f = 0.0f;
+    return std::bit_cast<uint32_t>(f);
+}
+
+struct PositionKey {
+    uint32_t bits[3];
+    bool operator==(const PositionKey& o) const
+    {
+        return bits[0] == o.bits[0] && bits[1] == o.bits[1] && bits[2] == o.bits[2];
+    }
+};
+struct PositionHash {
+    uint64_t operator()(const PositionKey& k) const
+    {
+        return mix64((uint64_t(k.bits[0]) << 32 | k.bits[1]) ^ mix64(k.bits[2]));
+    }
+};
+
+// A welded position with a UV. Render vertices are these, further split where the faces
+// around one of them have incompatible tangent frames (see "render vertices" below).
+struct UvKey {
+    uint32_t weld;
+    uint32_t u;
+    uint32_t v;
+    bool operator==(const UvKey& o) const { return weld == o.weld && u == o.u && v == o.v; }
+};
+struct UvKeyHash {
+    uint64_t operator()(const UvKey& k) const
+    {
+        return mix64(uint64_t(k.weld) ^ mix64(uint64_t(k.u) << 32 | k.v));
+    }
+};
+
+struct Triangle {
+    uint32_t corner[3]; // indices into RawMesh::corners
+    uint32_t face;
+};
+
+double cross2(dvec2 a, dvec2 b)
+{
+    return a.x * b.y - a.y * b.x;
+}
+
+// Triangulates polygon `face` (n >= 3 corners, positions in `p`) into local corner triples.
+// Ear clipping in the plane of the Newell normal, so concave polygons come out right; a convex
+// polygon gives the fan from its first corner. Very large or self-intersecting polygons fall
+// back to a fan.
+void triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uint32_t, 3>>& out)
+{
+    const size_t n = p.size();
+    out.clear();
+    auto fan = [&](const std::vector<uint32_t>& ring) {
+        for (size_t i = 1; i + 1 < ring.size(); ++i) out.push_back({ring[0], ring[i], ring[i + 1]});
+    };
+    std::vector<uint32_t> ring(n);
+    for (size_t i = 0; i < n; ++i) ring[i] = uint32_t(i);
+    if (n == 3 || n > 64) {
+        fan(ring);
+        return;
+    }
+    dvec3 normal(0.0);
+    for (size_t i = 0; i < n; ++i) {
+        const dvec3& a = p[i];
+        const dvec3& b = p[(i + 1) % n];
+        normal +=
+            dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+    }
+    const dvec3 an = glm::abs(normal);
+    const int k = an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2);
+    if (an[k] == 0.0) {
+        fan(ring);
+        return;
+    }
+    // Axes (k+1, k+2) keep the orientation when normal[k] > 0; flip the second otherwise, so
+    // the polygon is counter-clockwise in 2D.
+    const double flip = normal[k] > 0.0 ? 1.0 : -1.0;
+    std::vector<dvec2> q(n);
+    for (size_t i = 0; i < n; ++i) q[i] = dvec2(p[i][(k + 1) % 3], flip * p[i][(k + 2) % 3]);
+
+    auto is_ear = [&](size_t i) {
+        const size_t m = ring.size();
+        const uint32_t a = ring[(i + m - 1) % m], b = ring[i], c = ring[(i + 1) % m];
+        if (cross2(q[b] - q[a], q[c] - q[b]) <= 0.0) return false; // reflex or flat
+        for (size_t j = 0; j < m; ++j) {
+            const uint32_t t = ring[j];
+            if (t == a || t == b || t == c) continue;
+            if (q[t] == q[a] || q[t] == q[b] || q[t] == q[c]) continue;
+            if (cross2(q[b] - q[a], q[t] - q[a]) >= 0.0 &&
+                cross2(q[c] - q[b], q[t] - q[b]) >= 0.0 && cross2(q[a] - q[c], q[t] - q[c]) >= 0.0)
+                return false;
+        }
+        return true;
+    };
+    size_t i = 1;
+    while (ring.size() > 3) {
+        const size_t m = ring.size();
+        bool found = false;
+        for (size_t tries = 0; tries < m; ++tries, i = (i + 1) % m) {
+            if (is_ear(i)) {
+                out.push_back({ring[(i + m - 1) % m], ring[i], ring[(i + 1) % m]});
+                ring.erase(ring.begin() + std::ptrdiff_t(i));
+                if (i >= ring.size()) i = 0;
+                if (i == 0 && ring.size() > 1) i = 1;
+                found = true;
+                break;
+            }
+        }
+        if (!found) break;
+    }
+    fan(ring);
+}
+
+// Interior angle at corner `a` of triangle (a, b, c); atan2 stays accurate for thin corners.
+double corner_angle(const dvec3& a, const dvec3& b, const dvec3& c)
+{
+    const dvec3 e1 = b - a, e2 = c - a;
+    return std::atan2(glm::length(glm::cross(e1, e2)), glm::dot(e1, e2));
+}
+
+// Unit vector perpendicular to n (n unit).
+dvec3 any_perpendicular(const dvec3& n)
+{
+    const dvec3 an = glm::abs(n);
+    const dvec3 axis = an.x <= an.y && an.x <= an.z
+                           ? dvec3(1, 0, 0)
+                           : (an.y <= an.z ? dvec3(0, 1, 0) : dvec3(0, 0, 1));
+    return glm::normalize(axis - n * glm::dot(n, axis));
+}
+
+// Box projection seen from outside (U to the right, V up, never mirrored): for each of the six
+// axis directions, which coordinate becomes U and V and with which sign. Up is +Y for the four
+// side directions; seen from +Y, up is -Z, and from -Y it is +Z.
+struct BoxAxis {
+    int u_axis;
+    float u_sign;
+    int v_axis;
+    float v_sign;
+};
+constexpr BoxAxis kBoxAxes[6] = {
+    {2, -1.0f, 1, 1.0f}, // +X: U = -z, V = y
+    {2, 1.0f, 1, 1.0f},  // -X: U = z, V = y
+    {0, 1.0f, 2, -1.0f}, // +Y: U = x, V = -z
+    {0, 1.0f, 2, 1.0f},  // -Y: U = x, V = z
+    {0, 1.0f, 1, 1.0f},  // +Z: U = x, V = y
+    {0, -1.0f, 1, 1.0f}, // -Z: U = -x, V = y
+};
+
+std::string format_number(float x)
+{
+    std::ostringstream s;
+    s << x;
+    return s.str();
+}
+
+int box_direction(const dvec3& n)
+{
+    const dvec3 an = glm::abs(n);
+    const int axis = an.x > an.y && an.x > an.z ? 0 : (an.y > an.z ? 1 : 2);
+    return axis * 2 + (n[axis] >= 0.0 ? 0 : 1);
+}
+
+} // namespace
+
+PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const std::string& name)
+{
+    if (!(options.uv_scale > 0.0f) || !std::isfinite(options.uv_scale))
+        throw Error(name, "uv_scale for generated UVs must be a positive number");
+    PreparedMesh out;
+    out.had_normals = raw.had_normals;
+    const size_t face_count = raw.face_count();
+
+    // ---- triangle budget, before anything is allocated per triangle --------------------------
+    unsigned long long triangle_estimate = 0;
+    for (size_t f = 0; f < face_count; ++f) {
+        const size_t n = raw.face_offsets[f + 1] - raw.face_offsets[f];
+        if (n >= 3) triangle_estimate += n - 2;
+    }
+    if (triangle_estimate > options.max_triangles)
+        throw Error(name, "has " + std::to_string(triangle_estimate) +
+                              " triangles after triangulation; the limit is " +
+                              std::to_string(options.max_triangles));
+
+    // ---- weld referenced positions by exact equality ------------------------------------------
+    std::vector<uint32_t> weld_of(raw.positions.size(), kNone);
+    DenseIndex<PositionKey, PositionHash> welds(std::min(raw.positions.size(), raw.corners.size()));
+    for (uint32_t v : raw.corners) {
+        if (weld_of[v] != kNone) continue;
+        const glm::vec3& p = raw.positions[v];
+        weld_of[v] =
+            welds.insert(PositionKey{{float_bits(p.x), float_bits(p.y), float_bits(p.z)}}).first;
+    }
+    auto weld_position = [&](uint32_t w) {
+        const PositionKey& k = welds.keys()[w];
+        return dvec3(std::bit_cast<float>(k.bits[0]), std::bit_cast<float>(k.bits[1]),
+                     std::bit_cast<float>(k.bits[2]));
+    };
+
+    // ---- triangulate and drop zero-area triangles ----------------------------------------------
+    std::vector<Triangle> tris;
+    tris.reserve(size_t(triangle_estimate));
+    size_t degenerate = raw.collapsed_faces;
+    std::vector<dvec3> poly;
+    std::vector<std::array<uint32_t, 3>> local;
+    for (size_t f = 0; f < face_count; ++f) {
+        const uint32_t begin = raw.face_offsets[f];
+        const size_t n = raw.face_offsets[f + 1] - begin;
+        if (n < 3) {
+            ++degenerate;
+            continue;
+        }
+        poly.resize(n);
+        for (size_t i = 0; i < n; ++i) poly[i] = weld_position(weld_of[raw.corners[begin + i]]);
+        if (n == 3) {
+            local.assign(1, {0, 1, 2}); // the common case, without the polygon machinery
+        } else {
+            triangulate_polygon(poly, local);
+        }
+        for (const auto& t : local) {
+            const uint32_t w0 = weld_of[raw.corners[begin + t[0]]];
+            const uint32_t w1 = weld_of[raw.corners[begin + t[1]]];
+            const uint32_t w2 = weld_of[raw.corners[begin + t[2]]];
+            const dvec3 c = glm::cross(poly[t[1]] - poly[t[0]], poly[t[2]] - poly[t[0]]);
+            if (w0 == w1 || w1 == w2 || w0 == w2 || (c.x == 0.0 && c.y == 0.0 && c.z == 0.0)) {
+                ++degenerate;
+                continue;
+            }
+            tris.push_back({{begin + t[0], begin + t[1], begin + t[2]}, uint32_t(f)});
+        }
+    }
+    out.dropped_triangles = degenerate;
+    if (tris.empty())
+        throw Error(name,
+                    "all " + std::to_string(degenerate) + " triangles are degenerate (zero area)");
+    if (degenerate > 0)
+        warn(name + ": dropped " + std::to_string(degenerate) + " degenerate (zero-area) triangle" +
+             (degenerate == 1 ? "" : "s"));
+
+    // ---- compact weld ids to the positions that survive ----------------------------------------
+    std::vector<uint32_t> compact(welds.size(), kNone);
+    std::vector<dvec3> wpos;
+    auto tri_weld = [&](const Triangle& t, int k) {
+        return compact[weld_of[raw.corners[t.corner[k]]]];
+    };
+    for (const Triangle& t : tris) {
+        for (int k = 0; k < 3; ++k) {
+            uint32_t& c = compact[weld_of[raw.corners[t.corner[k]]]];
+            if (c == kNone) {
+                c = uint32_t(wpos.size());
+                wpos.push_back(weld_position(weld_of[raw.corners[t.corner[k]]]));
+            }
+        }
+    }
+    const size_t weld_count = wpos.size();
+    out.weld_count = uint32_t(weld_count);
+
+    dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (const dvec3& p : wpos) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    out.bbox_min = glm::vec3(lo);
+    out.bbox_max = glm::vec3(hi);
+    const dvec3 centre = 0.5 * (lo + hi);
+    const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+
+    // ---- angle-weighted welded normals ---------------------------------------------------------
+    // Triangles so thin that float rounding of their corners decides their normal are left out
+    // of the angle-weighted sum (their obtuse corner would weigh almost pi); the plain sum of
+    // cross products is the fallback for a position that only touches such triangles.
+    std::vector<dvec3> nsum(weld_count, dvec3(0.0)), csum(weld_count, dvec3(0.0));
+    std::vector<double> angle_sum(weld_count, 0.0);
+    for (const Triangle& t : tris) {
+        const uint32_t w[3] = {tri_weld(t, 0), tri_weld(t, 1), tri_weld(t, 2)};
+        const dvec3 &a = wpos[w[0]], &b = wpos[w[1]], &c = wpos[w[2]];
+        const dvec3 cr = glm::cross(b - a, c - a);
+        const double len = glm::length(cr);
+        const double longest2 =
+            std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
+        for (uint32_t wi : w) csum[wi] += cr;
+        if (len <= 1e-7 * longest2) continue;
+        const dvec3 fn = cr / len;
+        const double angles[3] = {corner_angle(a, b, c), corner_angle(b, c, a),
+                                  corner_angle(c, a, b)};
+        for (int k = 0; k < 3; ++k) {
+            nsum[w[k]] += angles[k] * fn;
+            angle_sum[w[k]] += angles[k];
+        }
+    }
+    std::vector<dvec3> wnormal(weld_count);
+    size_t fallback_normals = 0;
+    for (size_t i = 0; i < weld_count; ++i) {
+        // Relative to the total weight: what is left after near-complete cancellation is noise.
+        const double l = glm::length(nsum[i]);
+        if (l > 1e-6 * angle_sum[i] && l > 0.0) {
+            wnormal[i] = nsum[i] / l;
+            continue;
+        }
+        // Cancelled (opposite faces at one position) or only slivers: any finite direction.
+        ++fallback_normals;
+        const double lc = glm::length(csum[i]);
+        const dvec3 d = wpos[i] - centre;
+        if (lc > 0.0)
+            wnormal[i] = csum[i] / lc;
+        else if (glm::length(d) > 0.0)
+            wnormal[i] = glm::normalize(d);
+        else
+            wnormal[i] = dvec3(0, 0, 1);
+    }
+    if (fallback_normals > 0)
+        warn(name + ": " + std::to_string(fallback_normals) +
+             " positions have no defined normal (their faces cancel out); used a fallback "
+             "direction");
+
+    // ---- topology remarks: non-manifold edges and inconsistent orientation ---------------------
+    // Edge keys pack two 31-bit weld ids and a direction bit into 64 bits.
+    if (weld_count < (size_t(1) << 31)) {
+        std::vector<uint64_t> edges;
+        edges.reserve(tris.size() * 3);
+        for (const Triangle& t : tris) {
+            for (int k = 0; k < 3; ++k) {
+                const uint64_t a = tri_weld(t, k), b = tri_weld(t, (k + 1) % 3);
+                const uint64_t lo_id = std::min(a, b), hi_id = std::max(a, b);
+                edges.push_back((lo_id << 32 | hi_id) << 1 | (a < b ? 0u : 1u));
+            }
+        }
+        std::sort(edges.begin(), edges.end());
+        size_t non_manifold = 0, flipped = 0;
+        for (size_t i = 0; i < edges.size();) {
+            size_t j = i, forward = 0;
+            while (j < edges.size() && (edges[j] >> 1) == (edges[i] >> 1)) {
+                forward += (edges[j] & 1u) == 0u;
+                ++j;
+            }
+            const size_t count = j - i;
+            if (count > 2)
+                ++non_manifold;
+            else if (count == 2 && forward != 1)
+                ++flipped;
+            i = j;
+        }
+        if (non_manifold > 0)
+            warn(name + ": " + std::to_string(non_manifold) +
+                 " edges are shared by more than two faces (non-manifold); rendered as they are");
+        if (flipped > 0)
+            warn(name + ": " + std::to_string(flipped) +
+                 " edges join faces of opposite orientation; welded normals may cancel there");
+    }
+
+    // ---- UVs per triangle corner ----------------------------------------------------------------
+    const bool file_uvs = !options.force_generated_uvs && !raw.face_has_uv.empty();
+    auto face_uses_file_uv = [&](uint32_t f) { return file_uvs && raw.face_has_uv[f] != 0; };
+    std::vector<int> face_direction(face_count, -1);
+    size_t generated_faces = 0;
+    {
+        // Dominant axis of each face's averaged welded normal (face normal if that cancels).
+        std::vector<dvec3> fsum(face_count, dvec3(0.0)), fcross(face_count, dvec3(0.0));
+        for (const Triangle& t : tris) {
+            if (face_uses_file_uv(t.face)) continue;
+            for (int k = 0; k < 3; ++k) fsum[t.face] += wnormal[tri_weld(t, k)];
+            const dvec3 &a = wpos[tri_weld(t, 0)], &b = wpos[tri_weld(t, 1)],
+                        &c = wpos[tri_weld(t, 2)];
+            fcross[t.face] += glm::cross(b - a, c - a);
+        }
+        for (size_t f = 0; f < face_count; ++f) {
+            if (face_uses_file_uv(uint32_t(f))) continue;
+            const dvec3 s = glm::length(fsum[f]) > 1e-9 ? fsum[f] : fcross[f];
+            face_direction[f] = box_direction(s);
+        }
+    }
+    const double uv_per_unit = extent > 0.0 ? double(options.uv_scale) / extent : 1.0;
+    auto generated_uv = [&](uint32_t weld, int direction) {
+        const BoxAxis& ax = kBoxAxes[direction];
+        const dvec3& p = wpos[weld];
+        // Offsets from the box corner keep generated UVs in [0, uv_scale]; the same formula for
+        // every face of a direction keeps them continuous.
+        const double u =
+            ax.u_sign > 0 ? p[ax.u_axis] - lo[ax.u_axis] : hi[ax.u_axis] - p[ax.u_axis];
+        const double v =
+            ax.v_sign > 0 ? p[ax.v_axis] - lo[ax.v_axis] : hi[ax.v_axis] - p[ax.v_axis];
+        return glm::vec2(float(u * uv_per_unit), float(v * uv_per_unit));
+    };
+
+    std::vector<glm::vec2> tri_uv(tris.size() * 3);
+    std::vector<uint8_t> seen_face(face_count, 0);
+    for (size_t i = 0; i < tris.size(); ++i) {
+        const Triangle& t = tris[i];
+        const bool from_file = face_uses_file_uv(t.face);
+        if (!from_file && !seen_face[t.face]) {
+            seen_face[t.face] = 1;
+            ++generated_faces;
+        }
+        for (int k = 0; k < 3; ++k) {
+            tri_uv[i * 3 + size_t(k)] = from_file
+                                            ? raw.corner_uvs[t.corner[k]]
+                                            : generated_uv(tri_weld(t, k), face_direction[t.face]);
+        }
+    }
+    out.had_uvs = generated_faces == 0;
+    if (generated_faces > 0 && !options.force_generated_uvs) {
+        if (raw.face_has_uv.empty())
+            warn(name + ": no texture coordinates; generated box-projected UVs (" +
+                 format_number(options.uv_scale) + " repeats across the largest extent)");
+        else
+            warn(name + ": " + std::to_string(generated_faces) +
+                 " faces have no usable texture coordinates; generated box-projected UVs for them");
+    }
+
+    // ---- per-triangle metric frames ---------------------------------------------------------
+    // dP/du and dP/dv of each triangle: P is linear in UV over a triangle, so
+    // e1 = T du1 + B dv1 and e2 = T du2 + B dv2. Triangles without UV area have no frame. The
+    // frame of a triangle that is nearly flat in UV grows without bound (dividing by its UV
+    // area), so such triangles weigh less when frames are averaged: `tri_quality` is the UV
+    // area over the product of the UV extents (about 0.5 to 1 for well-shaped triangles).
+    std::vector<glm::vec3> tri_t(tris.size()), tri_b(tris.size());
+    std::vector<double> tri_det(tris.size());
+    std::vector<float> tri_quality(tris.size(), 0.0f);
+    std::vector<uint8_t> tri_has_frame(tris.size(), 0);
+    for (size_t i = 0; i < tris.size(); ++i) {
+        const Triangle& t = tris[i];
+        const dvec3 &p0 = wpos[tri_weld(t, 0)], &p1 = wpos[tri_weld(t, 1)],
+                    &p2 = wpos[tri_weld(t, 2)];
+        const dvec2 uv0(tri_uv[i * 3]), uv1(tri_uv[i * 3 + 1]), uv2(tri_uv[i * 3 + 2]);
+        const dvec2 d1 = uv1 - uv0, d2 = uv2 - uv0;
+        const double det = cross2(d1, d2);
+        tri_det[i] = det;
+        const double scale =
+            (std::fabs(d1.x) + std::fabs(d2.x)) * (std::fabs(d1.y) + std::fabs(d2.y));
+        if (det == 0.0 || !(std::fabs(det) > 1e-7 * scale)) continue;
+        const dvec3 e1 = p1 - p0, e2 = p2 - p0;
+        const dvec3 T = (e1 * d2.y - e2 * d1.y) / det;
+        const dvec3 B = (e2 * d1.x - e1 * d2.x) / det;
+        const double lt = glm::length(T), lb = glm::length(B);
+        if (!std::isfinite(lt) || !std::isfinite(lb) || lt == 0.0 || lb == 0.0) continue;
+        tri_t[i] = glm::vec3(T);
+        tri_b[i] = glm::vec3(B);
+        tri_quality[i] = float(std::fabs(det) / scale);
+        tri_has_frame[i] = 1;
+    }
+
+    // ---- render vertices
+    // ------------------------------------------------------------------------- One per (welded
+    // position, UV), split further when the triangles sharing it have tangent frames more than ~75
+    // degrees apart: a cube with 0..1 UVs on every face shares UV (1, 1) between perpendicular
+    // faces at a corner, and averaging their frames would suit neither. Mirrored UVs flip T or B,
+    // so mirror seams split too. Greedy, in triangle order: each corner joins the first cluster of
+    // its (position, UV) whose first frame is compatible.
+    struct Cluster {
+        glm::vec3 t_dir{0.0f}, b_dir{0.0f};
+        bool has_frame = false;
+        uint32_t next = kNone;
+        uint32_t vertex = kNone;
+    };
+    DenseIndex<UvKey, UvKeyHash> uv_vertices(weld_count + weld_count / 4);
+    std::vector<uint32_t> first_cluster;
+    std::vector<Cluster> clusters;
+    std::vector<UvKey> vertex_keys;
+    std::vector<uint8_t> vertex_mirrored;
+    first_cluster.reserve(weld_count + weld_count / 4);
+    out.indices.resize(tris.size() * 3);
+    constexpr float kCompatible = 0.25f; // cos 75 degrees
+    for (size_t i = 0; i < tris.size(); ++i) {
+        const bool has = tri_has_frame[i] != 0;
+        const glm::vec3 td = has ? glm::normalize(tri_t[i]) : glm::vec3(0.0f);
+        const glm::vec3 bd = has ? glm::normalize(tri_b[i]) : glm::vec3(0.0f);
+        for (int k = 0; k < 3; ++k) {
+            const glm::vec2 uv = tri_uv[i * 3 + size_t(k)];
+            const UvKey key{tri_weld(tris[i], k), float_bits(uv.x), float_bits(uv.y)};
+            const auto [id, inserted] = uv_vertices.insert(key);
+            if (inserted) first_cluster.push_back(kNone);
+            uint32_t chosen = kNone, last = kNone;
+            for (uint32_t c = first_cluster[id]; c != kNone; c = clusters[c].next) {
+                const Cluster& cl = clusters[c];
+                if (!has || !cl.has_frame ||
+                    (glm::dot(td, cl.t_dir) > kCompatible &&
+                     glm::dot(bd, cl.b_dir) > kCompatible)) {
+                    chosen = c;
+                    break;
+                }
+                last = c;
+            }
+            if (chosen == kNone) {
+                chosen = uint32_t(clusters.size());
+                Cluster c;
+                c.vertex = uint32_t(vertex_keys.size());
+                clusters.push_back(c);
+                if (last == kNone)
+                    first_cluster[id] = chosen;
+                else
+                    clusters[last].next = chosen;
+                vertex_keys.push_back(key);
+                vertex_mirrored.push_back(0);
+            }
+            Cluster& c = clusters[chosen];
+            if (has && !c.has_frame) {
+                // the first triangle with a frame defines the cluster's directions
+                c.t_dir = td;
+                c.b_dir = bd;
+                c.has_frame = true;
+                vertex_mirrored[c.vertex] = tri_det[i] < 0.0;
+            }
+            out.indices[i * 3 + size_t(k)] = c.vertex;
+        }
+    }
+    const size_t vertex_count = vertex_keys.size();
+
+    // ---- metric tangent frames ------------------------------------------------------------------
+    // Triangle frames averaged over the triangles around a render vertex with corner-angle
+    // weights (scaled down for triangles nearly flat in UV); lengths are kept (object units per
+    // UV unit).
+    std::vector<glm::vec3> tsum(vertex_count, glm::vec3(0.0f)), bsum(vertex_count, glm::vec3(0.0f));
+    std::vector<float> wsum(vertex_count, 0.0f);
+    for (size_t i = 0; i < tris.size(); ++i) {
+        if (!tri_has_frame[i]) continue;
+        const Triangle& t = tris[i];
+        const dvec3 &p0 = wpos[tri_weld(t, 0)], &p1 = wpos[tri_weld(t, 1)],
+                    &p2 = wpos[tri_weld(t, 2)];
+        const double angles[3] = {corner_angle(p0, p1, p2), corner_angle(p1, p2, p0),
+                                  corner_angle(p2, p0, p1)};
+        const float shape = std::min(1.0f, tri_quality[i] / 0.05f);
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t v = out.indices[i * 3 + size_t(k)];
+            const float w = float(angles[k]) * shape;
+            tsum[v] += tri_t[i] * w;
+            bsum[v] += tri_b[i] * w;
+            wsum[v] += w;
+        }
+    }
+
+    // Length for frames that cannot be derived from UVs: the mean of the derived ones, else
+    // what generated UVs would give.
+    double mean_len = 0.0;
+    size_t mean_n = 0;
+    for (size_t v = 0; v < vertex_count; ++v) {
+        if (wsum[v] <= 0.0f) continue;
+        mean_len += 0.5 * (glm::length(tsum[v]) + glm::length(bsum[v])) / wsum[v];
+        ++mean_n;
+    }
+    double fallback_len =
+        mean_n > 0 ? mean_len / double(mean_n) : (extent > 0.0 ? 1.0 / uv_per_unit : 1.0);
+    if (!(fallback_len > 0.0) || !std::isfinite(fallback_len)) fallback_len = 1.0;
+
+    out.vertices.resize(vertex_count);
+    for (size_t v = 0; v < vertex_count; ++v) {
+        const UvKey& key = vertex_keys[v];
+        MeshVertex& mv = out.vertices[v];
+        const dvec3 n = wnormal[key.weld];
+        mv.position = glm::vec3(wpos[key.weld]);
+        mv.normal = glm::vec3(n);
+        mv.uv = glm::vec2(std::bit_cast<float>(key.u), std::bit_cast<float>(key.v));
+        mv.weld_id = key.weld;
+
+        const double sign = vertex_mirrored[v] ? -1.0 : 1.0;
+        dvec3 T(0.0), B(0.0);
+        if (wsum[v] > 0.0f) {
+            T = dvec3(tsum[v]) / double(wsum[v]);
+            B = dvec3(bsum[v]) / double(wsum[v]);
+            T -= n * glm::dot(n, T);
+            B -= n * glm::dot(n, B);
+        }
+        const double eps = 1e-6 * fallback_len;
+        const double lt = glm::length(T), lb = glm::length(B);
+        const bool t_ok = lt > eps && std::isfinite(lt), b_ok = lb > eps && std::isfinite(lb);
+        if (t_ok && b_ok && glm::length(glm::cross(T / lt, B / lb)) > 1e-3) {
+            // a usable frame
+        } else if (t_ok) {
+            B = sign * (b_ok ? lb : lt) * glm::cross(n, T / lt);
+        } else if (b_ok) {
+            T = sign * lb * glm::cross(B / lb, n);
+        } else {
+            T = fallback_len * any_perpendicular(n);
+            B = sign * fallback_len * glm::cross(n, T / fallback_len);
+        }
+        const double handed = glm::dot(glm::cross(n, T), B) < 0.0 ? -1.0 : 1.0;
+        mv.tangent = glm::vec4(glm::vec3(T), float(handed));
+        mv.bitangent = glm::vec3(B);
+    }
+    return out;
+}
+
+} // namespace pr

@@ -1,0 +1,947 @@
+// Reading mesh files through OpenMesh into a RawMesh.
+//
+// OpenMesh's readers are lenient (contract, "Facts of this platform"): they return success after
+// skipping vertices whose numbers do not parse, drop faces with bad indices, loop over header
+// counts without checking the end of the file, and allocate for whatever a header claims. So each
+// file is validated here first (header counts against the file size, numbers, indices), and
+// OpenMesh then reads into our own importer (SoupImporter), which records a plain polygon soup:
+// no halfedge topology means no faces rejected as non-manifold and no vertices duplicated.
+#include "mesh/raw_mesh.hpp"
+
+#include "core/error.hpp"
+
+#include <OpenMesh/Core/IO/IOManager.hh>
+#include <OpenMesh/Core/IO/Options.hh>
+#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
+#include <OpenMesh/Core/IO/reader/STLReader.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cfloat>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <mutex>
+#include <new>
+#include <string_view>
+
+namespace pr {
+namespace {
+
+namespace fs = std::filesystem;
+namespace omio = OpenMesh::IO;
+
+using std::size_t;
+using std::string;
+using std::string_view;
+
+[[noreturn]] void fail(const string& subject, const string& problem)
+{
+    throw Error(subject, problem);
+}
+
+string line_prefix(size_t line)
+{
+    return "line " + std::to_string(line) + ": ";
+}
+
+// ---- text scanning -------------------------------------------------------------------------
+
+bool is_space(char c)
+{
+    return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v';
+}
+
+// Splits a line into at most `max` whitespace-separated tokens; returns how many were found
+// (possibly more than `max`, which are counted but not stored).
+size_t tokenize(string_view line, string_view* out, size_t max)
+{
+    size_t n = 0;
+    size_t i = 0;
+    while (i < line.size()) {
+        while (i < line.size() && is_space(line[i])) ++i;
+        if (i == line.size()) break;
+        const size_t start = i;
+        while (i < line.size() && !is_space(line[i])) ++i;
+        if (n < max) out[n] = line.substr(start, i - start);
+        ++n;
+    }
+    return n;
+}
+
+// Iterates the lines of a text, numbering them from 1.
+class LineReader {
+public:
+    explicit LineReader(string_view text, size_t offset = 0, size_t first_line = 1)
+        : text_(text), pos_(offset), line_(first_line - 1)
+    {
+    }
+    bool next(string_view& line)
+    {
+        if (pos_ >= text_.size()) return false;
+        const size_t end = text_.find('\n', pos_);
+        const size_t stop = end == string_view::npos ? text_.size() : end;
+        line = text_.substr(pos_, stop - pos_);
+        pos_ = stop + 1;
+        ++line_;
+        return true;
+    }
+    size_t line() const { return line_; }
+    size_t offset() const { return std::min(pos_, text_.size()); }
+
+private:
+    string_view text_;
+    size_t pos_;
+    size_t line_;
+};
+
+// A number token as OpenMesh's stream extraction reads it into a float: must be a whole token
+// and finite in single precision (an overflowing "1e39" is not; underflow to 0 is fine).
+bool parse_finite_float(string_view token)
+{
+    char buf[64];
+    if (token.empty() || token.size() >= sizeof buf) return false;
+    std::memcpy(buf, token.data(), token.size());
+    buf[token.size()] = '\0';
+    char* end = nullptr;
+    const double d = std::strtod(buf, &end);
+    if (end != buf + token.size()) return false;
+    return std::isfinite(d) && std::fabs(d) <= double(FLT_MAX);
+}
+
+bool parse_int(string_view token, long long& value)
+{
+    if (token.empty() || token.size() > 18) return false;
+    size_t i = 0;
+    bool negative = false;
+    if (token[0] == '-' || token[0] == '+') {
+        negative = token[0] == '-';
+        i = 1;
+    }
+    if (i == token.size()) return false;
+    long long v = 0;
+    for (; i < token.size(); ++i) {
+        if (token[i] < '0' || token[i] > '9') return false;
+        v = v * 10 + (token[i] - '0');
+    }
+    value = negative ? -v : v;
+    return true;
+}
+
+string shown(string_view s)
+{
+    string out(s.substr(0, 40));
+    if (s.size() > 40) out += "...";
+    return "'" + out + "'";
+}
+
+// Number of distinct values in a face's index list, without allocating for the usual short
+// faces.
+size_t distinct_count(const std::vector<long long>& v)
+{
+    if (v.size() > 16) {
+        std::vector<long long> sorted(v);
+        std::sort(sorted.begin(), sorted.end());
+        return size_t(std::unique(sorted.begin(), sorted.end()) - sorted.begin());
+    }
+    size_t n = 0;
+    for (size_t i = 0; i < v.size(); ++i)
+        n += std::find(v.begin(), v.begin() + std::ptrdiff_t(i), v[i]) ==
+             v.begin() + std::ptrdiff_t(i);
+    return n;
+}
+
+// What the validation expects OpenMesh to deliver, checked after reading.
+struct Expect {
+    size_t add_face_calls = 0;       // faces the reader should hand to the importer
+    size_t vertices = 0;             // 0: not checked
+    size_t file_faces = 0;           // faces in the file (for messages and collapsed faces)
+    bool faces_may_collapse = false; // STL: the reader skips faces whose corners coincide
+    bool binary = false;
+};
+
+void check_triangle_budget(const string& subject, unsigned long long triangles,
+                           const MeshOptions& options)
+{
+    if (triangles > options.max_triangles)
+        fail(subject, "has " + std::to_string(triangles) +
+                          " triangles after triangulation; the limit is " +
+                          std::to_string(options.max_triangles));
+}
+
+// ---- OBJ -----------------------------------------------------------------------------------
+
+Expect scan_obj(const string& subject, string_view text, const MeshOptions& options)
+{
+    Expect e;
+    size_t nv = 0, nvt = 0;
+    long long max_v = 0, max_vt = 0;
+    size_t max_v_line = 0, max_vt_line = 0;
+    unsigned long long triangles = 0;
+    std::vector<long long> face;
+    LineReader lines(text);
+    string_view line;
+    string_view tok[4];
+    while (lines.next(line)) {
+        size_t i = 0;
+        while (i < line.size() && is_space(line[i])) ++i;
+        if (i == line.size() || line[i] == '#') continue;
+        line.remove_prefix(i);
+        const size_t key_end = std::min(
+            line.size(), size_t(std::find_if(line.begin(), line.end(), is_space) - line.begin()));
+        const string_view key = line.substr(0, key_end);
+        const string_view rest = line.substr(key_end);
+        if (key == "v") {
+            const size_t n = tokenize(rest, tok, 3);
+            if (n < 3 || !parse_finite_float(tok[0]) || !parse_finite_float(tok[1]) ||
+                !parse_finite_float(tok[2]))
+                fail(subject,
+                     line_prefix(lines.line()) + "vertex position is not three finite numbers");
+            ++nv;
+        } else if (key == "vt") {
+            const size_t n = tokenize(rest, tok, 2);
+            if (n < 2 || !parse_finite_float(tok[0]) || !parse_finite_float(tok[1]))
+                fail(subject,
+                     line_prefix(lines.line()) +
+                         "texture coordinate is not two finite numbers (1D texture coordinates "
+                         "are not supported)");
+            ++nvt;
+        } else if (key == "f") {
+            face.clear();
+            size_t pos = 0;
+            while (pos < rest.size()) {
+                while (pos < rest.size() && is_space(rest[pos])) ++pos;
+                if (pos == rest.size()) break;
+                const size_t start = pos;
+                while (pos < rest.size() && !is_space(rest[pos])) ++pos;
+                const string_view corner = rest.substr(start, pos - start);
+                // v, v/vt, v//vn or v/vt/vn
+                const size_t s1 = corner.find('/');
+                const string_view vs = corner.substr(0, s1);
+                string_view ts;
+                if (s1 != string_view::npos) {
+                    const size_t s2 = corner.find('/', s1 + 1);
+                    ts = corner.substr(s1 + 1,
+                                       s2 == string_view::npos ? string_view::npos : s2 - s1 - 1);
+                }
+                long long v = 0, t = 0;
+                if (!parse_int(vs, v) || v == 0 || (!ts.empty() && (!parse_int(ts, t) || t == 0)))
+                    fail(subject,
+                         line_prefix(lines.line()) + "malformed face corner " + shown(corner));
+                if (v < 0) {
+                    v += static_cast<long long>(nv) + 1;
+                    if (v < 1)
+                        fail(subject, line_prefix(lines.line()) + "vertex index " + string(vs) +
+                                          " is out of range (" + std::to_string(nv) +
+                                          " vertices so far)");
+                } else if (v > max_v) {
+                    max_v = v;
+                    max_v_line = lines.line();
+                }
+                if (t < 0) {
+                    t += static_cast<long long>(nvt) + 1;
+                    if (t < 1)
+                        fail(subject, line_prefix(lines.line()) + "texture coordinate index " +
+                                          string(ts) + " is out of range (" + std::to_string(nvt) +
+                                          " so far)");
+                } else if (t > max_vt) {
+                    max_vt = t;
+                    max_vt_line = lines.line();
+                }
+                face.push_back(v);
+            }
+            if (face.size() < 3)
+                fail(subject, line_prefix(lines.line()) + "a face needs at least 3 vertices");
+            ++e.file_faces;
+            // OpenMesh removes repeated vertices from a face and skips it when fewer than three
+            // remain; such a face has no area anyway.
+            const size_t distinct = distinct_count(face);
+            if (distinct >= 3) {
+                ++e.add_face_calls;
+                triangles += distinct - 2;
+            }
+        }
+    }
+    if (max_v > static_cast<long long>(nv))
+        fail(subject, line_prefix(max_v_line) + "vertex index " + std::to_string(max_v) +
+                          " is out of range (the file has " + std::to_string(nv) + " vertices)");
+    if (max_vt > static_cast<long long>(nvt))
+        fail(subject, line_prefix(max_vt_line) + "texture coordinate index " +
+                          std::to_string(max_vt) + " is out of range (the file has " +
+                          std::to_string(nvt) + ")");
+    check_triangle_budget(subject, triangles, options);
+    e.vertices = nv;
+    return e;
+}
+
+// ---- OFF -----------------------------------------------------------------------------------
+
+Expect scan_off(const string& subject, string_view text, const MeshOptions& options)
+{
+    Expect e;
+    LineReader lines(text);
+    string_view header;
+    lines.next(header);
+    string_view tok[4];
+    const size_t n_head = tokenize(header, tok, 3);
+    // [ST][C][N]OFF [BINARY]: the variants OpenMesh reads with 3D positions.
+    string_view magic = n_head > 0 ? tok[0] : string_view();
+    bool has_c = false;
+    if (magic.substr(0, 2) == "ST") magic.remove_prefix(2);
+    if (!magic.empty() && magic[0] == 'C') {
+        has_c = true;
+        magic.remove_prefix(1);
+    }
+    if (!magic.empty() && magic[0] == 'N') magic.remove_prefix(1);
+    if (magic != "OFF") {
+        if (n_head > 0 && tok[0].size() >= 3 && tok[0].substr(tok[0].size() - 3) == "OFF")
+            fail(subject, "unsupported OFF variant " + shown(tok[0]) + " (only 3D [ST][C][N]OFF)");
+        fail(subject, "does not start with an OFF header line");
+    }
+    if (n_head > 2 || (n_head == 2 && tok[1] != "BINARY"))
+        fail(subject, "line 1: the counts must be on the line after " + shown(tok[0]) +
+                          " (the reader expects the header alone on its first line)");
+    e.binary = n_head == 2;
+    const size_t body = lines.offset();
+    const unsigned long long remaining = text.size() - body;
+
+    unsigned long long nv = 0, nf = 0;
+    if (e.binary) {
+        if (remaining < 12) fail(subject, "binary OFF header is truncated");
+        std::uint32_t counts[2];
+        std::memcpy(counts, text.data() + body, sizeof counts);
+        nv = counts[0];
+        nf = counts[1];
+        // Minimum sizes: 3 floats per vertex, a count and 3 indices per face.
+        const unsigned long long need = 12 + nv * 12 + nf * 16;
+        if (need > remaining)
+            fail(subject, "header claims " + std::to_string(nv) + " vertices and " +
+                              std::to_string(nf) + " faces, more than a file of " +
+                              std::to_string(text.size()) + " bytes can hold");
+        check_triangle_budget(subject, nf, options);
+        e.add_face_calls = e.file_faces = nf;
+        e.vertices = nv;
+        return e;
+    }
+
+    string_view line;
+    size_t n = 0;
+    do {
+        if (!lines.next(line)) fail(subject, "missing vertex and face counts after the OFF line");
+        n = tokenize(line, tok, 3);
+    } while (n == 0);
+    long long cv = -1, cf = -1, ce = 0;
+    if (n < 2 || !parse_int(tok[0], cv) || !parse_int(tok[1], cf) ||
+        (n > 2 && !parse_int(tok[2], ce)) || cv < 0 || cf < 0 || cv > 0xffffffffLL ||
+        cf > 0xffffffffLL)
+        fail(subject, line_prefix(lines.line()) + "expected vertex, face and edge counts");
+    nv = static_cast<unsigned long long>(cv);
+    nf = static_cast<unsigned long long>(cf);
+    // Shortest text a vertex ("0 0 0\n") and a triangle ("3 0 1 2\n") can take.
+    const unsigned long long left = text.size() - lines.offset();
+    if (nv * 6 + nf * 8 > left + 2)
+        fail(subject, "header claims " + std::to_string(nv) + " vertices and " +
+                          std::to_string(nf) + " faces, more than a file of " +
+                          std::to_string(text.size()) + " bytes can hold");
+    check_triangle_budget(subject, nf, options);
+
+    for (unsigned long long i = 0; i < nv; ++i) {
+        do {
+            if (!lines.next(line))
+                fail(subject, "file ends after " + std::to_string(i) + " of " + std::to_string(nv) +
+                                  " vertices");
+            n = tokenize(line, tok, 3);
+        } while (n == 0);
+        if (n < 3 || !parse_finite_float(tok[0]) || !parse_finite_float(tok[1]) ||
+            !parse_finite_float(tok[2]))
+            fail(subject,
+                 line_prefix(lines.line()) + "vertex position is not three finite numbers");
+    }
+    unsigned long long triangles = 0;
+    std::vector<string_view> ftok;
+    for (unsigned long long f = 0; f < nf; ++f) {
+        do {
+            if (!lines.next(line))
+                fail(subject, "file ends after " + std::to_string(f) + " of " + std::to_string(nf) +
+                                  " faces");
+            n = tokenize(line, tok, 1);
+        } while (n == 0);
+        long long count = 0;
+        if (!parse_int(tok[0], count) || count < 0)
+            fail(subject, line_prefix(lines.line()) + "face " + std::to_string(f) +
+                              " does not start with its vertex count");
+        if (count < 3)
+            fail(subject, line_prefix(lines.line()) + "face " + std::to_string(f) +
+                              " has fewer than 3 vertices");
+        if (static_cast<size_t>(count) + 1 > line.size())
+            fail(subject,
+                 line_prefix(lines.line()) + "face " + std::to_string(f) + " is truncated");
+        ftok.resize(static_cast<size_t>(count) + 2);
+        const size_t got = tokenize(line, ftok.data(), ftok.size());
+        if (got < static_cast<size_t>(count) + 1)
+            fail(subject,
+                 line_prefix(lines.line()) + "face " + std::to_string(f) + " is truncated");
+        if (got > static_cast<size_t>(count) + 1 && !has_c)
+            fail(subject,
+                 line_prefix(lines.line()) + "face " + std::to_string(f) +
+                     " has values after its vertex indices (face colours need a COFF header)");
+        for (long long k = 1; k <= count; ++k) {
+            long long idx = 0;
+            if (!parse_int(ftok[size_t(k)], idx) || idx < 0 ||
+                static_cast<unsigned long long>(idx) >= nv)
+                fail(subject, "face " + std::to_string(f) + " has an out-of-range vertex index " +
+                                  shown(ftok[size_t(k)]) + " (the file has " + std::to_string(nv) +
+                                  " vertices; line " + std::to_string(lines.line()) + ")");
+        }
+        triangles += static_cast<unsigned long long>(count) - 2;
+    }
+    check_triangle_budget(subject, triangles, options);
+    e.add_face_calls = e.file_faces = nf;
+    e.vertices = nv;
+    return e;
+}
+
+// ---- PLY -----------------------------------------------------------------------------------
+
+struct PlyProperty {
+    string name;
+    int size = 0;       // bytes of the scalar, or of each list item
+    int count_size = 0; // > 0 for lists: bytes of the length prefix
+};
+
+struct PlyElement {
+    string name;
+    unsigned long long count = 0;
+    std::vector<PlyProperty> properties;
+};
+
+int ply_type_size(string_view t)
+{
+    if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+    if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+    if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" ||
+        t == "float32")
+        return 4;
+    if (t == "double" || t == "float64") return 8;
+    return 0;
+}
+
+Expect scan_ply(const string& subject, string_view text, const MeshOptions& options)
+{
+    Expect e;
+    LineReader lines(text);
+    string_view line;
+    string_view tok[6];
+    lines.next(line);
+    if (tokenize(line, tok, 1) != 1 || tok[0] != "ply") fail(subject, "does not start with 'ply'");
+    bool ascii = false;
+    bool have_format = false;
+    std::vector<PlyElement> elements;
+    bool ended = false;
+    while (lines.next(line)) {
+        const size_t n = tokenize(line, tok, 6);
+        if (n == 0) continue;
+        const string where = line_prefix(lines.line());
+        if (tok[0] == "end_header") {
+            ended = true;
+            break;
+        } else if (tok[0] == "comment" || tok[0] == "obj_info") {
+            continue;
+        } else if (tok[0] == "format") {
+            if (n < 2) fail(subject, where + "incomplete format line");
+            if (tok[1] == "ascii")
+                ascii = true;
+            else if (tok[1] != "binary_little_endian" && tok[1] != "binary_big_endian")
+                fail(subject, where + "unknown PLY format " + shown(tok[1]));
+            have_format = true;
+        } else if (tok[0] == "element") {
+            long long count = -1;
+            if (n != 3 || !parse_int(tok[2], count) || count < 0 || count > 0xffffffffLL)
+                fail(subject, where + "malformed element line");
+            elements.push_back({string(tok[1]), static_cast<unsigned long long>(count), {}});
+        } else if (tok[0] == "property") {
+            if (elements.empty()) fail(subject, where + "property before any element");
+            PlyProperty p;
+            if (n >= 5 && tok[1] == "list") {
+                p.count_size = ply_type_size(tok[2]);
+                p.size = ply_type_size(tok[3]);
+                p.name = string(tok[4]);
+            } else if (n >= 3) {
+                p.size = ply_type_size(tok[1]);
+                p.name = string(tok[2]);
+            }
+            if (p.size == 0 || (tok[1] == "list" && p.count_size == 0))
+                fail(subject, where + "malformed or unknown property type");
+            elements.back().properties.push_back(p);
+        } else {
+            fail(subject, where + "unexpected header line " + shown(line));
+        }
+    }
+    if (!ended) fail(subject, "PLY header has no end_header line");
+    if (!have_format) fail(subject, "PLY header has no format line");
+
+    const PlyElement* vertex = nullptr;
+    const PlyElement* face = nullptr;
+    for (const PlyElement& el : elements) {
+        if (el.name == "vertex") vertex = &el;
+        if (el.name == "face") face = &el;
+    }
+    if (!vertex) fail(subject, "PLY header declares no vertex element");
+    bool has_xyz[3] = {false, false, false};
+    for (const PlyProperty& p : vertex->properties) {
+        if (p.count_size == 0 && (p.name == "x" || p.name == "y" || p.name == "z"))
+            has_xyz[p.name[0] - 'x'] = true;
+    }
+    if (!has_xyz[0] || !has_xyz[1] || !has_xyz[2])
+        fail(subject, "PLY vertex element lacks an x, y or z property");
+    if (!face || face->count == 0) fail(subject, "contains no faces");
+    bool has_indices = false;
+    for (const PlyProperty& p : face->properties)
+        if (p.count_size > 0 && (p.name == "vertex_indices" || p.name == "vertex_index"))
+            has_indices = true;
+    if (!has_indices) fail(subject, "PLY face element lacks a vertex_indices list");
+
+    // Smallest body the header allows: binary sizes, or two characters per ASCII value; faces
+    // have at least three indices.
+    const unsigned long long body = text.size() - lines.offset();
+    unsigned long long need = 0;
+    for (const PlyElement& el : elements) {
+        unsigned long long per = 0;
+        for (const PlyProperty& p : el.properties) {
+            const unsigned long long items = (&el == face && p.count_size > 0) ? 3 : 0;
+            if (ascii)
+                per += p.count_size > 0 ? 2 + 2 * items : 2;
+            else
+                per += p.count_size > 0 ? unsigned(p.count_size) + items * unsigned(p.size)
+                                        : unsigned(p.size);
+        }
+        need += per * el.count;
+    }
+    if (need > body + 1)
+        fail(subject, "header claims " + std::to_string(vertex->count) + " vertices and " +
+                          std::to_string(face->count) + " faces, more than a file of " +
+                          std::to_string(text.size()) + " bytes can hold");
+    check_triangle_budget(subject, face->count, options);
+
+    if (ascii) {
+        // OpenMesh reads ASCII values with stream extraction, which stops at "nan" or an
+        // overflowing number and then silently reads zeros: check the vertex lines.
+        for (const PlyElement& el : elements) {
+            for (unsigned long long i = 0; i < el.count; ++i) {
+                do {
+                    if (!lines.next(line))
+                        fail(subject, "file ends after " + std::to_string(i) + " of " +
+                                          std::to_string(el.count) + " " + el.name + " lines");
+                } while (tokenize(line, tok, 0) == 0);
+                if (&el != vertex) continue;
+                size_t pos = 0;
+                while (pos < line.size()) {
+                    while (pos < line.size() && is_space(line[pos])) ++pos;
+                    if (pos == line.size()) break;
+                    const size_t start = pos;
+                    while (pos < line.size() && !is_space(line[pos])) ++pos;
+                    if (!parse_finite_float(line.substr(start, pos - start)))
+                        fail(subject, line_prefix(lines.line()) + "vertex value " +
+                                          shown(line.substr(start, pos - start)) +
+                                          " is not a finite number");
+                }
+            }
+        }
+    }
+    e.binary = !ascii;
+    e.add_face_calls = e.file_faces = face->count;
+    e.vertices = vertex->count;
+    return e;
+}
+
+// ---- STL -----------------------------------------------------------------------------------
+
+Expect scan_stl(const string& subject, string_view text, const MeshOptions& options)
+{
+    Expect e;
+    e.faces_may_collapse = true;
+    // Binary when the size matches the triangle count in the header (what OpenMesh checks too);
+    // otherwise it must be ASCII, starting with "solid".
+    if (text.size() >= 84) {
+        std::uint32_t nt = 0;
+        std::memcpy(&nt, text.data() + 80, 4);
+        if (84ull + 50ull * nt == text.size()) {
+            check_triangle_budget(subject, nt, options);
+            // NaN keys would break the ordered map OpenMesh merges STL vertices with.
+            for (std::uint32_t t = 0; t < nt; ++t) {
+                float v[9];
+                std::memcpy(v, text.data() + 84 + size_t(t) * 50 + 12, sizeof v);
+                for (float x : v)
+                    if (!std::isfinite(x))
+                        fail(subject, "triangle " + std::to_string(t) +
+                                          " has a coordinate that is not a finite number");
+            }
+            e.binary = true;
+            e.file_faces = nt;
+            return e;
+        }
+    }
+    size_t first = 0;
+    while (first < text.size() && is_space(text[first])) ++first;
+    if (text.substr(first, 5) != "solid") {
+        string problem = "is neither ASCII STL (it does not start with 'solid')";
+        if (text.size() >= 84) {
+            std::uint32_t nt = 0;
+            std::memcpy(&nt, text.data() + 80, 4);
+            problem += " nor binary STL (its header claims " + std::to_string(nt) + " triangles, " +
+                       std::to_string(84ull + 50ull * nt) + " bytes, but the file has " +
+                       std::to_string(text.size()) + ")";
+        } else {
+            problem += " nor binary STL (shorter than a binary header)";
+        }
+        fail(subject, problem);
+    }
+    // The reader treats any line containing "outer" as the start of a triangle and takes the
+    // next three lines as its vertices: check exactly that.
+    LineReader lines(text);
+    string_view line;
+    string_view tok[5];
+    while (lines.next(line)) {
+        if (line.find("outer") == string_view::npos && line.find("OUTER") == string_view::npos)
+            continue;
+        for (int k = 0; k < 3; ++k) {
+            if (!lines.next(line)) fail(subject, "file ends inside a facet");
+            const size_t n = tokenize(line, tok, 5);
+            if (n < 4 || (tok[0] != "vertex" && tok[0] != "VERTEX") ||
+                !parse_finite_float(tok[1]) || !parse_finite_float(tok[2]) ||
+                !parse_finite_float(tok[3]))
+                fail(subject,
+                     line_prefix(lines.line()) + "expected 'vertex x y z' with finite numbers");
+        }
+        ++e.file_faces;
+    }
+    check_triangle_budget(subject, e.file_faces, options);
+    return e;
+}
+
+// ---- the importer ---------------------------------------------------------------------------
+
+// Receives what an OpenMesh reader parses and keeps it as a polygon soup. Invalid faces are not
+// stored; the first one is remembered for the error message.
+class SoupImporter final : public omio::BaseImporter {
+public:
+    explicit SoupImporter(RawMesh& mesh) : m_(mesh) {}
+
+    size_t add_face_calls = 0;
+    long long first_bad_face = -1;
+    string bad_problem;
+    bool any_vertex_uv = false;
+    std::vector<glm::vec2> vertex_uv;
+    std::vector<std::uint8_t> vertex_has_uv;
+
+    OpenMesh::VertexHandle add_vertex(const OpenMesh::Vec3f& p) override
+    {
+        m_.positions.emplace_back(p[0], p[1], p[2]);
+        return OpenMesh::VertexHandle(int(m_.positions.size() - 1));
+    }
+    OpenMesh::VertexHandle add_vertex() override { return add_vertex(OpenMesh::Vec3f(0.0f)); }
+    void set_point(OpenMesh::VertexHandle vh, const OpenMesh::Vec3f& p) override
+    {
+        if (valid(vh)) m_.positions[size_t(vh.idx())] = glm::vec3(p[0], p[1], p[2]);
+    }
+
+    OpenMesh::FaceHandle add_face(const VHandles& handles) override
+    {
+        const size_t face_number = add_face_calls++;
+        if (first_bad_face >= 0) return OpenMesh::FaceHandle();
+        if (handles.size() < 3) return bad(face_number, "has fewer than 3 vertices");
+        for (const OpenMesh::VertexHandle& vh : handles) {
+            if (!valid(vh))
+                return bad(face_number, "has an out-of-range vertex index " +
+                                            std::to_string(vh.idx()) + " (the file has " +
+                                            std::to_string(m_.positions.size()) + " vertices)");
+        }
+        if (m_.corners.size() + handles.size() > std::numeric_limits<std::uint32_t>::max())
+            return bad(face_number, "exceeds the supported number of corners");
+        for (const OpenMesh::VertexHandle& vh : handles)
+            m_.corners.push_back(std::uint32_t(vh.idx()));
+        m_.face_offsets.push_back(std::uint32_t(m_.corners.size()));
+        m_.corner_uvs.resize(m_.corners.size(), glm::vec2(0.0f));
+        m_.face_has_uv.push_back(0);
+        return OpenMesh::FaceHandle(int(m_.face_count() - 1));
+    }
+
+    // OBJ: per-corner texture coordinates, starting at the corner of vertex `vh` (ImporterT's
+    // convention) and following the face's corner order.
+    void add_face_texcoords(OpenMesh::FaceHandle fh, OpenMesh::VertexHandle vh,
+                            const std::vector<OpenMesh::Vec2f>& uvs) override
+    {
+        if (!fh.is_valid() || size_t(fh.idx()) >= m_.face_count() || uvs.empty()) return;
+        const size_t f = size_t(fh.idx());
+        const size_t begin = m_.face_offsets[f];
+        const size_t n = m_.face_offsets[f + 1] - begin;
+        if (uvs.size() != n) {
+            // OpenMesh dropped repeated corners or an unreadable texture index: the UVs can no
+            // longer be matched to corners, so this face gets generated ones.
+            return;
+        }
+        size_t start = 0;
+        while (start < n && m_.corners[begin + start] != std::uint32_t(vh.idx())) ++start;
+        if (start == n) start = 0;
+        for (size_t i = 0; i < n; ++i) {
+            const OpenMesh::Vec2f& t = uvs[i];
+            m_.corner_uvs[begin + (start + i) % n] = glm::vec2(t[0], t[1]);
+        }
+        m_.face_has_uv[f] = 1;
+    }
+    void add_face_texcoords(OpenMesh::FaceHandle, OpenMesh::VertexHandle,
+                            const std::vector<OpenMesh::Vec3f>&) override
+    {
+    }
+
+    // PLY and OFF: per-vertex texture coordinates.
+    void set_texcoord(OpenMesh::VertexHandle vh, const OpenMesh::Vec2f& t) override
+    {
+        if (!valid(vh)) return;
+        if (vertex_uv.size() < m_.positions.size()) {
+            vertex_uv.resize(m_.positions.size(), glm::vec2(0.0f));
+            vertex_has_uv.resize(m_.positions.size(), 0);
+        }
+        vertex_uv[size_t(vh.idx())] = glm::vec2(t[0], t[1]);
+        vertex_has_uv[size_t(vh.idx())] = 1;
+        any_vertex_uv = true;
+    }
+    void set_texcoord(OpenMesh::VertexHandle vh, const OpenMesh::Vec3f& t) override
+    {
+        set_texcoord(vh, OpenMesh::Vec2f(t[0], t[1]));
+    }
+
+    void set_normal(OpenMesh::VertexHandle, const OpenMesh::Vec3f&) override
+    {
+        m_.had_normals = true;
+    }
+    void set_normal(OpenMesh::VertexHandle, const OpenMesh::Vec3d&) override
+    {
+        m_.had_normals = true;
+    }
+
+    // Everything else a reader may deliver is not used.
+    OpenMesh::HalfedgeHandle add_edge(OpenMesh::VertexHandle, OpenMesh::VertexHandle) override
+    {
+        return OpenMesh::HalfedgeHandle();
+    }
+    OpenMesh::FaceHandle add_face(OpenMesh::HalfedgeHandle) override
+    {
+        return OpenMesh::FaceHandle();
+    }
+    void set_face_texindex(OpenMesh::FaceHandle, int) override {}
+    void set_halfedge(OpenMesh::VertexHandle, OpenMesh::HalfedgeHandle) override {}
+    void set_color(OpenMesh::VertexHandle, const OpenMesh::Vec3uc&) override {}
+    void set_color(OpenMesh::VertexHandle, const OpenMesh::Vec4uc&) override {}
+    void set_color(OpenMesh::VertexHandle, const OpenMesh::Vec3f&) override {}
+    void set_color(OpenMesh::VertexHandle, const OpenMesh::Vec4f&) override {}
+    void set_status(OpenMesh::VertexHandle, const OpenMesh::Attributes::StatusInfo&) override {}
+    void set_next(OpenMesh::HalfedgeHandle, OpenMesh::HalfedgeHandle) override {}
+    void set_face(OpenMesh::HalfedgeHandle, OpenMesh::FaceHandle) override {}
+    void request_face_texcoords2D() override {}
+    void set_texcoord(OpenMesh::HalfedgeHandle, const OpenMesh::Vec2f&) override {}
+    void set_texcoord(OpenMesh::HalfedgeHandle, const OpenMesh::Vec3f&) override {}
+    void set_status(OpenMesh::HalfedgeHandle, const OpenMesh::Attributes::StatusInfo&) override {}
+    void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec3uc&) override {}
+    void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec4uc&) override {}
+    void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec3f&) override {}
+    void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec4f&) override {}
+    void set_status(OpenMesh::EdgeHandle, const OpenMesh::Attributes::StatusInfo&) override {}
+    void set_normal(OpenMesh::FaceHandle, const OpenMesh::Vec3f&) override {}
+    void set_normal(OpenMesh::FaceHandle, const OpenMesh::Vec3d&) override {}
+    void set_color(OpenMesh::FaceHandle, const OpenMesh::Vec3uc&) override {}
+    void set_color(OpenMesh::FaceHandle, const OpenMesh::Vec4uc&) override {}
+    void set_color(OpenMesh::FaceHandle, const OpenMesh::Vec3f&) override {}
+    void set_color(OpenMesh::FaceHandle, const OpenMesh::Vec4f&) override {}
+    void set_status(OpenMesh::FaceHandle, const OpenMesh::Attributes::StatusInfo&) override {}
+    void add_texture_information(int, std::string) override {}
+    // Header counts are validated against the file size before reading, but vectors still grow
+    // on demand rather than trusting them.
+    void reserve(unsigned int, unsigned int, unsigned int) override {}
+    size_t n_vertices() const override { return m_.positions.size(); }
+    size_t n_faces() const override { return m_.face_count(); }
+    size_t n_edges() const override { return 0; }
+
+private:
+    bool valid(OpenMesh::VertexHandle vh) const
+    {
+        return vh.idx() >= 0 && size_t(vh.idx()) < m_.positions.size();
+    }
+    OpenMesh::FaceHandle bad(size_t face_number, string problem)
+    {
+        first_bad_face = static_cast<long long>(face_number);
+        bad_problem = std::move(problem);
+        return OpenMesh::FaceHandle();
+    }
+
+    RawMesh& m_;
+};
+
+// OpenMesh logs through global streams; they are silenced while it reads (its complaints are
+// turned into our own errors) and restored afterwards.
+class QuietOpenMesh {
+public:
+    QuietOpenMesh()
+        : err_(::omerr().is_enabled()), out_(::omout().is_enabled()), log_(::omlog().is_enabled())
+    {
+        ::omerr().disable();
+        ::omout().disable();
+        ::omlog().disable();
+    }
+    ~QuietOpenMesh()
+    {
+        if (err_) ::omerr().enable();
+        if (out_) ::omout().enable();
+        if (log_) ::omlog().enable();
+    }
+    QuietOpenMesh(const QuietOpenMesh&) = delete;
+    QuietOpenMesh& operator=(const QuietOpenMesh&) = delete;
+
+private:
+    bool err_, out_, log_;
+};
+
+string lower(string s)
+{
+    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+string read_whole_file(const fs::path& path, const string& subject)
+{
+    std::error_code ec;
+    if (!fs::exists(path, ec)) fail(subject, "does not exist");
+    if (fs::is_directory(path, ec)) fail(subject, "is a folder, not a mesh file");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail(subject, string("cannot be read: ") + std::strerror(errno));
+    in.seekg(0, std::ios::end);
+    const std::streamoff size = in.tellg();
+    if (size < 0) fail(subject, "cannot be read (size unknown)");
+    in.seekg(0, std::ios::beg);
+    string text(static_cast<size_t>(size), '\0');
+    if (size > 0 && !in.read(text.data(), size)) fail(subject, "cannot be read completely");
+    return text;
+}
+
+} // namespace
+
+RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
+{
+    const string subject = path.string();
+    const string ext = lower(path.extension().string());
+    if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl")
+        fail(subject, "unknown mesh format " +
+                          (ext.empty() ? string("(no extension)") : shown(ext)) +
+                          "; supported: .obj .off .ply .stl");
+
+    const string text = read_whole_file(path, subject);
+    if (text.empty()) fail(subject, "is empty");
+
+    Expect expect;
+    omio::Options requested = omio::Options::VertexNormal;
+    if (ext == ".obj") {
+        expect = scan_obj(subject, text, options);
+        // OBJ texture coordinates belong to face corners; per-vertex ones would lose seams.
+        requested += omio::Options::FaceTexCoord;
+    } else if (ext == ".off") {
+        expect = scan_off(subject, text, options);
+        requested += omio::Options::VertexTexCoord;
+    } else if (ext == ".ply") {
+        expect = scan_ply(subject, text, options);
+        requested += omio::Options::VertexTexCoord;
+    } else {
+        expect = scan_stl(subject, text, options);
+    }
+    if (expect.file_faces == 0) fail(subject, "contains no faces");
+
+    RawMesh mesh;
+    SoupImporter importer(mesh);
+    bool ok = false;
+    {
+        // Reader modules are global singletons with per-read state: one read at a time.
+        static std::mutex openmesh_mutex;
+        std::lock_guard lock(openmesh_mutex);
+        QuietOpenMesh quiet;
+        try {
+            if (ext == ".stl") {
+                // The STL type was decided above; the stream interface takes it as an option, so
+                // OpenMesh's own guess cannot differ from the validation.
+                std::ifstream stream(path, std::ios::binary);
+                omio::Options opt = requested;
+                if (expect.binary) opt += omio::Options::Binary;
+                ok = omio::STLReader().read(stream, importer, opt);
+            } else {
+                omio::Options opt = requested;
+                ok = omio::IOManager().read(path.string(), importer, opt);
+            }
+        } catch (const std::bad_alloc&) {
+            fail(subject, "not enough memory to read it");
+        } catch (const std::exception& e) {
+            fail(subject, string("could not be read: ") + e.what());
+        }
+    }
+    if (!ok)
+        fail(subject, "could not be read as " + ext.substr(1) + " (the reader reported a failure)");
+
+    if (importer.first_bad_face >= 0)
+        fail(subject,
+             "face " + std::to_string(importer.first_bad_face) + " " + importer.bad_problem);
+    if (expect.vertices != 0 && mesh.positions.size() != expect.vertices)
+        fail(subject, std::to_string(mesh.positions.size()) + " of " +
+                          std::to_string(expect.vertices) + " vertices could be read");
+    if (expect.faces_may_collapse) {
+        mesh.collapsed_faces =
+            expect.file_faces - std::min(expect.file_faces, importer.add_face_calls);
+    } else {
+        if (importer.add_face_calls != expect.add_face_calls)
+            fail(subject, std::to_string(expect.add_face_calls -
+                                         std::min(expect.add_face_calls, importer.add_face_calls)) +
+                              " of " + std::to_string(expect.file_faces) +
+                              " faces could not be read");
+        mesh.collapsed_faces = expect.file_faces - expect.add_face_calls;
+    }
+    for (size_t i = 0; i < mesh.positions.size(); ++i) {
+        const glm::vec3& p = mesh.positions[i];
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+            fail(subject,
+                 "vertex " + std::to_string(i) + " has a coordinate that is not a finite number");
+    }
+    if (mesh.face_count() == 0)
+        fail(subject, mesh.collapsed_faces > 0 ? "all " + std::to_string(mesh.collapsed_faces) +
+                                                     " faces are degenerate (repeated vertices)"
+                                               : string("contains no faces"));
+
+    // Per-vertex texture coordinates (PLY, STOFF) become corner UVs of faces whose vertices all
+    // have one.
+    if (importer.any_vertex_uv) {
+        importer.vertex_has_uv.resize(mesh.positions.size(), 0);
+        importer.vertex_uv.resize(mesh.positions.size(), glm::vec2(0.0f));
+        for (size_t f = 0; f < mesh.face_count(); ++f) {
+            if (mesh.face_has_uv[f]) continue;
+            bool all = true;
+            for (size_t c = mesh.face_offsets[f]; c < mesh.face_offsets[f + 1]; ++c)
+                all = all && importer.vertex_has_uv[mesh.corners[c]];
+            if (!all) continue;
+            for (size_t c = mesh.face_offsets[f]; c < mesh.face_offsets[f + 1]; ++c)
+                mesh.corner_uvs[c] = importer.vertex_uv[mesh.corners[c]];
+            mesh.face_has_uv[f] = 1;
+        }
+    }
+    bool any_uv = false;
+    for (const glm::vec2& uv : mesh.corner_uvs) {
+        if (!std::isfinite(uv.x) || !std::isfinite(uv.y))
+            fail(subject, "a texture coordinate is not a finite number");
+    }
+    for (std::uint8_t h : mesh.face_has_uv) any_uv = any_uv || h;
+    if (!any_uv) {
+        mesh.corner_uvs.clear();
+        mesh.face_has_uv.clear();
+    }
+    return mesh;
+}
+
+} // namespace pr

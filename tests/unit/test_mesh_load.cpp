@@ -1,0 +1,607 @@
+// Mesh reading: every format and variant, and every way a file can be wrong.
+#include "core/error.hpp"
+#include "mesh/mesh.hpp"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// A folder of its own per test (ctest may run tests in parallel), removed afterwards.
+class TempDir {
+public:
+    TempDir()
+    {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        dir_ = fs::temp_directory_path() / ("pr_mesh_" + std::string(info->test_suite_name()) +
+                                            "_" + info->name() + "_" + std::to_string(::getpid()));
+        fs::create_directories(dir_);
+    }
+    ~TempDir() { fs::remove_all(dir_); }
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+
+    fs::path write(const std::string& name, const std::string& content) const
+    {
+        const fs::path p = dir_ / name;
+        std::ofstream(p, std::ios::binary) << content;
+        return p;
+    }
+    fs::path write_bytes(const std::string& name, const std::vector<char>& bytes) const
+    {
+        const fs::path p = dir_ / name;
+        std::ofstream(p, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+        return p;
+    }
+    const fs::path& path() const { return dir_; }
+
+private:
+    fs::path dir_;
+};
+
+template <class T>
+void put(std::vector<char>& out, T value)
+{
+    char b[sizeof(T)];
+    std::memcpy(b, &value, sizeof(T));
+    out.insert(out.end(), b, b + sizeof(T));
+}
+
+bool finite(const glm::vec3& v)
+{
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// Everything a consumer relies on, for any loaded mesh.
+void expect_sane(const pr::PreparedMesh& m)
+{
+    ASSERT_FALSE(m.indices.empty());
+    ASSERT_EQ(m.indices.size() % 3, 0u);
+    for (std::uint32_t i : m.indices) ASSERT_LT(i, m.vertices.size());
+    for (const pr::MeshVertex& v : m.vertices) {
+        ASSERT_TRUE(finite(v.position));
+        ASSERT_TRUE(finite(v.normal));
+        ASSERT_NEAR(glm::length(v.normal), 1.0f, 1e-4f);
+        ASSERT_TRUE(std::isfinite(v.uv.x) && std::isfinite(v.uv.y));
+        ASSERT_TRUE(finite(glm::vec3(v.tangent)));
+        ASSERT_TRUE(finite(v.bitangent));
+        ASSERT_GT(glm::length(glm::vec3(v.tangent)), 0.0f);
+        ASSERT_GT(glm::length(v.bitangent), 0.0f);
+        ASSERT_TRUE(v.tangent.w == 1.0f || v.tangent.w == -1.0f);
+        ASSERT_LT(v.weld_id, m.weld_count);
+    }
+}
+
+// Geometric normal of triangle t.
+glm::vec3 face_normal(const pr::PreparedMesh& m, std::size_t t)
+{
+    const glm::vec3 a = m.vertices[m.indices[3 * t]].position;
+    const glm::vec3 b = m.vertices[m.indices[3 * t + 1]].position;
+    const glm::vec3 c = m.vertices[m.indices[3 * t + 2]].position;
+    return glm::cross(b - a, c - a);
+}
+
+// Loads and returns the error it throws; fails the test if there is none.
+pr::Error load_error(const fs::path& path, const pr::MeshOptions& options = {})
+{
+    try {
+        pr::load_mesh(path, options);
+    } catch (const pr::Error& e) {
+        return e;
+    } catch (const std::exception& e) {
+        ADD_FAILURE() << "not a pr::Error: " << e.what();
+        return pr::Error(path.string(), "wrong exception type");
+    }
+    ADD_FAILURE() << "no error for " << path;
+    return pr::Error(path.string(), "no error");
+}
+
+#define EXPECT_ERROR_MENTIONS(err, path, text)                                                     \
+    do {                                                                                           \
+        const pr::Error e_ = (err);                                                                \
+        EXPECT_EQ(e_.subject(), (path).string());                                                  \
+        EXPECT_NE(e_.problem().find(text), std::string::npos) << "problem: " << e_.problem();      \
+    } while (0)
+
+const char* kQuadObj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+
+} // namespace
+
+// ---- formats ---------------------------------------------------------------------------------
+
+TEST(MeshLoad, ObjWithoutUvsOrNormals)
+{
+    TempDir dir;
+    const pr::PreparedMesh m = pr::load_mesh(dir.write("q.obj", kQuadObj));
+    expect_sane(m);
+    EXPECT_EQ(m.triangle_count(), 2u);
+    EXPECT_EQ(m.weld_count, 4u);
+    EXPECT_FALSE(m.had_uvs);
+    EXPECT_FALSE(m.had_normals);
+    for (std::size_t t = 0; t < m.triangle_count(); ++t) EXPECT_GT(face_normal(m, t).z, 0.0f);
+    EXPECT_EQ(m.bbox_min, glm::vec3(0.0f));
+    EXPECT_EQ(m.bbox_max, glm::vec3(1.0f, 1.0f, 0.0f));
+}
+
+TEST(MeshLoad, ObjWithUvsAndNormals)
+{
+    TempDir dir;
+    const pr::PreparedMesh m = pr::load_mesh(
+        dir.write("q.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 0.5 0\nvt 0.5 0.25\n"
+                           "vt 0 0.25\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1 4/4/1\n"));
+    expect_sane(m);
+    EXPECT_TRUE(m.had_uvs);
+    EXPECT_TRUE(m.had_normals);
+    ASSERT_EQ(m.vertices.size(), 4u);
+    for (const pr::MeshVertex& v : m.vertices) {
+        EXPECT_FLOAT_EQ(v.uv.x, v.position.x * 0.5f);
+        EXPECT_FLOAT_EQ(v.uv.y, v.position.y * 0.25f);
+        EXPECT_EQ(v.normal, glm::vec3(0, 0, 1));
+    }
+}
+
+TEST(MeshLoad, ObjNegativeIndicesEqualPositiveOnes)
+{
+    TempDir dir;
+    const pr::PreparedMesh a = pr::load_mesh(
+        dir.write("a.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\n"));
+    const pr::PreparedMesh b = pr::load_mesh(dir.write(
+        "b.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nf -3/-3 -2/-2 -1/-1\n"));
+    ASSERT_EQ(a.vertices.size(), b.vertices.size());
+    ASSERT_EQ(a.indices, b.indices);
+    for (std::size_t i = 0; i < a.vertices.size(); ++i) {
+        EXPECT_EQ(a.vertices[i].position, b.vertices[i].position);
+        EXPECT_EQ(a.vertices[i].uv, b.vertices[i].uv);
+    }
+    EXPECT_TRUE(b.had_uvs);
+}
+
+TEST(MeshLoad, ObjPolygonsAreTriangulatedCounterClockwise)
+{
+    TempDir dir;
+    // A hexagon and an L-shaped (concave) hexagon: a fan from the first corner would put a
+    // triangle outside the L.
+    const pr::PreparedMesh hex = pr::load_mesh(dir.write(
+        "hex.obj",
+        "v 2 0 0\nv 1 1.7 0\nv -1 1.7 0\nv -2 0 0\nv -1 -1.7 0\nv 1 -1.7 0\nf 1 2 3 4 5 6\n"));
+    EXPECT_EQ(hex.triangle_count(), 4u);
+    const pr::PreparedMesh l = pr::load_mesh(dir.write(
+        "l.obj", "v 0 2 0\nv 0 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\nv 1 2 0\nf 1 2 3 4 5 6\n"));
+    expect_sane(l);
+    ASSERT_EQ(l.triangle_count(), 4u);
+    float area = 0.0f;
+    for (std::size_t t = 0; t < l.triangle_count(); ++t) {
+        const glm::vec3 n = face_normal(l, t);
+        EXPECT_GT(n.z, 0.0f) << "triangle " << t;
+        area += 0.5f * n.z;
+    }
+    EXPECT_NEAR(area, 3.0f, 1e-5f); // the L's area; overlapping or outside triangles change it
+}
+
+TEST(MeshLoad, ObjMixedFacesWithAndWithoutUvs)
+{
+    TempDir dir;
+    const pr::PreparedMesh m = pr::load_mesh(dir.write(
+        "m.obj",
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\nf 1 3 4\n"));
+    expect_sane(m);
+    EXPECT_EQ(m.triangle_count(), 2u);
+    EXPECT_FALSE(m.had_uvs); // some UVs had to be generated
+}
+
+TEST(MeshLoad, OffAsciiWithPolygons)
+{
+    TempDir dir;
+    const pr::PreparedMesh m = pr::load_mesh(dir.write(
+        "m.off", "OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 2 0\n4 0 1 2 3\n3 3 2 4\n"));
+    expect_sane(m);
+    EXPECT_EQ(m.triangle_count(), 3u);
+    EXPECT_EQ(m.weld_count, 5u);
+    EXPECT_FALSE(m.had_uvs);
+}
+
+TEST(MeshLoad, OffWithTextureCoordinatesAndNormals)
+{
+    TempDir dir;
+    const pr::PreparedMesh st = pr::load_mesh(
+        dir.write("st.off", "STOFF\n3 1 0\n0 0 0 0 0\n1 0 0 1 0\n0 1 0 0 1\n3 0 1 2\n"));
+    EXPECT_TRUE(st.had_uvs);
+    for (const pr::MeshVertex& v : st.vertices) EXPECT_EQ(v.uv, glm::vec2(v.position));
+    const pr::PreparedMesh n = pr::load_mesh(
+        dir.write("n.off", "NOFF\n3 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n"));
+    EXPECT_TRUE(n.had_normals);
+    EXPECT_FALSE(n.had_uvs);
+}
+
+TEST(MeshLoad, OffBinary)
+{
+    TempDir dir;
+    std::vector<char> b;
+    const std::string head = "OFF BINARY\n";
+    b.insert(b.end(), head.begin(), head.end());
+    put<std::int32_t>(b, 3);
+    put<std::int32_t>(b, 1);
+    put<std::int32_t>(b, 0);
+    for (float f : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) put(b, f);
+    for (std::int32_t i : {3, 0, 1, 2}) put(b, i);
+    const pr::PreparedMesh m = pr::load_mesh(dir.write_bytes("m.off", b));
+    expect_sane(m);
+    EXPECT_EQ(m.triangle_count(), 1u);
+}
+
+TEST(MeshLoad, PlyAsciiWithUvsAndNormals)
+{
+    TempDir dir;
+    const pr::PreparedMesh m = pr::load_mesh(dir.write(
+        "m.ply",
+        "ply\nformat ascii 1.0\ncomment test\nelement vertex 4\nproperty float x\n"
+        "property float y\nproperty float z\nproperty float nx\nproperty float ny\n"
+        "property float nz\nproperty float u\nproperty float v\nelement face 1\n"
+        "property list uchar int vertex_indices\nend_header\n"
+        "0 0 0 0 0 1 0 0\n1 0 0 0 0 1 1 0\n1 1 0 0 0 1 1 1\n0 1 0 0 0 1 0 1\n4 0 1 2 3\n"));
+    expect_sane(m);
+    EXPECT_EQ(m.triangle_count(), 2u);
+    EXPECT_TRUE(m.had_uvs);
+    EXPECT_TRUE(m.had_normals);
+    for (const pr::MeshVertex& v : m.vertices) EXPECT_EQ(v.uv, glm::vec2(v.position));
+}
+
+TEST(MeshLoad, PlyBinaryLittleEndian)
+{
+    TempDir dir;
+    std::vector<char> b;
+    const std::string head =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 3\n"
+        "property float x\nproperty float y\nproperty float z\nelement face 1\n"
+        "property list uchar int vertex_indices\nend_header\n";
+    b.insert(b.end(), head.begin(), head.end());
+    for (float f : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) put(b, f);
+    put<std::uint8_t>(b, 3);
+    for (std::int32_t i : {0, 1, 2}) put(b, i);
+    const pr::PreparedMesh m = pr::load_mesh(dir.write_bytes("m.ply", b));
+    expect_sane(m);
+    EXPECT_EQ(m.triangle_count(), 1u);
+    EXPECT_GT(face_normal(m, 0).z, 0.0f);
+}
+
+TEST(MeshLoad, PlyBinaryBigEndian)
+{
+    TempDir dir;
+    std::vector<char> b;
+    const std::string head =
+        "ply\nformat binary_big_endian 1.0\nelement vertex 3\n"
+        "property float x\nproperty float y\nproperty float z\nelement face 1\n"
+        "property list uchar int vertex_indices\nend_header\n";
+    b.insert(b.end(), head.begin(), head.end());
+    auto put_be = [&b](const void* p) {
+        const char* c = static_cast<const char*>(p);
+        for (int i = 3; i >= 0; --i) b.push_back(c[i]);
+    };
+    for (float f : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) put_be(&f);
+    put<std::uint8_t>(b, 3);
+    for (std::int32_t i : {0, 1, 2}) put_be(&i);
+    const pr::PreparedMesh m = pr::load_mesh(dir.write_bytes("m.ply", b));
+    expect_sane(m);
+    EXPECT_EQ(m.bbox_max, glm::vec3(1.0f, 1.0f, 0.0f));
+}
+
+namespace {
+
+// A regular octahedron as a triangle soup, outward and counter-clockwise.
+const float kOcta[8][9] = {
+    {1, 0, 0, 0, 1, 0, 0, 0, 1},    {0, 1, 0, -1, 0, 0, 0, 0, 1},  {-1, 0, 0, 0, -1, 0, 0, 0, 1},
+    {0, -1, 0, 1, 0, 0, 0, 0, 1},   {0, 1, 0, 1, 0, 0, 0, 0, -1},  {-1, 0, 0, 0, 1, 0, 0, 0, -1},
+    {0, -1, 0, -1, 0, 0, 0, 0, -1}, {1, 0, 0, 0, -1, 0, 0, 0, -1},
+};
+
+std::string octa_stl_ascii()
+{
+    std::string s = "solid octa\n";
+    for (const auto& t : kOcta) {
+        s += "  facet normal 0 0 0\n    outer loop\n";
+        for (int k = 0; k < 3; ++k)
+            s += "      vertex " + std::to_string(t[3 * k]) + " " + std::to_string(t[3 * k + 1]) +
+                 " " + std::to_string(t[3 * k + 2]) + "\n";
+        s += "    endloop\n  endfacet\n";
+    }
+    return s + "endsolid octa\n";
+}
+
+std::vector<char> octa_stl_binary(std::uint32_t claimed = 8, const char* header = "binary octa")
+{
+    std::vector<char> b(80, ' ');
+    std::memcpy(b.data(), header, std::strlen(header));
+    put(b, claimed);
+    for (const auto& t : kOcta) {
+        for (int k = 0; k < 3; ++k) put(b, 0.0f);
+        for (float f : t) put(b, f);
+        put<std::uint16_t>(b, 0);
+    }
+    return b;
+}
+
+void expect_smooth_octahedron(const pr::PreparedMesh& m)
+{
+    expect_sane(m);
+    EXPECT_EQ(m.triangle_count(), 8u);
+    // STL shares no vertices; welding by position is what joins the triangles.
+    EXPECT_EQ(m.weld_count, 6u);
+    for (const pr::MeshVertex& v : m.vertices) {
+        EXPECT_NEAR(glm::distance(v.normal, v.position), 0.0f, 1e-5f);
+    }
+}
+
+} // namespace
+
+TEST(MeshLoad, StlAsciiIsWelded)
+{
+    TempDir dir;
+    expect_smooth_octahedron(pr::load_mesh(dir.write("o.stl", octa_stl_ascii())));
+}
+
+TEST(MeshLoad, StlBinaryIsWelded)
+{
+    TempDir dir;
+    expect_smooth_octahedron(pr::load_mesh(dir.write_bytes("o.stl", octa_stl_binary())));
+    // A binary header that happens to start with "solid" is still binary (size matches).
+    expect_smooth_octahedron(
+        pr::load_mesh(dir.write_bytes("s.stl", octa_stl_binary(8, "solid by exporter"))));
+}
+
+TEST(MeshLoad, ExtensionIsCaseInsensitive)
+{
+    TempDir dir;
+    EXPECT_EQ(pr::load_mesh(dir.write("Q.OBJ", kQuadObj)).triangle_count(), 2u);
+}
+
+TEST(MeshLoad, NonManifoldEdgeKeepsEveryFace)
+{
+    TempDir dir;
+    // Three triangles on one edge: OpenMesh's own mesh would reject or split the third.
+    ::testing::internal::CaptureStderr();
+    const pr::PreparedMesh m = pr::load_mesh(dir.write(
+        "fin.obj",
+        "v 0 0 0\nv 1 0 0\nv 0.5 1 0\nv 0.5 -1 0\nv 0.5 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n"));
+    const std::string warnings = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(warnings.find("non-manifold"), std::string::npos) << warnings;
+    expect_sane(m);
+    EXPECT_EQ(m.triangle_count(), 3u);
+    EXPECT_EQ(m.weld_count, 5u);
+}
+
+TEST(MeshLoad, WarnsAboutInconsistentOrientationAndGeneratedUvs)
+{
+    TempDir dir;
+    // The second triangle runs along the shared edge 1-2 in the same direction as the first.
+    ::testing::internal::CaptureStderr();
+    const pr::PreparedMesh m = pr::load_mesh(
+        dir.write("flip.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 -1 0\nf 1 2 3\nf 1 2 4\n"));
+    const std::string warnings = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(warnings.find("opposite orientation"), std::string::npos) << warnings;
+    EXPECT_NE(warnings.find("generated box-projected UVs"), std::string::npos) << warnings;
+    EXPECT_EQ(warnings.find("prismrelief: warning: " + (dir.path() / "flip.obj").string()), 0u);
+    expect_sane(m);
+}
+
+TEST(MeshLoad, DegenerateTrianglesAndIsolatedVerticesAreDropped)
+{
+    TempDir dir;
+    // vertex 5 is isolated; face 2 is collinear (zero area); face 3 repeats a vertex.
+    const pr::PreparedMesh m = pr::load_mesh(dir.write(
+        "d.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nv 9 9 9\nf 1 2 3\nf 1 2 4\nf 1 1 3\n"));
+    expect_sane(m);
+    EXPECT_EQ(m.triangle_count(), 1u);
+    EXPECT_EQ(m.dropped_triangles, 2u);
+    EXPECT_EQ(m.vertices.size(), 3u);
+    EXPECT_EQ(m.weld_count, 3u);
+    EXPECT_EQ(m.bbox_max, glm::vec3(1.0f, 1.0f, 0.0f)); // the isolated vertex is not part of it
+}
+
+TEST(MeshLoad, DuplicatePositionsAreWelded)
+{
+    TempDir dir;
+    // Two triangles that do not share indices but share positions (as STL-like exports do).
+    const pr::PreparedMesh m = pr::load_mesh(
+        dir.write("w.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv -0 0 0\n"
+                           "f 7 2 3\nf 4 5 6\n"));
+    EXPECT_EQ(m.weld_count, 4u);
+    EXPECT_EQ(m.vertices.size(), 4u);
+}
+
+// ---- errors ----------------------------------------------------------------------------------
+
+TEST(MeshErrors, MissingFile)
+{
+    TempDir dir;
+    const fs::path p = dir.path() / "missing.obj";
+    EXPECT_ERROR_MENTIONS(load_error(p), p, "does not exist");
+}
+
+TEST(MeshErrors, FolderInsteadOfFile)
+{
+    TempDir dir;
+    const fs::path p = dir.path() / "folder.obj";
+    fs::create_directories(p);
+    EXPECT_ERROR_MENTIONS(load_error(p), p, "folder");
+}
+
+TEST(MeshErrors, UnknownExtensionListsSupportedFormats)
+{
+    TempDir dir;
+    const fs::path p = dir.write("m.3ds", "x");
+    const pr::Error e = load_error(p);
+    EXPECT_ERROR_MENTIONS(e, p, "unknown mesh format");
+    for (const char* ext : {".obj", ".off", ".ply", ".stl"})
+        EXPECT_NE(e.problem().find(ext), std::string::npos);
+    const fs::path none = dir.write("noext", "x");
+    EXPECT_ERROR_MENTIONS(load_error(none), none, "unknown mesh format");
+}
+
+TEST(MeshErrors, EmptyFiles)
+{
+    TempDir dir;
+    for (const char* name : {"e.obj", "e.off", "e.ply", "e.stl"}) {
+        const fs::path p = dir.write(name, "");
+        EXPECT_ERROR_MENTIONS(load_error(p), p, "empty");
+    }
+    const fs::path only_vertices = dir.write("v.obj", "# nothing but vertices\nv 0 0 0\nv 1 0 0\n");
+    EXPECT_ERROR_MENTIONS(load_error(only_vertices), only_vertices, "no faces");
+    const fs::path off = dir.write("z.off", "OFF\n0 0 0\n");
+    EXPECT_ERROR_MENTIONS(load_error(off), off, "no faces");
+    const fs::path stl = dir.write("z.stl", "solid empty\nendsolid empty\n");
+    EXPECT_ERROR_MENTIONS(load_error(stl), stl, "no faces");
+}
+
+TEST(MeshErrors, ObjIndexOutOfRange)
+{
+    TempDir dir;
+    const fs::path p = dir.write("r.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n");
+    const pr::Error e = load_error(p);
+    EXPECT_ERROR_MENTIONS(e, p, "out of range");
+    EXPECT_NE(e.problem().find("line 5"), std::string::npos) << e.problem();
+    const fs::path neg = dir.write("n.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n");
+    EXPECT_ERROR_MENTIONS(load_error(neg), neg, "out of range");
+    const fs::path zero = dir.write("z.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n");
+    EXPECT_ERROR_MENTIONS(load_error(zero), zero, "malformed face corner");
+    const fs::path vt = dir.write("t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/2\n");
+    EXPECT_ERROR_MENTIONS(load_error(vt), vt, "texture coordinate index 2 is out of range");
+}
+
+TEST(MeshErrors, ObjMalformedLines)
+{
+    TempDir dir;
+    const fs::path two = dir.write("two.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n");
+    EXPECT_ERROR_MENTIONS(load_error(two), two, "at least 3 vertices");
+    const fs::path junk = dir.write("junk.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n");
+    EXPECT_ERROR_MENTIONS(load_error(junk), junk, "malformed face corner 'x'");
+    const fs::path shortv = dir.write("short.obj", "v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    EXPECT_ERROR_MENTIONS(load_error(shortv), shortv, "line 1");
+}
+
+TEST(MeshErrors, NonFiniteCoordinates)
+{
+    TempDir dir;
+    const fs::path obj = dir.write("n.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
+    EXPECT_ERROR_MENTIONS(load_error(obj), obj,
+                          "line 2: vertex position is not three finite numbers");
+    const fs::path inf = dir.write("i.obj", "v 0 0 0\nv 1e39 0 0\nv 0 1 0\nf 1 2 3\n");
+    EXPECT_ERROR_MENTIONS(load_error(inf), inf, "finite");
+    const fs::path off = dir.write("n.off", "OFF\n3 1 0\n0 0 0\ninf 0 0\n0 1 0\n3 0 1 2\n");
+    EXPECT_ERROR_MENTIONS(load_error(off), off, "line 4");
+    const fs::path ply = dir.write(
+        "n.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                 "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                 "end_header\n0 0 0\n1 NaN 0\n0 1 0\n3 0 1 2\n");
+    EXPECT_ERROR_MENTIONS(load_error(ply), ply, "not a finite number");
+    const fs::path stla =
+        dir.write("n.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
+                           "vertex nan 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid\n");
+    EXPECT_ERROR_MENTIONS(load_error(stla), stla, "line 5");
+
+    std::vector<char> b = octa_stl_binary();
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    std::memcpy(b.data() + 84 + 50 * 3 + 12 + 4, &nan, 4);
+    const fs::path stlb = dir.write_bytes("b.stl", b);
+    EXPECT_ERROR_MENTIONS(load_error(stlb), stlb, "triangle 3");
+
+    std::vector<char> pb;
+    const std::string head =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 3\n"
+        "property float x\nproperty float y\nproperty float z\nelement face 1\n"
+        "property list uchar int vertex_indices\nend_header\n";
+    pb.insert(pb.end(), head.begin(), head.end());
+    for (float f : {0.f, 0.f, 0.f, 1.f, nan, 0.f, 0.f, 1.f, 0.f}) put(pb, f);
+    put<std::uint8_t>(pb, 3);
+    for (std::int32_t i : {0, 1, 2}) put(pb, i);
+    const fs::path plyb = dir.write_bytes("b.ply", pb);
+    EXPECT_ERROR_MENTIONS(load_error(plyb), plyb,
+                          "vertex 1 has a coordinate that is not a finite number");
+}
+
+TEST(MeshErrors, OffFaceIndexOutOfRange)
+{
+    TempDir dir;
+    const fs::path p = dir.write("r.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 7\n");
+    EXPECT_ERROR_MENTIONS(load_error(p), p, "face 1 has an out-of-range vertex index");
+    const fs::path few = dir.write("f.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n");
+    EXPECT_ERROR_MENTIONS(load_error(few), few, "fewer than 3 vertices");
+    // Fewer faces than the header says (padded so that the size check passes).
+    const fs::path trunc = dir.write("t.off", "OFF\n3 3 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"
+                                              "                              \n");
+    EXPECT_ERROR_MENTIONS(load_error(trunc), trunc, "file ends after 1 of 3 faces");
+}
+
+TEST(MeshErrors, PlyFaceIndexOutOfRange)
+{
+    TempDir dir;
+    const fs::path p = dir.write(
+        "r.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                 "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                 "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n");
+    EXPECT_ERROR_MENTIONS(load_error(p), p, "face 0 has an out-of-range vertex index 5");
+}
+
+TEST(MeshErrors, AbsurdHeadersFailFast)
+{
+    TempDir dir;
+    const auto start = std::chrono::steady_clock::now();
+    const fs::path off = dir.write("big.off", "OFF\n2000000000 1 0\n");
+    EXPECT_ERROR_MENTIONS(load_error(off), off, "more than a file of");
+    const fs::path off2 =
+        dir.write("big2.off", "OFF\n3 2000000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    EXPECT_ERROR_MENTIONS(load_error(off2), off2, "more than a file of");
+    const fs::path ply = dir.write(
+        "big.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\n"
+                   "property float x\nproperty float y\nproperty float z\nelement face 1\n"
+                   "property list uchar int vertex_indices\nend_header\n");
+    EXPECT_ERROR_MENTIONS(load_error(ply), ply, "more than a file of");
+    std::vector<char> stl = octa_stl_binary(100000000);
+    const fs::path stlb = dir.write_bytes("big.stl", stl);
+    EXPECT_ERROR_MENTIONS(load_error(stlb), stlb, "neither ASCII STL");
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_LT(seconds, 2.0);
+}
+
+TEST(MeshErrors, OverTheTriangleLimit)
+{
+    TempDir dir;
+    pr::MeshOptions options;
+    options.max_triangles = 1;
+    const fs::path p = dir.write("q.obj", kQuadObj);
+    EXPECT_ERROR_MENTIONS(load_error(p, options), p, "limit is 1");
+    const fs::path off = dir.write("q.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n");
+    EXPECT_ERROR_MENTIONS(load_error(off, options), off, "limit is 1");
+}
+
+TEST(MeshErrors, OnlyDegenerateFaces)
+{
+    TempDir dir;
+    const fs::path p = dir.write("d.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
+    EXPECT_ERROR_MENTIONS(load_error(p), p, "degenerate");
+}
+
+TEST(MeshErrors, NotTheFormatItsNameSays)
+{
+    TempDir dir;
+    const fs::path off = dir.write("x.off", "this is not an OFF file\n");
+    EXPECT_ERROR_MENTIONS(load_error(off), off, "OFF header");
+    const fs::path ply = dir.write("x.ply", "solid x\n");
+    EXPECT_ERROR_MENTIONS(load_error(ply), ply, "'ply'");
+    const fs::path stl = dir.write("x.stl", "v 0 0 0\n");
+    EXPECT_ERROR_MENTIONS(load_error(stl), stl, "neither ASCII STL");
+}
