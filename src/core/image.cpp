@@ -1,3 +1,411 @@
 #include "core/image.hpp"
+
+#include "core/atomic_file.hpp"
+#include "core/builtin_maps.hpp"
 #include "core/error.hpp"
-// placeholder: implemented by the image module
+
+#include <algorithm>
+#include <cerrno>
+#include <climits>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <optional>
+#include <string_view>
+
+#include <fmt/format.h>
+
+// stb is third-party code that does not build cleanly under -Wall -Wextra (GCC 12 flags its
+// aggregate initializers; other compilers and versions find more); silence it here only.
+// Failure strings stay on (the default) so errors can say why a file was rejected.
+// Note: stb_image is not hardened against hostile input in every decoder. The header check
+// against ImageLimits below bounds the image size a file may claim before anything is decoded;
+// it does not make stb safe against crafted files.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#pragma GCC diagnostic ignored "-Wsign-compare"
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+#pragma GCC diagnostic ignored "-Wunused-but-set-variable"
+#pragma GCC diagnostic ignored "-Wimplicit-fallthrough"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wstringop-overflow"
+#define STB_IMAGE_IMPLEMENTATION
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#define STBI_WRITE_NO_STDIO // we write through write_file_atomic, never stb's fopen
+#include <stb_image.h>
+#include <stb_image_write.h>
+#pragma GCC diagnostic pop
+
+namespace pr {
+namespace {
+
+struct StbiFree {
+    void operator()(void* p) const { stbi_image_free(p); }
+};
+template <typename T>
+using StbiPtr = std::unique_ptr<T, StbiFree>;
+
+int wrap_index(std::int64_t i, int n)
+{
+    const std::int64_t r = i % n;
+    return static_cast<int>(r < 0 ? r + n : r);
+}
+
+std::vector<std::uint8_t> read_file(const std::string& path)
+{
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw Error(path, "cannot open: is a folder");
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) throw Error(path, std::string("cannot open: ") + std::strerror(errno));
+    std::vector<std::uint8_t> bytes;
+    std::uint8_t chunk[1 << 16];
+    std::size_t n = 0;
+    while ((n = std::fread(chunk, 1, sizeof chunk, f)) > 0) {
+        bytes.insert(bytes.end(), chunk, chunk + n);
+        // stb takes an int length; refuse early rather than reading gigabytes first.
+        if (bytes.size() > static_cast<std::size_t>(INT_MAX)) {
+            std::fclose(f);
+            throw Error(path, "cannot open: file is larger than 2 GiB");
+        }
+    }
+    const bool failed = std::ferror(f) != 0;
+    const int err = errno;
+    std::fclose(f);
+    if (failed) throw Error(path, std::string("cannot read: ") + std::strerror(err));
+    return bytes;
+}
+
+// stb's failure reasons are terse codes ("outofdata", "bad png sig"); say what they mean.
+std::string stb_reason()
+{
+    const char* raw = stbi_failure_reason();
+    const std::string code = raw ? raw : "unknown error";
+    if (code == "unknown image type")
+        return "unknown format; readable formats: PNG, JPEG, BMP, TGA, GIF, PSD, HDR, PIC, PNM";
+    if (code == "outofdata" || code == "read past buffer" || code == "not enough pixels" ||
+        code == "bad file" || code == "no IDAT")
+        return "truncated or corrupt data: " + code;
+    if (code == "0-pixel image" || code == "0 width") return "the image has no pixels (0x0)";
+    if (code == "too large") return "its header claims absurd dimensions";
+    if (code == "outofmem") return "out of memory while decoding";
+    return "corrupt or unsupported: " + code;
+}
+
+[[noreturn]] void fail_decode(const std::string& subject)
+{
+    throw Error(subject, "not a supported image (" + stb_reason() + ")");
+}
+
+// Dimensions straight from the header of the formats whose size sits at a fixed offset, so the
+// limits apply even where stb's own check refuses first (its PNG header check rejects anything
+// over 2^30 bytes and then reports only "unknown image type") and so 0x0 is named as such.
+struct Sniffed {
+    const char* format;
+    std::optional<std::int64_t> width, height; // absent when the header is cut short
+};
+
+std::optional<Sniffed> sniff(const std::vector<std::uint8_t>& b)
+{
+    const auto be32 = [&b](std::size_t o) {
+        return std::int64_t(std::uint32_t(b[o]) << 24 | std::uint32_t(b[o + 1]) << 16 |
+                            std::uint32_t(b[o + 2]) << 8 | std::uint32_t(b[o + 3]));
+    };
+    const auto le32 = [&b](std::size_t o) {
+        return std::int64_t(std::int32_t(std::uint32_t(b[o]) | std::uint32_t(b[o + 1]) << 8 |
+                                         std::uint32_t(b[o + 2]) << 16 |
+                                         std::uint32_t(b[o + 3]) << 24));
+    };
+    const auto le16 = [&b](std::size_t o) { return std::int64_t(b[o] | b[o + 1] << 8); };
+    const auto starts = [&b](std::string_view magic) {
+        return b.size() >= magic.size() &&
+               std::equal(magic.begin(), magic.end(), b.begin(),
+                          [](char m, std::uint8_t c) { return static_cast<std::uint8_t>(m) == c; });
+    };
+    if (starts("\x89PNG\r\n\x1a\n")) {
+        if (b.size() >= 24 && std::memcmp(&b[12], "IHDR", 4) == 0)
+            return Sniffed{"PNG", be32(16), be32(20)};
+        return Sniffed{"PNG", {}, {}};
+    }
+    if (starts("BM") && b.size() >= 26 && le32(14) >= 40)
+        return Sniffed{"BMP", le32(18), std::abs(le32(22))}; // negative height: top-down rows
+    if (starts("GIF87a") || starts("GIF89a")) {
+        if (b.size() >= 10) return Sniffed{"GIF", le16(6), le16(8)};
+        return Sniffed{"GIF", {}, {}};
+    }
+    if (starts("8BPS")) {
+        if (b.size() >= 22) return Sniffed{"PSD", be32(18), be32(14)};
+        return Sniffed{"PSD", {}, {}};
+    }
+    return std::nullopt;
+}
+
+void check_dimensions(const std::string& subject, std::int64_t w, std::int64_t h,
+                      const ImageLimits& limits)
+{
+    if (w <= 0 || h <= 0)
+        throw Error(subject, fmt::format("the image is {}x{} pixels: nothing to use", w, h));
+    if (w > limits.max_dimension || h > limits.max_dimension)
+        throw Error(subject, fmt::format("the image is {}x{} pixels, more than the limit of {} "
+                                         "per side",
+                                         w, h, limits.max_dimension));
+    const std::int64_t pixels = w * h;
+    if (pixels > limits.max_pixels)
+        throw Error(subject, fmt::format("the image is {}x{} = {} pixels, more than the limit "
+                                         "of {}",
+                                         w, h, pixels, limits.max_pixels));
+}
+
+// Image bytes whose header passed the limits: decoding may allocate w*h*channels safely.
+struct Checked {
+    const stbi_uc* data;
+    int len;
+};
+
+Checked check_header(const std::string& subject, const std::vector<std::uint8_t>& bytes,
+                     const ImageLimits& limits)
+{
+    if (bytes.empty()) throw Error(subject, "not a supported image (empty file)");
+    const std::optional<Sniffed> sniffed = sniff(bytes);
+    if (sniffed && sniffed->width && sniffed->height)
+        check_dimensions(subject, *sniffed->width, *sniffed->height, limits);
+    const Checked c{bytes.data(), static_cast<int>(bytes.size())};
+    int w = 0, h = 0, comp = 0;
+    if (!stbi_info_from_memory(c.data, c.len, &w, &h, &comp)) {
+        // stb tried every decoder and kept the last one's reason; with a known signature, the
+        // useful thing to say is which format is damaged.
+        if (sniffed)
+            throw Error(subject, fmt::format("not a supported image (corrupt or unsupported {})",
+                                             sniffed->format));
+        fail_decode(subject);
+    }
+    check_dimensions(subject, w, h, limits);
+    return c;
+}
+
+// Decoders that learn the size late (JPEG's DNL marker) could disagree with the header.
+void check_decoded(const std::string& subject, int w, int h, const ImageLimits& limits)
+{
+    check_dimensions(subject, w, h, limits);
+}
+
+float quantize16(float x) { return std::round(std::clamp(x, 0.0f, 1.0f) * 65535.0f) / 65535.0f; }
+
+// Keeps channel 0 of an interleaved image with `n` channels, flipping to bottom row first.
+// Warns once when the other colour channels differ: a colour picture used as a height.
+template <typename T, typename Convert>
+void take_first_channel(HeightField& hf, const T* src, int n, Convert convert)
+{
+    const int w = hf.width, h = hf.height;
+    hf.texels.resize(std::size_t(w) * h);
+    bool colour = false;
+    for (int y = 0; y < h; ++y) {
+        const T* row = src + std::size_t(h - 1 - y) * w * n;
+        for (int x = 0; x < w; ++x) {
+            const T* p = row + std::size_t(x) * n;
+            hf.texels[std::size_t(y) * w + x] = convert(p[0]);
+            if (n >= 3 && (p[1] != p[0] || p[2] != p[0])) colour = true;
+        }
+    }
+    if (colour) warn(hf.name + ": colour image; using its first (red) channel as the height");
+}
+
+bool is_pnm(const std::vector<std::uint8_t>& b)
+{
+    return b.size() >= 2 && b[0] == 'P' && (b[1] == '5' || b[1] == '6');
+}
+
+// stb_image 2.27 (Debian 12) copies 16-bit PNM samples without converting them from big endian,
+// so on little-endian machines they come out byte-swapped. Decoding a one-pixel PGM once tells
+// whether this stb has the bug, so a fixed stb needs no change here.
+bool stb_swaps_16_bit_pnm()
+{
+    static const bool swaps = [] {
+        const std::uint8_t pgm[] = {'P', '5', ' ', '1', ' ', '1', ' ', '6', '5', '5', '3', '5',
+                                    '\n', 0x01, 0x02};
+        int w = 0, h = 0, n = 0;
+        StbiPtr<stbi_us> px(stbi_load_16_from_memory(pgm, sizeof pgm, &w, &h, &n, 1));
+        return px && px.get()[0] == 0x0201;
+    }();
+    return swaps;
+}
+
+HeightField load_height_file(const std::string& path, const ImageLimits& limits)
+{
+    const std::vector<std::uint8_t> bytes = read_file(path);
+    const Checked c = check_header(path, bytes, limits);
+    HeightField hf;
+    hf.name = path;
+    int n = 0;
+    if (stbi_is_16_bit_from_memory(c.data, c.len)) {
+        StbiPtr<stbi_us> data(
+            stbi_load_16_from_memory(c.data, c.len, &hf.width, &hf.height, &n, 0));
+        if (!data) fail_decode(path);
+        check_decoded(path, hf.width, hf.height, limits);
+        hf.bits = 16;
+        const bool swap = is_pnm(bytes) && stb_swaps_16_bit_pnm();
+        take_first_channel(hf, data.get(), n, [swap](stbi_us v) {
+            if (swap) v = stbi_us(v >> 8 | v << 8);
+            return float(v) / 65535.0f;
+        });
+    } else if (stbi_is_hdr_from_memory(c.data, c.len)) {
+        // Radiance HDR holds floats: clamp to the height range and keep 16 bits, which is what
+        // the GPU will hold (R16), so CPU and GPU agree.
+        StbiPtr<float> data(stbi_loadf_from_memory(c.data, c.len, &hf.width, &hf.height, &n, 0));
+        if (!data) fail_decode(path);
+        check_decoded(path, hf.width, hf.height, limits);
+        hf.bits = 16;
+        bool clamped = false;
+        take_first_channel(hf, data.get(), n, [&clamped](float v) {
+            if (!(v >= 0.0f && v <= 1.0f)) clamped = true;
+            return quantize16(std::isnan(v) ? 0.0f : v);
+        });
+        if (clamped) warn(path + ": HDR heights outside [0,1] were clamped");
+    } else {
+        StbiPtr<stbi_uc> data(stbi_load_from_memory(c.data, c.len, &hf.width, &hf.height, &n, 0));
+        if (!data) fail_decode(path);
+        check_decoded(path, hf.width, hf.height, limits);
+        hf.bits = 8;
+        take_first_channel(hf, data.get(), n, [](stbi_uc v) { return float(v) / 255.0f; });
+    }
+    return hf;
+}
+
+RgbaImage load_rgba_file(const std::string& path, const ImageLimits& limits)
+{
+    const std::vector<std::uint8_t> bytes = read_file(path);
+    const Checked c = check_header(path, bytes, limits);
+    int w = 0, h = 0, n = 0;
+    StbiPtr<stbi_uc> data;
+    if (is_pnm(bytes) && stbi_is_16_bit_from_memory(c.data, c.len)) {
+        // stb 2.27 mangles 16-bit PNM on the way to 8-bit RGBA (an 8-bit channel conversion on
+        // 16-bit samples, after the byte-order slip above): take the samples as they are and
+        // expand grey or RGB to RGBA here.
+        StbiPtr<stbi_us> wide(stbi_load_16_from_memory(c.data, c.len, &w, &h, &n, 0));
+        if (!wide) fail_decode(path);
+        check_decoded(path, w, h, limits);
+        const bool swap = stb_swaps_16_bit_pnm();
+        const auto high_byte = [swap](stbi_us v) { return stbi_uc(swap ? v & 0xFF : v >> 8); };
+        const std::size_t count = std::size_t(w) * h;
+        data.reset(static_cast<stbi_uc*>(STBI_MALLOC(count * 4)));
+        if (!data) throw Error(path, "out of memory");
+        for (std::size_t k = 0; k < count; ++k) {
+            const stbi_us* p = wide.get() + k * std::size_t(n);
+            stbi_uc* q = data.get() + k * 4;
+            q[0] = high_byte(p[0]);
+            q[1] = high_byte(p[n >= 3 ? 1 : 0]);
+            q[2] = high_byte(p[n >= 3 ? 2 : 0]);
+            q[3] = 255;
+        }
+    } else {
+        // Asking for 4 channels makes stb replicate grey into RGB, add opaque alpha where there
+        // is none, expand palettes and reduce 16-bit input to 8 bits.
+        data.reset(stbi_load_from_memory(c.data, c.len, &w, &h, &n, 4));
+    }
+    if (!data) fail_decode(path);
+    check_decoded(path, w, h, limits);
+    RgbaImage img;
+    img.width = w;
+    img.height = h;
+    img.pixels.resize(std::size_t(w) * h * 4);
+    const std::size_t row_bytes = std::size_t(w) * 4;
+    for (int y = 0; y < h; ++y)
+        std::memcpy(&img.pixels[std::size_t(y) * row_bytes],
+                    data.get() + std::size_t(h - 1 - y) * row_bytes, row_bytes);
+    return img;
+}
+
+void append_bytes(void* context, void* data, int size)
+{
+    auto* out = static_cast<std::vector<std::uint8_t>*>(context);
+    const auto* p = static_cast<const std::uint8_t*>(data);
+    out->insert(out->end(), p, p + size);
+}
+
+} // namespace
+
+float HeightField::at(int x, int y) const
+{
+    return texels[std::size_t(wrap_index(y, height)) * width + wrap_index(x, width)];
+}
+
+float HeightField::sample(glm::vec2 uv) const
+{
+    // OpenGL 4.6 §8.14.2, LINEAR with REPEAT at level 0: u' = s·w − ½, i0 = wrap(⌊u'⌋),
+    // i1 = wrap(⌊u'⌋ + 1), α = frac(u'); the same along t. Done in double so the reference
+    // geometry is at least as precise as the GPU's fixed-point weights.
+    struct Axis {
+        int i0, i1;
+        double a;
+    };
+    const auto axis = [](float s, int n) {
+        double x = std::isfinite(s) ? double(s) : 0.0;
+        x = (x - std::floor(x)) * n - 0.5; // one period first, so the index fits an int
+        const double f = std::floor(x);
+        const auto i = static_cast<std::int64_t>(f);
+        return Axis{wrap_index(i, n), wrap_index(i + 1, n), x - f};
+    };
+    const Axis u = axis(uv.x, width), v = axis(uv.y, height);
+    const auto t = [this](int x, int y) { return double(texels[std::size_t(y) * width + x]); };
+    const double bottom = (1.0 - u.a) * t(u.i0, v.i0) + u.a * t(u.i1, v.i0);
+    const double top = (1.0 - u.a) * t(u.i0, v.i1) + u.a * t(u.i1, v.i1);
+    return static_cast<float>((1.0 - v.a) * bottom + v.a * top);
+}
+
+float HeightField::min_value() const
+{
+    return texels.empty() ? 0.0f : *std::min_element(texels.begin(), texels.end());
+}
+
+float HeightField::max_value() const
+{
+    return texels.empty() ? 0.0f : *std::max_element(texels.begin(), texels.end());
+}
+
+HeightField load_height(const std::string& spec, const ImageLimits& limits)
+{
+    if (builtin::is_builtin(spec)) return builtin::make_height(spec, limits);
+    return load_height_file(spec, limits);
+}
+
+RgbaImage load_color(const std::string& spec, const ImageLimits& limits)
+{
+    if (builtin::is_builtin(spec)) return builtin::make_color(spec, limits);
+    return load_rgba_file(spec, limits);
+}
+
+std::vector<std::uint8_t> encode_png(const RgbaImage& image)
+{
+    const std::size_t expected = std::size_t(std::max(image.width, 0)) *
+                                 std::size_t(std::max(image.height, 0)) * 4;
+    if (image.width <= 0 || image.height <= 0)
+        throw Error("PNG", fmt::format("cannot encode a {}x{} image", image.width, image.height));
+    if (image.pixels.size() != expected)
+        throw Error("PNG", fmt::format("image data holds {} bytes, {}x{} RGBA needs {}",
+                                       image.pixels.size(), image.width, image.height, expected));
+    // Files store the top row first; pointing at the last row with a negative stride flips
+    // without a copy (stb only ever adds multiples of the stride to the pointer).
+    const int stride = image.width * 4;
+    const std::uint8_t* last_row = image.pixels.data() + std::size_t(image.height - 1) * stride;
+    std::vector<std::uint8_t> out;
+    if (!stbi_write_png_to_func(append_bytes, &out, image.width, image.height, 4, last_row,
+                                -stride))
+        throw Error("PNG", "encoding failed");
+    return out;
+}
+
+void write_png(const std::filesystem::path& path, const RgbaImage& image)
+{
+    std::vector<std::uint8_t> bytes;
+    try {
+        bytes = encode_png(image);
+    } catch (const Error& e) {
+        throw Error(path.string(), e.problem());
+    }
+    write_file_atomic(path, bytes);
+}
+
+RgbaImage read_rgba(const std::filesystem::path& path) { return load_rgba_file(path.string(), {}); }
+
+} // namespace pr

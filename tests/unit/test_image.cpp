@@ -1,0 +1,488 @@
+// Image loading, PNG output and height sampling (core/image). Test images are made here, byte by
+// byte, so each test says exactly what the file holds.
+// GCC 12 at -O3 reports a false -Wstringop-overflow inside std::string concatenation when an
+// Error is copied out of a lambda (GCC bug 105651); nothing in this file writes out of bounds.
+#pragma GCC diagnostic ignored "-Wstringop-overflow"
+#include "core/error.hpp"
+#include "core/image.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+namespace fs = std::filesystem;
+using Bytes = std::vector<std::uint8_t>;
+
+namespace {
+
+// A folder of its own per test (ctest may run tests in parallel), removed afterwards.
+class ImageFiles : public ::testing::Test {
+protected:
+    void SetUp() override
+    {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        dir_ = fs::temp_directory_path() /
+               ("pr_image_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    std::string put(const std::string& name, const Bytes& bytes) const
+    {
+        const fs::path p = dir_ / name;
+        std::ofstream out(p, std::ios::binary);
+        out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+        return p.string();
+    }
+    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+    fs::path dir_;
+};
+
+// ---- a minimal PNG encoder: stored (uncompressed) deflate blocks, filter 0, valid CRCs ----
+
+void put_be32(Bytes& b, std::uint32_t v)
+{
+    for (int s = 24; s >= 0; s -= 8) b.push_back(std::uint8_t(v >> s));
+}
+
+std::uint32_t crc32(const std::uint8_t* p, std::size_t n)
+{
+    std::uint32_t c = 0xFFFFFFFFU;
+    for (std::size_t i = 0; i < n; ++i) {
+        c ^= p[i];
+        for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320U & (0U - (c & 1U)));
+    }
+    return c ^ 0xFFFFFFFFU;
+}
+
+void chunk(Bytes& png, const char* type, const Bytes& data)
+{
+    put_be32(png, std::uint32_t(data.size()));
+    Bytes body(type, type + 4);
+    body.insert(body.end(), data.begin(), data.end());
+    png.insert(png.end(), body.begin(), body.end());
+    put_be32(png, crc32(body.data(), body.size()));
+}
+
+Bytes png_header(std::uint32_t w, std::uint32_t h, int depth, int colour_type)
+{
+    Bytes png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+    Bytes ihdr;
+    put_be32(ihdr, w);
+    put_be32(ihdr, h);
+    ihdr.insert(ihdr.end(), {std::uint8_t(depth), std::uint8_t(colour_type), 0, 0, 0});
+    chunk(png, "IHDR", ihdr);
+    return png;
+}
+
+// `rows` are the file's rows, top first, each already packed (big-endian for 16 bit).
+Bytes make_png(int w, int depth, int colour_type, const std::vector<Bytes>& rows,
+               const Bytes& palette = {})
+{
+    Bytes png = png_header(std::uint32_t(w), std::uint32_t(rows.size()), depth, colour_type);
+    if (!palette.empty()) chunk(png, "PLTE", palette);
+    Bytes raw;
+    for (const Bytes& r : rows) {
+        raw.push_back(0); // filter: none
+        raw.insert(raw.end(), r.begin(), r.end());
+    }
+    Bytes z = {0x78, 0x01};
+    for (std::size_t off = 0; off < raw.size() || off == 0; off += 65535) {
+        const std::size_t n = std::min<std::size_t>(65535, raw.size() - off);
+        const bool last = off + n >= raw.size();
+        z.insert(z.end(), {std::uint8_t(last), std::uint8_t(n), std::uint8_t(n >> 8),
+                           std::uint8_t(~n), std::uint8_t(~n >> 8)});
+        z.insert(z.end(), raw.begin() + std::ptrdiff_t(off), raw.begin() + std::ptrdiff_t(off + n));
+        if (last) break;
+    }
+    std::uint32_t a = 1, b = 0;
+    for (std::uint8_t c : raw) {
+        a = (a + c) % 65521;
+        b = (b + a) % 65521;
+    }
+    put_be32(z, (b << 16) | a);
+    chunk(png, "IDAT", z);
+    chunk(png, "IEND", {});
+    return png;
+}
+
+Bytes be16(std::initializer_list<int> values)
+{
+    Bytes b;
+    for (int v : values) b.insert(b.end(), {std::uint8_t(v >> 8), std::uint8_t(v)});
+    return b;
+}
+
+Bytes bmp_header(std::int32_t w, std::int32_t h)
+{
+    Bytes b = {'B', 'M'};
+    const auto le32 = [&b](std::uint32_t v) {
+        for (int s = 0; s < 32; s += 8) b.push_back(std::uint8_t(v >> s));
+    };
+    const auto le16 = [&b](std::uint16_t v) {
+        b.insert(b.end(), {std::uint8_t(v), std::uint8_t(v >> 8)});
+    };
+    le32(54 + 16); // file size (a few bytes of pixels follow)
+    le32(0);       // reserved
+    le32(54);      // pixel data offset
+    le32(40);      // BITMAPINFOHEADER
+    le32(std::uint32_t(w));
+    le32(std::uint32_t(h));
+    le16(1);  // planes
+    le16(24); // bits per pixel
+    for (int i = 0; i < 6; ++i) le32(0);
+    b.resize(b.size() + 16, 0x80);
+    return b;
+}
+
+pr::RgbaImage sample_image(int w, int h)
+{
+    pr::RgbaImage img;
+    img.width = w;
+    img.height = h;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            img.pixels.insert(img.pixels.end(),
+                              {std::uint8_t(x * 37 + y * 11), std::uint8_t(y * 53 + 7),
+                               std::uint8_t((x * y * 29) ^ 0x5A), std::uint8_t(255 - x * 13 - y)});
+    return img;
+}
+
+template <typename F>
+pr::Error error_of(F&& f)
+{
+    try {
+        f();
+    } catch (const pr::Error& e) {
+        return e;
+    }
+    ADD_FAILURE() << "no pr::Error thrown";
+    return pr::Error("(no error)", "(no error)");
+}
+
+bool contains(const std::string& s, const std::string& part)
+{
+    return s.find(part) != std::string::npos;
+}
+
+pr::HeightField field(int w, int h, std::vector<float> texels)
+{
+    pr::HeightField f;
+    f.width = w;
+    f.height = h;
+    f.texels = std::move(texels);
+    return f;
+}
+
+} // namespace
+
+// ---- PNG output and colour loading ----
+
+TEST_F(ImageFiles, ImagePngRoundTrip8Bit)
+{
+    const pr::RgbaImage img = sample_image(7, 5);
+    const std::string p = path("round.png");
+    pr::write_png(p, img);
+    const pr::RgbaImage back = pr::read_rgba(p);
+    EXPECT_EQ(back.width, 7);
+    EXPECT_EQ(back.height, 5);
+    EXPECT_EQ(back.pixels, img.pixels);
+    EXPECT_EQ(pr::load_color(p).pixels, img.pixels);
+    for (const auto& e : fs::directory_iterator(dir_)) EXPECT_EQ(e.path().filename(), "round.png");
+}
+
+TEST(ImageEncode, PngSignatureAndBadImages)
+{
+    const Bytes png = pr::encode_png(sample_image(3, 2));
+    ASSERT_GE(png.size(), 8u);
+    EXPECT_EQ(png[1], 'P');
+    EXPECT_EQ(png[2], 'N');
+    EXPECT_EQ(png[3], 'G');
+    EXPECT_THROW(pr::encode_png(pr::RgbaImage{}), pr::Error);
+    pr::RgbaImage short_data = sample_image(3, 2);
+    short_data.pixels.pop_back();
+    EXPECT_THROW(pr::encode_png(short_data), pr::Error);
+}
+
+TEST(ImageEncode, WritePngErrorNamesThePath)
+{
+    const pr::Error e =
+        error_of([] { pr::write_png("/nonexistent-dir-pr/x.png", sample_image(2, 2)); });
+    EXPECT_EQ(e.subject(), "/nonexistent-dir-pr/x.png");
+    const pr::Error empty = error_of([] { pr::write_png("/tmp/pr-empty.png", pr::RgbaImage{}); });
+    EXPECT_EQ(empty.subject(), "/tmp/pr-empty.png");
+    EXPECT_FALSE(fs::exists("/tmp/pr-empty.png"));
+}
+
+TEST_F(ImageFiles, ImageRowsFlipOnLoad)
+{
+    // File rows, top first: (10, 20) over (30, 40). Row 0 in memory is the bottom (v = 0).
+    const std::string p = put("flip.png", make_png(2, 8, 0, {{10, 20}, {30, 40}}));
+    const pr::HeightField h = pr::load_height(p);
+    ASSERT_EQ(h.width, 2);
+    ASSERT_EQ(h.height, 2);
+    EXPECT_EQ(h.bits, 8);
+    EXPECT_EQ(h.name, p);
+    EXPECT_FLOAT_EQ(h.at(0, 1), 10 / 255.0f); // the file's top-left pixel: row 1, column 0
+    EXPECT_FLOAT_EQ(h.at(1, 1), 20 / 255.0f);
+    EXPECT_FLOAT_EQ(h.at(0, 0), 30 / 255.0f);
+    EXPECT_FLOAT_EQ(h.at(1, 0), 40 / 255.0f);
+
+    const pr::RgbaImage c = pr::load_color(p);
+    EXPECT_EQ(c.at(0, 1), glm::u8vec4(10, 10, 10, 255)); // grey replicated, opaque
+    EXPECT_EQ(c.at(1, 0), glm::u8vec4(40, 40, 40, 255));
+}
+
+TEST_F(ImageFiles, ImageColorKeepsAlphaAndChannels)
+{
+    const std::string ga = put("ga.png", make_png(2, 8, 4, {{10, 200, 20, 100}}));
+    const pr::RgbaImage c = pr::load_color(ga);
+    EXPECT_EQ(c.at(0, 0), glm::u8vec4(10, 10, 10, 200));
+    EXPECT_EQ(c.at(1, 0), glm::u8vec4(20, 20, 20, 100));
+
+    const std::string rgba = put("rgba.png", make_png(1, 8, 6, {{1, 2, 3, 4}, {5, 6, 7, 8}}));
+    const pr::RgbaImage d = pr::load_color(rgba);
+    EXPECT_EQ(d.at(0, 0), glm::u8vec4(5, 6, 7, 8));
+    EXPECT_EQ(d.at(0, 1), glm::u8vec4(1, 2, 3, 4));
+}
+
+// ---- heights from files ----
+
+TEST_F(ImageFiles, HeightFirstChannelOnly)
+{
+    // Grey + alpha: the grey. RGB(A): red. Paletted: the palette entry's red.
+    EXPECT_FLOAT_EQ(pr::load_height(put("ga.png", make_png(1, 8, 4, {{51, 7}}))).at(0, 0), 0.2f);
+    EXPECT_FLOAT_EQ(pr::load_height(put("rgb.png", make_png(1, 8, 2, {{102, 0, 255}}))).at(0, 0),
+                    0.4f);
+    EXPECT_FLOAT_EQ(pr::load_height(put("rgba.png", make_png(1, 8, 6, {{153, 1, 2, 3}}))).at(0, 0),
+                    0.6f);
+    const Bytes palette = {0, 9, 9, 204, 9, 9};
+    const pr::HeightField pal =
+        pr::load_height(put("pal.png", make_png(2, 8, 3, {{1, 0}}, palette)));
+    EXPECT_FLOAT_EQ(pal.at(0, 0), 0.8f);
+    EXPECT_FLOAT_EQ(pal.at(1, 0), 0.0f);
+}
+
+TEST_F(ImageFiles, Height16BitPngKeepsPrecision)
+{
+    // 1000 and 1001 are one 8-bit step apart from nothing: only 16 bits tell them apart.
+    const std::string p = put("h16.png", make_png(4, 16, 0, {be16({0, 1000, 1001, 65535}),
+                                                           be16({0x1234, 0xABCD, 32768, 1})}));
+    const pr::HeightField h = pr::load_height(p);
+    ASSERT_EQ(h.width, 4);
+    ASSERT_EQ(h.height, 2);
+    EXPECT_EQ(h.bits, 16);
+    EXPECT_FLOAT_EQ(h.at(0, 1), 0.0f);
+    EXPECT_FLOAT_EQ(h.at(1, 1), 1000 / 65535.0f);
+    EXPECT_FLOAT_EQ(h.at(2, 1), 1001 / 65535.0f);
+    EXPECT_FLOAT_EQ(h.at(3, 1), 1.0f);
+    EXPECT_FLOAT_EQ(h.at(1, 0), 0xABCD / 65535.0f);
+    EXPECT_NE(h.at(1, 1), h.at(2, 1));
+
+    // Colour 16-bit RGB: still the first channel at 16 bits.
+    const std::string rgb = put("rgb16.png", make_png(1, 16, 2, {be16({40000, 1, 2})}));
+    const pr::HeightField c = pr::load_height(rgb);
+    EXPECT_EQ(c.bits, 16);
+    EXPECT_FLOAT_EQ(c.at(0, 0), 40000 / 65535.0f);
+    EXPECT_EQ(pr::load_color(rgb).at(0, 0), glm::u8vec4(40000 >> 8, 0, 0, 255));
+}
+
+TEST_F(ImageFiles, Height16BitPgm)
+{
+    Bytes pgm = {'P', '5', '\n', '2', ' ', '1', '\n', '6', '5', '5', '3', '5', '\n'};
+    const Bytes samples = be16({300, 65000});
+    pgm.insert(pgm.end(), samples.begin(), samples.end());
+    const pr::HeightField h = pr::load_height(put("h.pgm", pgm));
+    EXPECT_EQ(h.bits, 16);
+    EXPECT_FLOAT_EQ(h.at(0, 0), 300 / 65535.0f);
+    EXPECT_FLOAT_EQ(h.at(1, 0), 65000 / 65535.0f);
+    // As colour, 16 bits reduce to their high byte: 300 = 0x012C → 1, 65000 = 0xFDE8 → 253.
+    const pr::RgbaImage c = pr::load_color(path("h.pgm"));
+    EXPECT_EQ(c.at(0, 0), glm::u8vec4(1, 1, 1, 255));
+    EXPECT_EQ(c.at(1, 0), glm::u8vec4(253, 253, 253, 255));
+}
+
+TEST_F(ImageFiles, HeightFromHdrIsClampedTo16Bits)
+{
+    // Radiance RGBE, flat scanlines (width < 8): 128·2^(e−136) gives 0.5 for e = 128, 2 for 130.
+    const std::string header = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 2\n";
+    Bytes hdr(header.begin(), header.end());
+    hdr.insert(hdr.end(), {128, 0, 0, 128, 128, 128, 128, 130});
+    const pr::HeightField h = pr::load_height(put("h.hdr", hdr));
+    EXPECT_EQ(h.bits, 16);
+    EXPECT_NEAR(h.at(0, 0), 0.5f, 1e-4);
+    EXPECT_FLOAT_EQ(h.at(1, 0), 1.0f);
+}
+
+TEST_F(ImageFiles, HeightFrom8BitBmp)
+{
+    // 8-bit formats other than PNG, through stb: a 2x1 24-bit BMP (rows bottom first, BGR).
+    Bytes bmp = bmp_header(2, 1);
+    bmp.resize(54);
+    bmp.insert(bmp.end(), {51, 51, 51, 102, 102, 102, 0, 0}); // two BGR pixels, padding
+    const pr::HeightField h = pr::load_height(put("x.bmp", bmp));
+    EXPECT_FLOAT_EQ(h.at(0, 0), 0.2f);
+    EXPECT_FLOAT_EQ(h.at(1, 0), 0.4f);
+}
+
+// ---- sampling ----
+
+TEST(HeightSample, TexelCentresReturnTexels)
+{
+    const pr::HeightField f = field(3, 2, {0.0f, 0.25f, 0.5f, 0.75f, 1.0f, 0.125f});
+    for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 3; ++i)
+            EXPECT_NEAR(f.sample({(i + 0.5f) / 3.0f, (j + 0.5f) / 2.0f}), f.at(i, j), 1e-6)
+                << i << "," << j;
+}
+
+TEST(HeightSample, WrapsAtTheBoundary)
+{
+    const pr::HeightField f = field(4, 2, {0.0f, 0.2f, 0.4f, 1.0f, 0.5f, 0.5f, 0.5f, 0.5f});
+    const float v = 0.25f; // centre of row 0
+    // u = 0 lies halfway between the last column's centre and the first one's.
+    EXPECT_FLOAT_EQ(f.sample({0.0f, v}), 0.5f * (f.at(3, 0) + f.at(0, 0)));
+    EXPECT_FLOAT_EQ(f.sample({1.0f, v}), 0.5f * (f.at(3, 0) + f.at(0, 0)));
+    // Along v: v = 0 averages the top row and the bottom row.
+    EXPECT_FLOAT_EQ(f.sample({0.125f, 0.0f}), 0.5f * (f.at(0, 0) + f.at(0, 1)));
+    // Periodic in both directions, negative coordinates included.
+    for (const glm::vec2 uv : {glm::vec2(0.1f, 0.3f), glm::vec2(0.93f, 0.61f)}) {
+        EXPECT_NEAR(f.sample(uv), f.sample(uv + glm::vec2(1.0f, 0.0f)), 1e-6);
+        EXPECT_NEAR(f.sample(uv), f.sample(uv + glm::vec2(-2.0f, 3.0f)), 1e-6);
+    }
+}
+
+TEST(HeightSample, MatchesTheGlLinearRepeatFormula)
+{
+    const int w = 5, h = 3;
+    std::vector<float> t(w * h);
+    for (int k = 0; k < w * h; ++k) t[k] = float((k * 7) % 11) / 10.0f;
+    const pr::HeightField f = field(w, h, t);
+    const auto gl = [&](double s, double r) {
+        // GL 4.6 §8.14.2 written out: u' = s·w − ½, i0 = ⌊u'⌋ mod w, i1 = (i0 + 1) mod w.
+        const double x = s * w - 0.5, y = r * h - 0.5;
+        const int i0 = int(std::floor(x)), j0 = int(std::floor(y));
+        const double a = x - i0, b = y - j0;
+        const auto T = [&](int i, int j) { return double(f.at(i, j)); };
+        return (1 - a) * (1 - b) * T(i0, j0) + a * (1 - b) * T(i0 + 1, j0) +
+               (1 - a) * b * T(i0, j0 + 1) + a * b * T(i0 + 1, j0 + 1);
+    };
+    std::uint32_t seed = 12345;
+    const auto rnd = [&seed] {
+        seed = seed * 1664525U + 1013904223U;
+        return double(seed >> 8) / double(1 << 24) * 3.0 - 1.0; // [-1, 2)
+    };
+    for (int k = 0; k < 500; ++k) {
+        const double s = rnd(), r = rnd();
+        EXPECT_NEAR(f.sample({float(s), float(r)}), gl(float(s), float(r)), 1e-5) << s << "," << r;
+    }
+}
+
+TEST(HeightSample, AtWrapsAndMinMax)
+{
+    const pr::HeightField f = field(2, 2, {0.1f, 0.2f, 0.3f, 0.9f});
+    EXPECT_FLOAT_EQ(f.at(-1, 0), 0.2f);
+    EXPECT_FLOAT_EQ(f.at(2, 3), 0.3f);
+    EXPECT_FLOAT_EQ(f.at(-3, -1), 0.9f);
+    EXPECT_FLOAT_EQ(f.min_value(), 0.1f);
+    EXPECT_FLOAT_EQ(f.max_value(), 0.9f);
+}
+
+// ---- errors: each names the file ----
+
+TEST_F(ImageFiles, ImageErrorMissingFile)
+{
+    const std::string p = path("missing.png");
+    const pr::Error e = error_of([&] { pr::load_height(p); });
+    EXPECT_EQ(e.subject(), p);
+    EXPECT_TRUE(contains(e.problem(), "cannot open")) << e.problem();
+    EXPECT_EQ(error_of([&] { pr::load_color(p); }).subject(), p);
+    EXPECT_EQ(error_of([&] { pr::read_rgba(p); }).subject(), p);
+    const pr::Error folder = error_of([&] { pr::load_height(dir_.string()); });
+    EXPECT_TRUE(contains(folder.problem(), "folder")) << folder.problem();
+}
+
+TEST_F(ImageFiles, ImageErrorNotAnImage)
+{
+    const std::string p = put("text.png", Bytes{'h', 'e', 'l', 'l', 'o', ',', ' ', 'I', ' ', 'a',
+                                                'm', ' ', 't', 'e', 'x', 't', '\n'});
+    const pr::Error e = error_of([&] { pr::load_height(p); });
+    EXPECT_EQ(e.subject(), p);
+    EXPECT_TRUE(contains(e.problem(), "not a supported image")) << e.problem();
+    EXPECT_TRUE(contains(e.problem(), "PNG")) << e.problem(); // says what would be readable
+    EXPECT_EQ(error_of([&] { pr::load_color(p); }).subject(), p);
+
+    const std::string empty = put("empty.png", {});
+    EXPECT_TRUE(contains(error_of([&] { pr::load_height(empty); }).problem(), "empty"));
+
+    const std::string bad = std::string(PR_SOURCE_DIR) + "/tests/bad/not_an_image.png";
+    if (fs::exists(bad)) {
+        EXPECT_EQ(error_of([&] { pr::load_height(bad); }).subject(), bad);
+    }
+}
+
+TEST_F(ImageFiles, ImageErrorTruncatedPng)
+{
+    pr::RgbaImage img = sample_image(32, 32);
+    const Bytes full = pr::encode_png(img);
+    ASSERT_GT(full.size(), 200u);
+    const std::string p = put("cut.png", Bytes(full.begin(), full.begin() + 100));
+    const pr::Error e = error_of([&] { pr::load_height(p); });
+    EXPECT_EQ(e.subject(), p);
+    EXPECT_TRUE(contains(e.problem(), "not a supported image")) << e.problem();
+    EXPECT_EQ(error_of([&] { pr::load_color(p); }).subject(), p);
+}
+
+TEST_F(ImageFiles, ImageErrorHugeHeaderFailsBeforeDecoding)
+{
+    // Headers alone, claiming 100000x100000: decoding would try to allocate tens of GB. The
+    // message quoting the size shows the header check, not the decoder, refused the file.
+    const std::string png = put("huge.png", png_header(100000, 100000, 8, 0));
+    const pr::Error e = error_of([&] { pr::load_height(png); });
+    EXPECT_EQ(e.subject(), png);
+    EXPECT_TRUE(contains(e.problem(), "100000x100000")) << e.problem();
+    EXPECT_TRUE(contains(error_of([&] { pr::load_color(png); }).problem(), "100000x100000"));
+
+    const std::string bmp = put("huge.bmp", bmp_header(100000, 100000));
+    const pr::Error b = error_of([&] { pr::load_height(bmp); });
+    EXPECT_EQ(b.subject(), bmp);
+    EXPECT_TRUE(contains(b.problem(), "100000x100000")) << b.problem();
+}
+
+TEST_F(ImageFiles, ImageErrorZeroSize)
+{
+    const std::string png = put("zero.png", make_png(0, 8, 0, {}));
+    const pr::Error e = error_of([&] { pr::load_height(png); });
+    EXPECT_EQ(e.subject(), png);
+    EXPECT_TRUE(contains(e.problem(), "0x0")) << e.problem();
+
+    const std::string bmp = put("zero.bmp", bmp_header(0, 0));
+    const pr::Error b = error_of([&] { pr::load_height(bmp); });
+    EXPECT_EQ(b.subject(), bmp);
+    EXPECT_TRUE(contains(b.problem(), "0x0") || contains(b.problem(), "not a supported image"))
+        << b.problem();
+}
+
+TEST_F(ImageFiles, ImageErrorOverCallerLimits)
+{
+    const std::string p = put("8x4.png", make_png(8, 8, 0, std::vector<Bytes>(4, Bytes(8, 1))));
+    EXPECT_NO_THROW(pr::load_height(p));
+    pr::ImageLimits side;
+    side.max_dimension = 6;
+    const pr::Error e = error_of([&] { pr::load_height(p, side); });
+    EXPECT_EQ(e.subject(), p);
+    EXPECT_TRUE(contains(e.problem(), "8x4")) << e.problem();
+    EXPECT_TRUE(contains(e.problem(), "6")) << e.problem();
+    pr::ImageLimits pixels;
+    pixels.max_pixels = 31;
+    EXPECT_TRUE(contains(error_of([&] { pr::load_color(p, pixels); }).problem(), "31"));
+}

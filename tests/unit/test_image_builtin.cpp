@@ -1,0 +1,227 @@
+// Built-in procedural maps: sizes, range, tiling, determinism, colours and errors.
+#include "core/error.hpp"
+#include "core/image.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace {
+
+std::string problem_of(const std::string& spec, bool colour = false)
+{
+    try {
+        if (colour)
+            pr::load_color(spec);
+        else
+            pr::load_height(spec);
+    } catch (const pr::Error& e) {
+        EXPECT_EQ(e.subject(), spec);
+        return e.problem();
+    }
+    ADD_FAILURE() << spec << ": no error";
+    return {};
+}
+
+// Height names with the const:V placeholder given a value.
+std::vector<std::string> height_specs(const std::string& suffix)
+{
+    std::vector<std::string> specs;
+    for (std::string n : pr::builtin_height_names()) {
+        if (n == "const:V") n = "const:0.5";
+        specs.push_back("builtin:" + n + suffix);
+    }
+    return specs;
+}
+
+} // namespace
+
+TEST(BuiltinHeight, NamesIncludeTheDocumentedOnes)
+{
+    const auto names = pr::builtin_height_names();
+    for (const char* n : {"bumps", "bricks", "noise", "pyramids", "boxes", "const:V"})
+        EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
+    const auto colours = pr::builtin_color_names();
+    for (const char* n : {"checker", "bricks", "uv", "bumps", "noise"})
+        EXPECT_NE(std::find(colours.begin(), colours.end(), n), colours.end()) << n;
+}
+
+TEST(BuiltinHeight, DefaultSizeAndSuffix)
+{
+    const pr::HeightField h = pr::load_height("builtin:bumps");
+    EXPECT_EQ(h.width, 512);
+    EXPECT_EQ(h.height, 512);
+    EXPECT_EQ(h.name, "builtin:bumps");
+    EXPECT_EQ(h.texels.size(), 512u * 512u);
+    const pr::HeightField s = pr::load_height("builtin:noise@256");
+    EXPECT_EQ(s.width, 256);
+    EXPECT_EQ(s.height, 256);
+    const pr::HeightField r = pr::load_height("builtin:bricks@64x32");
+    EXPECT_EQ(r.width, 64);
+    EXPECT_EQ(r.height, 32);
+}
+
+TEST(BuiltinHeight, ValuesInRangeAndNotFlat)
+{
+    for (const std::string& spec : height_specs("@128")) {
+        const pr::HeightField h = pr::load_height(spec);
+        ASSERT_EQ(h.texels.size(), 128u * 128u) << spec;
+        EXPECT_GE(h.min_value(), 0.0f) << spec;
+        EXPECT_LE(h.max_value(), 1.0f) << spec;
+        for (float t : h.texels) ASSERT_TRUE(std::isfinite(t)) << spec;
+        if (spec.find("const:") == std::string::npos) {
+            EXPECT_GT(h.max_value() - h.min_value(), 0.5f) << spec;
+        }
+    }
+    const pr::HeightField n = pr::load_height("builtin:noise@128");
+    EXPECT_FLOAT_EQ(n.min_value(), 0.0f); // noise is stretched to the full range
+    EXPECT_FLOAT_EQ(n.max_value(), 1.0f);
+}
+
+TEST(BuiltinHeight, Tiles)
+{
+    // The seam between the last and first column (row) must look like any other pair of
+    // neighbours: no larger than the largest step inside, and as small on average.
+    for (const std::string& spec : height_specs("@96")) {
+        const pr::HeightField h = pr::load_height(spec);
+        const int w = h.width, n = h.height;
+        for (int axis = 0; axis < 2; ++axis) {
+            const auto t = [&](int a, int b) { return axis == 0 ? h.at(a, b) : h.at(b, a); };
+            const int along = axis == 0 ? w : n, across = axis == 0 ? n : w;
+            double seam_max = 0, seam_sum = 0, inner_max = 0, inner_sum = 0;
+            for (int b = 0; b < across; ++b) {
+                const double s = std::abs(t(along - 1, b) - t(0, b));
+                seam_max = std::max(seam_max, s);
+                seam_sum += s;
+                for (int a = 0; a + 1 < along; ++a) {
+                    const double d = std::abs(t(a + 1, b) - t(a, b));
+                    inner_max = std::max(inner_max, d);
+                    inner_sum += d;
+                }
+            }
+            const double seam_mean = seam_sum / across;
+            const double inner_mean = inner_sum / (across * (along - 1));
+            EXPECT_LE(seam_max, inner_max + 1e-6) << spec << " axis " << axis;
+            EXPECT_LE(seam_mean, 3.0 * inner_mean + 1e-6) << spec << " axis " << axis;
+        }
+    }
+}
+
+TEST(BuiltinHeight, Deterministic)
+{
+    for (const std::string& spec : height_specs("@64"))
+        EXPECT_EQ(pr::load_height(spec).texels, pr::load_height(spec).texels) << spec;
+}
+
+TEST(BuiltinHeight, SixteenBitQuantized)
+{
+    // Heights are exact 16-bit values, so an R16 texture holds precisely what the CPU samples.
+    const pr::HeightField h = pr::load_height("builtin:noise@64");
+    EXPECT_EQ(h.bits, 16);
+    for (float t : h.texels) ASSERT_FLOAT_EQ(std::round(t * 65535.0f) / 65535.0f, t);
+}
+
+TEST(BuiltinHeight, SizeIndependentLayout)
+{
+    // Patterns live in UV space: a bump centre (cell 0 of an 8x8 grid) is high at any size.
+    for (int size : {64, 100, 512}) {
+        const pr::HeightField h = pr::load_height("builtin:bumps@" + std::to_string(size));
+        EXPECT_GT(h.sample({1.0f / 16, 1.0f / 16}), 0.85f) << size;
+        EXPECT_LT(h.sample({0.0f, 0.0f}), 0.05f) << size;
+    }
+}
+
+TEST(BuiltinHeight, Constants)
+{
+    const pr::HeightField one = pr::load_height("builtin:const:1@16");
+    EXPECT_EQ(one.width, 16);
+    for (float t : one.texels) EXPECT_EQ(t, 1.0f);
+    const pr::HeightField zero = pr::load_height("builtin:const:0");
+    EXPECT_EQ(zero.width, 512);
+    EXPECT_EQ(zero.max_value(), 0.0f);
+    const pr::HeightField half = pr::load_height("builtin:const:0.5@8");
+    EXPECT_NEAR(half.min_value(), 0.5f, 1e-4);
+    EXPECT_NEAR(half.max_value(), 0.5f, 1e-4);
+    EXPECT_NEAR(pr::load_height("builtin:const:0.25@4").sample({0.3f, 0.9f}), 0.25f, 1e-4);
+}
+
+TEST(BuiltinHeight, Errors)
+{
+    const std::string unknown = problem_of("builtin:nope");
+    for (const std::string& n : pr::builtin_height_names())
+        EXPECT_NE(unknown.find(n), std::string::npos) << unknown;
+    EXPECT_NE(unknown.find("nope"), std::string::npos) << unknown;
+    EXPECT_FALSE(problem_of("builtin:").empty());
+    for (const char* bad : {"builtin:const:2", "builtin:const:-0.1", "builtin:const:x",
+                            "builtin:const:", "builtin:const:nan"})
+        EXPECT_NE(problem_of(bad).find("[0,1]"), std::string::npos) << bad;
+    for (const char* bad : {"builtin:bumps@0", "builtin:bumps@abc", "builtin:bumps@100000",
+                            "builtin:bumps@", "builtin:bumps@64x", "builtin:bumps@-4"})
+        EXPECT_NE(problem_of(bad).find("size"), std::string::npos) << bad;
+    pr::ImageLimits small;
+    small.max_pixels = 1000;
+    EXPECT_THROW(pr::load_height("builtin:bumps@64", small), pr::Error);
+}
+
+TEST(BuiltinColor, CheckerAndUv)
+{
+    const pr::RgbaImage c = pr::load_color("builtin:checker@64");
+    ASSERT_EQ(c.width, 64);
+    ASSERT_EQ(c.pixels.size(), 64u * 64u * 4u);
+    EXPECT_NE(c.at(0, 0), c.at(8, 0)); // 8 tiles per UV unit: 8 texels each at 64
+    EXPECT_EQ(c.at(0, 0), c.at(8, 8));
+    EXPECT_EQ(c.at(0, 0), c.at(7, 7));
+    EXPECT_EQ(c.at(0, 0).a, 255);
+
+    const pr::RgbaImage uv = pr::load_color("builtin:uv@256");
+    EXPECT_EQ(uv.at(0, 0), glm::u8vec4(0, 0, 0, 255));
+    EXPECT_EQ(uv.at(255, 0).r, 255);
+    EXPECT_EQ(uv.at(0, 255).g, 255); // row 0 is v = 0: green grows upwards
+    EXPECT_EQ(uv.at(128, 64).r, 128);
+    EXPECT_EQ(uv.at(128, 64).g, 64);
+}
+
+TEST(BuiltinColor, BricksMatchTheHeightLayout)
+{
+    const pr::HeightField h = pr::load_height("builtin:bricks@128");
+    const pr::RgbaImage c = pr::load_color("builtin:bricks@128");
+    int mortar = 0, brick = 0;
+    for (int y = 0; y < 128; ++y)
+        for (int x = 0; x < 128; ++x) {
+            const glm::ivec4 p = c.at(x, y);
+            const bool grey = std::abs(p.r - p.g) < 16 && std::abs(p.g - p.b) < 16;
+            const bool red = p.r > p.g + 40 && p.r > p.b + 40;
+            EXPECT_EQ(p.a, 255);
+            if (h.at(x, y) < 0.15f) {
+                EXPECT_TRUE(grey) << x << "," << y; // low: mortar
+                ++mortar;
+            } else if (h.at(x, y) > 0.6f) {
+                EXPECT_TRUE(red) << x << "," << y; // high: brick face
+                ++brick;
+            }
+        }
+    EXPECT_GT(mortar, 128 * 128 / 20);
+    EXPECT_GT(brick, 128 * 128 / 2);
+}
+
+TEST(BuiltinColor, HeightNamesGetATint)
+{
+    for (std::string spec : height_specs("@32")) {
+        const pr::RgbaImage c = pr::load_color(spec);
+        EXPECT_EQ(c.width, 32) << spec;
+        EXPECT_EQ(c.pixels.size(), 32u * 32u * 4u) << spec;
+        EXPECT_EQ(c.at(5, 7).a, 255) << spec;
+    }
+    // Tinted: brighter where higher.
+    const pr::HeightField h = pr::load_height("builtin:pyramids@64");
+    const pr::RgbaImage c = pr::load_color("builtin:pyramids@64");
+    EXPECT_GT(h.at(4, 4), h.at(0, 0));
+    EXPECT_GT(c.at(4, 4).r, c.at(0, 0).r);
+    EXPECT_EQ(pr::load_color("builtin:noise@32").pixels, pr::load_color("builtin:noise@32").pixels);
+
+    const std::string unknown = problem_of("builtin:nope", true);
+    for (const char* n : {"checker", "uv", "bricks", "bumps"})
+        EXPECT_NE(unknown.find(n), std::string::npos) << unknown;
+}
