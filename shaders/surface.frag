@@ -2,6 +2,8 @@
 // techniques carve inward by `depth` along the normal, in the metric tangent frame
 // (T = dP/du, B = dP/dv unnormalized; height axis depth * N). Texture space is (u, v, s) with
 // s = 1 at the polygon and s = h(u, v) on the surface.
+// The reference technique draws tessellated, displaced triangles through the same shaders and
+// shades them like `normal` (the height map's normal at the fragment's uv).
 #include "common/shared.h"
 #include "common/height.glsl"
 #include "common/lighting.glsl"
@@ -36,7 +38,8 @@ void main()
     vec2 uv = v_uv;
     float t_hit = 0.0; // along `view`: the hit is v_world_pos + t_hit * view
 
-#if PR_TECHNIQUE >= PR_TECH_OFFSET
+#if PR_TECHNIQUE == PR_TECH_OFFSET || PR_TECHNIQUE == PR_TECH_STEEP || \
+    PR_TECHNIQUE == PR_TECH_POM || PR_TECHNIQUE == PR_TECH_RELIEF
     // The view ray in texture space: solve view = d.x T + d.y B + d.z (depth N).
     mat3 frame = mat3(t_axis, b_axis, n_geom * depth);
     float det = determinant(frame);

@@ -36,6 +36,7 @@ using mat4 = glm::mat4;
 #define PR_TECH_STEEP 3
 #define PR_TECH_POM 4
 #define PR_TECH_RELIEF 5
+#define PR_TECH_REFERENCE 6 // tessellated displaced geometry, shaded like `normal`
 
 // Normal-from-height qualities (PR_NORMAL_QUALITY): the seed's three.
 #define PR_NORMAL_GATHER 0

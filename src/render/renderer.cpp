@@ -1,6 +1,7 @@
 #include "render/renderer.hpp"
 
 #include "core/error.hpp"
+#include "render/reference_geometry.hpp"
 #include "render/shader_program.hpp"
 
 #include "common/shared.h"
@@ -62,8 +63,8 @@ std::string variant_key(const ShaderDefines& defines)
 
 ShaderDefines defines_for(const DrawSettings& s)
 {
-    static const char* tech[] = {"PR_TECH_FLAT", "PR_TECH_NORMAL", "PR_TECH_OFFSET",
-                                 "PR_TECH_STEEP", "PR_TECH_POM", "PR_TECH_RELIEF"};
+    static const char* tech[] = {"PR_TECH_FLAT", "PR_TECH_NORMAL", "PR_TECH_OFFSET", "PR_TECH_STEEP",
+                                 "PR_TECH_POM",  "PR_TECH_RELIEF", "PR_TECH_REFERENCE"};
     static const char* quality[] = {"PR_NORMAL_GATHER", "PR_NORMAL_CENTRAL", "PR_NORMAL_SOBEL"};
     ShaderDefines d = {{"PR_TECHNIQUE", tech[static_cast<int>(s.technique)]},
                        {"PR_NORMAL_QUALITY", quality[static_cast<int>(s.normal_quality)]}};
@@ -126,32 +127,7 @@ void Renderer::upload(const Scene& scene)
         o.midlevel = so.midlevel;
         o.transform = so.transform;
         o.base_color = so.base_color;
-        const auto& verts = so.mesh.vertices;
-        const auto& idx = so.mesh.indices;
-        o.vertices = gl::Buffer::create();
-        glNamedBufferStorage(o.vertices.id(), static_cast<GLsizeiptr>(verts.size() * sizeof(MeshVertex)),
-                             verts.data(), 0);
-        o.indices = gl::Buffer::create();
-        glNamedBufferStorage(o.indices.id(), static_cast<GLsizeiptr>(idx.size() * sizeof(std::uint32_t)),
-                             idx.data(), 0);
-        o.index_count = static_cast<GLsizei>(idx.size());
-        o.vao = gl::VertexArray::create();
-        const GLuint vao = o.vao.id();
-        glVertexArrayVertexBuffer(vao, 0, o.vertices.id(), 0, sizeof(MeshVertex));
-        glVertexArrayElementBuffer(vao, o.indices.id());
-        const auto attrib = [vao](GLuint loc, GLint n, std::size_t offset) {
-            glEnableVertexArrayAttrib(vao, loc);
-            glVertexArrayAttribFormat(vao, loc, n, GL_FLOAT, GL_FALSE, static_cast<GLuint>(offset));
-            glVertexArrayAttribBinding(vao, loc, 0);
-        };
-        attrib(PR_ATTR_POSITION, 3, offsetof(MeshVertex, position));
-        attrib(PR_ATTR_NORMAL, 3, offsetof(MeshVertex, normal));
-        attrib(PR_ATTR_UV, 2, offsetof(MeshVertex, uv));
-        attrib(PR_ATTR_TANGENT, 4, offsetof(MeshVertex, tangent));
-        attrib(PR_ATTR_BITANGENT, 3, offsetof(MeshVertex, bitangent));
-        glEnableVertexArrayAttrib(vao, PR_ATTR_WELD_ID);
-        glVertexArrayAttribIFormat(vao, PR_ATTR_WELD_ID, 1, GL_UNSIGNED_INT, offsetof(MeshVertex, weld_id));
-        glVertexArrayAttribBinding(vao, PR_ATTR_WELD_ID, 0);
+        o.base = make_geometry(so.mesh.vertices, so.mesh.indices);
 
         // Textures shared between objects are uploaded once; the cache owns them and each
         // object refers to the cached name (gl::Texture is move-only, so objects hold none).
@@ -167,6 +143,78 @@ void Renderer::upload(const Scene& scene)
         objects_.push_back(std::move(o));
     }
     if (glGetError() == GL_OUT_OF_MEMORY) throw Error("scene", "out of GPU memory while uploading");
+}
+
+Renderer::Geometry Renderer::make_geometry(const std::vector<MeshVertex>& verts,
+                                           const std::vector<std::uint32_t>& idx)
+{
+    Geometry g;
+    g.vertices = gl::Buffer::create();
+    glNamedBufferStorage(g.vertices.id(), static_cast<GLsizeiptr>(verts.size() * sizeof(MeshVertex)),
+                         verts.data(), 0);
+    g.indices = gl::Buffer::create();
+    glNamedBufferStorage(g.indices.id(), static_cast<GLsizeiptr>(idx.size() * sizeof(std::uint32_t)),
+                         idx.data(), 0);
+    g.index_count = static_cast<GLsizei>(idx.size());
+    g.vao = gl::VertexArray::create();
+    const GLuint vao = g.vao.id();
+    glVertexArrayVertexBuffer(vao, 0, g.vertices.id(), 0, sizeof(MeshVertex));
+    glVertexArrayElementBuffer(vao, g.indices.id());
+    const auto attrib = [vao](GLuint loc, GLint n, std::size_t offset) {
+        glEnableVertexArrayAttrib(vao, loc);
+        glVertexArrayAttribFormat(vao, loc, n, GL_FLOAT, GL_FALSE, static_cast<GLuint>(offset));
+        glVertexArrayAttribBinding(vao, loc, 0);
+    };
+    attrib(PR_ATTR_POSITION, 3, offsetof(MeshVertex, position));
+    attrib(PR_ATTR_NORMAL, 3, offsetof(MeshVertex, normal));
+    attrib(PR_ATTR_UV, 2, offsetof(MeshVertex, uv));
+    attrib(PR_ATTR_TANGENT, 4, offsetof(MeshVertex, tangent));
+    attrib(PR_ATTR_BITANGENT, 3, offsetof(MeshVertex, bitangent));
+    glEnableVertexArrayAttrib(vao, PR_ATTR_WELD_ID);
+    glVertexArrayAttribIFormat(vao, PR_ATTR_WELD_ID, 1, GL_UNSIGNED_INT, offsetof(MeshVertex, weld_id));
+    glVertexArrayAttribBinding(vao, PR_ATTR_WELD_ID, 0);
+    if (glGetError() == GL_OUT_OF_MEMORY) throw Error("scene", "out of GPU memory while uploading geometry");
+    return g;
+}
+
+Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const Camera& camera,
+                                                     const ReferenceOptions& options)
+{
+    if (scene.objects.size() != objects_.size())
+        throw Error("reference", "the scene was not uploaded to this renderer");
+    const auto start = std::chrono::steady_clock::now();
+    ReferenceStats stats;
+    constexpr std::size_t kChunkTriangles = 1u << 20; // output triangles per upload
+    std::vector<MeshVertex> vertices;
+    std::vector<std::uint32_t> indices;
+    for (std::size_t k = 0; k < objects_.size(); ++k) {
+        const SceneObject& so = scene.objects[k];
+        GpuObject& o = objects_[k];
+        o.reference.clear();
+        ReferenceLevel lv;
+        if (options.level > 0) {
+            lv.level = options.level;
+        } else {
+            lv = choose_reference_level(so.mesh, so.transform, *so.height, camera, width_, height_,
+                                        options.max_triangles);
+        }
+        if (k == 0) stats.level = lv.level;
+        stats.capped = stats.capped || lv.capped;
+        const std::size_t per_base = std::size_t(lv.level) * std::size_t(lv.level);
+        const std::size_t batch = std::max<std::size_t>(1, kChunkTriangles / per_base);
+        const std::size_t count = so.mesh.triangle_count();
+        for (std::size_t first = 0; first < count; first += batch) {
+            vertices.clear();
+            indices.clear();
+            tessellate_reference(so.mesh, *so.height, so.depth, so.midlevel, lv.level, first,
+                                 std::min(count, first + batch), vertices, indices);
+            stats.triangles += indices.size() / 3;
+            stats.bytes += vertices.size() * sizeof(MeshVertex) + indices.size() * sizeof(std::uint32_t);
+            o.reference.push_back(make_geometry(vertices, indices));
+        }
+    }
+    stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return stats;
 }
 
 GLuint Renderer::program_for(const DrawSettings& settings)
@@ -231,8 +279,16 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         glBindTextureUnit(PR_TEX_HEIGHT, o.height_texture);
         // Without a colour texture the unit still needs a valid texture; it is not sampled.
         glBindTextureUnit(PR_TEX_COLOR, o.color_texture ? o.color_texture : o.height_texture);
-        glBindVertexArray(o.vao.id());
-        glDrawElements(GL_TRIANGLES, o.index_count, GL_UNSIGNED_INT, nullptr);
+        if (settings.technique == Technique::Reference) {
+            if (o.reference.empty()) throw Error("reference", "prepare_reference() was not called");
+            for (const Geometry& g : o.reference) {
+                glBindVertexArray(g.vao.id());
+                glDrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
+            }
+        } else {
+            glBindVertexArray(o.base.vao.id());
+            glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
+        }
     }
     glFinish();
     const auto end = std::chrono::steady_clock::now();

@@ -40,6 +40,18 @@ public:
     // glFinish in milliseconds (contract "ms"). Builds the shader variant on first use.
     double draw(const Camera& camera, glm::vec3 light_dir, const DrawSettings& settings);
 
+    // Tessellates and uploads the `reference` technique's geometry for this camera (the automatic
+    // level depends on pixel size). `scene` must be the one given to upload(). Generation is
+    // chunked, so CPU memory holds one chunk at a time; the GPU holds the whole result.
+    struct ReferenceStats {
+        int level = 0;               // of the first object (the usual single-object case)
+        std::size_t triangles = 0;   // all objects
+        std::size_t bytes = 0;       // GPU bytes of vertex and index data
+        double build_ms = 0.0;
+        bool capped = false;         // an automatic level was lowered to fit max_triangles
+    };
+    ReferenceStats prepare_reference(const Scene& scene, const Camera& camera, const ReferenceOptions& options);
+
     RgbaImage read_color() const;               // RGBA8, alpha = coverage, bottom row first
     std::vector<float> read_depth() const;      // window depth in [0,1], 1 = nothing drawn
     SampleCounters read_counters() const;       // after a draw with settings.count_samples
@@ -50,11 +62,19 @@ public:
     GLuint framebuffer() const { return fbo_.id(); }
 
 private:
-    struct GpuObject {
+    // Triangles in the MeshVertex layout, ready to draw.
+    struct Geometry {
         gl::VertexArray vao;
         gl::Buffer vertices;
         gl::Buffer indices;
         GLsizei index_count = 0;
+    };
+    static Geometry make_geometry(const std::vector<MeshVertex>& vertices,
+                                  const std::vector<std::uint32_t>& indices);
+
+    struct GpuObject {
+        Geometry base;
+        std::vector<Geometry> reference; // chunks of the tessellated ground truth
         GLuint height_texture = 0; // owned by texture_cache_
         GLuint color_texture = 0;  // 0: plain base colour
         glm::ivec2 height_size{0};

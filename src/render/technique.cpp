@@ -13,6 +13,7 @@ const std::vector<TechniqueInfo>& technique_table()
         {Technique::Steep, "steep", "steep parallax: linear search, first sample below the surface"},
         {Technique::Pom, "pom", "parallax occlusion mapping: linear search + linear interpolation"},
         {Technique::Relief, "relief", "relief mapping: linear search + binary refinement"},
+        {Technique::Reference, "reference", "true displaced geometry, finely tessellated: the ground truth"},
     };
     return table;
 }

@@ -1,11 +1,12 @@
 #pragma once
 // Technique names (contract, fixed) and the settings that choose a shader variant.
+#include <cstddef>
 #include <string>
 #include <vector>
 
 namespace pr {
 
-enum class Technique { Flat, Normal, Offset, Steep, Pom, Relief };
+enum class Technique { Flat, Normal, Offset, Steep, Pom, Relief, Reference };
 enum class NormalQuality { Gather, Central, Sobel };
 
 struct TechniqueInfo {
@@ -31,6 +32,12 @@ struct DrawSettings {
     NormalQuality normal_quality = NormalQuality::Sobel;
     bool depth_write = false; // base-surface techniques: write the depth of what they show
     bool count_samples = false; // instrumented variant (bench)
+};
+
+// Ground truth (technique `reference`): how finely to tessellate.
+struct ReferenceOptions {
+    int level = 0; // 0: automatic (edges about one texel or one pixel, whichever is coarser)
+    std::size_t max_triangles = 8'000'000; // automatic levels are lowered to stay within this
 };
 
 } // namespace pr

@@ -143,6 +143,7 @@ TEST(Render, GrazingAnglesGiveNoHolesAndNoBlackPixels)
     const RgbaImage flat = draw(r, c, Technique::Flat);
     ASSERT_GT(prtest::coverage(flat), 100u);
     for (const TechniqueInfo& t : technique_table()) {
+        if (t.technique == Technique::Reference) continue; // not a base-surface technique
         const RgbaImage img = draw(r, c, t.technique);
         EXPECT_EQ(prtest::coverage(img), prtest::coverage(flat)) << t.name;
         std::size_t black = 0;

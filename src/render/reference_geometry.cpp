@@ -1,0 +1,134 @@
+#include "render/reference_geometry.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pr {
+
+namespace {
+
+// Grid point (i, j) of a triangle split at `level`: barycentric weights
+// (level - i - j, i, j) / level on corners (a, b, c).
+// Edge points are evaluated from the edge's two endpoints only, in the order of their vertex
+// indices, so both triangles sharing the edge compute exactly the same floating-point values.
+MeshVertex lerp_edge(const MeshVertex& x, std::uint32_t xi, const MeshVertex& y, std::uint32_t yi,
+                     int k, int level)
+{
+    // Point k/level of the way from x to y; canonical order: from the lower index.
+    if (xi > yi) return lerp_edge(y, yi, x, xi, level - k, level);
+    const float t = static_cast<float>(k) / static_cast<float>(level);
+    const float s = static_cast<float>(level - k) / static_cast<float>(level);
+    MeshVertex v;
+    v.position = x.position * s + y.position * t;
+    v.normal = x.normal * s + y.normal * t;
+    v.uv = x.uv * s + y.uv * t;
+    v.tangent = x.tangent * s + y.tangent * t;
+    v.bitangent = x.bitangent * s + y.bitangent * t;
+    v.weld_id = x.weld_id;
+    return v;
+}
+
+MeshVertex interior(const MeshVertex& a, const MeshVertex& b, const MeshVertex& c, int i, int j, int level)
+{
+    const float wb = static_cast<float>(i) / static_cast<float>(level);
+    const float wc = static_cast<float>(j) / static_cast<float>(level);
+    const float wa = static_cast<float>(level - i - j) / static_cast<float>(level);
+    MeshVertex v;
+    v.position = a.position * wa + b.position * wb + c.position * wc;
+    v.normal = a.normal * wa + b.normal * wb + c.normal * wc;
+    v.uv = a.uv * wa + b.uv * wb + c.uv * wc;
+    v.tangent = a.tangent * wa + b.tangent * wb + c.tangent * wc;
+    v.bitangent = a.bitangent * wa + b.bitangent * wb + c.bitangent * wc;
+    v.weld_id = a.weld_id;
+    return v;
+}
+
+} // namespace
+
+std::size_t reference_bytes_per_triangle(int level)
+{
+    const std::size_t l = static_cast<std::size_t>(level);
+    return (l + 1) * (l + 2) / 2 * sizeof(MeshVertex) + l * l * 3 * sizeof(std::uint32_t);
+}
+
+ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::mat4& transform,
+                                      const HeightField& height, const Camera& camera,
+                                      int width, int height_px, std::size_t max_triangles)
+{
+    ReferenceLevel r;
+    const float texels = static_cast<float>(std::max(height.width, height.height));
+    // Pixels per world unit at distance 1 (vertical field of view over the image height).
+    const float focal_px = 0.5f * static_cast<float>(height_px) /
+                           std::tan(glm::radians(camera.fovy_deg) * 0.5f);
+    (void)width;
+    float max_texel_edge = 0.0f, max_pixel_edge = 0.0f;
+    const auto& v = mesh.vertices;
+    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+        for (int e = 0; e < 3; ++e) {
+            const MeshVertex& p = v[mesh.indices[t + e]];
+            const MeshVertex& q = v[mesh.indices[t + (e + 1) % 3]];
+            const glm::vec2 duv = (q.uv - p.uv) * glm::vec2(height.width, height.height);
+            max_texel_edge = std::max(max_texel_edge, std::max(std::abs(duv.x), std::abs(duv.y)));
+            const glm::vec3 wp = glm::vec3(transform * glm::vec4(p.position, 1.0f));
+            const glm::vec3 wq = glm::vec3(transform * glm::vec4(q.position, 1.0f));
+            const float dist = std::max(std::min(glm::length(wp - camera.eye), glm::length(wq - camera.eye)),
+                                        camera.near_plane);
+            max_pixel_edge = std::max(max_pixel_edge, glm::length(wq - wp) * focal_px / dist);
+        }
+    }
+    (void)texels;
+    r.texel_level = std::max(1, static_cast<int>(std::ceil(max_texel_edge)));
+    r.pixel_level = std::max(1, static_cast<int>(std::ceil(max_pixel_edge)));
+    r.level = std::min(r.texel_level, r.pixel_level);
+    const std::size_t tris = std::max<std::size_t>(mesh.triangle_count(), 1);
+    while (r.level > 1 && tris * std::size_t(r.level) * std::size_t(r.level) > max_triangles) {
+        --r.level;
+        r.capped = true;
+    }
+    return r;
+}
+
+void tessellate_reference(const PreparedMesh& mesh, const HeightField& height, float depth,
+                          float midlevel, int level, std::size_t first, std::size_t last,
+                          std::vector<MeshVertex>& vertices, std::vector<std::uint32_t>& indices)
+{
+    level = std::max(level, 1);
+    const auto& v = mesh.vertices;
+    const int per_row_total = (level + 1) * (level + 2) / 2;
+    std::vector<std::uint32_t> grid(static_cast<std::size_t>(per_row_total));
+    for (std::size_t t = first; t < last; ++t) {
+        const std::uint32_t ia = mesh.indices[3 * t], ib = mesh.indices[3 * t + 1], ic = mesh.indices[3 * t + 2];
+        const MeshVertex &a = v[ia], &b = v[ib], &c = v[ic];
+        // Grid points row by row: j = 0..level (towards c), i = 0..level-j (towards b).
+        int n = 0;
+        for (int j = 0; j <= level; ++j) {
+            for (int i = 0; i <= level - j; ++i) {
+                MeshVertex p;
+                if (j == 0) p = lerp_edge(a, ia, b, ib, i, level);                 // edge a-b
+                else if (i == 0) p = lerp_edge(a, ia, c, ic, j, level);            // edge a-c
+                else if (i + j == level) p = lerp_edge(b, ib, c, ic, j, level);    // edge b-c
+                else p = interior(a, b, c, i, j, level);
+                // Displace along the interpolated (not renormalized) normal: S stays inside the
+                // straight-edged prism (contract).
+                const float h = height.sample(p.uv);
+                p.position += depth * (h - midlevel) * p.normal;
+                grid[static_cast<std::size_t>(n++)] = static_cast<std::uint32_t>(vertices.size());
+                vertices.push_back(p);
+            }
+        }
+        // Row start offsets: row j starts after rows 0..j-1 of (level + 1 - r) points each.
+        const auto at = [level](int i, int j) { return j * (level + 1) - j * (j - 1) / 2 + i; };
+        for (int j = 0; j < level; ++j) {
+            for (int i = 0; i < level - j; ++i) {
+                const std::uint32_t p0 = grid[at(i, j)], p1 = grid[at(i + 1, j)], p2 = grid[at(i, j + 1)];
+                indices.insert(indices.end(), {p0, p1, p2});
+                if (i + 1 < level - j) {
+                    const std::uint32_t p3 = grid[at(i + 1, j + 1)];
+                    indices.insert(indices.end(), {p1, p3, p2});
+                }
+            }
+        }
+    }
+}
+
+} // namespace pr

@@ -1,0 +1,42 @@
+#pragma once
+// Ground truth for comparisons: the contract's displaced surface as real triangles.
+//   S(b) = P(b) + depth * (h(uv(b)) - midlevel) * N(b)
+// with P, uv, N (not renormalized), T, B linear in the barycentrics b of each base triangle, and
+// h the bilinear level-0 height (HeightField::sample, the GPU's GL_LINEAR formula).
+// CPU only (no GL): the renderer uploads what this produces.
+#include "core/camera.hpp"
+#include "core/image.hpp"
+#include "mesh/mesh.hpp"
+
+#include <cstddef>
+#include <functional>
+
+namespace pr {
+
+struct ReferenceLevel {
+    int level = 1;          // each base triangle is split into level^2 triangles
+    int texel_level = 1;    // level at which every edge spans at most ~one height texel
+    int pixel_level = 1;    // level at which every edge spans at most ~one pixel
+    bool capped = false;    // lowered to stay within max_triangles
+};
+
+// Chooses the uniform level: the coarser of the texel and pixel criteria (so edges are at most
+// about one texel or one pixel, whichever is larger), then lowered until
+// triangle_count * level^2 <= max_triangles. `transform` maps object to world.
+ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::mat4& transform,
+                                      const HeightField& height, const Camera& camera,
+                                      int width, int height_px, std::size_t max_triangles);
+
+// Tessellates base triangles [first, last) at `level` and displaces them. Output vertices use the
+// MeshVertex layout (position displaced; normal, uv, tangent, bitangent interpolated) so the
+// surface shaders draw them. Points on an edge are computed from that edge's two endpoints alone,
+// in an order fixed by their vertex indices, so neighbours sharing the edge produce bit-identical
+// positions: no cracks where UVs agree.
+void tessellate_reference(const PreparedMesh& mesh, const HeightField& height, float depth,
+                          float midlevel, int level, std::size_t first, std::size_t last,
+                          std::vector<MeshVertex>& vertices, std::vector<std::uint32_t>& indices);
+
+// Bytes of vertex and index data per base triangle at `level` (for chunking and reporting).
+std::size_t reference_bytes_per_triangle(int level);
+
+} // namespace pr
