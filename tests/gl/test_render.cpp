@@ -1,6 +1,8 @@
 // Pixel facts of the base-surface techniques on hand-made scenes (no file loaders involved).
 #include "gl_fixture.hpp"
 
+#include "mesh/mesh.hpp"
+
 #include <cmath>
 
 using namespace pr;
@@ -181,4 +183,30 @@ TEST(Render, DepthWriteCarvesBehindThePolygon)
     EXPECT_GT(covered, 4000u);
     EXPECT_GT(behind, covered / 2 - 8 * kSize);
     EXPECT_GT(on, covered / 2 - 8 * kSize);
+}
+
+// The bundled UV sphere (radius 1) seen from distance 4: its outline is the circle of angular
+// radius asin(1/4). Every pixel whose centre is more than one pixel from that circle is covered
+// exactly when it lies inside (the 32-segment polygon deviates by < 0.3 px here).
+TEST(Render, LoadedSphereMatchesTheAnalyticSilhouette)
+{
+    prtest::context();
+    Renderer r(kSize, kSize);
+    Scene scene = prtest::one_object(load_mesh(std::string(PR_SOURCE_DIR) + "/meshes/uv_sphere.obj"),
+                                     prtest::height_from(16, [](float, float) { return 0.0f; }), 0.0f);
+    r.upload(scene);
+    Camera c = front_camera();
+    c.eye = {0, 0, 4};
+    const RgbaImage img = draw(r, c, Technique::Pom);
+    const float radius_px = std::tan(std::asin(0.25f)) / std::tan(glm::radians(20.0f)) * kSize / 2;
+    int wrong = 0, checked = 0;
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x) {
+            const float d = glm::length(glm::vec2(x + 0.5f, y + 0.5f) - glm::vec2(kSize / 2.0f)) - radius_px;
+            if (std::abs(d) <= 1.0f) continue;
+            ++checked;
+            wrong += (d < 0) != (img.at(x, y).a >= 128);
+        }
+    EXPECT_EQ(wrong, 0);
+    EXPECT_GT(checked, kSize * kSize - 700); // the +-1 px band is about 2 * 2 pi r = 570 px
 }
