@@ -23,6 +23,8 @@ int run_cli(int argc, char** argv)
 
     std::vector<CommandAction> actions;
     actions.push_back(add_render_command(app));
+    actions.push_back(add_compare_command(app));
+    actions.push_back(add_bench_command(app));
 
     try {
         app.parse(argc, argv);
@@ -38,9 +40,10 @@ int run_cli(int argc, char** argv)
     }
 
     try {
-        for (CLI::App* sub : app.get_subcommands())
-            for (std::size_t i = 0; i < app.get_subcommands({}).size(); ++i)
-                if (app.get_subcommands({})[i] == sub) return actions[i]();
+        // Subcommands were registered in the order of `actions`; run the one that was parsed.
+        const std::vector<CLI::App*> all = app.get_subcommands({});
+        for (std::size_t i = 0; i < all.size(); ++i)
+            if (all[i]->parsed()) return actions[i]();
         return kExitUsage;
     } catch (const Error& e) {
         std::fprintf(stderr, "prismrelief: error: %s\n", e.what());

@@ -10,5 +10,7 @@ namespace pr {
 using CommandAction = std::function<int()>;
 
 CommandAction add_render_command(CLI::App& app);
+CommandAction add_compare_command(CLI::App& app);
+CommandAction add_bench_command(CLI::App& app);
 
 } // namespace pr

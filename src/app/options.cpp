@@ -135,10 +135,24 @@ void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_techn
         ->group("Technique");
 }
 
-DrawSettings make_draw_settings(const TechniqueOptions& o, const std::string& technique)
+void add_reference_options(CLI::App& app, int& level, std::size_t& max_triangles)
+{
+    app.add_option("--reference-level", level,
+                   "reference: split each triangle into LEVEL^2 (0: automatic, edges about one texel "
+                   "or one pixel, whichever is coarser)")
+        ->group("Technique")
+        ->capture_default_str();
+    app.add_option("--reference-max-triangles", max_triangles,
+                   "reference: lower an automatic level to stay within this many triangles")
+        ->group("Technique")
+        ->capture_default_str();
+}
+
+DrawSettings make_draw_settings(const TechniqueOptions& o, const std::string& technique,
+                                const std::string& option)
 {
     DrawSettings s;
-    s.technique = parse_technique(technique);
+    s.technique = parse_technique(technique, option);
     if (o.steps < 1 || o.steps > 1024) throw Error("--steps", "must be between 1 and 1024");
     if (o.refine < 0 || o.refine > 32) throw Error("--refine", "must be between 0 and 32");
     s.steps = o.steps;

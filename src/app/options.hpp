@@ -39,11 +39,13 @@ struct TechniqueOptions {
 
 void add_scene_options(CLI::App& app, SceneOptions& o);
 void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_technique);
+void add_reference_options(CLI::App& app, int& level, std::size_t& max_triangles);
 
 // Builds the SceneSpec: --scene JSON first (paths relative to the JSON file), then flags on top
 // (flags override a single-object scene's object, and the camera/light/size). Throws pr::Error.
 SceneSpec make_scene_spec(const SceneOptions& o);
-DrawSettings make_draw_settings(const TechniqueOptions& o, const std::string& technique);
+DrawSettings make_draw_settings(const TechniqueOptions& o, const std::string& technique,
+                                const std::string& option = "--technique");
 
 // "x,y,z" -> vec3; throws pr::Error(option, …).
 glm::vec3 parse_vec3(const std::string& text, const std::string& option);

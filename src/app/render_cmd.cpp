@@ -1,9 +1,8 @@
 // prismrelief render: one scene, one technique, one PNG.
 #include "app/commands.hpp"
-#include "app/options.hpp"
+#include "app/session.hpp"
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
-#include "platform/context.hpp"
-#include "render/renderer.hpp"
 
 #include <cstdio>
 #include <memory>
@@ -16,33 +15,38 @@ CommandAction add_render_command(CLI::App& app)
         SceneOptions scene;
         TechniqueOptions technique;
         std::string out;
+        int reference_level = 0;
+        std::size_t reference_max_triangles = ReferenceOptions{}.max_triangles;
     };
     auto s = std::make_shared<State>();
     CLI::App* cmd = app.add_subcommand("render", "Render a scene with one technique to a PNG (RGBA, alpha = coverage)");
     add_scene_options(*cmd, s->scene);
     add_technique_options(*cmd, s->technique, true);
+    add_reference_options(*cmd, s->reference_level, s->reference_max_triangles);
     cmd->add_option("--out", s->out, "Output PNG file")->required()->group("Output");
     cmd->footer("Example:\n  prismrelief render --mesh meshes/torus.obj --height builtin:bricks "
                 "--technique pom --out out/torus.png");
 
     return [s]() {
-        const SceneSpec spec = make_scene_spec(s->scene);
         const DrawSettings settings = make_draw_settings(s->technique, s->technique.technique);
-        if (s->out.empty()) throw Error("--out", "empty file name");
-        // Inputs are read before any GL work, so bad files fail fast and without a context.
-        const Scene scene = load_scene(spec);
-        auto context = create_headless_context(parse_backend(s->scene.backend));
-        Renderer renderer(spec.width, spec.height);
-        renderer.upload(scene);
-        const Camera camera = scene_camera(spec, scene);
-        const double ms = renderer.draw(camera, scene_light(spec, camera), settings);
+        const ReferenceOptions ref = make_reference_options(s->reference_level, s->reference_max_triangles);
+        check_output_folder(s->out);
+        Session session = open_session(s->scene);
+        Renderer& renderer = *session.renderer;
+        if (settings.technique == Technique::Reference) {
+            const auto stats = renderer.prepare_reference(session.scene, session.camera, ref);
+            std::printf("reference: level %d, %zu triangles, %.1f MB, built in %.0f ms%s\n", stats.level,
+                        stats.triangles, double(stats.bytes) / 1e6, stats.build_ms,
+                        stats.capped ? " (level capped by --reference-max-triangles)" : "");
+        }
+        const double ms = renderer.draw(session.camera, session.light, settings);
         const RgbaImage image = renderer.read_color();
         std::size_t covered = 0;
         for (std::size_t i = 3; i < image.pixels.size(); i += 4) covered += image.pixels[i] >= 128;
         write_png(s->out, image);
-        std::printf("%s: %dx%d %s, %.1f ms, coverage %.1f%%\n", s->out.c_str(), spec.width, spec.height,
+        std::printf("%s: %dx%d %s, %.1f ms, coverage %.1f%%\n", s->out.c_str(), image.width, image.height,
                     technique_name(settings.technique).c_str(), ms,
-                    100.0 * double(covered) / double(std::size_t(spec.width) * spec.height));
+                    100.0 * double(covered) / double(std::size_t(image.width) * image.height));
         return kExitOk;
     };
 }

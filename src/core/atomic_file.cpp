@@ -11,16 +11,24 @@
 
 namespace pr {
 
-void write_file_atomic(const std::filesystem::path& path, std::span<const std::uint8_t> bytes)
+void check_output_folder(const std::filesystem::path& path)
 {
     namespace fs = std::filesystem;
-    const std::string subject = path.string();
     if (path.empty()) throw Error("--out", "empty file name");
     fs::path dir = path.parent_path();
     if (dir.empty()) dir = ".";
     std::error_code ec;
-    if (!fs::is_directory(dir, ec)) throw Error(subject, "folder " + dir.string() + " does not exist");
-    if (fs::is_directory(path, ec)) throw Error(subject, "is a folder");
+    if (!fs::is_directory(dir, ec)) throw Error(path.string(), "folder " + dir.string() + " does not exist");
+    if (fs::is_directory(path, ec)) throw Error(path.string(), "is a folder");
+}
+
+void write_file_atomic(const std::filesystem::path& path, std::span<const std::uint8_t> bytes)
+{
+    namespace fs = std::filesystem;
+    const std::string subject = path.string();
+    check_output_folder(path);
+    fs::path dir = path.parent_path();
+    if (dir.empty()) dir = ".";
 
     std::random_device rd;
     const fs::path tmp = dir / ("." + path.filename().string() + ".tmp" + std::to_string(rd() % 1000000));

@@ -14,4 +14,8 @@ namespace pr {
 void write_file_atomic(const std::filesystem::path& path, std::span<const std::uint8_t> bytes);
 void write_file_atomic(const std::filesystem::path& path, std::string_view text);
 
+// Fails early (before long work) when `path` could not be written: its folder is missing or it
+// names a folder. Throws pr::Error naming `path`.
+void check_output_folder(const std::filesystem::path& path);
+
 } // namespace pr

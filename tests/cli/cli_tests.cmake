@@ -5,12 +5,13 @@ set(M ${PROJECT_SOURCE_DIR}/meshes)
 set(BAD ${PROJECT_SOURCE_DIR}/tests/bad)
 
 function(pr_cli name)
-    cmake_parse_arguments(T "ONE_LINE" "EXIT;STDERR;STDOUT;NO_FILE;EXPECT_FILE;ENV" "ARGS" ${ARGN})
+    cmake_parse_arguments(T "ONE_LINE" "EXIT;STDERR;STDOUT;NO_FILE;EXPECT_FILE;ENV;JSON;CHECKS" "ARGS" ${ARGN})
     string(REPLACE ";" "|" args "${T_ARGS}")
     set(cmd ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:prismrelief> "-DARGS=${args}"
             -DWORKDIR=${PR_CLI_WORK}/${name} -DEXPECT_EXIT=${T_EXIT}
             "-DSTDERR_REGEX=${T_STDERR}" "-DSTDOUT_REGEX=${T_STDOUT}" -DNO_FILE=${T_NO_FILE}
-            -DEXPECT_FILE=${T_EXPECT_FILE} -DONE_LINE=${T_ONE_LINE})
+            -DEXPECT_FILE=${T_EXPECT_FILE} -DONE_LINE=${T_ONE_LINE} -DJSON_FILE=${T_JSON}
+            "-DJSON_CHECKS=${T_CHECKS}")
     if(T_ENV)
         set(cmd ${CMAKE_COMMAND} -E env ${T_ENV} ${cmd})
     endif()
@@ -88,3 +89,23 @@ foreach(t flat normal offset steep pom relief)
 endforeach()
 pr_cli(render_scene_file EXIT 0 EXPECT_FILE s.png STDOUT "s.png: 96x64"
        ARGS render --scene ${M}/scenes/plane_and_torus.json --size 96x64 --out s.png)
+
+# compare: the reference is perfect against itself, POM misses the outward bumps' outline.
+set(R "results")
+pr_cli(compare_sphere EXIT 0 EXPECT_FILE cmp.png STDOUT "pom .*relief .*reference"
+       JSON cmp.json
+       CHECKS "${R}.0.technique:STREQUAL:pom|${R}.0.iou:LESS:0.98|${R}.0.iou:GREATER:0.5|${R}.0.silhouette_wrong_px:GREATER:50|${R}.0.depth_error_mean:GREATER:0|${R}.0.depth_error_max:EXISTS|${R}.0.psnr:GREATER:5|${R}.0.ms:GREATER:0|${R}.2.technique:STREQUAL:reference|${R}.2.iou:EQUAL:1|${R}.2.silhouette_wrong_px:EQUAL:0|${R}.2.identical:STREQUAL:ON|${R}.2.psnr:TYPE:NULL|reference.level:GREATER:1"
+       ARGS compare --mesh ${M}/uv_sphere.obj --height builtin:bumps@128 --depth 0.12 --size 128x128
+            --techniques pom,relief,reference --out cmp.png --json cmp.json)
+pr_cli(compare_bad_technique EXIT 1 ONE_LINE STDERR "${E}--techniques: unknown technique 'magic'" NO_FILE c.json
+       ARGS compare --mesh ${M}/cube.obj --techniques pom,magic --json c.json)
+pr_cli(compare_out_folder_missing EXIT 1 ONE_LINE STDERR "${E}nodir/c.png: folder"
+       ARGS compare --mesh ${M}/cube.obj --techniques pom --out nodir/c.png)
+
+# bench counters: flat takes no height samples; pom with --steps 8 --refine 0 takes 1..9.
+pr_cli(bench_counters EXIT 0 JSON b.json
+       CHECKS "${R}.0.technique:STREQUAL:flat|${R}.0.samples_per_fragment_mean:EQUAL:0|${R}.0.fragments:GREATER:1000|${R}.1.samples_per_fragment_mean:GREATER_EQUAL:1|${R}.1.samples_per_fragment_mean:LESS_EQUAL:9|${R}.1.samples_per_fragment_p95:LESS_EQUAL:9|${R}.1.ms_median:GREATER:0|${R}.1.ms_min:EXISTS|${R}.1.ms_max:EXISTS|${R}.1.samples_per_fragment_p95:GREATER_EQUAL:1"
+       ARGS bench --mesh ${M}/torus.obj --height builtin:bricks --size 96x64 --frames 2 --warmup 1
+            --steps 8 --refine 0 --techniques flat,pom --json b.json)
+pr_cli(bench_bad_frames EXIT 1 ONE_LINE STDERR "${E}--frames: "
+       ARGS bench --mesh ${M}/cube.obj --frames 0)

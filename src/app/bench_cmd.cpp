@@ -1,0 +1,145 @@
+// prismrelief bench: frame times (interleaved A B A B … so drift cancels in ratios) and GPU
+// counters (fragments shaded, height samples per fragment) per technique.
+#include "app/commands.hpp"
+#include "app/session.hpp"
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <unistd.h>
+
+namespace pr {
+
+namespace {
+
+struct BenchRow {
+    std::string label;
+    std::vector<double> ms;
+    SampleCounters counters;
+};
+
+// The p-th percentile (0..1) of samples per fragment from the counters' histogram.
+double histogram_percentile(const std::vector<std::uint32_t>& histogram, double p)
+{
+    std::uint64_t total = 0;
+    for (auto n : histogram) total += n;
+    if (total == 0) return 0.0;
+    const auto rank = static_cast<std::uint64_t>(std::ceil(p * double(total)));
+    std::uint64_t seen = 0;
+    for (std::size_t i = 0; i < histogram.size(); ++i) {
+        seen += histogram[i];
+        if (seen >= std::max<std::uint64_t>(rank, 1)) return double(i);
+    }
+    return double(histogram.size() - 1);
+}
+
+double median(std::vector<double> v)
+{
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+} // namespace
+
+CommandAction add_bench_command(CLI::App& app)
+{
+    struct State {
+        SceneOptions scene;
+        TechniqueOptions quality;
+        std::string techniques = "flat,normal,offset,steep,pom,relief";
+        int frames = 20;
+        int warmup = 3;
+        std::string json;
+        int reference_level = 0;
+        std::size_t reference_max_triangles = ReferenceOptions{}.max_triangles;
+    };
+    auto s = std::make_shared<State>();
+    CLI::App* cmd = app.add_subcommand(
+        "bench", "Time techniques (interleaved) and count fragments and height samples per fragment on the GPU");
+    add_scene_options(*cmd, s->scene);
+    cmd->add_option("--techniques", s->techniques, "Comma-separated techniques (" + technique_names() + ")")
+        ->group("Technique")
+        ->capture_default_str();
+    add_technique_options(*cmd, s->quality, false);
+    add_reference_options(*cmd, s->reference_level, s->reference_max_triangles);
+    cmd->add_option("--frames", s->frames, "Timed frames per technique")->group("Bench")->capture_default_str();
+    cmd->add_option("--warmup", s->warmup, "Untimed frames per technique first")->group("Bench")->capture_default_str();
+    cmd->add_option("--json", s->json, "JSON report (see docs/benchmarks.md)")->group("Output");
+
+    return [s]() {
+        const std::vector<TechniqueRun> runs = parse_technique_list(s->techniques, s->quality);
+        const ReferenceOptions ref_options = make_reference_options(s->reference_level, s->reference_max_triangles);
+        if (s->frames < 1 || s->frames > 100000) throw Error("--frames", "must be between 1 and 100000");
+        if (s->warmup < 0 || s->warmup > 1000) throw Error("--warmup", "must be between 0 and 1000");
+        if (!s->json.empty()) check_output_folder(s->json);
+        Session session = open_session(s->scene);
+        Renderer& r = *session.renderer;
+        for (const TechniqueRun& run : runs)
+            if (run.settings.technique == Technique::Reference) {
+                r.prepare_reference(session.scene, session.camera, ref_options);
+                break;
+            }
+
+        std::vector<BenchRow> rows(runs.size());
+        // Counters: one instrumented frame per technique (the same shaders with PR_COUNT_SAMPLES).
+        for (std::size_t i = 0; i < runs.size(); ++i) {
+            rows[i].label = runs[i].label;
+            DrawSettings counted = runs[i].settings;
+            counted.count_samples = true;
+            r.draw(session.camera, session.light, counted);
+            rows[i].counters = r.read_counters();
+        }
+        for (int w = 0; w < s->warmup; ++w)
+            for (const TechniqueRun& run : runs) r.draw(session.camera, session.light, run.settings);
+        const bool tty = isatty(fileno(stderr));
+        for (int f = 0; f < s->frames; ++f) {
+            for (std::size_t i = 0; i < runs.size(); ++i)
+                rows[i].ms.push_back(r.draw(session.camera, session.light, runs[i].settings));
+            if (tty) std::fprintf(stderr, "\rbench: frame %d/%d", f + 1, s->frames);
+        }
+        if (tty) std::fprintf(stderr, "\r%*s\r", 40, "");
+
+        nlohmann::json results = nlohmann::json::array();
+        std::printf("%s, %dx%d, %d frames per technique (interleaved)\n", session.context->description().c_str(),
+                    session.spec.width, session.spec.height, s->frames);
+        std::printf("%-14s %9s %9s %9s %11s %9s %9s\n", "technique", "ms_median", "ms_min", "ms_max",
+                    "fragments", "spf_mean", "spf_p95");
+        const double base = median(rows[0].ms);
+        for (const BenchRow& row : rows) {
+            const double med = median(row.ms);
+            const double mean = row.counters.fragments ? double(row.counters.samples) / double(row.counters.fragments) : 0.0;
+            const double p95 = histogram_percentile(row.counters.histogram, 0.95);
+            const auto [mn, mx] = std::minmax_element(row.ms.begin(), row.ms.end());
+            std::printf("%-14s %9.2f %9.2f %9.2f %11llu %9.2f %9.0f\n", row.label.c_str(), med, *mn, *mx,
+                        static_cast<unsigned long long>(row.counters.fragments), mean, p95);
+            results.push_back({{"technique", row.label},
+                               {"ms_median", med},
+                               {"ms_min", *mn},
+                               {"ms_max", *mx},
+                               {"ms_ratio_to_first", base > 0 ? med / base : 0.0},
+                               {"fragments", row.counters.fragments},
+                               {"samples", row.counters.samples},
+                               {"samples_per_fragment_mean", mean},
+                               {"samples_per_fragment_p95", p95},
+                               {"frames", row.ms.size()}});
+        }
+        if (!s->json.empty()) {
+            const nlohmann::json report = {{"results", results},
+                                           {"size", {session.spec.width, session.spec.height}},
+                                           {"renderer", session.context->description()},
+                                           {"steps", s->quality.steps},
+                                           {"refine", s->quality.refine}};
+            write_file_atomic(s->json, report.dump(2) + "\n");
+            std::printf("wrote %s\n", s->json.c_str());
+        }
+        return kExitOk;
+    };
+}
+
+} // namespace pr

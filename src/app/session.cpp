@@ -1,0 +1,49 @@
+#include "app/session.hpp"
+
+#include "core/error.hpp"
+
+#include <sstream>
+
+namespace pr {
+
+Session open_session(const SceneOptions& options)
+{
+    Session s;
+    s.spec = make_scene_spec(options);
+    const Backend backend = parse_backend(options.backend);
+    s.scene = load_scene(s.spec);
+    s.context = create_headless_context(backend);
+    s.renderer = std::make_unique<Renderer>(s.spec.width, s.spec.height);
+    s.renderer->upload(s.scene);
+    s.camera = scene_camera(s.spec, s.scene);
+    s.light = scene_light(s.spec, s.camera);
+    return s;
+}
+
+std::vector<TechniqueRun> parse_technique_list(const std::string& list, const TechniqueOptions& quality,
+                                               const std::string& option)
+{
+    std::vector<TechniqueRun> runs;
+    std::istringstream in(list);
+    std::string item;
+    while (std::getline(in, item, ',')) {
+        if (item.empty()) throw Error(option, "empty entry in '" + list + "'");
+        for (const TechniqueRun& r : runs)
+            if (r.label == item) throw Error(option, "'" + item + "' is listed twice");
+        runs.push_back({item, make_draw_settings(quality, item, option)});
+    }
+    if (runs.empty()) throw Error(option, "no technique given");
+    return runs;
+}
+
+ReferenceOptions make_reference_options(int level, std::size_t max_triangles)
+{
+    if (level < 0 || level > 256) throw Error("--reference-level", "must be between 0 (automatic) and 256");
+    if (max_triangles < 1) throw Error("--reference-max-triangles", "must be at least 1");
+    ReferenceOptions r;
+    r.level = level;
+    r.max_triangles = max_triangles;
+    return r;
+}
+
+} // namespace pr

@@ -1,0 +1,37 @@
+#pragma once
+// What render, compare and bench share: the spec from the flags, the loaded scene, a context,
+// the renderer with the scene uploaded, the camera and the light.
+#include "app/options.hpp"
+#include "platform/context.hpp"
+#include "render/renderer.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace pr {
+
+struct Session {
+    SceneSpec spec;
+    Scene scene;
+    std::unique_ptr<Context> context;
+    std::unique_ptr<Renderer> renderer;
+    Camera camera;
+    glm::vec3 light{0.0f, 1.0f, 0.0f};
+};
+
+// Inputs are read before any GL work, so bad files fail fast and without a context.
+Session open_session(const SceneOptions& options);
+
+// A technique as listed by --techniques: its label and how it draws.
+struct TechniqueRun {
+    std::string label;
+    DrawSettings settings;
+};
+// "flat,pom,relief" (and later "prism:cone") with the shared quality flags. Throws pr::Error(option).
+std::vector<TechniqueRun> parse_technique_list(const std::string& list, const TechniqueOptions& quality,
+                                               const std::string& option = "--techniques");
+
+ReferenceOptions make_reference_options(int level, std::size_t max_triangles);
+
+} // namespace pr

@@ -1,0 +1,159 @@
+// The reference technique (true displaced geometry) and the comparison metrics on real frames.
+#include "gl_fixture.hpp"
+
+#include "eval/grid.hpp"
+#include "eval/metrics.hpp"
+#include "mesh/mesh.hpp"
+
+#include <cmath>
+
+using namespace pr;
+
+namespace {
+
+constexpr int kSize = 128;
+
+Camera head_on()
+{
+    Camera c;
+    c.eye = {0, 0, 5};
+    c.fovy_deg = 40.0f;
+    c.near_plane = 1.0f;
+    c.far_plane = 10.0f;
+    return c;
+}
+
+FrameCapture capture(Renderer& r, const Camera& c, Technique t)
+{
+    DrawSettings s;
+    s.technique = t;
+    r.draw(c, glm::vec3(0, 0, 1), s);
+    return {r.read_color(), r.read_depth(), c};
+}
+
+} // namespace
+
+// A square with a height ramp h = 0.25 + 0.5 u, depth 0.4, seen head-on: every covered pixel's
+// depth puts the surface at z = 0.4 * h(u) (the analytic displaced surface), within 0.2% of depth.
+TEST(Reference, PlaneMatchesTheAnalyticDisplacedSurface)
+{
+    prtest::context();
+    Renderer r(kSize, kSize);
+    auto height = prtest::height_from(64, [](float u, float) { return 0.25f + 0.5f * u; });
+    Scene scene = prtest::one_object(prtest::square(1.0f), height, 0.4f);
+    r.upload(scene);
+    const Camera c = head_on();
+    const auto stats = r.prepare_reference(scene, c, ReferenceOptions{});
+    EXPECT_GE(stats.level, 8);
+    const FrameCapture f = capture(r, c, Technique::Reference);
+    const glm::mat4 inv = glm::inverse(c.projection(1.0f) * c.view());
+    int checked = 0;
+    float worst = 0.0f;
+    for (int y = 8; y < kSize - 8; ++y)
+        for (int x = 8; x < kSize - 8; ++x) {
+            const std::size_t p = std::size_t(y) * kSize + x;
+            if (f.color.pixels[4 * p + 3] < 128) continue;
+            const glm::vec4 ndc((x + 0.5f) / kSize * 2 - 1, (y + 0.5f) / kSize * 2 - 1, f.depth[p] * 2 - 1, 1);
+            glm::vec4 w = inv * ndc;
+            w /= w.w;
+            const float u = (w.x + 1.0f) * 0.5f;
+            if (u < 0.03f || u > 0.97f) continue; // bilinear wrap blends the ramp's ends
+            worst = std::max(worst, std::abs(w.z - 0.4f * (0.25f + 0.5f * u)));
+            ++checked;
+        }
+    EXPECT_GT(checked, 5000);
+    EXPECT_LT(worst, 0.4f * 0.002f);
+}
+
+// Depth 0: the reference is the base mesh. On the square at level 8 every subdivision weight is
+// k/8, so subdivided points lie exactly on the original edges and coverage is equal bit for bit.
+TEST(Reference, DepthZeroCoverageEqualsFlatExactly)
+{
+    prtest::context();
+    Renderer r(kSize, kSize);
+    Scene scene = prtest::one_object(prtest::square(1.0f), prtest::height_from(8, [](float u, float) { return u; }), 0.0f);
+    r.upload(scene);
+    Camera c = head_on();
+    c.eye = {0.7f, 0.4f, 4.0f};
+    ReferenceOptions level8;
+    level8.level = 8;
+    r.prepare_reference(scene, c, level8);
+    const CompareMetrics m = compare_frames(capture(r, c, Technique::Flat), capture(r, c, Technique::Reference));
+    EXPECT_EQ(m.silhouette_wrong_px, 0u);
+    EXPECT_DOUBLE_EQ(m.iou, 1.0);
+}
+
+// On a curved mesh at an automatic level, subdivided silhouette points are within float rounding
+// of the original edges: only a pixel centre lying on an edge may round the other way.
+TEST(Reference, DepthZeroCoverageEqualsFlatOnATorus)
+{
+    prtest::context();
+    Renderer r(kSize, kSize);
+    Scene scene = prtest::one_object(load_mesh(std::string(PR_SOURCE_DIR) + "/meshes/torus.obj"),
+                                     prtest::height_from(64, [](float u, float v) { return u * v; }), 0.0f);
+    r.upload(scene);
+    Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, 35.0f, 20.0f);
+    r.prepare_reference(scene, c, ReferenceOptions{});
+    const CompareMetrics m = compare_frames(capture(r, c, Technique::Flat), capture(r, c, Technique::Reference));
+    EXPECT_LE(m.silhouette_wrong_px, 2u);
+    EXPECT_GT(m.iou, 0.9997);
+}
+
+// Outward bumps on the sphere: the reference compared with itself is perfect, POM (which cannot
+// leave the polygon) misses the bumps' outline, and the diff tile shows exactly the counted pixels.
+TEST(Reference, CompareOnASphereFindsPomsMissingOutline)
+{
+    prtest::context();
+    Renderer r(kSize, kSize);
+    auto bumps = std::make_shared<HeightField>(load_height("builtin:bumps@128"));
+    Scene scene = prtest::one_object(load_mesh(std::string(PR_SOURCE_DIR) + "/meshes/uv_sphere.obj"), bumps, 0.12f);
+    r.upload(scene);
+    Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, 20.0f, 30.0f);
+    r.prepare_reference(scene, c, ReferenceOptions{});
+    const FrameCapture ref = capture(r, c, Technique::Reference);
+    const FrameCapture pom = capture(r, c, Technique::Pom);
+    const CompareMetrics self = compare_frames(ref, ref);
+    EXPECT_DOUBLE_EQ(self.iou, 1.0);
+    EXPECT_TRUE(self.identical);
+    const CompareMetrics m = compare_frames(pom, ref);
+    EXPECT_LT(m.iou, 0.97);
+    EXPECT_GT(m.iou, 0.6);
+    EXPECT_GT(m.only_in_reference, 50u);
+    EXPECT_EQ(m.only_in_technique, 0u) << "POM carves inward: it never covers more than the shell";
+    ASSERT_TRUE(m.depth_error_mean.has_value());
+    EXPECT_GT(*m.depth_error_mean, 0.0);
+    const RgbaImage diff = silhouette_diff_tile(pom.color, ref.color);
+    std::size_t cyan = 0, magenta = 0;
+    for (std::size_t p = 0; p < std::size_t(kSize) * kSize; ++p) {
+        const glm::u8vec4 px(diff.pixels[4 * p], diff.pixels[4 * p + 1], diff.pixels[4 * p + 2], 255);
+        cyan += px == kDiffOnlyReference;
+        magenta += px == kDiffOnlyTechnique;
+    }
+    EXPECT_EQ(cyan, m.only_in_reference);
+    EXPECT_EQ(magenta, m.only_in_technique);
+}
+
+// Neighbouring triangles of a closed mesh share edge points bit for bit: constant height 1 on
+// the sphere leaves no background pixel inside the outline (a crack would show the background).
+TEST(Reference, ClosedMeshStaysWatertight)
+{
+    prtest::context();
+    Renderer r(256, 256);
+    Scene scene = prtest::one_object(load_mesh(std::string(PR_SOURCE_DIR) + "/meshes/rock.obj"),
+                                     prtest::height_from(32, [](float u, float v) { return 0.5f + 0.5f * std::sin(40 * u) * std::cos(37 * v); }), 0.1f);
+    r.upload(scene);
+    Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, 35.0f, 20.0f);
+    r.prepare_reference(scene, c, ReferenceOptions{});
+    DrawSettings s;
+    s.technique = Technique::Reference;
+    r.draw(c, glm::vec3(0, 0, 1), s);
+    const RgbaImage img = r.read_color();
+    // A hole is an uncovered pixel whose 4 neighbours at distance 2 are all covered.
+    int holes = 0;
+    for (int y = 2; y < 254; ++y)
+        for (int x = 2; x < 254; ++x)
+            if (img.at(x, y).a < 128 && img.at(x - 2, y).a >= 128 && img.at(x + 2, y).a >= 128 &&
+                img.at(x, y - 2).a >= 128 && img.at(x, y + 2).a >= 128)
+                ++holes;
+    EXPECT_EQ(holes, 0);
+}
