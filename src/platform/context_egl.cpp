@@ -58,45 +58,39 @@ public:
         if (!initialize || !bind_api_ || !choose_config || !create_context || !make_current)
             throw Error("--backend", "egl: libEGL lacks core entry points");
 
+        // Each candidate display is tried all the way to a current context; a display that
+        // initializes but offers no OpenGL config (or context) falls through to the next.
         std::string tried;
-        auto try_display = [&](EGLDisplay d, const char* what) {
+        const auto attempt = [&](EGLDisplay d, const char* what) {
+            std::string why = "no display";
             EGLint major = 0, minor = 0;
             if (d != EGL_NO_DISPLAY && initialize(d, &major, &minor)) {
                 display_ = d;
-                platform_ = what;
-                return true;
+                why = setup(choose_config, create_context, make_current);
+                if (why.empty()) {
+                    platform_ = what;
+                    return true;
+                }
+                release();
             }
-            tried += std::string(tried.empty() ? "" : ", ") + what;
+            tried += std::string(tried.empty() ? "" : ", ") + what + ": " + why;
             return false;
         };
         const char* prefer = std::getenv("PRISMRELIEF_EGL_PLATFORM"); // device | surfaceless
         const bool want_device = !prefer || std::string(prefer) == "device";
+        bool ok = false;
         if (want_device && get_platform_display && query_devices) {
             EGLDeviceEXT devices[8];
             EGLint count = 0;
-            if (query_devices(8, devices, &count) && count > 0)
-                try_display(get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[0], nullptr), "device");
+            if (query_devices(8, devices, &count))
+                for (EGLint i = 0; i < count && !ok; ++i)
+                    ok = attempt(get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr), "device");
         }
-        if (!display_ && get_platform_display)
-            try_display(get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr),
-                        "surfaceless");
-        if (!display_ && get_display) try_display(get_display(EGL_DEFAULT_DISPLAY), "default");
-        if (!display_) throw Error("--backend", "egl: no EGL display could be initialized (tried " + tried + ")");
-
-        if (!bind_api_(EGL_OPENGL_API)) fail("egl: OpenGL API not supported");
-        const EGLint config_attribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
-        EGLConfig config = nullptr;
-        EGLint n = 0;
-        if (!choose_config(display_, config_attribs, &config, 1, &n) || n < 1)
-            fail("egl: no OpenGL-capable config");
-        const EGLint ctx_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
-                                      EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                      EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
-        ctx_ = create_context(display_, config, EGL_NO_CONTEXT, ctx_attribs);
-        if (ctx_ == EGL_NO_CONTEXT) fail("egl: could not create an OpenGL 4.5 core context");
-        // Surfaceless: rendering goes to framebuffer objects only (EGL_KHR_surfaceless_context).
-        if (!make_current(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx_))
-            fail("egl: could not make the context current without a surface");
+        if (!ok && get_platform_display)
+            ok = attempt(get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr),
+                         "surfaceless");
+        if (!ok && get_display) ok = attempt(get_display(EGL_DEFAULT_DISPLAY), "default");
+        if (!ok) throw Error("--backend", "egl: no OpenGL 4.5 core context (" + tried + ")");
         try {
             load_gl(&egl_get_proc, "--backend", std::string("EGL (") + platform_ + ")");
         } catch (...) {
@@ -107,10 +101,25 @@ public:
     ~EglContextImpl() override { release(); }
 
 private:
-    [[noreturn]] void fail(const std::string& message)
+    // Config, context and make-current on display_; returns why it failed, or "" on success.
+    std::string setup(PFNEGLCHOOSECONFIGPROC choose_config, PFNEGLCREATECONTEXTPROC create_context,
+                      PFNEGLMAKECURRENTPROC make_current)
     {
-        release();
-        throw Error("--backend", message);
+        if (!bind_api_(EGL_OPENGL_API)) return "OpenGL API not supported";
+        // EGL_SURFACE_TYPE defaults to EGL_WINDOW_BIT, which headless displays lack.
+        const EGLint config_attribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE,
+                                         EGL_DONT_CARE, EGL_NONE};
+        EGLConfig config = nullptr;
+        EGLint n = 0;
+        if (!choose_config(display_, config_attribs, &config, 1, &n) || n < 1) return "no OpenGL config";
+        const EGLint ctx_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
+                                      EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                      EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+        ctx_ = create_context(display_, config, EGL_NO_CONTEXT, ctx_attribs);
+        if (ctx_ == EGL_NO_CONTEXT) return "no 4.5 core context";
+        // Surfaceless: rendering goes to framebuffer objects only (EGL_KHR_surfaceless_context).
+        if (!make_current(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx_)) return "cannot make current without a surface";
+        return "";
     }
     void release()
     {

@@ -109,3 +109,11 @@ pr_cli(bench_counters EXIT 0 JSON b.json
             --steps 8 --refine 0 --techniques flat,pom --json b.json)
 pr_cli(bench_bad_frames EXIT 1 ONE_LINE STDERR "${E}--frames: "
        ARGS bench --mesh ${M}/cube.obj --frames 0)
+
+# EGL (surfaceless Mesa here) renders exactly what OSMesa renders.
+if(EGL_INCLUDE_DIR)
+    add_test(NAME cli.egl_matches_osmesa
+             COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:prismrelief> -DWORKDIR=${PR_CLI_WORK}/egl
+                     -DMESH=${M}/rock.obj -P ${CMAKE_CURRENT_SOURCE_DIR}/cli/same_image.cmake)
+    set_tests_properties(cli.egl_matches_osmesa PROPERTIES LABELS "cli" TIMEOUT 180)
+endif()
