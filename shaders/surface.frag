@@ -7,6 +7,7 @@
 #include "common/shared.h"
 #include "common/height.glsl"
 #include "common/lighting.glsl"
+#include "common/counters.glsl"
 #include "march/relief.glsl"
 
 in vec3 v_world_pos;
@@ -17,13 +18,6 @@ in vec3 v_bitangent;
 
 layout(location = 0) out vec4 o_color;
 
-#ifdef PR_COUNT_SAMPLES
-layout(std430, binding = PR_SSBO_COUNTERS) buffer Counters {
-    uint c_fragments;
-    uint c_samples;
-    uint c_histogram[];
-};
-#endif
 
 void main()
 {
@@ -87,9 +81,5 @@ void main()
     gl_FragDepth = clamp(clip.z / clip.w * 0.5 + 0.5, 0.0, 1.0);
 #endif
 
-#ifdef PR_COUNT_SAMPLES
-    atomicAdd(c_fragments, 1u);
-    atomicAdd(c_samples, uint(g_height_samples));
-    atomicAdd(c_histogram[min(g_height_samples, int(c_histogram.length()) - 1)], 1u);
-#endif
+    count_fragment();
 }

@@ -28,6 +28,8 @@ using mat4 = glm::mat4;
 #define PR_TEX_COLOR 1
 #define PR_TEX_CONE 2
 #define PR_SSBO_COUNTERS 0
+#define PR_SSBO_VERTICES 1 // the mesh's vertex buffer (MeshVertex, 16 floats each), prism only
+#define PR_SSBO_INDICES 2  // its index buffer, prism only
 
 // Technique ids (PR_TECHNIQUE is defined to one of them per program variant).
 #define PR_TECH_FLAT 0
@@ -37,6 +39,11 @@ using mat4 = glm::mat4;
 #define PR_TECH_POM 4
 #define PR_TECH_RELIEF 5
 #define PR_TECH_REFERENCE 6 // tessellated displaced geometry, shaded like `normal`
+#define PR_TECH_PRISM 7     // shell prisms from the geometry shader (prism.*)
+
+// Marchers (PR_MARCHER) inside the prism.
+#define PR_MARCH_LINEAR 0 // linear search + secant (POM) interpolation
+#define PR_MARCH_RELIEF 1 // linear search + binary refinement
 
 // Normal-from-height qualities (PR_NORMAL_QUALITY): the seed's three.
 #define PR_NORMAL_GATHER 0

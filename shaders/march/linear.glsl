@@ -4,6 +4,13 @@
 // The ray is p(t) = origin + t * dir, t in [0, t_end]; `steps` samples after the first one at
 // t = 0, so at most steps + 1 height samples. Error bound: a hit is bracketed to one step; a
 // feature thinner than a step along the ray can be missed (the cost of equal step lengths).
+// A sample counts as a hit when the ray is at most PR_HIT_EPSILON above the surface. The prism
+// sets it > 0 so rays that graze a constant cap (height exactly 0 or 1, where the ray ends
+// exactly on the surface) still hit despite rounding.
+#ifndef PR_HIT_EPSILON
+#define PR_HIT_EPSILON 0.0
+#endif
+
 struct MarchRay {
     vec3 origin;
     vec3 dir;
@@ -26,12 +33,12 @@ Bracket march_linear(MarchRay r, UvGrad g)
     float t = 0.0;
     vec3 p = r.origin;
     float d = p.z - height_at(p.xy, g);
-    if (d <= 0.0) return Bracket(true, 0.0, 0.0, 0.0, -d);
+    if (d <= PR_HIT_EPSILON) return Bracket(true, 0.0, 0.0, 0.0, max(-d, 0.0));
     for (int i = 1; i <= r.steps; ++i) {
         float t_next = min(float(i) * dt, r.t_end);
         p = r.origin + t_next * r.dir;
         float d_next = p.z - height_at(p.xy, g);
-        if (d_next <= 0.0) return Bracket(true, t, t_next, d, -d_next);
+        if (d_next <= PR_HIT_EPSILON) return Bracket(true, t, t_next, d, max(-d_next, 0.0));
         t = t_next;
         d = d_next;
     }

@@ -126,6 +126,10 @@ void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_techn
     app.add_option("--refine", o.refine, "Binary refinement steps after the linear search (0-32)")
         ->group("Technique")
         ->capture_default_str();
+    app.add_option("--marcher", o.marcher, "prism: ray marcher, " + marcher_names() +
+                                           " (in lists: prism:MARCHER)")
+        ->group("Technique")
+        ->capture_default_str();
     app.add_option("--normal-quality", o.normal_quality,
                    "Normal from heights: gather (4-tap), central (differences), sobel (3x3)")
         ->group("Technique")
@@ -152,7 +156,15 @@ DrawSettings make_draw_settings(const TechniqueOptions& o, const std::string& te
                                 const std::string& option)
 {
     DrawSettings s;
-    s.technique = parse_technique(technique, option);
+    // "prism:relief" names the marcher inside the technique (lists of --techniques).
+    const std::size_t colon = technique.find(':');
+    s.technique = parse_technique(technique.substr(0, colon), option);
+    s.marcher = parse_marcher(o.marcher, "--marcher");
+    if (colon != std::string::npos) {
+        if (s.technique != Technique::Prism)
+            throw Error(option, "'" + technique + "': only prism takes a marcher (prism:MARCHER)");
+        s.marcher = parse_marcher(technique.substr(colon + 1), option);
+    }
     if (o.steps < 1 || o.steps > 1024) throw Error("--steps", "must be between 1 and 1024");
     if (o.refine < 0 || o.refine > 32) throw Error("--refine", "must be between 0 and 32");
     s.steps = o.steps;

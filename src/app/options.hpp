@@ -34,6 +34,7 @@ struct TechniqueOptions {
     int steps = DrawSettings{}.steps;
     int refine = DrawSettings{}.refine;
     std::string normal_quality = "sobel";
+    std::string marcher = "relief";
     bool depth_write = false;
 };
 

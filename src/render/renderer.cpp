@@ -63,12 +63,15 @@ std::string variant_key(const ShaderDefines& defines)
 
 ShaderDefines defines_for(const DrawSettings& s)
 {
-    static const char* tech[] = {"PR_TECH_FLAT", "PR_TECH_NORMAL", "PR_TECH_OFFSET", "PR_TECH_STEEP",
-                                 "PR_TECH_POM",  "PR_TECH_RELIEF", "PR_TECH_REFERENCE"};
+    static const char* tech[] = {"PR_TECH_FLAT", "PR_TECH_NORMAL",    "PR_TECH_OFFSET",
+                                 "PR_TECH_STEEP", "PR_TECH_POM",      "PR_TECH_RELIEF",
+                                 "PR_TECH_REFERENCE", "PR_TECH_PRISM"};
+    static const char* marcher[] = {"PR_MARCH_LINEAR", "PR_MARCH_RELIEF"};
     static const char* quality[] = {"PR_NORMAL_GATHER", "PR_NORMAL_CENTRAL", "PR_NORMAL_SOBEL"};
     ShaderDefines d = {{"PR_TECHNIQUE", tech[static_cast<int>(s.technique)]},
                        {"PR_NORMAL_QUALITY", quality[static_cast<int>(s.normal_quality)]}};
-    if (s.depth_write) d.emplace_back("PR_DEPTH_WRITE", "1");
+    if (s.technique == Technique::Prism) d.emplace_back("PR_MARCHER", marcher[static_cast<int>(s.marcher)]);
+    if (s.depth_write && s.technique != Technique::Prism) d.emplace_back("PR_DEPTH_WRITE", "1");
     if (s.count_samples) d.emplace_back("PR_COUNT_SAMPLES", "1");
     return d;
 }
@@ -223,9 +226,14 @@ GLuint Renderer::program_for(const DrawSettings& settings)
     const std::string key = variant_key(defines);
     auto it = programs_.find(key);
     if (it == programs_.end()) {
-        gl::Program p = build_program({{GL_VERTEX_SHADER, "surface.vert"},
-                                       {GL_FRAGMENT_SHADER, "surface.frag"}},
-                                      defines);
+        gl::Program p = settings.technique == Technique::Prism
+                            ? build_program({{GL_VERTEX_SHADER, "prism.vert"},
+                                             {GL_GEOMETRY_SHADER, "prism.geom"},
+                                             {GL_FRAGMENT_SHADER, "prism.frag"}},
+                                            defines)
+                            : build_program({{GL_VERTEX_SHADER, "surface.vert"},
+                                             {GL_FRAGMENT_SHADER, "surface.frag"}},
+                                            defines);
         it = programs_.emplace(key, std::move(p)).first;
     }
     return it->second.id();
@@ -286,6 +294,11 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
                 glDrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
             }
         } else {
+            if (settings.technique == Technique::Prism) {
+                // The fragment shader rebuilds its prism from the mesh buffers (prism.frag).
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_VERTICES, o.base.vertices.id());
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_INDICES, o.base.indices.id());
+            }
             glBindVertexArray(o.base.vao.id());
             glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
         }

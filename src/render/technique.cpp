@@ -14,6 +14,7 @@ const std::vector<TechniqueInfo>& technique_table()
         {Technique::Pom, "pom", "parallax occlusion mapping: linear search + linear interpolation"},
         {Technique::Relief, "relief", "relief mapping: linear search + binary refinement"},
         {Technique::Reference, "reference", "true displaced geometry, finely tessellated: the ground truth"},
+        {Technique::Prism, "prism", "shell prisms from a geometry shader, marched ray: true silhouettes and depth"},
     };
     return table;
 }
@@ -55,6 +56,23 @@ std::string normal_quality_name(NormalQuality q)
     case NormalQuality::Sobel: return "sobel";
     }
     return "?";
+}
+
+Marcher parse_marcher(const std::string& name, const std::string& option)
+{
+    if (name == "linear") return Marcher::Linear;
+    if (name == "relief") return Marcher::Relief;
+    throw Error(option, "unknown marcher '" + name + "' (expected " + marcher_names() + ")");
+}
+
+std::string marcher_name(Marcher m)
+{
+    return m == Marcher::Linear ? "linear" : "relief";
+}
+
+std::string marcher_names()
+{
+    return "linear|relief";
 }
 
 } // namespace pr

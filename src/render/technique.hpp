@@ -6,7 +6,9 @@
 
 namespace pr {
 
-enum class Technique { Flat, Normal, Offset, Steep, Pom, Relief, Reference };
+enum class Technique { Flat, Normal, Offset, Steep, Pom, Relief, Reference, Prism };
+// Ray marchers inside the prism (more arrive with cone maps).
+enum class Marcher { Linear, Relief };
 enum class NormalQuality { Gather, Central, Sobel };
 
 struct TechniqueInfo {
@@ -21,6 +23,10 @@ std::string technique_name(Technique t);
 std::string technique_names(); // "flat|normal|…" for help texts
 
 NormalQuality parse_normal_quality(const std::string& name);
+Marcher parse_marcher(const std::string& name, const std::string& option = "--marcher");
+std::string marcher_name(Marcher m);
+std::string marcher_names(); // "linear|relief"
+
 std::string normal_quality_name(NormalQuality q);
 
 // How one technique draws: quality knobs shared by every marcher (contract: equal --steps means
@@ -29,6 +35,7 @@ struct DrawSettings {
     Technique technique = Technique::Relief;
     int steps = 32;  // linear steps over the full height range
     int refine = 6;  // binary refinement steps (relief)
+    Marcher marcher = Marcher::Relief; // prism only
     NormalQuality normal_quality = NormalQuality::Sobel;
     bool depth_write = false; // base-surface techniques: write the depth of what they show
     bool count_samples = false; // instrumented variant (bench)

@@ -1,0 +1,149 @@
+// Prism silhouettes, stage 3: march the view ray through this fragment's prism, from where it
+// enters (this face) to where it leaves the prism, found exactly per fragment by intersecting
+// the ray with the prism's eight planar triangles (the same ones the geometry shader emits,
+// rebuilt from the mesh buffers). A ray that leaves without meeting the height field is
+// discarded: that is what makes the outline true. A hit writes its real depth.
+#define PR_HIT_EPSILON 1e-4
+#include "common/shared.h"
+#include "common/height.glsl"
+#include "common/lighting.glsl"
+#include "common/counters.glsl"
+#include "march/relief.glsl"
+#include "prism/shell.glsl"
+
+in vec3 v_world;
+in vec3 v_tex;
+
+layout(location = 0) out vec4 o_color;
+// The hit is never in front of the face that was rasterized: depth only grows, which keeps
+// early depth rejection against what is already drawn.
+layout(depth_greater) out float gl_FragDepth;
+
+layout(std430, binding = PR_SSBO_VERTICES) readonly buffer Vertices { float b_vertices[]; };
+layout(std430, binding = PR_SSBO_INDICES) readonly buffer Indices { uint b_indices[]; };
+
+struct BaseVertex {
+    vec3 position;
+    vec3 normal;
+    vec2 uv;
+    vec3 tangent;
+    vec3 bitangent;
+    uint weld;
+};
+
+BaseVertex base_vertex(uint index)
+{
+    uint o = index * 16u; // MeshVertex: 16 scalars (src/mesh/mesh.hpp)
+    BaseVertex v;
+    v.position = vec3(b_vertices[o], b_vertices[o + 1u], b_vertices[o + 2u]);
+    v.normal = vec3(b_vertices[o + 3u], b_vertices[o + 4u], b_vertices[o + 5u]);
+    v.uv = vec2(b_vertices[o + 6u], b_vertices[o + 7u]);
+    v.tangent = vec3(b_vertices[o + 8u], b_vertices[o + 9u], b_vertices[o + 10u]);
+    v.bitangent = vec3(b_vertices[o + 12u], b_vertices[o + 13u], b_vertices[o + 14u]);
+    v.weld = floatBitsToUint(b_vertices[o + 15u]);
+    return v;
+}
+
+vec3 corner_world[6];
+vec3 corner_tex[6];
+
+// Ray eye + t * dir against triangle (a, b, c) (Moller-Trumbore). Keeps the nearest hit with
+// t > t_min: its parameter and texture coordinate.
+void exit_candidate(int a, int b, int c, vec3 dir, float t_min, inout float t_best, inout vec3 tex_best)
+{
+    vec3 e1 = corner_world[b] - corner_world[a];
+    vec3 e2 = corner_world[c] - corner_world[a];
+    vec3 p = cross(dir, e2);
+    float det = dot(e1, p);
+    if (abs(det) < 1e-30) return;
+    float inv = 1.0 / det;
+    vec3 s = u_eye.xyz - corner_world[a];
+    float bu = dot(s, p) * inv;
+    vec3 q = cross(s, e1);
+    float bv = dot(dir, q) * inv;
+    const float slack = 1e-5; // the exit may lie exactly on an edge between two triangles
+    if (bu < -slack || bv < -slack || bu + bv > 1.0 + slack) return;
+    float t = dot(e2, q) * inv;
+    if (t > t_min && t < t_best) {
+        t_best = t;
+        tex_best = corner_tex[a] * (1.0 - bu - bv) + corner_tex[b] * bu + corner_tex[c] * bv;
+    }
+}
+
+void main()
+{
+    uint prim = uint(gl_PrimitiveID);
+    BaseVertex bv[3];
+    bool from_a[3];
+    for (int i = 0; i < 3; ++i) {
+        bv[i] = base_vertex(b_indices[3u * prim + uint(i)]);
+        vec3 world, n;
+        shell_vertex(bv[i].position, bv[i].normal, world, n);
+        corner_world[i] = shell_corner(world, n, 0.0);
+        corner_world[i + 3] = shell_corner(world, n, 1.0);
+        corner_tex[i] = vec3(bv[i].uv, 0.0);
+        corner_tex[i + 3] = vec3(bv[i].uv, 1.0);
+    }
+    for (int e = 0; e < 3; ++e) from_a[e] = diagonal_from_a(bv[e].weld, bv[(e + 1) % 3].weld);
+
+    // The ray is eye + t * dir with t = 1 at this fragment (the entry). Its exit is the nearest
+    // face beyond the entry, among all eight (a twisted side can make the prism non-convex).
+    vec3 dir = v_world - u_eye.xyz;
+    float t_exit = 1e30;
+    vec3 tex_exit = v_tex;
+    float t_min = 1.0 + 1e-5;
+    exit_candidate(3, 4, 5, dir, t_min, t_exit, tex_exit);
+    exit_candidate(0, 2, 1, dir, t_min, t_exit, tex_exit);
+    for (int e = 0; e < 3; ++e) {
+        int a = e, b = (e + 1) % 3;
+        if (from_a[e]) {
+            exit_candidate(a, b, b + 3, dir, t_min, t_exit, tex_exit);
+            exit_candidate(a, b + 3, a + 3, dir, t_min, t_exit, tex_exit);
+        } else {
+            exit_candidate(a, b, a + 3, dir, t_min, t_exit, tex_exit);
+            exit_candidate(b, b + 3, a + 3, dir, t_min, t_exit, tex_exit);
+        }
+    }
+    if (t_exit > 1e29) t_exit = 1.0; // grazing an edge: no exit found, test the entry alone
+
+    // March from entry to exit in texture space, linear in t between them. Steps: --steps per
+    // full height range (as the base-surface techniques, so equal --steps means equal step
+    // length), and at least one sample per two texels along the uv path, so grazing rays near
+    // the silhouette do not step over bumps.
+    vec3 seg = tex_exit - v_tex;
+    vec2 texels = seg.xy * vec2(textureSize(s_height, 0));
+    int steps = int(ceil(float(u_march.x) * abs(seg.z) + 0.5 * length(texels)));
+    steps = clamp(steps, 1, 4 * max(u_march.x, 1) + 64);
+    vec2 uv_dx = dFdx(v_tex.xy), uv_dy = dFdy(v_tex.xy);
+    UvGrad g = UvGrad(uv_dx, uv_dy);
+    MarchRay ray = MarchRay(v_tex, seg, 1.0, steps);
+    Bracket br = march_linear(ray, g);
+    if (!br.hit) {
+        count_fragment();
+        discard;
+    }
+#if PR_MARCHER == PR_MARCH_RELIEF
+    float s = refine_binary(ray, br, u_march.y, g);
+#else
+    float s = interpolate_bracket(br);
+#endif
+    count_fragment();
+    vec3 tex = v_tex + s * seg;
+    vec3 hit = u_eye.xyz + mix(1.0, t_exit, s) * dir;
+
+    // Frame at the hit: barycentrics of its uv in the base triangle's uv triangle.
+    vec2 d1 = bv[1].uv - bv[0].uv, d2 = bv[2].uv - bv[0].uv, dp = tex.xy - bv[0].uv;
+    float den = d1.x * d2.y - d1.y * d2.x;
+    vec3 w = abs(den) > 1e-20
+        ? vec3(0.0, (dp.x * d2.y - dp.y * d2.x) / den, (d1.x * dp.y - d1.y * dp.x) / den)
+        : vec3(0.0, 1.0 / 3.0, 1.0 / 3.0);
+    w.x = 1.0 - w.y - w.z;
+    vec3 n = normalize(mat3(u_normal_matrix) * (bv[0].normal * w.x + bv[1].normal * w.y + bv[2].normal * w.z));
+    vec3 t_axis = mat3(u_model) * (bv[0].tangent * w.x + bv[1].tangent * w.y + bv[2].tangent * w.z);
+    vec3 b_axis = mat3(u_model) * (bv[0].bitangent * w.x + bv[1].bitangent * w.y + bv[2].bitangent * w.z);
+    vec3 shading_n = height_normal(tex.xy, t_axis, b_axis, n, u_displace.x);
+    o_color = vec4(shade_blinn_phong(albedo_at(tex.xy, g), shading_n, normalize(u_light_dir.xyz),
+                                     -normalize(dir)), 1.0);
+    vec4 clip = u_view_proj * vec4(hit, 1.0);
+    gl_FragDepth = clamp(clip.z / clip.w * 0.5 + 0.5, gl_FragCoord.z, 1.0);
+}
