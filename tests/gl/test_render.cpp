@@ -145,7 +145,8 @@ TEST(Render, GrazingAnglesGiveNoHolesAndNoBlackPixels)
     const RgbaImage flat = draw(r, c, Technique::Flat);
     ASSERT_GT(prtest::coverage(flat), 100u);
     for (const TechniqueInfo& t : technique_table()) {
-        if (t.technique == Technique::Reference) continue; // not a base-surface technique
+        if (t.technique == Technique::Reference || t.technique == Technique::Prism)
+            continue; // not base-surface techniques: their outline is not the base mesh's
         const RgbaImage img = draw(r, c, t.technique);
         EXPECT_EQ(prtest::coverage(img), prtest::coverage(flat)) << t.name;
         std::size_t black = 0;
