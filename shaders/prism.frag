@@ -114,8 +114,9 @@ void main()
     vec2 texels = seg.xy * vec2(textureSize(s_height, 0));
     int steps = int(ceil(float(u_march.x) * abs(seg.z) + 0.5 * length(texels)));
     steps = clamp(steps, 1, 4 * max(u_march.x, 1) + 64);
-    vec2 uv_dx = dFdx(v_tex.xy), uv_dy = dFdy(v_tex.xy);
-    UvGrad g = UvGrad(uv_dx, uv_dy);
+    // Geometry (the outline and the depth) uses height level 0, as the reference does
+    // (contract); filtering it by mip level would move the surface, not just smooth its look.
+    UvGrad g = UvGrad(vec2(0.0), vec2(0.0));
     MarchRay ray = MarchRay(v_tex, seg, 1.0, steps);
     Bracket br = march_linear(ray, g);
     if (!br.hit) {

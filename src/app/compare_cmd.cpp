@@ -103,6 +103,7 @@ CommandAction add_compare_command(CLI::App& app)
                                   {"both_px", m.both},
                                   {"depth_error_mean", optional_number(m.depth_error_mean)},
                                   {"depth_error_max", optional_number(m.depth_error_max)},
+                                  {"depth_error_median", optional_number(m.depth_error_median)},
                                   {"psnr", optional_number(m.psnr)},
                                   {"identical", m.identical},
                                   {"ms", ms},

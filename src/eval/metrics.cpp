@@ -54,6 +54,7 @@ CompareMetrics compare_frames(const FrameCapture& technique, const FrameCapture&
     double squared_error = 0.0; // sum over RGB of both-covered pixels; exact in double up to 2^53
     double depth_sum = 0.0;
     double depth_max = 0.0;
+    std::vector<double> depth_errors; // for the median
     for (int y = 0; y < a.height; ++y) {
         for (int x = 0; x < a.width; ++x) {
             const std::size_t i = static_cast<std::size_t>(y) * a.width + x;
@@ -78,6 +79,7 @@ CompareMetrics compare_frames(const FrameCapture& technique, const FrameCapture&
                                                     reference.depth[i]);
                 const double e = std::abs(da - db);
                 depth_sum += e;
+                depth_errors.push_back(e);
                 depth_max = std::max(depth_max, e);
             }
         }
@@ -89,6 +91,9 @@ CompareMetrics compare_frames(const FrameCapture& technique, const FrameCapture&
     if (m.both > 0 && have_depth) {
         m.depth_error_mean = depth_sum / double(m.both);
         m.depth_error_max = depth_max;
+        auto mid = depth_errors.begin() + static_cast<std::ptrdiff_t>(depth_errors.size() / 2);
+        std::nth_element(depth_errors.begin(), mid, depth_errors.end());
+        m.depth_error_median = *mid;
     }
     if (m.both > 0 && squared_error > 0.0) {
         const double mse = squared_error / (3.0 * double(m.both));

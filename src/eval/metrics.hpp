@@ -35,6 +35,9 @@ struct CompareMetrics {
     // pixels both cover. Absent when no pixel is covered by both or a capture has no depth.
     std::optional<double> depth_error_mean;
     std::optional<double> depth_error_max;
+    // Median of the same errors: robust to the few silhouette pixels where both cover but see
+    // different surfaces (a bump's edge in one, the body behind it in the other).
+    std::optional<double> depth_error_median;
     // 10 log10(255^2 / MSE) over the RGB channels of the pixels both cover. Absent when the MSE is
     // 0 (nothing to measure a ratio against) or no pixel is covered by both.
     std::optional<double> psnr;
