@@ -53,9 +53,9 @@ void main()
         corner_tex[i + 3] = vec3(g_uv[i], 1.0);
     }
     triangle(3, 4, 5); // top cap, outward along +N (base triangles are counter-clockwise)
-    // Bottom cap, outward along -N. On a closed mesh a ray can only reach it from inside the
-    // object, after passing the displaced surface in front of it: skip it (fewer fragments).
-    if ((u_march.w & PR_FLAG_OPEN_MESH) != 0) triangle(0, 2, 1);
+    // Bottom cap, outward along -N. Needed on open meshes (seen from below), and on closed ones
+    // it also catches grazing rays whose exit falls numerically on an edge of the neighbour.
+    triangle(0, 2, 1);
     for (int e = 0; e < 3; ++e) {
         int a = e, b = (e + 1) % 3;
         // Quad a0 b0 b1 a1, outward; split along a0-b1 or b0-a1 (shell.glsl).

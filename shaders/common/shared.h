@@ -52,7 +52,6 @@ using mat4 = glm::mat4;
 
 // Bits of ObjectBlock.u_march.w.
 #define PR_FLAG_COLOR_TEXTURE 1
-#define PR_FLAG_OPEN_MESH 2 // the mesh has boundary edges: the prism emits bottom caps
 
 // Per frame: camera and light, world space.
 PR_UNIFORM_BLOCK(FrameBlock, PR_UBO_FRAME)

@@ -7,7 +7,6 @@
 #include "common/shared.h"
 
 #include <chrono>
-#include <unordered_map>
 #include <cmath>
 #include <cstddef>
 #include <glm/gtc/type_ptr.hpp>
@@ -132,16 +131,6 @@ void Renderer::upload(const Scene& scene)
         o.transform = so.transform;
         o.base_color = so.base_color;
         o.base = make_geometry(so.mesh.vertices, so.mesh.indices);
-        // Open when some edge (between welded positions) has only one face.
-        std::unordered_map<std::uint64_t, int> edges;
-        const auto& idx = so.mesh.indices;
-        for (std::size_t t = 0; t + 2 < idx.size(); t += 3)
-            for (int e = 0; e < 3; ++e) {
-                std::uint64_t a = so.mesh.vertices[idx[t + e]].weld_id;
-                std::uint64_t b = so.mesh.vertices[idx[t + (e + 1) % 3]].weld_id;
-                ++edges[std::min(a, b) << 32 | std::max(a, b)];
-            }
-        for (const auto& [edge, count] : edges) o.open_mesh = o.open_mesh || count == 1;
 
         // Textures shared between objects are uploaded once; the cache owns them and each
         // object refers to the cached name (gl::Texture is move-only, so objects hold none).
@@ -291,8 +280,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         ob.u_normal_matrix = glm::mat4(glm::transpose(glm::inverse(glm::mat3(o.transform))));
         ob.u_displace = glm::vec4(o.depth, o.midlevel, o.height_size.x, o.height_size.y);
         ob.u_march = glm::ivec4(settings.steps, settings.refine, 0,
-                                (o.color_texture ? PR_FLAG_COLOR_TEXTURE : 0) |
-                                    (o.open_mesh ? PR_FLAG_OPEN_MESH : 0));
+                                o.color_texture ? PR_FLAG_COLOR_TEXTURE : 0);
         ob.u_material = glm::vec4(0.12f, 0.88f, 0.18f, 48.0f);
         ob.u_base_color = glm::vec4(o.base_color, 1.0f);
         glNamedBufferSubData(object_ubo_.id(), 0, sizeof(ob), &ob);

@@ -77,7 +77,6 @@ private:
         std::vector<Geometry> reference; // chunks of the tessellated ground truth
         GLuint height_texture = 0; // owned by texture_cache_
         GLuint color_texture = 0;  // 0: plain base colour
-        bool open_mesh = false;    // has boundary edges (prism: emit bottom caps)
         glm::ivec2 height_size{0};
         // Copied from the SceneObject, so the Scene need not outlive the upload.
         float depth = 0.0f;
