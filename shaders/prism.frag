@@ -44,32 +44,6 @@ BaseVertex base_vertex(uint index)
     return v;
 }
 
-vec3 corner_world[6];
-vec3 corner_tex[6];
-
-// Ray eye + t * dir against triangle (a, b, c) (Moller-Trumbore). Keeps the nearest hit with
-// t > t_min: its parameter and texture coordinate.
-void exit_candidate(int a, int b, int c, vec3 dir, float t_min, inout float t_best, inout vec3 tex_best)
-{
-    vec3 e1 = corner_world[b] - corner_world[a];
-    vec3 e2 = corner_world[c] - corner_world[a];
-    vec3 p = cross(dir, e2);
-    float det = dot(e1, p);
-    if (abs(det) < 1e-30) return;
-    float inv = 1.0 / det;
-    vec3 s = u_eye.xyz - corner_world[a];
-    float bu = dot(s, p) * inv;
-    vec3 q = cross(s, e1);
-    float bv = dot(dir, q) * inv;
-    const float slack = 1e-5; // the exit may lie exactly on an edge between two triangles
-    if (bu < -slack || bv < -slack || bu + bv > 1.0 + slack) return;
-    float t = dot(e2, q) * inv;
-    if (t > t_min && t < t_best) {
-        t_best = t;
-        tex_best = corner_tex[a] * (1.0 - bu - bv) + corner_tex[b] * bu + corner_tex[c] * bv;
-    }
-}
-
 void main()
 {
     uint prim = uint(gl_PrimitiveID);
@@ -86,25 +60,11 @@ void main()
     }
     for (int e = 0; e < 3; ++e) from_a[e] = diagonal_from_a(bv[e].weld, bv[(e + 1) % 3].weld);
 
-    // The ray is eye + t * dir with t = 1 at this fragment (the entry). Its exit is the nearest
-    // face beyond the entry, among all eight (a twisted side can make the prism non-convex).
+    // The ray is eye + t * dir with t = 1 at this fragment (the entry).
     vec3 dir = v_world - u_eye.xyz;
-    float t_exit = 1e30;
-    vec3 tex_exit = v_tex;
-    float t_min = 1.0 + 1e-5;
-    exit_candidate(3, 4, 5, dir, t_min, t_exit, tex_exit);
-    exit_candidate(0, 2, 1, dir, t_min, t_exit, tex_exit);
-    for (int e = 0; e < 3; ++e) {
-        int a = e, b = (e + 1) % 3;
-        if (from_a[e]) {
-            exit_candidate(a, b, b + 3, dir, t_min, t_exit, tex_exit);
-            exit_candidate(a, b + 3, a + 3, dir, t_min, t_exit, tex_exit);
-        } else {
-            exit_candidate(a, b, a + 3, dir, t_min, t_exit, tex_exit);
-            exit_candidate(b, b + 3, a + 3, dir, t_min, t_exit, tex_exit);
-        }
-    }
-    if (t_exit > 1e29) t_exit = 1.0; // grazing an edge: no exit found, test the entry alone
+    float t_exit;
+    vec3 tex_exit;
+    prism_exit(dir, v_tex, from_a, t_exit, tex_exit);
 
     // March from entry to exit in texture space, linear in t between them. Steps: --steps per
     // full height range (as the base-surface techniques, so equal --steps means equal step

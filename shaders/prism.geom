@@ -17,8 +17,6 @@ flat in uint g_weld[];
 out vec3 v_world; // world position on the shell face
 out vec3 v_tex;   // (u, v, height) there
 
-vec3 corner_world[6]; // 0..2 bottom (h = 0), 3..5 top (h = 1)
-vec3 corner_tex[6];
 
 bool faces_eye(int a, int b, int c)
 {
@@ -30,6 +28,7 @@ void put(int i)
 {
     v_world = corner_world[i];
     v_tex = corner_tex[i];
+
     gl_Position = u_view_proj * vec4(corner_world[i], 1.0);
     gl_PrimitiveID = gl_PrimitiveIDIn;
     EmitVertex();
@@ -52,6 +51,7 @@ void main()
         corner_tex[i] = vec3(g_uv[i], 0.0);
         corner_tex[i + 3] = vec3(g_uv[i], 1.0);
     }
+
     triangle(3, 4, 5); // top cap, outward along +N (base triangles are counter-clockwise)
     // Bottom cap, outward along -N. Needed on open meshes (seen from below), and on closed ones
     // it also catches grazing rays whose exit falls numerically on an edge of the neighbour.
