@@ -23,15 +23,13 @@ int mip_levels(int w, int h)
     return levels;
 }
 
-gl::Texture make_height_texture(const HeightField& hf)
+// A mip-mapped texture with repeat wrap: bilinear within a level, trilinear between levels.
+gl::Texture make_texture(GLenum internal_format, int w, int h, GLenum format, GLenum type, const void* data)
 {
-    // Full precision on the GPU (contract): R16 for 16-bit input, R8 otherwise; bilinear,
-    // trilinear between mip levels, repeat wrap.
     gl::Texture t = gl::Texture::create(GL_TEXTURE_2D);
-    const GLenum format = hf.bits > 8 ? GL_R16 : GL_R8;
-    glTextureStorage2D(t.id(), mip_levels(hf.width, hf.height), format, hf.width, hf.height);
+    glTextureStorage2D(t.id(), mip_levels(w, h), internal_format, w, h);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage2D(t.id(), 0, 0, 0, hf.width, hf.height, GL_RED, GL_FLOAT, hf.texels.data());
+    glTextureSubImage2D(t.id(), 0, 0, 0, w, h, format, type, data);
     glGenerateTextureMipmap(t.id());
     glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -40,18 +38,15 @@ gl::Texture make_height_texture(const HeightField& hf)
     return t;
 }
 
+gl::Texture make_height_texture(const HeightField& hf)
+{
+    // Full precision on the GPU (contract): R16 for 16-bit input, R8 otherwise.
+    return make_texture(hf.bits > 8 ? GL_R16 : GL_R8, hf.width, hf.height, GL_RED, GL_FLOAT, hf.texels.data());
+}
+
 gl::Texture make_color_texture(const RgbaImage& img)
 {
-    gl::Texture t = gl::Texture::create(GL_TEXTURE_2D);
-    glTextureStorage2D(t.id(), mip_levels(img.width, img.height), GL_RGBA8, img.width, img.height);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage2D(t.id(), 0, 0, 0, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, img.pixels.data());
-    glGenerateTextureMipmap(t.id());
-    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
-    return t;
+    return make_texture(GL_RGBA8, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, img.pixels.data());
 }
 
 std::string variant_key(const ShaderDefines& defines)

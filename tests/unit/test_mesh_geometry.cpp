@@ -22,32 +22,13 @@
 
 namespace fs = std::filesystem;
 
+#include "temp_dir.hpp"
+
 namespace {
 
 const fs::path kMeshes = fs::path(PR_SOURCE_DIR) / "meshes";
 
-class TempDir {
-public:
-    TempDir()
-    {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() / ("pr_mesh_" + std::string(info->test_suite_name()) +
-                                            "_" + info->name() + "_" + std::to_string(::getpid()));
-        fs::create_directories(dir_);
-    }
-    ~TempDir() { fs::remove_all(dir_); }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    fs::path write(const std::string& name, const std::string& content) const
-    {
-        const fs::path p = dir_ / name;
-        std::ofstream(p, std::ios::binary) << content;
-        return p;
-    }
-
-private:
-    fs::path dir_;
-};
+using prtest::TempDir;
 
 bool finite(const glm::vec3& v)
 {
