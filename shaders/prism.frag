@@ -1,7 +1,8 @@
 // Prism silhouettes, stage 3: march the view ray through this fragment's prism, from where it
 // enters (this face) to where it leaves the prism, found exactly per fragment by intersecting
 // the ray with the prism's eight planar triangles (the same ones the geometry shader emits,
-// rebuilt from the mesh buffers). A ray that leaves without meeting the height field is
+// rebuilt from the mesh buffers), or, with PR_PRISM_EXIT_VERTEX, from per-vertex distances to
+// the prism's planes in texture space, interpolated (the seed's draft; prism.geom). A ray that leaves without meeting the height field is
 // discarded: that is what makes the outline true. A hit writes its real depth.
 #define PR_HIT_EPSILON 1e-4
 #include "common/shared.h"
@@ -13,6 +14,11 @@
 
 in vec3 v_world;
 in vec3 v_tex;
+#ifdef PR_PRISM_EXIT_VERTEX
+in vec3 v_dir_tex;
+in vec4 v_dist_sides;
+in float v_dist_top;
+#endif
 
 layout(location = 0) out vec4 o_color;
 // The hit is never in front of the face that was rasterized: depth only grows, which keeps
@@ -64,7 +70,16 @@ void main()
     vec3 dir = v_world - u_eye.xyz;
     float t_exit;
     vec3 tex_exit;
+#ifdef PR_PRISM_EXIT_VERTEX
+    // Interpolated distances to the texture-space prism's planes (prism.geom): the nearest is
+    // the exit. Moving lambda along v_dir_tex moves lambda * dir in the world (same frame).
+    float lambda = max(min(min(min(v_dist_sides.x, v_dist_sides.y), min(v_dist_sides.z, v_dist_sides.w)),
+                           v_dist_top), 0.0);
+    t_exit = 1.0 + lambda;
+    tex_exit = v_tex + lambda * v_dir_tex;
+#else
     prism_exit(dir, v_tex, from_a, t_exit, tex_exit);
+#endif
 
     // March from entry to exit in texture space, linear in t between them. Steps: --steps per
     // full height range (as the base-surface techniques, so equal --steps means equal step

@@ -1,8 +1,8 @@
 // Prism silhouettes, stage 2: extrude each triangle into its shell prism and emit only the
 // faces that face the eye. Each face is planar (sides are split into two triangles), and a ray
 // enters the shell through exactly one front face of one prism, so nothing is shaded twice.
-// Output per vertex: 4 (position) + 3 (world) + 3 (texture coordinate) scalars; at most 18
-// vertices (top 3 + bottom 3 + three sides of 4) — geometry-shader cost grows with both.
+// Output per vertex: 4 (position) + 3 (world) + 3 (texture coordinate) scalars (+ 8 for the
+// per-vertex exit variant); at most 18 vertices (top 3 + bottom 3 + three sides of 4) — geometry-shader cost grows with both.
 #include "common/shared.h"
 #include "prism/shell.glsl"
 
@@ -13,9 +13,44 @@ in vec3 g_world[];
 in vec3 g_normal[];
 in vec2 g_uv[];
 flat in uint g_weld[];
+in vec3 g_tangent[];
+in vec3 g_bitangent[];
 
 out vec3 v_world; // world position on the shell face
 out vec3 v_tex;   // (u, v, height) there
+#ifdef PR_PRISM_EXIT_VERTEX
+// The seed's draft, done in texture space, where the prism is straight (the uv triangle times
+// [0, 1]: five planes): the view direction in this corner's metric tangent frame, and the
+// distances along it to the planes the ray leaves through (large for the others). A plane
+// through the corner gets distance 0 there, so the interpolated distances vanish where they
+// should; the fragment takes their minimum as its exit.
+out vec3 v_dir_tex;
+out vec4 v_dist_sides; // xyz: the three side planes (edges 0-1, 1-2, 2-0), w: the bottom
+out float v_dist_top;
+
+const float kFar = 1e6;
+
+void exit_distances(int corner)
+{
+    int i = corner % 3;
+    mat3 frame = mat3(g_tangent[i], g_bitangent[i], g_normal[i] * u_displace.x);
+    vec3 d = abs(determinant(frame)) > 1e-30 ? inverse(frame) * (corner_world[corner] - u_eye.xyz)
+                                             : vec3(0.0, 0.0, -1.0);
+    vec3 p = corner_tex[corner];
+    v_dir_tex = d;
+    vec3 sides;
+    for (int e = 0; e < 3; ++e) {
+        vec2 a = g_uv[e], b = g_uv[(e + 1) % 3], c = g_uv[(e + 2) % 3];
+        vec2 n = vec2(a.y - b.y, b.x - a.x); // normal of edge a-b, turned towards c
+        if (dot(n, c - a) < 0.0) n = -n;
+        float rate = dot(n, d.xy);           // < 0: the ray leaves through this side
+        sides[e] = rate < 0.0 ? max(dot(n, p.xy - a), 0.0) / -rate : kFar;
+    }
+    float bottom = d.z < 0.0 ? p.z / -d.z : kFar;
+    v_dist_sides = vec4(sides, bottom);
+    v_dist_top = d.z > 0.0 ? (1.0 - p.z) / d.z : kFar;
+}
+#endif
 
 
 bool faces_eye(int a, int b, int c)
@@ -28,6 +63,9 @@ void put(int i)
 {
     v_world = corner_world[i];
     v_tex = corner_tex[i];
+#ifdef PR_PRISM_EXIT_VERTEX
+    exit_distances(i);
+#endif
 
     gl_Position = u_view_proj * vec4(corner_world[i], 1.0);
     gl_PrimitiveID = gl_PrimitiveIDIn;

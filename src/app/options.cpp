@@ -130,6 +130,11 @@ void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_techn
                                            " (in lists: prism:MARCHER)")
         ->group("Technique")
         ->capture_default_str();
+    app.add_option("--prism-exit", o.prism_exit,
+                   "prism: where the ray leaves its prism: exact (per fragment) or vertex (per-vertex "
+                   "plane distances, interpolated; in lists: prism:MARCHER:vertex)")
+        ->group("Technique")
+        ->capture_default_str();
     app.add_option("--normal-quality", o.normal_quality,
                    "Normal from heights: gather (4-tap), central (differences), sobel (3x3)")
         ->group("Technique")
@@ -156,14 +161,23 @@ DrawSettings make_draw_settings(const TechniqueOptions& o, const std::string& te
                                 const std::string& option)
 {
     DrawSettings s;
-    // "prism:relief" names the marcher inside the technique (lists of --techniques).
-    const std::size_t colon = technique.find(':');
-    s.technique = parse_technique(technique.substr(0, colon), option);
+    // "prism:relief" or "prism:relief:vertex" name the marcher and the exit inside the technique
+    // (lists of --techniques).
+    std::vector<std::string> parts;
+    for (std::size_t start = 0;;) {
+        const std::size_t colon = technique.find(':', start);
+        parts.push_back(technique.substr(start, colon - start));
+        if (colon == std::string::npos) break;
+        start = colon + 1;
+    }
+    s.technique = parse_technique(parts[0], option);
     s.marcher = parse_marcher(o.marcher, "--marcher");
-    if (colon != std::string::npos) {
-        if (s.technique != Technique::Prism)
-            throw Error(option, "'" + technique + "': only prism takes a marcher (prism:MARCHER)");
-        s.marcher = parse_marcher(technique.substr(colon + 1), option);
+    s.prism_exit = parse_prism_exit(o.prism_exit, "--prism-exit");
+    if (parts.size() > 1) {
+        if (s.technique != Technique::Prism || parts.size() > 3)
+            throw Error(option, "'" + technique + "': only prism takes options (prism:MARCHER[:EXIT])");
+        s.marcher = parse_marcher(parts[1], option);
+        if (parts.size() == 3) s.prism_exit = parse_prism_exit(parts[2], option);
     }
     if (o.steps < 1 || o.steps > 1024) throw Error("--steps", "must be between 1 and 1024");
     if (o.refine < 0 || o.refine > 32) throw Error("--refine", "must be between 0 and 32");

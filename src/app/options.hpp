@@ -35,6 +35,7 @@ struct TechniqueOptions {
     int refine = DrawSettings{}.refine;
     std::string normal_quality = "sobel";
     std::string marcher = "relief";
+    std::string prism_exit = "exact";
     bool depth_write = false;
 };
 

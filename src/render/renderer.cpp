@@ -65,7 +65,10 @@ ShaderDefines defines_for(const DrawSettings& s)
     static const char* quality[] = {"PR_NORMAL_GATHER", "PR_NORMAL_CENTRAL", "PR_NORMAL_SOBEL"};
     ShaderDefines d = {{"PR_TECHNIQUE", tech[static_cast<int>(s.technique)]},
                        {"PR_NORMAL_QUALITY", quality[static_cast<int>(s.normal_quality)]}};
-    if (s.technique == Technique::Prism) d.emplace_back("PR_MARCHER", marcher[static_cast<int>(s.marcher)]);
+    if (s.technique == Technique::Prism) {
+        d.emplace_back("PR_MARCHER", marcher[static_cast<int>(s.marcher)]);
+        if (s.prism_exit == PrismExit::Vertex) d.emplace_back("PR_PRISM_EXIT_VERTEX", "1");
+    }
     if (s.depth_write && s.technique != Technique::Prism) d.emplace_back("PR_DEPTH_WRITE", "1");
     if (s.count_samples) d.emplace_back("PR_COUNT_SAMPLES", "1");
     return d;

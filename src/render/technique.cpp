@@ -75,4 +75,11 @@ std::string marcher_names()
     return "linear|relief";
 }
 
+PrismExit parse_prism_exit(const std::string& name, const std::string& option)
+{
+    if (name == "exact") return PrismExit::Exact;
+    if (name == "vertex") return PrismExit::Vertex;
+    throw Error(option, "unknown prism exit '" + name + "' (expected exact|vertex)");
+}
+
 } // namespace pr

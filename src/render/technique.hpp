@@ -9,6 +9,9 @@ namespace pr {
 enum class Technique { Flat, Normal, Offset, Steep, Pom, Relief, Reference, Prism };
 // Ray marchers inside the prism (more arrive with cone maps).
 enum class Marcher { Linear, Relief };
+// How the prism finds where the ray leaves it: exactly per fragment, or from per-vertex distances
+// to the texture-space prism's planes, interpolated (the seed's draft).
+enum class PrismExit { Exact, Vertex };
 enum class NormalQuality { Gather, Central, Sobel };
 
 struct TechniqueInfo {
@@ -26,6 +29,7 @@ NormalQuality parse_normal_quality(const std::string& name);
 Marcher parse_marcher(const std::string& name, const std::string& option = "--marcher");
 std::string marcher_name(Marcher m);
 std::string marcher_names(); // "linear|relief"
+PrismExit parse_prism_exit(const std::string& name, const std::string& option = "--prism-exit");
 
 std::string normal_quality_name(NormalQuality q);
 
@@ -36,6 +40,7 @@ struct DrawSettings {
     int steps = 32;  // linear steps over the full height range
     int refine = 6;  // binary refinement steps (relief)
     Marcher marcher = Marcher::Relief; // prism only
+    PrismExit prism_exit = PrismExit::Exact; // prism only
     NormalQuality normal_quality = NormalQuality::Sobel;
     bool depth_write = false; // base-surface techniques: write the depth of what they show
     bool count_samples = false; // instrumented variant (bench)

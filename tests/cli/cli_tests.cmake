@@ -117,3 +117,15 @@ if(EGL_INCLUDE_DIR)
                      -DMESH=${M}/rock.obj -P ${CMAKE_CURRENT_SOURCE_DIR}/cli/same_image.cmake)
     set_tests_properties(cli.egl_matches_osmesa PROPERTIES LABELS "cli" TIMEOUT 180)
 endif()
+
+# Prism options in lists and flags.
+pr_cli(compare_prism_variants EXIT 0 STDOUT "prism:linear .*prism:relief:vertex"
+       JSON v.json CHECKS "${R}.1.iou:GREATER:0.9|${R}.0.iou:GREATER:0.9"
+       ARGS compare --mesh ${M}/torus.obj --height builtin:bumps@128 --size 96x96
+            --techniques prism:linear,prism:relief:vertex --json v.json)
+pr_cli(prism_exit_unknown EXIT 1 ONE_LINE STDERR "${E}--prism-exit: unknown prism exit 'nearest'"
+       ARGS render --mesh ${M}/torus.obj --technique prism --prism-exit nearest --out p.png NO_FILE p.png)
+pr_cli(marcher_on_pom EXIT 1 ONE_LINE STDERR "${E}--techniques: 'pom:relief': only prism takes options"
+       ARGS compare --mesh ${M}/torus.obj --techniques pom:relief)
+pr_cli(render_prism EXIT 0 EXPECT_FILE p.png STDOUT "p.png: 96x64 prism"
+       ARGS render --mesh ${M}/rock.obj --height builtin:noise --technique prism --marcher linear --size 96x64 --out p.png)

@@ -10,11 +10,13 @@ using namespace pr;
 
 namespace {
 
-FrameCapture capture(Renderer& r, const Camera& c, Technique t, Marcher m = Marcher::Relief)
+FrameCapture capture(Renderer& r, const Camera& c, Technique t, Marcher m = Marcher::Relief,
+                     PrismExit exit = PrismExit::Exact)
 {
     DrawSettings s;
     s.technique = t;
     s.marcher = m;
+    s.prism_exit = exit;
     r.draw(c, glm::normalize(glm::vec3(-0.3f, 0.6f, 1.0f)), s);
     return {r.read_color(), r.read_depth(), c};
 }
@@ -177,4 +179,27 @@ TEST(Prism, GrazingViewHasNoBlackPixelsOrStripes)
     EXPECT_GT(covered, 1000u);
     EXPECT_EQ(black, 0u);
     EXPECT_EQ(holes(f.color), 0);
+}
+
+// The seed's per-vertex exit (distances to the texture-space prism's planes, interpolated):
+// near-exact on a flat plane (parallel normals), close on curved meshes, never better than the
+// exact per-fragment exit.
+TEST(Prism, PerVertexExitIsCloseToTheExactOne)
+{
+    prtest::context();
+    Renderer r(160, 160);
+    auto bumps = std::make_shared<HeightField>(load_height("builtin:bumps@256"));
+    for (const char* name : {"plane.obj", "uv_sphere.obj", "torus.obj"}) {
+        Scene scene = mesh_scene(name, bumps, 0.04f);
+        r.upload(scene);
+        const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, 45.0f, 30.0f);
+        r.prepare_reference(scene, c, ReferenceOptions{});
+        const FrameCapture ref = capture(r, c, Technique::Reference);
+        const CompareMetrics exact = compare_frames(capture(r, c, Technique::Prism), ref);
+        const CompareMetrics vertex =
+            compare_frames(capture(r, c, Technique::Prism, Marcher::Relief, PrismExit::Vertex), ref);
+        const bool flat = std::string(name) == "plane.obj";
+        EXPECT_GT(vertex.iou, flat ? 0.995 : 0.97) << name;
+        EXPECT_LE(vertex.iou, exact.iou + 1e-3) << name;
+    }
 }

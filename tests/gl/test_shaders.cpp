@@ -26,7 +26,13 @@ TEST(ShaderVariants, EveryTechniqueQualityAndInstrumentationCompiles)
                     s.normal_quality = q;
                     s.depth_write = depth_write;
                     s.count_samples = count;
-                    EXPECT_NO_THROW(r.program_for(s)) << t.name << " " << normal_quality_name(q);
+                    for (Marcher m : {Marcher::Linear, Marcher::Relief})
+                        for (PrismExit e : {PrismExit::Exact, PrismExit::Vertex}) {
+                            s.marcher = m;
+                            s.prism_exit = e;
+                            EXPECT_NO_THROW(r.program_for(s)) << t.name << " " << normal_quality_name(q);
+                            if (t.technique != Technique::Prism) break;
+                        }
                 }
 }
 
