@@ -12,7 +12,7 @@ echo "|---|---|---|---|---|---|---|---|---|"
 for mesh in uv_sphere torus rock; do
     for el in 0 35 75; do
         "$pr" compare --mesh "meshes/$mesh.obj" --height builtin:bumps --size 512x512 --elevation "$el" \
-            --techniques pom,prism,prism:linear --json "$tmp/r.json" "$@" >/dev/null
+            --techniques pom,prism,prism:linear,prism:relief:vertex --json "$tmp/r.json" "$@" >/dev/null
         python3 - "$tmp/r.json" "$mesh" "$el" "meshes/$mesh.obj" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
