@@ -52,29 +52,23 @@ CommandAction add_bench_command(CLI::App& app)
     struct State {
         SceneOptions scene;
         TechniqueOptions quality;
-        std::string techniques = "flat,normal,offset,steep,pom,relief";
         int frames = 20;
         int warmup = 3;
         std::string json;
-        int reference_level = 0;
-        std::size_t reference_max_triangles = ReferenceOptions{}.max_triangles;
     };
     auto s = std::make_shared<State>();
+    s->quality.techniques = "flat,normal,offset,steep,pom,relief";
     CLI::App* cmd = app.add_subcommand(
         "bench", "Time techniques (interleaved) and count fragments and height samples per fragment on the GPU");
     add_scene_options(*cmd, s->scene);
-    cmd->add_option("--techniques", s->techniques, "Comma-separated techniques (" + technique_names() + ")")
-        ->group("Technique")
-        ->capture_default_str();
     add_technique_options(*cmd, s->quality, false);
-    add_reference_options(*cmd, s->reference_level, s->reference_max_triangles);
     cmd->add_option("--frames", s->frames, "Timed frames per technique")->group("Bench")->capture_default_str();
     cmd->add_option("--warmup", s->warmup, "Untimed frames per technique first")->group("Bench")->capture_default_str();
     cmd->add_option("--json", s->json, "JSON report (see docs/benchmarks.md)")->group("Output");
 
     return [s]() {
-        const std::vector<TechniqueRun> runs = parse_technique_list(s->techniques, s->quality);
-        const ReferenceOptions ref_options = make_reference_options(s->reference_level, s->reference_max_triangles);
+        const std::vector<TechniqueRun> runs = parse_technique_list(s->quality.techniques, s->quality);
+        const ReferenceOptions ref_options = make_reference_options(s->quality);
         if (s->frames < 1 || s->frames > 100000) throw Error("--frames", "must be between 1 and 100000");
         if (s->warmup < 0 || s->warmup > 1000) throw Error("--warmup", "must be between 0 and 1000");
         if (!s->json.empty()) check_output_folder(s->json);

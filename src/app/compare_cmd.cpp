@@ -47,23 +47,15 @@ CommandAction add_compare_command(CLI::App& app)
     struct State {
         SceneOptions scene;
         TechniqueOptions quality;
-        std::string techniques = "flat,pom,relief";
         std::string out;
         std::string json;
-        int columns = 0;
-        int reference_level = 0;
-        std::size_t reference_max_triangles = ReferenceOptions{}.max_triangles;
     };
     auto s = std::make_shared<State>();
+    s->quality.techniques = "flat,pom,relief";
     CLI::App* cmd = app.add_subcommand(
         "compare", "Compare techniques with the reference (true displaced geometry): grid PNG, JSON, table");
     add_scene_options(*cmd, s->scene);
-    cmd->add_option("--techniques", s->techniques,
-                    "Comma-separated techniques (" + technique_names() + "); the reference is always rendered")
-        ->group("Technique")
-        ->capture_default_str();
     add_technique_options(*cmd, s->quality, false);
-    add_reference_options(*cmd, s->reference_level, s->reference_max_triangles);
     cmd->add_option("--out", s->out, "Grid PNG: each technique, and its silhouette difference to the reference")
         ->group("Output");
     cmd->add_option("--json", s->json, "JSON report (see docs/compare.md)")->group("Output");
@@ -71,8 +63,8 @@ CommandAction add_compare_command(CLI::App& app)
                 "reference. Metrics are the contract's (docs/compare.md).");
 
     return [s]() {
-        std::vector<TechniqueRun> runs = parse_technique_list(s->techniques, s->quality);
-        const ReferenceOptions ref_options = make_reference_options(s->reference_level, s->reference_max_triangles);
+        std::vector<TechniqueRun> runs = parse_technique_list(s->quality.techniques, s->quality);
+        const ReferenceOptions ref_options = make_reference_options(s->quality);
         if (!s->out.empty()) check_output_folder(s->out);
         if (!s->json.empty()) check_output_folder(s->json);
         Session session = open_session(s->scene);

@@ -120,6 +120,12 @@ void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_techn
         app.add_option("--technique", o.technique, "Technique: " + technique_names())
             ->group("Technique")
             ->capture_default_str();
+    else
+        app.add_option("--techniques", o.techniques,
+                       "Comma-separated techniques (" + technique_names() +
+                           "; prism:MARCHER[:EXIT] for the prism's options)")
+            ->group("Technique")
+            ->capture_default_str();
     app.add_option("--steps", o.steps, "Linear search steps over the full height range (1-1024)")
         ->group("Technique")
         ->capture_default_str();
@@ -142,19 +148,26 @@ void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_techn
     app.add_flag("--depth-write", o.depth_write,
                  "Base-surface techniques write the depth of the point they show")
         ->group("Technique");
-}
-
-void add_reference_options(CLI::App& app, int& level, std::size_t& max_triangles)
-{
-    app.add_option("--reference-level", level,
+    app.add_option("--reference-level", o.reference_level,
                    "reference: split each triangle into LEVEL^2 (0: automatic, edges about one texel "
                    "or one pixel, whichever is coarser)")
         ->group("Technique")
         ->capture_default_str();
-    app.add_option("--reference-max-triangles", max_triangles,
+    app.add_option("--reference-max-triangles", o.reference_max_triangles,
                    "reference: lower an automatic level to stay within this many triangles")
         ->group("Technique")
         ->capture_default_str();
+}
+
+ReferenceOptions make_reference_options(const TechniqueOptions& o)
+{
+    if (o.reference_level < 0 || o.reference_level > 256)
+        throw Error("--reference-level", "must be between 0 (automatic) and 256");
+    if (o.reference_max_triangles < 1) throw Error("--reference-max-triangles", "must be at least 1");
+    ReferenceOptions r;
+    r.level = o.reference_level;
+    r.max_triangles = o.reference_max_triangles;
+    return r;
 }
 
 DrawSettings make_draw_settings(const TechniqueOptions& o, const std::string& technique,

@@ -30,18 +30,22 @@ struct SceneOptions {
 };
 
 struct TechniqueOptions {
-    std::string technique = "relief";
+    std::string technique = "relief"; // render: --technique
+    std::string techniques;            // compare, bench: --techniques (the caller sets the default)
     int steps = DrawSettings{}.steps;
     int refine = DrawSettings{}.refine;
     std::string normal_quality = "sobel";
     std::string marcher = "relief";
     std::string prism_exit = "exact";
     bool depth_write = false;
+    int reference_level = 0; // 0: automatic
+    std::size_t reference_max_triangles = ReferenceOptions{}.max_triangles;
 };
 
 void add_scene_options(CLI::App& app, SceneOptions& o);
+// --technique (single) or --techniques (a list), the quality flags and the reference's options.
 void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_technique);
-void add_reference_options(CLI::App& app, int& level, std::size_t& max_triangles);
+ReferenceOptions make_reference_options(const TechniqueOptions& o);
 
 // Builds the SceneSpec: --scene JSON first (paths relative to the JSON file), then flags on top
 // (flags override a single-object scene's object, and the camera/light/size). Throws pr::Error.

@@ -15,21 +15,18 @@ CommandAction add_render_command(CLI::App& app)
         SceneOptions scene;
         TechniqueOptions technique;
         std::string out;
-        int reference_level = 0;
-        std::size_t reference_max_triangles = ReferenceOptions{}.max_triangles;
     };
     auto s = std::make_shared<State>();
     CLI::App* cmd = app.add_subcommand("render", "Render a scene with one technique to a PNG (RGBA, alpha = coverage)");
     add_scene_options(*cmd, s->scene);
     add_technique_options(*cmd, s->technique, true);
-    add_reference_options(*cmd, s->reference_level, s->reference_max_triangles);
     cmd->add_option("--out", s->out, "Output PNG file")->required()->group("Output");
     cmd->footer("Example:\n  prismrelief render --mesh meshes/torus.obj --height builtin:bricks "
                 "--technique pom --out out/torus.png");
 
     return [s]() {
         const DrawSettings settings = make_draw_settings(s->technique, s->technique.technique);
-        const ReferenceOptions ref = make_reference_options(s->reference_level, s->reference_max_triangles);
+        const ReferenceOptions ref = make_reference_options(s->technique);
         check_output_folder(s->out);
         Session session = open_session(s->scene);
         Renderer& renderer = *session.renderer;

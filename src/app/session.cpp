@@ -36,14 +36,4 @@ std::vector<TechniqueRun> parse_technique_list(const std::string& list, const Te
     return runs;
 }
 
-ReferenceOptions make_reference_options(int level, std::size_t max_triangles)
-{
-    if (level < 0 || level > 256) throw Error("--reference-level", "must be between 0 (automatic) and 256");
-    if (max_triangles < 1) throw Error("--reference-max-triangles", "must be at least 1");
-    ReferenceOptions r;
-    r.level = level;
-    r.max_triangles = max_triangles;
-    return r;
-}
-
 } // namespace pr

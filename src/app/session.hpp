@@ -32,6 +32,5 @@ struct TechniqueRun {
 std::vector<TechniqueRun> parse_technique_list(const std::string& list, const TechniqueOptions& quality,
                                                const std::string& option = "--techniques");
 
-ReferenceOptions make_reference_options(int level, std::size_t max_triangles);
 
 } // namespace pr

@@ -129,3 +129,11 @@ pr_cli(marcher_on_pom EXIT 1 ONE_LINE STDERR "${E}--techniques: 'pom:relief': on
        ARGS compare --mesh ${M}/torus.obj --techniques pom:relief)
 pr_cli(render_prism EXIT 0 EXPECT_FILE p.png STDOUT "p.png: 96x64 prism"
        ARGS render --mesh ${M}/rock.obj --height builtin:noise --technique prism --marcher linear --size 96x64 --out p.png)
+
+# The reference's options (torus.obj: 2304 triangles, so level 3 gives 2304 * 9).
+pr_cli(render_reference EXIT 0 EXPECT_FILE r.png STDOUT "reference: level 3, 20736 triangles.*r.png: 64x64 reference"
+       ARGS render --mesh ${M}/torus.obj --technique reference --reference-level 3 --size 64x64 --out r.png)
+pr_cli(reference_capped EXIT 0 STDOUT "reference: level 2, .*capped by --reference-max-triangles"
+       ARGS render --mesh ${M}/torus.obj --technique reference --reference-max-triangles 10000 --size 64x64 --out r.png)
+pr_cli(reference_level_bad EXIT 1 ONE_LINE STDERR "${E}--reference-level: must be between 0" NO_FILE r.png
+       ARGS render --mesh ${M}/torus.obj --technique reference --reference-level 999 --out r.png)
