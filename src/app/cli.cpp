@@ -12,9 +12,10 @@ namespace pr {
 int run_cli(int argc, char** argv)
 {
     CLI::App app{"prismrelief: height-field displacement with true silhouettes.\n"
-                 "Renders meshes headless (OpenGL 4.5 core on OSMesa/llvmpipe, or EGL) with the\n"
-                 "parallax family of techniques and writes PNGs. Exit codes: 0 ok, 1 bad input or\n"
-                 "runtime failure (one line on stderr), 2 bad usage.",
+                 "Renders meshes headless (OpenGL 4.5 core on OSMesa/llvmpipe, or EGL) with prism\n"
+                 "shells (--technique prism) or the parallax family, measures them against true\n"
+                 "tessellated displacement (compare) and times them (bench). Exit codes: 0 ok,\n"
+                 "1 bad input or runtime failure (one line on stderr), 2 bad usage.",
                  "prismrelief"};
     app.set_version_flag("--version", std::string("prismrelief ") + PRISMRELIEF_VERSION);
     app.require_subcommand(1);
