@@ -137,3 +137,26 @@ pr_cli(reference_capped EXIT 0 STDOUT "reference: level 2, .*capped by --referen
        ARGS render --mesh ${M}/torus.obj --technique reference --reference-max-triangles 10000 --size 64x64 --out r.png)
 pr_cli(reference_level_bad EXIT 1 ONE_LINE STDERR "${E}--reference-level: must be between 0" NO_FILE r.png
        ARGS render --mesh ${M}/torus.obj --technique reference --reference-level 999 --out r.png)
+
+# Hostile meshes (tests/bad/): one clear line and nothing written, or a correct render with a
+# warning for what is only odd.
+foreach(case "nan_coordinate.obj|line 2: vertex position is not three finite numbers"
+             "inf_coordinate.obj|line 2: vertex position is not three finite numbers"
+             "zero_index.obj|line 4: malformed face corner"
+             "degenerate_only.obj|all 1 triangles are degenerate"
+             "truncated_binary.stl|header claims 1000 triangles"
+             "garbage.ply|PLY vertex element lacks"
+             "garbage.off|does not start with an OFF header")
+    string(REPLACE "|" ";" parts "${case}")
+    list(GET parts 0 file)
+    list(GET parts 1 message)
+    string(MAKE_C_IDENTIFIER "${file}" id)
+    pr_cli(bad_${id} EXIT 1 ONE_LINE STDERR "${E}.*${file}: ${message}" NO_FILE o.png
+           ARGS render --mesh ${BAD}/${file} --technique prism --size 48x48 --out o.png)
+endforeach()
+pr_cli(odd_non_manifold EXIT 0 EXPECT_FILE o.png STDERR "warning: .*non_manifold.obj: 1 edges are shared by more than two faces"
+       ARGS render --mesh ${BAD}/non_manifold.obj --technique prism --size 48x48 --out o.png)
+pr_cli(odd_flipped_face EXIT 0 EXPECT_FILE o.png STDERR "warning: .*flipped_face.obj: 3 edges join faces of opposite orientation"
+       ARGS render --mesh ${BAD}/flipped_face.obj --technique pom --size 48x48 --out o.png)
+pr_cli(odd_duplicate_vertices EXIT 0 EXPECT_FILE o.png STDOUT "o.png: 48x48 prism"
+       ARGS render --mesh ${BAD}/duplicate_vertices.obj --technique prism --size 48x48 --out o.png)
