@@ -26,6 +26,8 @@ int run_cli(int argc, char** argv)
     actions.push_back(add_render_command(app));
     actions.push_back(add_compare_command(app));
     actions.push_back(add_bench_command(app));
+    actions.push_back(add_conemap_command(app));
+    actions.push_back(add_view_command(app));
 
     try {
         app.parse(argc, argv);

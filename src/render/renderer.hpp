@@ -61,6 +61,16 @@ public:
 
     GLuint framebuffer() const { return fbo_.id(); }
 
+    // Drops every built program, so the next draw rebuilds them from the shader sources (the
+    // viewer's hot reload; sources come from PRISMRELIEF_SHADER_DIR when set).
+    void reload_shaders() { programs_.clear(); }
+
+    // Wireframe overlays (viewer, docs figures), drawn over the current target and depth-tested
+    // against what is there: the base mesh's edges, or the edges of the prism shells that
+    // `settings` would draw. Defined in wireframe.cpp.
+    enum class Overlay { BaseMesh, PrismShell };
+    void draw_overlay(const Camera& camera, Overlay overlay, glm::vec4 color, const DrawSettings& settings);
+
 private:
     // Triangles in the MeshVertex layout, ready to draw.
     struct Geometry {
