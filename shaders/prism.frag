@@ -10,6 +10,9 @@
 #include "common/lighting.glsl"
 #include "common/counters.glsl"
 #include "march/relief.glsl"
+// (The embedder expands each file once, whatever the #if around it: include unconditionally.)
+#include "march/cone.glsl"
+#include "common/shadow.glsl"
 #include "prism/shell.glsl"
 
 in vec3 v_world;
@@ -93,17 +96,20 @@ void main()
     // (contract); filtering it by mip level would move the surface, not just smooth its look.
     UvGrad g = UvGrad(vec2(0.0), vec2(0.0));
     MarchRay ray = MarchRay(v_tex, seg, 1.0, steps);
+#if PR_MARCHER == PR_MARCH_CONE || PR_MARCHER == PR_MARCH_RELAXED_CONE
+    Bracket br = march_cone(ray);
+#else
     Bracket br = march_linear(ray, g);
+#endif
     if (!br.hit) {
         count_fragment();
         discard;
     }
-#if PR_MARCHER == PR_MARCH_RELIEF
-    float s = refine_binary(ray, br, u_march.y, g);
-#else
+#if PR_MARCHER == PR_MARCH_LINEAR
     float s = interpolate_bracket(br);
+#else
+    float s = refine_binary(ray, br, u_march.y, g);
 #endif
-    count_fragment();
     vec3 tex = v_tex + s * seg;
     vec3 hit = u_eye.xyz + mix(1.0, t_exit, s) * dir;
 
@@ -118,8 +124,15 @@ void main()
     vec3 t_axis = mat3(u_model) * (bv[0].tangent * w.x + bv[1].tangent * w.y + bv[2].tangent * w.z);
     vec3 b_axis = mat3(u_model) * (bv[0].bitangent * w.x + bv[1].bitangent * w.y + bv[2].bitangent * w.z);
     vec3 shading_n = height_normal(tex.xy, t_axis, b_axis, n, u_displace.x);
-    o_color = vec4(shade_blinn_phong(albedo_at(tex.xy, g), shading_n, normalize(u_light_dir.xyz),
-                                     -normalize(dir)), 1.0);
+    vec3 light_dir = normalize(u_light_dir.xyz);
+    float visibility = 1.0;
+#ifdef PR_SHADOWS
+    if (dot(shading_n, light_dir) > 0.0)
+        visibility = light_visibility(tex,
+                                      light_in_texture_space(t_axis, b_axis, n, u_displace.x, light_dir), g);
+#endif
+    count_fragment();
+    o_color = vec4(shade_blinn_phong(albedo_at(tex.xy, g), shading_n, light_dir, -normalize(dir), visibility), 1.0);
     vec4 clip = u_view_proj * vec4(hit, 1.0);
     gl_FragDepth = clamp(clip.z / clip.w * 0.5 + 0.5, gl_FragCoord.z, 1.0);
 }

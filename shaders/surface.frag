@@ -9,6 +9,9 @@
 #include "common/lighting.glsl"
 #include "common/counters.glsl"
 #include "march/relief.glsl"
+// (The embedder expands each file once, whatever the #if around it: include unconditionally.)
+#include "march/cone.glsl"
+#include "common/shadow.glsl"
 
 in vec3 v_world_pos;
 in vec3 v_normal;
@@ -32,8 +35,10 @@ void main()
     vec2 uv = v_uv;
     float t_hit = 0.0; // along `view`: the hit is v_world_pos + t_hit * view
 
+    float s_hit = 1.0; // texture-space height of the point shown (1: the polygon)
 #if PR_TECHNIQUE == PR_TECH_OFFSET || PR_TECHNIQUE == PR_TECH_STEEP || \
-    PR_TECHNIQUE == PR_TECH_POM || PR_TECHNIQUE == PR_TECH_RELIEF
+    PR_TECHNIQUE == PR_TECH_POM || PR_TECHNIQUE == PR_TECH_RELIEF || \
+    PR_TECHNIQUE == PR_TECH_CONE || PR_TECHNIQUE == PR_TECH_RELAXED_CONE
     // The view ray in texture space: solve view = d.x T + d.y B + d.z (depth N).
     mat3 frame = mat3(t_axis, b_axis, n_geom * depth);
     float det = determinant(frame);
@@ -50,17 +55,23 @@ void main()
         float cos_theta = max(-dot(normalize(view), n_geom), 0.0);
         uv += (1.0 - h) * slope * cos_theta;
         t_hit = 0.0;
+        s_hit = h;
 #else
         MarchRay ray = MarchRay(vec3(uv, 1.0), vec3(slope, -1.0), 1.0, max(u_march.x, 1));
+#if PR_TECHNIQUE == PR_TECH_CONE || PR_TECHNIQUE == PR_TECH_RELAXED_CONE
+        Bracket b = march_cone(ray);
+#else
         Bracket b = march_linear(ray, g);
+#endif
         float s_t = b.hit ? b.t_below : 1.0;
 #if PR_TECHNIQUE == PR_TECH_POM
         if (b.hit) s_t = interpolate_bracket(b);
-#elif PR_TECHNIQUE == PR_TECH_RELIEF
+#elif PR_TECHNIQUE == PR_TECH_RELIEF || PR_TECHNIQUE == PR_TECH_CONE || PR_TECHNIQUE == PR_TECH_RELAXED_CONE
         if (b.hit) s_t = refine_binary(ray, b, u_march.y, g);
 #endif
         uv += s_t * slope;
         t_hit = s_t / descent;
+        s_hit = 1.0 - s_t;
 #endif
     }
 #endif
@@ -71,7 +82,14 @@ void main()
     vec3 n = height_normal(uv, t_axis, b_axis, n_geom, depth);
 #endif
     vec3 to_eye = -normalize(view);
-    vec3 color = shade_blinn_phong(albedo_at(uv, g), n, normalize(u_light_dir.xyz), to_eye);
+    vec3 light_dir = normalize(u_light_dir.xyz);
+    float visibility = 1.0;
+#if defined(PR_SHADOWS) && PR_TECHNIQUE != PR_TECH_FLAT
+    if (depth > 0.0 && dot(n, light_dir) > 0.0)
+        visibility = light_visibility(vec3(uv, s_hit),
+                                      light_in_texture_space(t_axis, b_axis, n_geom, depth, light_dir), g);
+#endif
+    vec3 color = shade_blinn_phong(albedo_at(uv, g), n, light_dir, to_eye, visibility);
     o_color = vec4(color, 1.0);
 
 #ifdef PR_DEPTH_WRITE

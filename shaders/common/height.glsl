@@ -14,10 +14,20 @@ struct UvGrad {
 // marcher, refinement included). Written to the counters buffer by instrumented variants.
 int g_height_samples = 0;
 
+#ifdef PR_HEIGHT_FROM_CONE
+// Cone marchers: every height the search sees comes from the cone map's R (level 0), so the
+// linear, cone and binary stages agree on one surface.
+layout(binding = PR_TEX_CONE) uniform sampler2D s_cone;
+#endif
+
 float height_at(vec2 uv, UvGrad g)
 {
     ++g_height_samples;
+#ifdef PR_HEIGHT_FROM_CONE
+    return textureLod(s_cone, uv, 0.0).r;
+#else
     return textureGrad(s_height, uv, g.dx, g.dy).r;
+#endif
 }
 
 vec3 albedo_at(vec2 uv, UvGrad g)

@@ -1,7 +1,8 @@
 // Blinn-Phong with one directional light (energy-normalized specular lobe).
 // n: unit shading normal, l: unit direction towards the light, v: unit direction towards the
 // eye, all world space. Returns linear RGB.
-vec3 shade_blinn_phong(vec3 albedo, vec3 n, vec3 l, vec3 v)
+// `visibility` (0..1) scales the direct light (self-shadowing); ambient stays.
+vec3 shade_blinn_phong(vec3 albedo, vec3 n, vec3 l, vec3 v, float visibility)
 {
     const float ambient = u_material.x;
     const float diffuse = u_material.y;
@@ -12,5 +13,10 @@ vec3 shade_blinn_phong(vec3 albedo, vec3 n, vec3 l, vec3 v)
     float spec = n_dot_l > 0.0
         ? (shininess + 8.0) / (8.0 * 3.14159265) * pow(max(dot(n, h), 0.0), shininess)
         : 0.0;
-    return albedo * (ambient + diffuse * n_dot_l) + vec3(specular * spec);
+    return albedo * (ambient + diffuse * n_dot_l * visibility) + vec3(specular * spec * visibility);
+}
+
+vec3 shade_blinn_phong(vec3 albedo, vec3 n, vec3 l, vec3 v)
+{
+    return shade_blinn_phong(albedo, n, l, v, 1.0);
 }

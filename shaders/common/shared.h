@@ -40,10 +40,19 @@ using mat4 = glm::mat4;
 #define PR_TECH_RELIEF 5
 #define PR_TECH_REFERENCE 6 // tessellated displaced geometry, shaded like `normal`
 #define PR_TECH_PRISM 7     // shell prisms from the geometry shader (prism.*)
+#define PR_TECH_CONE 8      // cone step mapping (conservative cone map)
+#define PR_TECH_RELAXED_CONE 9 // relaxed cone stepping
 
 // Marchers (PR_MARCHER) inside the prism.
 #define PR_MARCH_LINEAR 0 // linear search + secant (POM) interpolation
 #define PR_MARCH_RELIEF 1 // linear search + binary refinement
+#define PR_MARCH_CONE 2   // cone stepping (conservative cone map) + binary refinement
+#define PR_MARCH_RELAXED_CONE 3 // relaxed cone stepping + binary refinement
+
+// Self-shadowing (PR_SHADOWS, defined only when on).
+#define PR_SHADOWS_NONE 0
+#define PR_SHADOWS_HARD 1
+#define PR_SHADOWS_SOFT 2
 
 // Normal-from-height qualities (PR_NORMAL_QUALITY): the seed's three.
 #define PR_NORMAL_GATHER 0

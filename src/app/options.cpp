@@ -112,6 +112,10 @@ void add_scene_options(CLI::App& app, SceneOptions& o)
     app.add_option("--backend", o.backend, "OpenGL backend: osmesa (default, llvmpipe) or egl (headless)")
         ->group("Output")
         ->capture_default_str();
+    app.add_option("--cache-dir", o.cache_dir,
+                   "Folder for derived maps (cone maps); default $XDG_CACHE_HOME/prismrelief, else "
+                   "~/.cache/prismrelief")
+        ->group("Output");
 }
 
 void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_technique)
@@ -143,6 +147,11 @@ void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_techn
         ->capture_default_str();
     app.add_option("--normal-quality", o.normal_quality,
                    "Normal from heights: gather (4-tap), central (differences), sobel (3x3)")
+        ->group("Technique")
+        ->capture_default_str();
+    app.add_option("--shadows", o.shadows,
+                   "Self-shadowing: march from the hit towards the light through the height field "
+                   "(none|hard|soft)")
         ->group("Technique")
         ->capture_default_str();
     app.add_flag("--depth-write", o.depth_write,
@@ -198,6 +207,7 @@ DrawSettings make_draw_settings(const TechniqueOptions& o, const std::string& te
     s.refine = o.refine;
     s.normal_quality = parse_normal_quality(o.normal_quality);
     s.depth_write = o.depth_write;
+    s.shadows = parse_shadows(o.shadows, "--shadows");
     return s;
 }
 

@@ -25,6 +25,7 @@ struct SceneOptions {
     std::size_t max_triangles = MeshOptions{}.max_triangles;
     float uv_scale = MeshOptions{}.uv_scale;
     bool generate_uvs = false;
+    std::string cache_dir; // derived maps (cone maps); empty: default_cache_dir()
 
     CLI::Option* size_option = nullptr;
 };
@@ -38,6 +39,7 @@ struct TechniqueOptions {
     std::string marcher = "relief";
     std::string prism_exit = "exact";
     bool depth_write = false;
+    std::string shadows = "none";
     int reference_level = 0; // 0: automatic
     std::size_t reference_max_triangles = ReferenceOptions{}.max_triangles;
 };

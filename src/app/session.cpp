@@ -14,6 +14,7 @@ Session open_session(const SceneOptions& options)
     s.scene = load_scene(s.spec);
     s.context = create_headless_context(backend);
     s.renderer = std::make_unique<Renderer>(s.spec.width, s.spec.height);
+    if (!options.cache_dir.empty()) s.renderer->set_cache_dir(options.cache_dir);
     s.renderer->upload(s.scene);
     s.camera = scene_camera(s.spec, s.scene);
     s.light = scene_light(s.spec, s.camera);

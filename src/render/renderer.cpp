@@ -1,6 +1,7 @@
 #include "render/renderer.hpp"
 
 #include "core/error.hpp"
+#include "maps/conemap.hpp"
 #include "render/reference_geometry.hpp"
 #include "render/shader_program.hpp"
 
@@ -49,6 +50,26 @@ gl::Texture make_color_texture(const RgbaImage& img)
     return make_texture(GL_RGBA8, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, img.pixels.data());
 }
 
+// Cone map: R = height, G = sqrt(cone ratio), level 0 only (cone ratios of a coarser level would
+// mean nothing), bilinear, repeat. RG16 keeps the 16-bit heights and the rounded-down ratios exact.
+gl::Texture make_cone_texture(const ConeMap& map)
+{
+    std::vector<float> rg(std::size_t(map.width) * map.height * 2);
+    for (std::size_t i = 0; i < map.heights.size(); ++i) {
+        rg[2 * i] = map.heights[i];
+        rg[2 * i + 1] = map.ratios[i];
+    }
+    gl::Texture t = gl::Texture::create(GL_TEXTURE_2D);
+    glTextureStorage2D(t.id(), 1, GL_RG16, map.width, map.height);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(t.id(), 0, 0, 0, map.width, map.height, GL_RG, GL_FLOAT, rg.data());
+    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+    return t;
+}
+
 std::string variant_key(const ShaderDefines& defines)
 {
     std::string key;
@@ -60,8 +81,11 @@ ShaderDefines defines_for(const DrawSettings& s)
 {
     static const char* tech[] = {"PR_TECH_FLAT", "PR_TECH_NORMAL",    "PR_TECH_OFFSET",
                                  "PR_TECH_STEEP", "PR_TECH_POM",      "PR_TECH_RELIEF",
-                                 "PR_TECH_REFERENCE", "PR_TECH_PRISM"};
-    static const char* marcher[] = {"PR_MARCH_LINEAR", "PR_MARCH_RELIEF"};
+                                 "PR_TECH_REFERENCE", "PR_TECH_PRISM", "PR_TECH_CONE",
+                                 "PR_TECH_RELAXED_CONE"};
+    static const char* marcher[] = {"PR_MARCH_LINEAR", "PR_MARCH_RELIEF", "PR_MARCH_CONE",
+                                    "PR_MARCH_RELAXED_CONE"};
+    static const char* shadows[] = {"PR_SHADOWS_NONE", "PR_SHADOWS_HARD", "PR_SHADOWS_SOFT"};
     static const char* quality[] = {"PR_NORMAL_GATHER", "PR_NORMAL_CENTRAL", "PR_NORMAL_SOBEL"};
     ShaderDefines d = {{"PR_TECHNIQUE", tech[static_cast<int>(s.technique)]},
                        {"PR_NORMAL_QUALITY", quality[static_cast<int>(s.normal_quality)]}};
@@ -70,6 +94,9 @@ ShaderDefines defines_for(const DrawSettings& s)
         if (s.prism_exit == PrismExit::Vertex) d.emplace_back("PR_PRISM_EXIT_VERTEX", "1");
     }
     if (s.depth_write && s.technique != Technique::Prism) d.emplace_back("PR_DEPTH_WRITE", "1");
+    if (s.shadows != Shadows::None && s.technique != Technique::Flat && s.technique != Technique::Reference)
+        d.emplace_back("PR_SHADOWS", shadows[static_cast<int>(s.shadows)]);
+    if (s.cone_need() != ConeNeed::None) d.emplace_back("PR_HEIGHT_FROM_CONE", "1");
     if (s.count_samples) d.emplace_back("PR_COUNT_SAMPLES", "1");
     return d;
 }
@@ -122,6 +149,7 @@ void Renderer::upload(const Scene& scene)
 {
     objects_.clear();
     texture_cache_.clear();
+    cone_cache_.clear();
     for (const SceneObject& so : scene.objects) {
         GpuObject o;
         o.depth = so.depth;
@@ -136,6 +164,7 @@ void Renderer::upload(const Scene& scene)
         if (!h) h = make_height_texture(*so.height);
         o.height_texture = h.id();
         o.height_size = {so.height->width, so.height->height};
+        o.height_field = so.height;
         if (so.color) {
             auto& c = texture_cache_[so.color.get()];
             if (!c) c = make_color_texture(*so.color);
@@ -237,9 +266,26 @@ GLuint Renderer::program_for(const DrawSettings& settings)
     return it->second.id();
 }
 
+void Renderer::ensure_cone_textures(ConeNeed need)
+{
+    if (need == ConeNeed::None) return;
+    const ConeKind kind = need == ConeNeed::Cone ? ConeKind::Cone : ConeKind::Relaxed;
+    const int k = static_cast<int>(kind);
+    if (cache_dir_.empty()) cache_dir_ = default_cache_dir();
+    for (GpuObject& o : objects_) {
+        if (o.cone_texture[k]) continue;
+        auto& t = cone_cache_[{o.height_field.get(), k}];
+        if (!t) t = make_cone_texture(cached_cone_map(*o.height_field, kind, cache_dir_).map);
+        o.cone_texture[k] = t.id();
+    }
+    if (glGetError() == GL_OUT_OF_MEMORY) throw Error("scene", "out of GPU memory while uploading cone maps");
+}
+
 double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSettings& settings)
 {
     const GLuint program = program_for(settings);
+    const ConeNeed cone_need = settings.cone_need();
+    ensure_cone_textures(cone_need);
     const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
 
     shader::FrameBlock frame{};
@@ -285,6 +331,11 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         glBindTextureUnit(PR_TEX_HEIGHT, o.height_texture);
         // Without a colour texture the unit still needs a valid texture; it is not sampled.
         glBindTextureUnit(PR_TEX_COLOR, o.color_texture ? o.color_texture : o.height_texture);
+        // Likewise the cone unit: the cone map of the kind this draw needs, else any texture.
+        const GLuint cone = cone_need == ConeNeed::Relaxed ? o.cone_texture[1]
+                            : cone_need == ConeNeed::Cone  ? o.cone_texture[0]
+                                                           : 0;
+        glBindTextureUnit(PR_TEX_CONE, cone ? cone : o.height_texture);
     };
     glUseProgram(program);
     for (const GpuObject& o : objects_) {

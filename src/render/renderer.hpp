@@ -8,7 +8,9 @@
 #include "render/scene.hpp"
 #include "render/technique.hpp"
 
+#include <filesystem>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -31,6 +33,10 @@ public:
     int width() const { return width_; }
     int height() const { return height_; }
     void resize(int width, int height);
+
+    // Where derived maps (cone maps) are cached; default default_cache_dir(). Cone maps are built
+    // (or read from the cache) on the first draw that needs them, before its timing starts.
+    void set_cache_dir(std::filesystem::path dir) { cache_dir_ = std::move(dir); }
 
     // Uploads meshes and textures (mip-mapped, repeat wrap; R16 for 16-bit heights). The scene
     // may be dropped afterwards: the renderer keeps copies of what it draws with.
@@ -87,6 +93,8 @@ private:
         std::vector<Geometry> reference; // chunks of the tessellated ground truth
         GLuint height_texture = 0; // owned by texture_cache_
         GLuint color_texture = 0;  // 0: plain base colour
+        std::shared_ptr<const HeightField> height_field; // for cone maps, built on demand
+        GLuint cone_texture[2] = {0, 0}; // by ConeKind (cone, relaxed); owned by cone_cache_
         glm::ivec2 height_size{0};
         // Copied from the SceneObject, so the Scene need not outlive the upload.
         float depth = 0.0f;
@@ -108,6 +116,9 @@ private:
     std::vector<GpuObject> objects_;
     std::map<std::string, gl::Program> programs_;
     std::map<const void*, gl::Texture> texture_cache_; // heights/colours shared by objects
+    std::map<std::pair<const void*, int>, gl::Texture> cone_cache_; // (height field, kind)
+    std::filesystem::path cache_dir_;
+    void ensure_cone_textures(ConeNeed need);
 };
 
 } // namespace pr

@@ -13,6 +13,8 @@ const std::vector<TechniqueInfo>& technique_table()
         {Technique::Steep, "steep", "steep parallax: linear search, first sample below the surface"},
         {Technique::Pom, "pom", "parallax occlusion mapping: linear search + linear interpolation"},
         {Technique::Relief, "relief", "relief mapping: linear search + binary refinement"},
+        {Technique::Cone, "cone", "cone step mapping (conservative cone map) + binary refinement"},
+        {Technique::RelaxedCone, "relaxed-cone", "relaxed cone stepping (relaxed cone map) + binary refinement"},
         {Technique::Reference, "reference", "true displaced geometry, finely tessellated: the ground truth"},
         {Technique::Prism, "prism", "shell prisms from a geometry shader, marched ray: true silhouettes and depth"},
     };
@@ -58,21 +60,58 @@ std::string normal_quality_name(NormalQuality q)
     return "?";
 }
 
+namespace {
+struct MarcherInfo {
+    Marcher marcher;
+    const char* name;
+};
+constexpr MarcherInfo kMarchers[] = {{Marcher::Linear, "linear"},
+                                     {Marcher::Relief, "relief"},
+                                     {Marcher::Cone, "cone"},
+                                     {Marcher::RelaxedCone, "relaxed-cone"}};
+} // namespace
+
 Marcher parse_marcher(const std::string& name, const std::string& option)
 {
-    if (name == "linear") return Marcher::Linear;
-    if (name == "relief") return Marcher::Relief;
+    for (const MarcherInfo& m : kMarchers)
+        if (name == m.name) return m.marcher;
     throw Error(option, "unknown marcher '" + name + "' (expected " + marcher_names() + ")");
 }
 
 std::string marcher_name(Marcher m)
 {
-    return m == Marcher::Linear ? "linear" : "relief";
+    for (const MarcherInfo& i : kMarchers)
+        if (i.marcher == m) return i.name;
+    return "?";
 }
 
 std::string marcher_names()
 {
-    return "linear|relief";
+    std::string s;
+    for (const MarcherInfo& m : kMarchers) s += (s.empty() ? "" : "|") + std::string(m.name);
+    return s;
+}
+
+Shadows parse_shadows(const std::string& name, const std::string& option)
+{
+    if (name == "none") return Shadows::None;
+    if (name == "hard") return Shadows::Hard;
+    if (name == "soft") return Shadows::Soft;
+    throw Error(option, "unknown shadow mode '" + name + "' (expected none|hard|soft)");
+}
+
+std::string shadows_name(Shadows s)
+{
+    return s == Shadows::Hard ? "hard" : s == Shadows::Soft ? "soft" : "none";
+}
+
+ConeNeed DrawSettings::cone_need() const
+{
+    if (technique == Technique::Cone) return ConeNeed::Cone;
+    if (technique == Technique::RelaxedCone) return ConeNeed::Relaxed;
+    if (technique == Technique::Prism && marcher == Marcher::Cone) return ConeNeed::Cone;
+    if (technique == Technique::Prism && marcher == Marcher::RelaxedCone) return ConeNeed::Relaxed;
+    return ConeNeed::None;
 }
 
 PrismExit parse_prism_exit(const std::string& name, const std::string& option)

@@ -6,9 +6,13 @@
 
 namespace pr {
 
-enum class Technique { Flat, Normal, Offset, Steep, Pom, Relief, Reference, Prism };
-// Ray marchers inside the prism (more arrive with cone maps).
-enum class Marcher { Linear, Relief };
+// Order is the shader ids' (PR_TECH_* in shaders/common/shared.h); the listing order is technique_table()'s.
+enum class Technique { Flat, Normal, Offset, Steep, Pom, Relief, Reference, Prism, Cone, RelaxedCone };
+// Ray marchers inside the prism. Cone and RelaxedCone step through the cone map of that kind
+// (src/maps/conemap.hpp) and finish with a binary search.
+enum class Marcher { Linear, Relief, Cone, RelaxedCone };
+// Self-shadowing: march from the hit towards the light through the height field.
+enum class Shadows { None, Hard, Soft };
 // How the prism finds where the ray leaves it: exactly per fragment, or from per-vertex distances
 // to the texture-space prism's planes, interpolated (the seed's draft).
 enum class PrismExit { Exact, Vertex };
@@ -28,10 +32,15 @@ std::string technique_names(); // "flat|normal|…" for help texts
 NormalQuality parse_normal_quality(const std::string& name);
 Marcher parse_marcher(const std::string& name, const std::string& option = "--marcher");
 std::string marcher_name(Marcher m);
-std::string marcher_names(); // "linear|relief"
+std::string marcher_names(); // "linear|relief|cone|relaxed-cone"
+Shadows parse_shadows(const std::string& name, const std::string& option = "--shadows");
+std::string shadows_name(Shadows s);
 PrismExit parse_prism_exit(const std::string& name, const std::string& option = "--prism-exit");
 
 std::string normal_quality_name(NormalQuality q);
+
+// The cone map a draw needs, if any: techniques cone/relaxed-cone and prism with those marchers.
+enum class ConeNeed { None, Cone, Relaxed };
 
 // How one technique draws: quality knobs shared by every marcher (contract: equal --steps means
 // equal step length in any comparison).
@@ -42,8 +51,11 @@ struct DrawSettings {
     Marcher marcher = Marcher::Relief; // prism only
     PrismExit prism_exit = PrismExit::Exact; // prism only
     NormalQuality normal_quality = NormalQuality::Sobel;
+    Shadows shadows = Shadows::None;
     bool depth_write = false; // base-surface techniques: write the depth of what they show
     bool count_samples = false; // instrumented variant (bench)
+
+    ConeNeed cone_need() const;
 };
 
 // Ground truth (technique `reference`): how finely to tessellate.

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <memory>
 
 namespace prtest {
@@ -66,6 +67,12 @@ inline pr::Scene one_object(pr::PreparedMesh mesh, std::shared_ptr<pr::HeightFie
     scene.shell_bounds.center = 0.5f * (m.bbox_min + m.bbox_max);
     scene.shell_bounds.radius = 0.5f * glm::length(m.bbox_max - m.bbox_min) + depth;
     return scene;
+}
+
+// Cone maps built by GL tests are cached here (never in the user's cache).
+inline std::filesystem::path cache_dir()
+{
+    return std::filesystem::temp_directory_path() / "prismrelief-gl-tests-cache";
 }
 
 inline std::size_t coverage(const pr::RgbaImage& img)

@@ -83,6 +83,7 @@ TEST(Prism, OutlineMatchesTheReferenceOnCurvedMeshes)
 {
     prtest::context();
     Renderer r(160, 160);
+    r.set_cache_dir(prtest::cache_dir());
     auto bumps = std::make_shared<HeightField>(load_height("builtin:bumps@256"));
     for (const char* name : {"uv_sphere.obj", "torus.obj", "rock.obj"}) {
         Scene scene = mesh_scene(name, bumps, 0.04f);
@@ -92,11 +93,13 @@ TEST(Prism, OutlineMatchesTheReferenceOnCurvedMeshes)
             const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, elevation, 30.0f);
             r.prepare_reference(scene, c, ReferenceOptions{});
             const FrameCapture ref = capture(r, c, Technique::Reference);
-            for (Marcher marcher : {Marcher::Relief, Marcher::Linear}) {
+            for (Marcher marcher : {Marcher::Relief, Marcher::Linear, Marcher::Cone, Marcher::RelaxedCone}) {
                 const CompareMetrics prism = compare_frames(capture(r, c, Technique::Prism, marcher), ref);
-                EXPECT_GT(prism.iou, 0.98) << name << " elevation " << elevation;
+                const std::string what = std::string(name) + " elevation " + std::to_string(elevation) +
+                                         " marcher " + marcher_name(marcher);
+                EXPECT_GT(prism.iou, 0.98) << what;
                 ASSERT_TRUE(prism.depth_error_median.has_value());
-                EXPECT_LT(*prism.depth_error_median, 0.02 * depth) << name << " elevation " << elevation;
+                EXPECT_LT(*prism.depth_error_median, 0.02 * depth) << what;
             }
             const CompareMetrics pom = compare_frames(capture(r, c, Technique::Pom), ref);
             EXPECT_LT(pom.iou, 0.95) << name << " elevation " << elevation;

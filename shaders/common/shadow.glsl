@@ -1,0 +1,49 @@
+// Self-shadowing (PR_SHADOWS): from a point on the height field, march towards the light through
+// the height field, in texture space (u, v, height), up to the top of the height range. Hard:
+// any surface sample above the ray blocks the light. Soft: the light fades with the smallest
+// clearance angle seen along the way (height above the surface over distance travelled), the
+// usual penumbra estimate; blocked samples give 0. Samples count as height samples (contract).
+// `l_tex` is the light direction in texture space (the same frame the view ray is solved in).
+#ifndef PR_SHADOW_SOFTNESS
+#define PR_SHADOW_SOFTNESS 6.0 // clearance slope (height/run) of full light is 1/this
+#endif
+
+float light_visibility(vec3 tex, vec3 l_tex, UvGrad g)
+{
+#ifdef PR_SHADOWS
+    if (l_tex.z <= 1e-6) return 1.0; // light at or below the horizon: n.l already darkens
+    float t_end = (1.0 - tex.z) / l_tex.z;
+    if (t_end <= 0.0) return 1.0;
+    // --steps per full height range, and at least one sample per two texels along the way (as the
+    // prism's march), bounded.
+    vec2 texels = t_end * l_tex.xy * vec2(textureSize(s_height, 0));
+    int steps = clamp(int(ceil(float(u_march.x) * (1.0 - tex.z) + 0.5 * length(texels))), 1,
+                      2 * max(u_march.x, 1) + 64);
+    float dt = t_end / float(steps);
+    const float bias = 2e-3;
+    float visibility = 1.0;
+    for (int i = 1; i <= steps; ++i) {
+        float t = float(i) * dt;
+        vec3 p = tex + t * l_tex;
+        float clearance = p.z + bias - height_at(p.xy, g);
+#if PR_SHADOWS == PR_SHADOWS_HARD
+        if (clearance < 0.0) return 0.0;
+#else
+        float run = t * length(l_tex.xy) + 1e-6;
+        visibility = min(visibility, clamp(PR_SHADOW_SOFTNESS * clearance / run, 0.0, 1.0));
+        if (visibility <= 0.0) return 0.0;
+#endif
+    }
+    return visibility;
+#else
+    return 1.0;
+#endif
+}
+
+// The light direction in the texture space of the frame (t, b, n * depth).
+vec3 light_in_texture_space(vec3 t_axis, vec3 b_axis, vec3 n, float depth, vec3 light_dir)
+{
+    mat3 frame = mat3(t_axis, b_axis, n * depth);
+    if (!(abs(determinant(frame)) > 1e-30)) return vec3(0.0, 0.0, 1.0);
+    return inverse(frame) * light_dir;
+}

@@ -1,0 +1,52 @@
+// Cone stepping (Dummer 2006, "Cone Step Mapping") and relaxed cone stepping (Policarpo &
+// Oliveira, GPU Gems 3 ch. 18), one loop for both: the cone texture bound to PR_TEX_CONE holds
+// R = height and G = sqrt(c), c = horizontal distance in UV units over height rise (contract
+// "Cone maps"). From a point above the surface the ray may advance as far as it stays inside the
+// cone standing on the surface below it:
+//     dt = c * (z - h) / (|dir.xy| - c * dir.z)
+// (a rising ray whose slope is steeper than the cone's never leaves it: it goes to the end).
+// With a conservative map the cone is empty, so the ray never passes the surface; with a relaxed
+// map it crosses the surface at most once inside the cone, so the first sample below the
+// surface brackets the first crossing. Either way a binary search (refine_binary) finishes.
+//
+// Every step is at least the linear step t_end / steps (contract: equal --steps means equal
+// step length), so cone stepping never does more work than the linear search and converges
+// where cones shrink to nothing near the surface; between texel centres the bilinear cone is
+// an approximation, which the minimum step and the refinement bound to a fraction of a step.
+#include "march/relief.glsl"
+
+#ifdef PR_HEIGHT_FROM_CONE // (common/height.glsl declares s_cone then)
+
+// One fetch of the cone map at level 0: (height, c). Counted as a height sample.
+vec2 cone_at(vec2 uv)
+{
+    ++g_height_samples;
+    vec2 rg = textureLod(s_cone, uv, 0.0).rg;
+    return vec2(rg.r, rg.g * rg.g);
+}
+
+Bracket march_cone(MarchRay r)
+{
+    float min_dt = r.t_end / float(max(r.steps, 1));
+    float run = length(r.dir.xy); // UV units per unit t
+    vec2 hc = cone_at(r.origin.xy);
+    float d = r.origin.z - hc.x;
+    if (d <= PR_HIT_EPSILON) return Bracket(true, 0.0, 0.0, 0.0, max(-d, 0.0));
+    float t = 0.0;
+    // Each iteration advances at least min_dt, so at most `steps` of them.
+    for (int i = 0; i < r.steps; ++i) {
+        float denom = run - hc.y * r.dir.z;
+        float dt = denom > 1e-12 ? hc.y * d / denom : r.t_end;
+        float t_next = min(t + max(dt, min_dt), r.t_end);
+        vec3 p = r.origin + t_next * r.dir;
+        vec2 hc_next = cone_at(p.xy);
+        float d_next = p.z - hc_next.x;
+        if (d_next <= PR_HIT_EPSILON) return Bracket(true, t, t_next, d, max(-d_next, 0.0));
+        t = t_next;
+        d = d_next;
+        hc = hc_next;
+        if (t >= r.t_end) break;
+    }
+    return Bracket(false, t, t, d, 0.0);
+}
+#endif // PR_HEIGHT_FROM_CONE

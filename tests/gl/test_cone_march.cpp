@@ -1,0 +1,195 @@
+// Cone marchers (cone, relaxed-cone; base surface and inside the prism) against a dense linear
+// search, their sample counts, and self-shadowing.
+#include "gl_fixture.hpp"
+
+#include "core/camera.hpp"
+#include "eval/metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+using namespace pr;
+
+namespace {
+
+const glm::vec3 kLight = glm::normalize(glm::vec3(-0.3f, 0.6f, 1.0f));
+
+// The flat square seen at 45 degrees, so rays cross several texels on their way down.
+Camera oblique_camera()
+{
+    Camera c;
+    c.eye = {0.0f, -1.9f, 1.9f};
+    c.target = {0.0f, 0.0f, 0.0f};
+    c.up = {0.0f, 0.0f, 1.0f};
+    c.fovy_deg = 40.0f;
+    c.near_plane = 0.5f;
+    c.far_plane = 6.0f;
+    return c;
+}
+
+// Distance from the eye per pixel (NaN where nothing was drawn).
+std::vector<float> distances(const Renderer& r, const Camera& c)
+{
+    const std::vector<float> depth = r.read_depth();
+    std::vector<float> d(depth.size(), NAN);
+    for (int y = 0; y < r.height(); ++y)
+        for (int x = 0; x < r.width(); ++x) {
+            const float w = depth[std::size_t(y) * r.width() + x];
+            if (w < 1.0f) d[std::size_t(y) * r.width() + x] = depth_to_distance(c, r.width(), r.height(), x, y, w);
+        }
+    return d;
+}
+
+struct Agreement {
+    double within = 0.0;  // fraction of pixels covered by both with |difference| <= tolerance
+    std::size_t both = 0; // pixels covered by both
+    std::size_t only_one = 0;
+};
+
+Agreement agree(const std::vector<float>& a, const std::vector<float>& b, float tolerance)
+{
+    Agreement g;
+    std::size_t ok = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        const bool ha = !std::isnan(a[i]), hb = !std::isnan(b[i]);
+        if (ha != hb) ++g.only_one;
+        if (!ha || !hb) continue;
+        ++g.both;
+        ok += std::abs(a[i] - b[i]) <= tolerance;
+    }
+    g.within = g.both ? double(ok) / double(g.both) : 0.0;
+    return g;
+}
+
+DrawSettings settings(Technique t, Marcher m = Marcher::Relief)
+{
+    DrawSettings s;
+    s.technique = t;
+    s.marcher = m;
+    s.depth_write = true;
+    return s;
+}
+
+} // namespace
+
+// The contract's test: on a flat shell, cone and relaxed-cone find the same hits as a dense
+// linear search (1024 steps + refinement) within one texel, for the base-surface techniques and
+// inside the prism.
+TEST(ConeMarch, SameHitsAsADenseLinearSearchOnAFlatShell)
+{
+    prtest::context();
+    constexpr int kTexels = 64;
+    const float depth = 0.2f;
+    auto h = prtest::height_from(kTexels, [](float u, float v) {
+        const float a = std::sin(6.2831853f * 3.0f * u) * std::sin(6.2831853f * 2.0f * v);
+        const float spike = std::exp(-((u - 0.3f) * (u - 0.3f) + (v - 0.6f) * (v - 0.6f)) * 400.0f);
+        return std::clamp(0.45f + 0.35f * a + 0.5f * spike, 0.0f, 1.0f);
+    });
+    Renderer r(160, 120);
+    r.set_cache_dir(prtest::cache_dir());
+    r.upload(prtest::one_object(prtest::square(), h, depth));
+    const Camera c = oblique_camera();
+    // One texel of the 2-unit square is 2/64 scene units; seen at 45 degrees a hit one texel
+    // off moves the distance by about that much.
+    const float texel = 2.0f / kTexels;
+
+    struct Case {
+        Technique technique;
+        Marcher marcher;
+    };
+    const Case dense_cases[] = {{Technique::Relief, Marcher::Relief}, {Technique::Prism, Marcher::Relief}};
+    for (const Case& dense_case : dense_cases) {
+        DrawSettings dense = settings(dense_case.technique, dense_case.marcher);
+        dense.steps = 1024;
+        dense.refine = 8;
+        r.draw(c, kLight, dense);
+        const std::vector<float> truth = distances(r, c);
+        const bool prism = dense_case.technique == Technique::Prism;
+        const std::pair<Technique, Marcher> fast[] = {
+            {prism ? Technique::Prism : Technique::Cone, Marcher::Cone},
+            {prism ? Technique::Prism : Technique::RelaxedCone, Marcher::RelaxedCone}};
+        for (const auto& [t, m] : fast) {
+            r.draw(c, kLight, settings(t, m));
+            const Agreement g = agree(distances(r, c), truth, texel);
+            const std::string what = technique_name(t) + " " + marcher_name(m);
+            EXPECT_GT(g.both, 5000u) << what;
+            EXPECT_GT(g.within, 0.99) << what << ": " << g.both << " pixels";
+            EXPECT_LT(double(g.only_one), 0.01 * double(g.both)) << what;
+        }
+    }
+}
+
+// The point of cone maps: far fewer height samples than relief's linear search at the same
+// --steps/--refine, with the same outline.
+TEST(ConeMarch, TakesFewerSamplesThanRelief)
+{
+    prtest::context();
+    auto h = std::make_shared<HeightField>(load_height("builtin:bumps@128"));
+    Renderer r(128, 96);
+    r.set_cache_dir(prtest::cache_dir());
+    r.upload(prtest::one_object(prtest::square(), h, 0.15f));
+    const Camera c = oblique_camera();
+    const auto samples = [&](Technique t, Marcher m) {
+        DrawSettings s = settings(t, m);
+        s.count_samples = true;
+        r.draw(c, kLight, s);
+        const SampleCounters k = r.read_counters();
+        EXPECT_GT(k.fragments, 1000u);
+        return double(k.samples) / double(std::max<std::uint64_t>(k.fragments, 1));
+    };
+    const double relief = samples(Technique::Relief, Marcher::Relief);
+    const double cone = samples(Technique::Cone, Marcher::Cone);
+    const double relaxed = samples(Technique::RelaxedCone, Marcher::RelaxedCone);
+    EXPECT_LT(cone, 0.6 * relief) << relief;
+    EXPECT_LE(relaxed, cone + 1e-9) << relief;
+    const double prism_relief = samples(Technique::Prism, Marcher::Relief);
+    const double prism_relaxed = samples(Technique::Prism, Marcher::RelaxedCone);
+    EXPECT_LT(prism_relaxed, 0.6 * prism_relief);
+}
+
+// The contract's shadow test: a single tall box in the middle of a flat height map darkens the
+// texels behind it as seen from the light, and not those in front of it.
+TEST(Shadows, ATallBoxShadowsTheSideAwayFromTheLight)
+{
+    prtest::context();
+    auto h = prtest::height_from(64, [](float u, float v) {
+        return std::abs(u - 0.5f) < 0.08f && std::abs(v - 0.5f) < 0.08f ? 1.0f : 0.0f;
+    });
+    Renderer r(128, 128);
+    r.set_cache_dir(prtest::cache_dir());
+    r.upload(prtest::one_object(prtest::square(), h, 0.4f));
+    Camera c; // straight down onto the square
+    c.eye = {0.0f, 0.0f, 4.0f};
+    c.up = {0.0f, 1.0f, 0.0f};
+    c.fovy_deg = 35.0f;
+    c.near_plane = 1.0f;
+    c.far_plane = 8.0f;
+    const glm::vec3 light = glm::normalize(glm::vec3(1.0f, 0.0f, 0.6f)); // low, from +X
+
+    // Brightness at a point of the square (the floor, height 0), by projecting it.
+    const auto brightness = [&](const RgbaImage& img, glm::vec2 p) {
+        const glm::vec4 clip = c.projection(1.0f) * c.view() * glm::vec4(p, 0.0f, 1.0f);
+        const int x = int((clip.x / clip.w * 0.5f + 0.5f) * img.width);
+        const int y = int((clip.y / clip.w * 0.5f + 0.5f) * img.height);
+        const glm::u8vec4 px = img.at(x, y);
+        return (int(px.r) + px.g + px.b) / 3;
+    };
+    // The box spans x in [-0.16, 0.16]; it is 0.4 tall, the light rises 0.6 per unit of x, so
+    // its shadow reaches about 0.67 beyond its -X side.
+    const glm::vec2 behind{-0.45f, 0.0f}, in_front{0.45f, 0.0f}, aside{-0.45f, 0.6f};
+    for (Technique t : {Technique::Relief, Technique::RelaxedCone, Technique::Prism}) {
+        for (Shadows mode : {Shadows::Hard, Shadows::Soft}) {
+            DrawSettings s = settings(t, Marcher::RelaxedCone);
+            r.draw(c, light, s);
+            const RgbaImage lit = r.read_color();
+            s.shadows = mode;
+            r.draw(c, light, s);
+            const RgbaImage shadowed = r.read_color();
+            const std::string what = technique_name(t) + " " + shadows_name(mode);
+            EXPECT_LT(brightness(shadowed, behind), brightness(lit, behind) / 2) << what;
+            EXPECT_NEAR(brightness(shadowed, in_front), brightness(lit, in_front), 2) << what;
+            EXPECT_NEAR(brightness(shadowed, aside), brightness(lit, aside), 2) << what;
+        }
+    }
+}
