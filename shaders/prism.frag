@@ -12,6 +12,7 @@
 #include "march/relief.glsl"
 // (The embedder expands each file once, whatever the #if around it: include unconditionally.)
 #include "march/cone.glsl"
+#include "march/maxmip.glsl"
 #include "common/shadow.glsl"
 #include "prism/shell.glsl"
 
@@ -98,6 +99,8 @@ void main()
     MarchRay ray = MarchRay(v_tex, seg, 1.0, steps);
 #if PR_MARCHER == PR_MARCH_CONE || PR_MARCHER == PR_MARCH_RELAXED_CONE
     Bracket br = march_cone(ray);
+#elif PR_MARCHER == PR_MARCH_MAX_MIP
+    Bracket br = march_max_mip(ray);
 #else
     Bracket br = march_linear(ray, g);
 #endif
@@ -107,6 +110,10 @@ void main()
     }
 #if PR_MARCHER == PR_MARCH_LINEAR
     float s = interpolate_bracket(br);
+#elif PR_MARCHER == PR_MARCH_CONE || PR_MARCHER == PR_MARCH_RELAXED_CONE
+    float s = refine_binary(ray, br, cone_refine_steps(ray, br, u_march.y), g);
+#elif PR_MARCHER == PR_MARCH_MAX_MIP
+    float s = br.t_below; // exact: no refinement
 #else
     float s = refine_binary(ray, br, u_march.y, g);
 #endif

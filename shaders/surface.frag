@@ -66,8 +66,10 @@ void main()
         float s_t = b.hit ? b.t_below : 1.0;
 #if PR_TECHNIQUE == PR_TECH_POM
         if (b.hit) s_t = interpolate_bracket(b);
-#elif PR_TECHNIQUE == PR_TECH_RELIEF || PR_TECHNIQUE == PR_TECH_CONE || PR_TECHNIQUE == PR_TECH_RELAXED_CONE
+#elif PR_TECHNIQUE == PR_TECH_RELIEF
         if (b.hit) s_t = refine_binary(ray, b, u_march.y, g);
+#elif PR_TECHNIQUE == PR_TECH_CONE || PR_TECHNIQUE == PR_TECH_RELAXED_CONE
+        if (b.hit) s_t = refine_binary(ray, b, cone_refine_steps(ray, b, u_march.y), g);
 #endif
         uv += s_t * slope;
         t_hit = s_t / descent;

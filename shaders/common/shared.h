@@ -48,6 +48,7 @@ using mat4 = glm::mat4;
 #define PR_MARCH_RELIEF 1 // linear search + binary refinement
 #define PR_MARCH_CONE 2   // cone stepping (conservative cone map) + binary refinement
 #define PR_MARCH_RELAXED_CONE 3 // relaxed cone stepping + binary refinement
+#define PR_MARCH_MAX_MIP 4 // max-pyramid traversal + exact bilinear-patch intersection
 
 // Self-shadowing (PR_SHADOWS, defined only when on).
 #define PR_SHADOWS_NONE 0

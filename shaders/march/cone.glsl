@@ -49,4 +49,13 @@ Bracket march_cone(MarchRay r)
     }
     return Bracket(false, t, t, d, 0.0);
 }
+
+// Binary steps that leave the bracket of a cone march as narrow as relief's (--refine halvings of
+// one linear step): a relaxed cone's last step may be several linear steps long.
+int cone_refine_steps(MarchRay r, Bracket b, int refine)
+{
+    float min_dt = r.t_end / float(max(r.steps, 1));
+    float ratio = (b.t_below - b.t_above) / min_dt;
+    return refine + (ratio > 1.0 ? int(ceil(log2(ratio))) : 0);
+}
 #endif // PR_HEIGHT_FROM_CONE

@@ -7,6 +7,7 @@
 
 #include "common/shared.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
@@ -70,6 +71,43 @@ gl::Texture make_cone_texture(const ConeMap& map)
     return t;
 }
 
+// Max pyramid for the max-mip marcher (R32F, texelFetch only). Level 0 cell (i, j) is the
+// bilinear patch between texel centres (i, j) and (i + 1, j + 1), wrapping, and holds the max of
+// its 4 corner texels, which bounds the patch. Level k has GL's floor(size / 2^k) cells per side;
+// cell c covers level-0 cells [c 2^k, (c + 1) 2^k), the last one also the remainder up to the
+// size (shaders/march/maxmip.glsl computes the same spans).
+gl::Texture make_max_pyramid_texture(const HeightField& hf)
+{
+    const int w = hf.width, h = hf.height, levels = mip_levels(w, h);
+    std::vector<float> prev(std::size_t(w) * h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            prev[std::size_t(y) * w + x] = std::max(std::max(hf.at(x, y), hf.at(x + 1, y)),
+                                                    std::max(hf.at(x, y + 1), hf.at(x + 1, y + 1)));
+    gl::Texture t = gl::Texture::create(GL_TEXTURE_2D);
+    glTextureStorage2D(t.id(), levels, GL_R32F, w, h);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(t.id(), 0, 0, 0, w, h, GL_RED, GL_FLOAT, prev.data());
+    int pw = w, ph = h;
+    for (int level = 1; level < levels; ++level) {
+        const int lw = std::max(1, w >> level), lh = std::max(1, h >> level);
+        std::vector<float> cur(std::size_t(lw) * lh, 0.0f);
+        // Each cell of the previous level goes to its parent; the last parent takes the rest.
+        for (int y = 0; y < ph; ++y)
+            for (int x = 0; x < pw; ++x) {
+                float& m = cur[std::size_t(std::min(y / 2, lh - 1)) * lw + std::min(x / 2, lw - 1)];
+                m = std::max(m, prev[std::size_t(y) * pw + x]);
+            }
+        glTextureSubImage2D(t.id(), level, 0, 0, lw, lh, GL_RED, GL_FLOAT, cur.data());
+        prev = std::move(cur);
+        pw = lw;
+        ph = lh;
+    }
+    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
+    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    return t;
+}
+
 std::string variant_key(const ShaderDefines& defines)
 {
     std::string key;
@@ -84,7 +122,7 @@ ShaderDefines defines_for(const DrawSettings& s)
                                  "PR_TECH_REFERENCE", "PR_TECH_PRISM", "PR_TECH_CONE",
                                  "PR_TECH_RELAXED_CONE"};
     static const char* marcher[] = {"PR_MARCH_LINEAR", "PR_MARCH_RELIEF", "PR_MARCH_CONE",
-                                    "PR_MARCH_RELAXED_CONE"};
+                                    "PR_MARCH_RELAXED_CONE", "PR_MARCH_MAX_MIP"};
     static const char* shadows[] = {"PR_SHADOWS_NONE", "PR_SHADOWS_HARD", "PR_SHADOWS_SOFT"};
     static const char* quality[] = {"PR_NORMAL_GATHER", "PR_NORMAL_CENTRAL", "PR_NORMAL_SOBEL"};
     ShaderDefines d = {{"PR_TECHNIQUE", tech[static_cast<int>(s.technique)]},
@@ -96,7 +134,7 @@ ShaderDefines defines_for(const DrawSettings& s)
     if (s.depth_write && s.technique != Technique::Prism) d.emplace_back("PR_DEPTH_WRITE", "1");
     if (s.shadows != Shadows::None && s.technique != Technique::Flat && s.technique != Technique::Reference)
         d.emplace_back("PR_SHADOWS", shadows[static_cast<int>(s.shadows)]);
-    if (s.cone_need() != ConeNeed::None) d.emplace_back("PR_HEIGHT_FROM_CONE", "1");
+    if (s.aux_map() == AuxMap::Cone || s.aux_map() == AuxMap::Relaxed) d.emplace_back("PR_HEIGHT_FROM_CONE", "1");
     if (s.count_samples) d.emplace_back("PR_COUNT_SAMPLES", "1");
     return d;
 }
@@ -149,7 +187,7 @@ void Renderer::upload(const Scene& scene)
 {
     objects_.clear();
     texture_cache_.clear();
-    cone_cache_.clear();
+    aux_cache_.clear();
     for (const SceneObject& so : scene.objects) {
         GpuObject o;
         o.depth = so.depth;
@@ -266,26 +304,32 @@ GLuint Renderer::program_for(const DrawSettings& settings)
     return it->second.id();
 }
 
-void Renderer::ensure_cone_textures(ConeNeed need)
+void Renderer::ensure_aux_textures(AuxMap map)
 {
-    if (need == ConeNeed::None) return;
-    const ConeKind kind = need == ConeNeed::Cone ? ConeKind::Cone : ConeKind::Relaxed;
-    const int k = static_cast<int>(kind);
-    if (cache_dir_.empty()) cache_dir_ = default_cache_dir();
+    if (map == AuxMap::None) return;
+    const int k = static_cast<int>(map) - 1;
+    if (map != AuxMap::MaxMip && cache_dir_.empty()) cache_dir_ = default_cache_dir();
     for (GpuObject& o : objects_) {
-        if (o.cone_texture[k]) continue;
-        auto& t = cone_cache_[{o.height_field.get(), k}];
-        if (!t) t = make_cone_texture(cached_cone_map(*o.height_field, kind, cache_dir_).map);
-        o.cone_texture[k] = t.id();
+        if (o.aux_texture[k]) continue;
+        auto& t = aux_cache_[{o.height_field.get(), k}];
+        if (!t) {
+            if (map == AuxMap::MaxMip) {
+                t = make_max_pyramid_texture(*o.height_field);
+            } else {
+                const ConeKind kind = map == AuxMap::Cone ? ConeKind::Cone : ConeKind::Relaxed;
+                t = make_cone_texture(cached_cone_map(*o.height_field, kind, cache_dir_).map);
+            }
+        }
+        o.aux_texture[k] = t.id();
     }
-    if (glGetError() == GL_OUT_OF_MEMORY) throw Error("scene", "out of GPU memory while uploading cone maps");
+    if (glGetError() == GL_OUT_OF_MEMORY) throw Error("scene", "out of GPU memory while uploading derived maps");
 }
 
 double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSettings& settings)
 {
     const GLuint program = program_for(settings);
-    const ConeNeed cone_need = settings.cone_need();
-    ensure_cone_textures(cone_need);
+    const AuxMap aux_map = settings.aux_map();
+    ensure_aux_textures(aux_map);
     const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
 
     shader::FrameBlock frame{};
@@ -331,11 +375,9 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         glBindTextureUnit(PR_TEX_HEIGHT, o.height_texture);
         // Without a colour texture the unit still needs a valid texture; it is not sampled.
         glBindTextureUnit(PR_TEX_COLOR, o.color_texture ? o.color_texture : o.height_texture);
-        // Likewise the cone unit: the cone map of the kind this draw needs, else any texture.
-        const GLuint cone = cone_need == ConeNeed::Relaxed ? o.cone_texture[1]
-                            : cone_need == ConeNeed::Cone  ? o.cone_texture[0]
-                                                           : 0;
-        glBindTextureUnit(PR_TEX_CONE, cone ? cone : o.height_texture);
+        // Likewise the derived-map unit: the map this draw needs, else any texture.
+        const GLuint aux = aux_map == AuxMap::None ? 0 : o.aux_texture[static_cast<int>(aux_map) - 1];
+        glBindTextureUnit(PR_TEX_CONE, aux ? aux : o.height_texture);
     };
     glUseProgram(program);
     for (const GpuObject& o : objects_) {

@@ -94,7 +94,7 @@ private:
         GLuint height_texture = 0; // owned by texture_cache_
         GLuint color_texture = 0;  // 0: plain base colour
         std::shared_ptr<const HeightField> height_field; // for cone maps, built on demand
-        GLuint cone_texture[2] = {0, 0}; // by ConeKind (cone, relaxed); owned by cone_cache_
+        GLuint aux_texture[3] = {0, 0, 0}; // cone, relaxed cone, max pyramid; owned by aux_cache_
         glm::ivec2 height_size{0};
         // Copied from the SceneObject, so the Scene need not outlive the upload.
         float depth = 0.0f;
@@ -116,9 +116,10 @@ private:
     std::vector<GpuObject> objects_;
     std::map<std::string, gl::Program> programs_;
     std::map<const void*, gl::Texture> texture_cache_; // heights/colours shared by objects
-    std::map<std::pair<const void*, int>, gl::Texture> cone_cache_; // (height field, kind)
+    std::map<std::pair<const void*, int>, gl::Texture> aux_cache_; // (height field, AuxMap - 1)
     std::filesystem::path cache_dir_;
-    void ensure_cone_textures(ConeNeed need);
+    // Builds (or reads from the cache) and uploads the derived map each object needs.
+    void ensure_aux_textures(AuxMap map);
 };
 
 } // namespace pr

@@ -68,7 +68,8 @@ struct MarcherInfo {
 constexpr MarcherInfo kMarchers[] = {{Marcher::Linear, "linear"},
                                      {Marcher::Relief, "relief"},
                                      {Marcher::Cone, "cone"},
-                                     {Marcher::RelaxedCone, "relaxed-cone"}};
+                                     {Marcher::RelaxedCone, "relaxed-cone"},
+                                     {Marcher::MaxMip, "max-mip"}};
 } // namespace
 
 Marcher parse_marcher(const std::string& name, const std::string& option)
@@ -105,13 +106,17 @@ std::string shadows_name(Shadows s)
     return s == Shadows::Hard ? "hard" : s == Shadows::Soft ? "soft" : "none";
 }
 
-ConeNeed DrawSettings::cone_need() const
+AuxMap DrawSettings::aux_map() const
 {
-    if (technique == Technique::Cone) return ConeNeed::Cone;
-    if (technique == Technique::RelaxedCone) return ConeNeed::Relaxed;
-    if (technique == Technique::Prism && marcher == Marcher::Cone) return ConeNeed::Cone;
-    if (technique == Technique::Prism && marcher == Marcher::RelaxedCone) return ConeNeed::Relaxed;
-    return ConeNeed::None;
+    if (technique == Technique::Cone) return AuxMap::Cone;
+    if (technique == Technique::RelaxedCone) return AuxMap::Relaxed;
+    if (technique != Technique::Prism) return AuxMap::None;
+    switch (marcher) {
+    case Marcher::Cone: return AuxMap::Cone;
+    case Marcher::RelaxedCone: return AuxMap::Relaxed;
+    case Marcher::MaxMip: return AuxMap::MaxMip;
+    default: return AuxMap::None;
+    }
 }
 
 PrismExit parse_prism_exit(const std::string& name, const std::string& option)

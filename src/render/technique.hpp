@@ -10,7 +10,9 @@ namespace pr {
 enum class Technique { Flat, Normal, Offset, Steep, Pom, Relief, Reference, Prism, Cone, RelaxedCone };
 // Ray marchers inside the prism. Cone and RelaxedCone step through the cone map of that kind
 // (src/maps/conemap.hpp) and finish with a binary search.
-enum class Marcher { Linear, Relief, Cone, RelaxedCone };
+// MaxMip traverses a pyramid of height maxima (quadtree displacement mapping) and intersects the
+// bilinear patch exactly.
+enum class Marcher { Linear, Relief, Cone, RelaxedCone, MaxMip };
 // Self-shadowing: march from the hit towards the light through the height field.
 enum class Shadows { None, Hard, Soft };
 // How the prism finds where the ray leaves it: exactly per fragment, or from per-vertex distances
@@ -32,15 +34,16 @@ std::string technique_names(); // "flat|normal|…" for help texts
 NormalQuality parse_normal_quality(const std::string& name);
 Marcher parse_marcher(const std::string& name, const std::string& option = "--marcher");
 std::string marcher_name(Marcher m);
-std::string marcher_names(); // "linear|relief|cone|relaxed-cone"
+std::string marcher_names(); // "linear|relief|cone|relaxed-cone|max-mip"
 Shadows parse_shadows(const std::string& name, const std::string& option = "--shadows");
 std::string shadows_name(Shadows s);
 PrismExit parse_prism_exit(const std::string& name, const std::string& option = "--prism-exit");
 
 std::string normal_quality_name(NormalQuality q);
 
-// The cone map a draw needs, if any: techniques cone/relaxed-cone and prism with those marchers.
-enum class ConeNeed { None, Cone, Relaxed };
+// The derived map a draw needs besides the height map, bound to PR_TEX_CONE: a cone map of either
+// kind (techniques cone/relaxed-cone, prism with those marchers) or the max pyramid (max-mip).
+enum class AuxMap { None, Cone, Relaxed, MaxMip };
 
 // How one technique draws: quality knobs shared by every marcher (contract: equal --steps means
 // equal step length in any comparison).
@@ -55,7 +58,7 @@ struct DrawSettings {
     bool depth_write = false; // base-surface techniques: write the depth of what they show
     bool count_samples = false; // instrumented variant (bench)
 
-    ConeNeed cone_need() const;
+    AuxMap aux_map() const;
 };
 
 // Ground truth (technique `reference`): how finely to tessellate.

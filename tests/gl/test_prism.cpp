@@ -93,7 +93,7 @@ TEST(Prism, OutlineMatchesTheReferenceOnCurvedMeshes)
             const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, elevation, 30.0f);
             r.prepare_reference(scene, c, ReferenceOptions{});
             const FrameCapture ref = capture(r, c, Technique::Reference);
-            for (Marcher marcher : {Marcher::Relief, Marcher::Linear, Marcher::Cone, Marcher::RelaxedCone}) {
+            for (Marcher marcher : {Marcher::Relief, Marcher::Linear, Marcher::Cone, Marcher::RelaxedCone, Marcher::MaxMip}) {
                 const CompareMetrics prism = compare_frames(capture(r, c, Technique::Prism, marcher), ref);
                 const std::string what = std::string(name) + " elevation " + std::to_string(elevation) +
                                          " marcher " + marcher_name(marcher);

@@ -1,0 +1,100 @@
+// Max-pyramid traversal (quadtree displacement mapping: Tevs, Ihrke & Seidel 2008; Drobot 2009)
+// with an exact ray / bilinear-patch intersection at the finest level. The pyramid bound to
+// PR_TEX_CONE (src/render/renderer.cpp, make_max_pyramid_texture) holds, at level 0, the max of
+// the 4 texels around each bilinear patch (patch (i, j) spans texel centres i..i+1, j..j+1,
+// wrapping), and at level k the max over GL's floor(size / 2^k) cells, the last cell of a row
+// taking the remainder. The ray skips every cell whose maximum it passes above; it descends
+// into a cell it may touch, and at level 0 solves the quadratic z(t) = h(t) of the patch, so the
+// hit needs no refinement. Coordinates: X = uv * size - 0.5 puts patch i at [i, i + 1).
+#include "march/relief.glsl"
+
+#if defined(PR_MARCHER) && PR_MARCHER == PR_MARCH_MAX_MIP
+layout(binding = PR_TEX_CONE) uniform sampler2D s_maxmip;
+
+#ifndef PR_MAXMIP_MAX_ITERATIONS
+#define PR_MAXMIP_MAX_ITERATIONS 1024
+#endif
+
+// First t in [0, t_len] where z0 + t dz <= the bilinear patch with corner heights
+// h = (h00, h10, h01, h11) along f0 + t df (patch coordinates in [0,1]^2); -1 when none.
+float patch_hit(vec4 h, vec2 f0, vec2 df, float z0, float dz, float t_len)
+{
+    float b = h.y - h.x, c = h.z - h.x, d = h.w - h.y - h.z + h.x;
+    // g(t) = z(t) - h(t) = c0 + c1 t + c2 t^2
+    float c0 = z0 - (h.x + b * f0.x + c * f0.y + d * f0.x * f0.y);
+    if (c0 <= PR_HIT_EPSILON) return 0.0;
+    float c1 = dz - (b * df.x + c * df.y + d * (f0.x * df.y + f0.y * df.x));
+    float c2 = -d * df.x * df.y;
+    float root = -1.0;
+    if (abs(c2) <= 1e-7 * (abs(c1) + abs(c0))) {
+        if (c1 < 0.0) root = -c0 / c1;
+    } else {
+        float disc = c1 * c1 - 4.0 * c2 * c0;
+        if (disc >= 0.0) {
+            float q = -0.5 * (c1 + (c1 >= 0.0 ? 1.0 : -1.0) * sqrt(disc));
+            float r1 = q / c2, r2 = q != 0.0 ? c0 / q : -1.0;
+            float lo = min(r1, r2), hi = max(r1, r2);
+            root = lo >= 0.0 ? lo : hi;
+        }
+    }
+    if (root >= 0.0 && root <= t_len) return root;
+    // Rays that end on the surface (a cap at height 0 or 1) hit at the end despite rounding.
+    return c0 + (c1 + c2 * t_len) * t_len <= PR_HIT_EPSILON ? t_len : -1.0;
+}
+
+Bracket march_max_mip(MarchRay r)
+{
+    ivec2 size0 = textureSize(s_maxmip, 0);
+    int top = textureQueryLevels(s_maxmip) - 1;
+    vec2 scale = vec2(size0);
+    vec2 x0 = r.origin.xy * scale - 0.5;
+    vec2 dx = r.dir.xy * scale;
+    // A nudge past a cell's border: a ten-thousandth of a cell (or of the ray).
+    float eps_t = 1e-4 * min(1.0 / max(max(abs(dx.x), abs(dx.y)), 1e-6), r.t_end);
+    float t = 0.0;
+    int level = top;
+    for (int i = 0; i < PR_MAXMIP_MAX_ITERATIONS && t <= r.t_end; ++i) {
+        vec2 x = x0 + t * dx;
+        float z = r.origin.z + t * r.dir.z;
+        ivec2 ix = ivec2(floor(x));
+        ivec2 wrapped = ix - size0 * ivec2(floor(vec2(ix) / scale));
+        ivec2 cells = max(size0 >> level, ivec2(1));
+        ivec2 cell = min(wrapped >> level, cells - 1);
+        vec2 tile = vec2(ix - wrapped);
+        vec2 lo = tile + vec2(cell << level);
+        vec2 hi = tile + vec2(cell.x == cells.x - 1 ? size0.x : (cell.x + 1) << level,
+                              cell.y == cells.y - 1 ? size0.y : (cell.y + 1) << level);
+        float t_leave = r.t_end;
+        if (dx.x > 0.0) t_leave = min(t_leave, (hi.x - x0.x) / dx.x);
+        if (dx.x < 0.0) t_leave = min(t_leave, (lo.x - x0.x) / dx.x);
+        if (dx.y > 0.0) t_leave = min(t_leave, (hi.y - x0.y) / dx.y);
+        if (dx.y < 0.0) t_leave = min(t_leave, (lo.y - x0.y) / dx.y);
+        t_leave = max(t_leave, t);
+        ++g_height_samples;
+        float h_max = texelFetch(s_maxmip, cell, level).r;
+        float z_leave = r.origin.z + t_leave * r.dir.z;
+        if (min(z, z_leave) > h_max + PR_HIT_EPSILON) {
+            // Above everything in this cell: go to the next one, one level coarser.
+            if (t_leave >= r.t_end) break;
+            t = t_leave + eps_t;
+            level = min(level + 1, top);
+            continue;
+        }
+        if (level > 0) {
+            // A descending ray can first drop to the cell's maximum.
+            if (r.dir.z < 0.0 && z > h_max) t += (z - h_max) / -r.dir.z;
+            --level;
+            continue;
+        }
+        ++g_height_samples;
+        // textureGather: x = (i0, j1), y = (i1, j1), z = (i1, j0), w = (i0, j0) around the patch.
+        vec4 q = textureGather(s_height, (vec2(wrapped) + 1.0) / scale, 0);
+        float th = patch_hit(vec4(q.w, q.z, q.x, q.y), x - vec2(ix), dx, z, r.dir.z, t_leave - t);
+        if (th >= 0.0) return Bracket(true, t + th, t + th, 0.0, 0.0);
+        if (t_leave >= r.t_end) break;
+        t = t_leave + eps_t;
+        level = min(level + 1, top);
+    }
+    return Bracket(false, t, t, 0.0, 0.0);
+}
+#endif
