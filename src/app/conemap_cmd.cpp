@@ -1,13 +1,157 @@
-// prismrelief conemap: placeholder until its issue lands (replaced by the real command).
+// prismrelief conemap: a cone or relaxed-cone map of a height map, as a PNG (R height, G ratio;
+// docs/cone-maps.md), through the derived-map cache.
 #include "app/commands.hpp"
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/image.hpp"
+#include "maps/conemap.hpp"
+#include "platform/context.hpp"
+#include "render/conemap_gpu.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <thread>
+#include <unistd.h>
 
 namespace pr {
 
+namespace {
+
+// "[#####.....]  50%" on stderr, redrawn in place; only when stderr is a terminal.
+class ProgressBar {
+public:
+    explicit ProgressBar(bool enabled) : enabled_(enabled) {}
+    ~ProgressBar() { clear(); }
+    void operator()(double fraction)
+    {
+        if (!enabled_) return;
+        const int width = 30, filled = std::clamp(int(fraction * width + 0.5), 0, width);
+        std::fprintf(stderr, "\rconemap: [%s%s] %3d%%", std::string(std::size_t(filled), '#').c_str(),
+                     std::string(std::size_t(width - filled), '.').c_str(), int(fraction * 100.0 + 0.5));
+        std::fflush(stderr);
+        shown_ = true;
+    }
+    void clear()
+    {
+        if (shown_) std::fprintf(stderr, "\r%*s\r", 50, "");
+        shown_ = false;
+    }
+
+private:
+    bool enabled_;
+    bool shown_ = false;
+};
+
+} // namespace
+
 CommandAction add_conemap_command(CLI::App& app)
 {
-    app.add_subcommand("conemap", "(not built yet)");
-    return []() -> int { throw Error("conemap", "not built yet"); };
+    struct State {
+        std::string height;
+        std::string out;
+        std::string kind = "cone";
+        std::string format = "rg16";
+        std::string backend = "cpu";
+        std::string gl_backend = "osmesa";
+        int threads = 0;
+        std::string cache_dir;
+        bool no_cache = false;
+        std::string json;
+    };
+    auto s = std::make_shared<State>();
+    CLI::App* cmd = app.add_subcommand(
+        "conemap", "Build a cone or relaxed-cone map of a height map: PNG with R = height, G = sqrt(cone ratio), "
+                   "rounded down (docs/cone-maps.md)");
+    cmd->add_option("--height", s->height, "Height map: image file or builtin:NAME[@N] (" + [] {
+        std::string l;
+        for (const auto& n : builtin_height_names()) l += (l.empty() ? "" : ", ") + n;
+        return l;
+    }() + ")")->required();
+    cmd->add_option("--out", s->out, "Output PNG: RGB, R height, G ratio, B 0 (8 or 16 bits)")->required();
+    cmd->add_option("--kind", s->kind, "cone (conservative at texel centres) or relaxed (Policarpo & Oliveira)")
+        ->capture_default_str();
+    cmd->add_option("--format", s->format, "rg8 or rg16: bits per channel; ratios are rounded down to its steps")
+        ->capture_default_str();
+    cmd->add_option("--backend", s->backend, "cpu (threads) or gpu (compute shader on an OpenGL 4.5 context)")
+        ->capture_default_str();
+    cmd->add_option("--gl-backend", s->gl_backend, "With --backend gpu: osmesa (llvmpipe) or egl")
+        ->capture_default_str();
+    cmd->add_option("--threads", s->threads, "CPU threads (0: all cores)")->capture_default_str();
+    cmd->add_option("--cache-dir", s->cache_dir,
+                    "Derived-map cache (default $XDG_CACHE_HOME/prismrelief, else ~/.cache/prismrelief)");
+    cmd->add_flag("--no-cache", s->no_cache, "Neither read nor write the cache");
+    cmd->add_option("--json", s->json, "JSON report: size, kind, format, backend, ms, from_cache, ratio statistics");
+    cmd->footer("Example:\n  prismrelief conemap --height builtin:bricks --kind relaxed --out out/bricks_relaxed.png");
+
+    return [s]() {
+        const ConeKind kind = parse_cone_kind(s->kind, "--kind");
+        ConeBuildOptions options;
+        options.format = parse_cone_format(s->format, "--format");
+        if (s->backend != "cpu" && s->backend != "gpu")
+            throw Error("--backend", "unknown cone-map backend '" + s->backend + "' (expected cpu or gpu)");
+        const bool gpu = s->backend == "gpu";
+        const Backend gl_backend = parse_backend(s->gl_backend);
+        if (s->threads < 0 || s->threads > 1024) throw Error("--threads", "must be between 0 (all cores) and 1024");
+        options.threads = s->threads;
+        check_output_folder(s->out);
+        if (!s->json.empty()) check_output_folder(s->json);
+        const HeightField field = load_height(s->height);
+
+        ProgressBar bar(isatty(fileno(stderr)) != 0);
+        options.progress = [&bar](double f) { bar(f); };
+        std::string device = gpu ? "gpu" : "cpu";
+        const ConeBuilder build = [&](const HeightField& f, ConeKind k, const ConeBuildOptions& o) {
+            if (!gpu) {
+                const unsigned n = o.threads > 0 ? unsigned(o.threads) : std::max(1u, std::thread::hardware_concurrency());
+                device = "cpu, " + std::to_string(n) + (n == 1 ? " thread" : " threads");
+                return build_cone_map_cpu(f, k, o);
+            }
+            const std::unique_ptr<Context> context = create_headless_context(gl_backend);
+            device = "gpu, " + context->description();
+            return build_cone_map_gpu(f, k, o);
+        };
+        const auto start = std::chrono::steady_clock::now();
+        ConeCacheResult result;
+        if (s->no_cache) {
+            result.map = build(field, kind, options);
+        } else {
+            const std::filesystem::path dir = s->cache_dir.empty() ? default_cache_dir() : std::filesystem::path(s->cache_dir);
+            result = cached_cone_map(field, kind, dir, options, build);
+        }
+        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        bar.clear();
+        write_cone_png(s->out, result.map, options.format);
+
+        const ConeMap& m = result.map;
+        double sum = 0.0, lo = 1.0, hi = 0.0;
+        for (float r : m.ratios) sum += r, lo = std::min(lo, double(r)), hi = std::max(hi, double(r));
+        const double mean = m.ratios.empty() ? 0.0 : sum / double(m.ratios.size());
+        const std::string how = result.from_cache ? "from the cache (" + result.entry.string() + ")" : "built (" + device + ")";
+        std::printf("%s: %dx%d %s %s, %s in %.0f ms, ratio min %.4f mean %.4f max %.4f\n", s->out.c_str(), m.width,
+                    m.height, cone_kind_name(kind).c_str(), cone_format_name(options.format).c_str(), how.c_str(), ms,
+                    lo, mean, hi);
+        if (!s->json.empty()) {
+            const nlohmann::json report = {{"height_map", s->height},
+                                           {"width", m.width},
+                                           {"height", m.height},
+                                           {"kind", cone_kind_name(kind)},
+                                           {"format", cone_format_name(options.format)},
+                                           {"backend", s->backend},
+                                           {"device", result.from_cache ? std::string("cache") : device},
+                                           {"from_cache", result.from_cache},
+                                           {"cache_entry", s->no_cache ? std::string() : result.entry.string()},
+                                           {"ms", ms},
+                                           {"ratio_min", lo},
+                                           {"ratio_mean", mean},
+                                           {"ratio_max", hi}};
+            write_file_atomic(s->json, report.dump(2) + "\n");
+        }
+        return kExitOk;
+    };
 }
 
 } // namespace pr

@@ -36,6 +36,10 @@ struct ConeBuildOptions {
     ConeFormat format = ConeFormat::Rg16; // ratios are rounded down to this format's steps
     // Called now and then with the fraction done (0..1), from the calling thread.
     std::function<void(double)> progress;
+    // Kind relaxed: march steps per texel (see docs/cone-maps.md). Where the search needs more, the
+    // rest of it is replaced by lower bounds, giving a narrower (still valid) relaxed cone, never
+    // narrower than the conservative cone. 0: unbounded (exact relaxed cones; slow on large maps).
+    int relaxed_budget = 256;
 };
 
 // Multi-threaded CPU generator.
@@ -45,6 +49,46 @@ ConeMap build_cone_map_cpu(const HeightField& field, ConeKind kind, const ConeBu
 void write_cone_png(const std::filesystem::path& path, const ConeMap& map, ConeFormat format);
 // Reads a cone map PNG written by write_cone_png. Throws pr::Error naming the file.
 ConeMap read_cone_png(const std::filesystem::path& path, ConeKind kind);
+
+// ---- generator details shared by the CPU and GPU paths (docs/cone-maps.md) ----
+
+// Bumped whenever the generator's output changes: part of every cache key.
+inline constexpr std::uint32_t kConeGeneratorVersion = 1;
+
+// 255 (rg8) or 65535 (rg16): the ratio is stored as k / steps, k an integer.
+int cone_format_steps(ConeFormat format);
+// The largest k in [0, steps] with k^2 / steps^2 <= c * (1 - 2^-20): sqrt(c) rounded *down* to the
+// format's step, with a relative margin of about 1e-6 on c so that the rounded ratio stays
+// conservative under float rounding of k / steps. c is capped at 1.
+int cone_ratio_steps(double c, ConeFormat format);
+// k / steps as the largest float not above the exact quotient.
+float cone_steps_to_ratio(int k, ConeFormat format);
+
+// A quadtree of maxima over the height texels: level 0 is the texels, level l+1 node (i, j) is the
+// maximum of level l nodes (2i..2i+1, 2j..2j+1) that exist; the last level is 1x1. Node (i, j) of
+// level l covers texels [i*2^l, min((i+1)*2^l, n)) on each axis.
+struct MaxPyramid {
+    std::vector<int> widths, heights;  // per level
+    std::vector<std::size_t> offsets;  // per level, into `data`
+    std::vector<float> data;           // all levels, row-major, bottom row first
+    int levels() const { return int(widths.size()); }
+    float at(int level, int i, int j) const
+    {
+        return data[offsets[std::size_t(level)] + std::size_t(j) * std::size_t(widths[std::size_t(level)]) + std::size_t(i)];
+    }
+};
+MaxPyramid build_max_pyramid(const HeightField& field);
+
+// The relaxed-cone constraint of texel q on texel p (kind relaxed, see docs/cone-maps.md): the
+// ray from p's column at height 1 through q's surface point, continued past q in steps of one
+// texel on bilinear heights, exits the surface at E; the constraint is |E - p| / (h_E - h_p) in UV
+// units. Returns +infinity when there is no exit above h_p, or when the march passes the value
+// `stop` (no smaller result can follow). (dx, dy) is the wrapped texel offset from p to q.
+double relaxed_constraint(const HeightField& field, int px, int py, int dx, int dy, double stop);
+// The same within a budget of march steps (decremented); when it runs out before the march ends,
+// returns a lower bound of the constraint (its value at the last step, else `lower`).
+double relaxed_constraint(const HeightField& field, int px, int py, int dx, int dy, double stop, int& budget,
+                          double lower);
 
 // Derived-map cache (contract: --cache-dir, default $XDG_CACHE_HOME/prismrelief, else
 // ~/.cache/prismrelief). Entries are keyed by a hash of the height texels, size, kind, format and
@@ -58,5 +102,12 @@ struct ConeCacheResult {
 };
 ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const std::filesystem::path& cache_dir,
                                 const ConeBuildOptions& options = {});
+// The same with another generator (the GPU's) called on a miss; its map must equal the CPU's.
+using ConeBuilder = std::function<ConeMap(const HeightField&, ConeKind, const ConeBuildOptions&)>;
+ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const std::filesystem::path& cache_dir,
+                                const ConeBuildOptions& options, const ConeBuilder& build);
+// The entry file a map would have (cache_dir/cone/<kind>-<format>-<W>x<H>-<key>.bin).
+std::filesystem::path cone_cache_entry(const HeightField& field, ConeKind kind, ConeFormat format,
+                                       const std::filesystem::path& cache_dir);
 
 } // namespace pr

@@ -1,0 +1,178 @@
+// The on-disk cache of cone maps (docs/cone-maps.md, "Cache").
+//
+// Entry: cache_dir/cone/<kind>-<format>-<W>x<H>-<key>.bin, key = FNV-1a 64 of (generator version,
+// kind, format, width, height, the height texels' float bits). Layout, little endian:
+//   magic "PRCONE01" | u32 version, kind, format, width, height | u64 key | u64 payload FNV-1a |
+//   payload: width*height float32 heights, then width*height u16 ratio steps k (ratio = k/steps).
+// Every field is checked when read, and the stored heights must equal the field's (so a hash
+// collision cannot serve another map). A bad entry is rebuilt and overwritten with a warning; a
+// cache that cannot be written only warns.
+#include "maps/conemap.hpp"
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+
+namespace pr {
+namespace {
+
+constexpr char kMagic[8] = {'P', 'R', 'C', 'O', 'N', 'E', '0', '1'};
+constexpr std::size_t kHeaderBytes = 8 + 5 * 4 + 8 + 8;
+
+struct Fnv {
+    std::uint64_t h = 0xcbf29ce484222325ull;
+    void add(const void* data, std::size_t n)
+    {
+        const auto* p = static_cast<const std::uint8_t*>(data);
+        for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 0x100000001b3ull;
+    }
+    void add32(std::uint32_t v) { add(&v, 4); }
+};
+
+std::uint64_t cache_key(const HeightField& field, ConeKind kind, ConeFormat format)
+{
+    Fnv f;
+    f.add32(kConeGeneratorVersion);
+    f.add32(std::uint32_t(kind));
+    f.add32(std::uint32_t(format));
+    f.add32(std::uint32_t(field.width));
+    f.add32(std::uint32_t(field.height));
+    f.add(field.texels.data(), field.texels.size() * sizeof(float));
+    return f.h;
+}
+
+template <typename T>
+void put(std::vector<std::uint8_t>& out, T v)
+{
+    const std::size_t at = out.size();
+    out.resize(at + sizeof(T));
+    std::memcpy(out.data() + at, &v, sizeof(T));
+}
+
+template <typename T>
+T get(const std::vector<std::uint8_t>& in, std::size_t at)
+{
+    T v;
+    std::memcpy(&v, in.data() + at, sizeof(T));
+    return v;
+}
+
+std::vector<std::uint8_t> serialize(const ConeMap& map, ConeFormat format, std::uint64_t key)
+{
+    const std::size_t n = map.heights.size();
+    const int steps = cone_format_steps(format);
+    std::vector<std::uint8_t> payload;
+    payload.reserve(n * 6);
+    for (float h : map.heights) put(payload, h);
+    for (float r : map.ratios) put(payload, std::uint16_t(std::lround(double(r) * steps)));
+    Fnv sum;
+    sum.add(payload.data(), payload.size());
+    std::vector<std::uint8_t> out(kMagic, kMagic + 8);
+    put(out, kConeGeneratorVersion);
+    put(out, std::uint32_t(map.kind));
+    put(out, std::uint32_t(format));
+    put(out, std::uint32_t(map.width));
+    put(out, std::uint32_t(map.height));
+    put(out, key);
+    put(out, sum.h);
+    out.insert(out.end(), payload.begin(), payload.end());
+    return out;
+}
+
+// The map in `bytes`, or an empty string explaining why it is not usable.
+std::string deserialize(const std::vector<std::uint8_t>& bytes, const HeightField& field, ConeKind kind,
+                        ConeFormat format, std::uint64_t key, ConeMap& map)
+{
+    const std::size_t n = field.texels.size();
+    if (bytes.size() < kHeaderBytes || std::memcmp(bytes.data(), kMagic, 8) != 0) return "bad header";
+    if (get<std::uint32_t>(bytes, 8) != kConeGeneratorVersion) return "another generator version";
+    if (get<std::uint32_t>(bytes, 12) != std::uint32_t(kind) || get<std::uint32_t>(bytes, 16) != std::uint32_t(format))
+        return "another kind or format";
+    if (get<std::uint32_t>(bytes, 20) != std::uint32_t(field.width) ||
+        get<std::uint32_t>(bytes, 24) != std::uint32_t(field.height))
+        return "another size";
+    if (get<std::uint64_t>(bytes, 28) != key) return "another key";
+    if (bytes.size() != kHeaderBytes + n * 6) return "truncated (" + std::to_string(bytes.size()) + " bytes)";
+    Fnv sum;
+    sum.add(bytes.data() + kHeaderBytes, n * 6);
+    if (get<std::uint64_t>(bytes, 36) != sum.h) return "checksum mismatch";
+    if (std::memcmp(bytes.data() + kHeaderBytes, field.texels.data(), n * sizeof(float)) != 0)
+        return "heights differ from the height map";
+    const int steps = cone_format_steps(format);
+    map.width = field.width;
+    map.height = field.height;
+    map.kind = kind;
+    map.heights = field.texels;
+    map.ratios.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const int k = get<std::uint16_t>(bytes, kHeaderBytes + 4 * n + 2 * i);
+        if (k > steps) return "ratio out of range";
+        map.ratios[i] = cone_steps_to_ratio(k, format);
+    }
+    return {};
+}
+
+} // namespace
+
+std::filesystem::path default_cache_dir()
+{
+    const char* xdg = std::getenv("XDG_CACHE_HOME");
+    if (xdg && *xdg && std::filesystem::path(xdg).is_absolute()) return std::filesystem::path(xdg) / "prismrelief";
+    const char* home = std::getenv("HOME");
+    if (home && *home) return std::filesystem::path(home) / ".cache" / "prismrelief";
+    return std::filesystem::temp_directory_path() / "prismrelief-cache";
+}
+
+std::filesystem::path cone_cache_entry(const HeightField& field, ConeKind kind, ConeFormat format,
+                                       const std::filesystem::path& cache_dir)
+{
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(cache_key(field, kind, format)));
+    return cache_dir / "cone" /
+           (cone_kind_name(kind) + "-" + cone_format_name(format) + "-" + std::to_string(field.width) + "x" +
+            std::to_string(field.height) + "-" + hex + ".bin");
+}
+
+ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const std::filesystem::path& cache_dir,
+                                const ConeBuildOptions& options, const ConeBuilder& build)
+{
+    ConeCacheResult result;
+    const std::uint64_t key = cache_key(field, kind, options.format);
+    result.entry = cone_cache_entry(field, kind, options.format, cache_dir);
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(result.entry, ec)) {
+        std::ifstream in(result.entry, std::ios::binary);
+        const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        const std::string why = in.bad() ? std::string("cannot be read")
+                                         : deserialize(bytes, field, kind, options.format, key, result.map);
+        if (why.empty()) {
+            result.from_cache = true;
+            if (options.progress) options.progress(1.0);
+            return result;
+        }
+        warn("cone-map cache entry " + result.entry.string() + ": " + why + "; rebuilding it");
+    }
+    result.map = build(field, kind, options);
+    try {
+        std::filesystem::create_directories(result.entry.parent_path(), ec);
+        if (ec) throw Error(result.entry.parent_path().string(), ec.message());
+        write_file_atomic(result.entry, serialize(result.map, options.format, key));
+    } catch (const Error& e) {
+        warn("cone-map cache not written: " + std::string(e.what()));
+    }
+    return result;
+}
+
+ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const std::filesystem::path& cache_dir,
+                                const ConeBuildOptions& options)
+{
+    return cached_cone_map(field, kind, cache_dir, options, build_cone_map_cpu);
+}
+
+} // namespace pr

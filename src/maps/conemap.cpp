@@ -1,0 +1,354 @@
+// Cone and relaxed-cone maps on the CPU (docs/cone-maps.md).
+//
+// For every texel p the generator looks for the texel q that limits p's cone: kind cone takes
+// c = min over higher texels q of |q - p| / (h_q - h_p) (UV units, wrap-around distances), kind
+// relaxed takes the min of relaxed_constraint() over the same texels. Both searches are
+// branch-and-bound over a quadtree of maxima (MaxPyramid): a node whose maximum is not above h_p
+// holds no candidate, and a node whose lower bound dist_min / (max - h_p) cannot lower the
+// *rounded* result any more is skipped. The bound is a true lower bound for both kinds (the
+// relaxed constraint of q is never below q's cone constraint), and every comparison is monotone in
+// double precision, so the result is exactly the rounded minimum over all texels, whatever order
+// the nodes are visited in: threads, the GPU path and the brute-force test agree bit for bit.
+#include "maps/conemap.hpp"
+
+#include "core/error.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <limits>
+#include <mutex>
+#include <thread>
+
+namespace pr {
+
+ConeKind parse_cone_kind(const std::string& name, const std::string& option)
+{
+    if (name == "cone") return ConeKind::Cone;
+    if (name == "relaxed") return ConeKind::Relaxed;
+    throw Error(option, "unknown cone-map kind '" + name + "' (expected cone or relaxed)");
+}
+
+std::string cone_kind_name(ConeKind kind) { return kind == ConeKind::Cone ? "cone" : "relaxed"; }
+
+ConeFormat parse_cone_format(const std::string& name, const std::string& option)
+{
+    if (name == "rg8") return ConeFormat::Rg8;
+    if (name == "rg16") return ConeFormat::Rg16;
+    throw Error(option, "unknown cone-map format '" + name + "' (expected rg8 or rg16)");
+}
+
+std::string cone_format_name(ConeFormat format) { return format == ConeFormat::Rg8 ? "rg8" : "rg16"; }
+
+int cone_format_steps(ConeFormat format) { return format == ConeFormat::Rg8 ? 255 : 65535; }
+
+namespace {
+
+// 1 - 2^-20: the relative margin on c (exact in double).
+constexpr double kMargin = 1.0 - 1.0 / 1048576.0;
+
+// (k / steps)^2 with one rounding.
+double steps_squared(int k, int steps)
+{
+    return double(std::int64_t(k) * k) / double(std::int64_t(steps) * steps);
+}
+
+} // namespace
+
+int cone_ratio_steps(double c, ConeFormat format)
+{
+    const int steps = cone_format_steps(format);
+    if (!(c < 1.0)) return steps; // cap (and +inf: nothing above)
+    if (!(c > 0.0)) return 0;
+    const double target = c * kMargin;
+    int k = std::clamp(int(std::floor(std::sqrt(target) * steps)), 0, steps);
+    while (k < steps && steps_squared(k + 1, steps) <= target) ++k;
+    while (k > 0 && steps_squared(k, steps) > target) --k;
+    return k;
+}
+
+float cone_steps_to_ratio(int k, ConeFormat format)
+{
+    const double exact = double(k) / double(cone_format_steps(format));
+    float r = float(exact);
+    if (double(r) > exact) r = std::nextafter(r, 0.0f);
+    return r;
+}
+
+MaxPyramid build_max_pyramid(const HeightField& field)
+{
+    MaxPyramid p;
+    int w = field.width, h = field.height;
+    p.widths.push_back(w);
+    p.heights.push_back(h);
+    p.offsets.push_back(0);
+    p.data = field.texels;
+    while (w > 1 || h > 1) {
+        const int nw = (w + 1) / 2, nh = (h + 1) / 2;
+        const std::size_t src = p.offsets.back();
+        const std::size_t dst = p.data.size();
+        p.data.resize(dst + std::size_t(nw) * std::size_t(nh));
+        for (int j = 0; j < nh; ++j)
+            for (int i = 0; i < nw; ++i) {
+                float m = -std::numeric_limits<float>::infinity();
+                for (int y = 2 * j; y < std::min(2 * j + 2, h); ++y)
+                    for (int x = 2 * i; x < std::min(2 * i + 2, w); ++x)
+                        m = std::max(m, p.data[src + std::size_t(y) * std::size_t(w) + std::size_t(x)]);
+                p.data[dst + std::size_t(j) * std::size_t(nw) + std::size_t(i)] = m;
+            }
+        w = nw;
+        h = nh;
+        p.widths.push_back(w);
+        p.heights.push_back(h);
+        p.offsets.push_back(dst);
+    }
+    return p;
+}
+
+namespace {
+
+int wrap(int i, int n)
+{
+    const int r = i % n;
+    return r < 0 ? r + n : r;
+}
+
+// Bilinear height at texel-centre coordinates (x, y) (texel i's centre at i), repeat wrap. The
+// operations and their order are those of shaders/conemap.comp.
+double bilinear(const HeightField& f, double x, double y)
+{
+    const double x0 = std::floor(x), y0 = std::floor(y);
+    const double fx = x - x0, fy = y - y0;
+    const int xi = int(x0), yi = int(y0);
+    const int ix = xi >= 0 && xi < f.width ? xi : wrap(xi, f.width);
+    const int iy = yi >= 0 && yi < f.height ? yi : wrap(yi, f.height);
+    const int ix1 = ix + 1 == f.width ? 0 : ix + 1, iy1 = iy + 1 == f.height ? 0 : iy + 1;
+    const std::size_t w = std::size_t(f.width);
+    const double h00 = f.texels[std::size_t(iy) * w + std::size_t(ix)];
+    const double h10 = f.texels[std::size_t(iy) * w + std::size_t(ix1)];
+    const double h01 = f.texels[std::size_t(iy1) * w + std::size_t(ix)];
+    const double h11 = f.texels[std::size_t(iy1) * w + std::size_t(ix1)];
+    const double a = h00 + (h10 - h00) * fx;
+    const double b = h01 + (h11 - h01) * fx;
+    return a + (b - a) * fy;
+}
+
+} // namespace
+
+double relaxed_constraint(const HeightField& f, int px, int py, int dx, int dy, double stop, int& budget,
+                          double lower)
+{
+    constexpr double kNone = std::numeric_limits<double>::infinity();
+    const double hp = f.texels[std::size_t(py) * std::size_t(f.width) + std::size_t(px)];
+    const double hq = f.texels[std::size_t(wrap(py + dy, f.height)) * std::size_t(f.width) +
+                               std::size_t(wrap(px + dx, f.width))];
+    if (!(hq > hp) || (dx == 0 && dy == 0)) return kNone;
+    const double inv_len = 1.0 / std::sqrt(double(dx * dx + dy * dy)); // steps of one texel
+    const double tq = std::sqrt(double(dx * dx) / (double(f.width) * double(f.width)) +
+                                double(dy * dy) / (double(f.height) * double(f.height))); // UV
+    const double drop = 1.0 - hq; // height lost per unit of lambda (lambda = 1 at q)
+    // Past q, one texel per step; at most the whole map twice over (the ray then has gone down
+    // to h_p or its value passed `stop` long before on any sane map).
+    const int max_steps = 2 * (f.width + f.height);
+    for (int k = 1; k <= max_steps; ++k) {
+        if (budget <= 0) return lower;
+        --budget;
+        const double lambda = 1.0 + double(k) * inv_len;
+        const double z = 1.0 - lambda * drop;
+        if (!(z > hp)) return kNone;
+        // value = lambda * tq / (z - hp) grows along the ray: stop once it cannot matter. (The
+        // product form differs from the quotient by rounding only; `stop` has slack for that.)
+        if (lambda * tq >= stop * (z - hp)) return kNone;
+        const double value = (lambda * tq) / (z - hp);
+        lower = value;
+        const double h = bilinear(f, double(px) + lambda * double(dx), double(py) + lambda * double(dy));
+        if (h < z) return value; // the ray left the surface: E
+    }
+    return kNone;
+}
+
+double relaxed_constraint(const HeightField& f, int px, int py, int dx, int dy, double stop)
+{
+    int budget = std::numeric_limits<int>::max();
+    return relaxed_constraint(f, px, py, dx, dy, stop, budget, 0.0);
+}
+
+namespace {
+
+struct Node {
+    int level, i, j;
+    double bound;
+};
+
+// One texel's search. Returns k (the ratio in format steps).
+class Searcher {
+public:
+    Searcher(const HeightField& f, const MaxPyramid& pyr, ConeKind kind, ConeFormat format, int budget)
+        : f_(f), pyr_(pyr), kind_(kind), format_(format), steps_(cone_format_steps(format)),
+          budget_(budget > 0 ? budget : std::numeric_limits<int>::max()),
+          inv_w2_(1.0 / (double(f.width) * double(f.width))),
+          inv_h2_(1.0 / (double(f.height) * double(f.height))), top_(pyr.levels() - 1),
+          global_max_(pyr.at(top_, 0, 0))
+    {
+        stack_.reserve(std::size_t(4 * pyr.levels() + 8));
+    }
+
+    // The ratio of texel (px, py) in format steps: kind relaxed is never below kind cone.
+    int search(int px, int py)
+    {
+        const int cone = search(px, py, false);
+        return kind_ == ConeKind::Relaxed ? std::max(cone, search(px, py, true)) : cone;
+    }
+
+    int search(int px, int py, bool relaxed)
+    {
+        const float hp = f_.texels[std::size_t(py) * std::size_t(f_.width) + std::size_t(px)];
+        if (!(hp < global_max_)) return steps_; // nothing is higher: the cap
+        int k = steps_;
+        double best = 1.0;
+        double threshold = 1.0; // steps_squared(k): a candidate c lowers k only if c * m < this
+        stack_.clear();
+        stack_.push_back({top_, 0, 0, 0.0});
+        int budget = budget_;
+        while (!stack_.empty()) {
+            const Node n = stack_.back();
+            stack_.pop_back();
+            if (n.bound * kMargin >= threshold) continue; // k went down since it was pushed
+            if (n.level == 0) {
+                double c = n.bound; // kind cone: the bound of a texel is its constraint
+                if (relaxed) {
+                    const int sx = signed_offset(n.i - px, f_.width);
+                    const int sy = signed_offset(n.j - py, f_.height);
+                    c = relaxed_constraint(f_, px, py, sx, sy, threshold / kMargin * (1.0 + 1e-9), budget, n.bound);
+                    if (budget <= 0) {
+                        // Out of budget: what is left counts by its lower bounds.
+                        for (const Node& rest : stack_)
+                            if (rest.bound * kMargin < threshold) c = std::min(c, rest.bound);
+                        stack_.clear();
+                    }
+                }
+                if (c < best) {
+                    best = c;
+                    k = cone_ratio_steps(best, format_);
+                    threshold = steps_squared(k, steps_);
+                    if (k == 0) return 0;
+                }
+                continue;
+            }
+            // Children, smallest bound popped first.
+            Node kids[4];
+            int count = 0;
+            const int cl = n.level - 1;
+            const int cw = pyr_.widths[std::size_t(cl)], ch = pyr_.heights[std::size_t(cl)];
+            for (int cj = 2 * n.j; cj < std::min(2 * n.j + 2, ch); ++cj)
+                for (int ci = 2 * n.i; ci < std::min(2 * n.i + 2, cw); ++ci) {
+                    const double dmax = double(pyr_.at(cl, ci, cj)) - double(hp);
+                    if (!(dmax > 0.0)) continue;
+                    const double bound = node_distance(cl, ci, cj, px, py) / dmax;
+                    if (bound * kMargin >= threshold) continue;
+                    kids[count++] = {cl, ci, cj, bound};
+                }
+            // Push in decreasing bound (at most 4: insertion order by hand).
+            for (int c = 1; c < count; ++c)
+                for (int d = c; d > 0 && kids[d - 1].bound < kids[d].bound; --d) std::swap(kids[d - 1], kids[d]);
+            for (int c = 0; c < count; ++c) stack_.push_back(kids[c]);
+        }
+        return k;
+    }
+
+private:
+    static int signed_offset(int d, int n)
+    {
+        d = wrap(d, n);
+        return 2 * d > n ? d - n : d;
+    }
+    // Shortest wrapped distance (texels) from p to a texel range [a, b] on an axis of n texels.
+    static int axis_distance(int p, int a, int b, int n)
+    {
+        if (p >= a && p <= b) return 0;
+        if (p < a) return std::min(a - p, p + n - b);
+        return std::min(p - b, a + n - p);
+    }
+    // Smallest UV distance from texel p to the texels of node (level, i, j).
+    double node_distance(int level, int i, int j, int px, int py) const
+    {
+        const int x0 = i << level, y0 = j << level;
+        const int x1 = std::min(((i + 1) << level), f_.width) - 1;
+        const int y1 = std::min(((j + 1) << level), f_.height) - 1;
+        const int dx = axis_distance(px, x0, x1, f_.width);
+        const int dy = axis_distance(py, y0, y1, f_.height);
+        return std::sqrt(double(dx * dx) * inv_w2_ + double(dy * dy) * inv_h2_);
+    }
+
+    const HeightField& f_;
+    const MaxPyramid& pyr_;
+    ConeKind kind_;
+    ConeFormat format_;
+    int steps_;
+    int budget_;
+    double inv_w2_, inv_h2_;
+    int top_;
+    float global_max_;
+    std::vector<Node> stack_;
+};
+
+} // namespace
+
+ConeMap build_cone_map_cpu(const HeightField& field, ConeKind kind, const ConeBuildOptions& options)
+{
+    if (field.width < 1 || field.height < 1 ||
+        field.texels.size() != std::size_t(field.width) * std::size_t(field.height))
+        throw Error(field.name.empty() ? "height map" : field.name, "cannot build a cone map of an empty height field");
+    const MaxPyramid pyramid = build_max_pyramid(field);
+    ConeMap map;
+    map.width = field.width;
+    map.height = field.height;
+    map.kind = kind;
+    map.heights = field.texels;
+    map.ratios.assign(field.texels.size(), 0.0f);
+
+    unsigned threads = options.threads > 0 ? unsigned(options.threads) : std::thread::hardware_concurrency();
+    threads = std::clamp(threads, 1u, unsigned(std::max(1, field.height)));
+    std::atomic<int> next_row{0}, rows_done{0};
+    std::mutex mutex;
+    std::condition_variable finished;
+    unsigned running = threads;
+    std::exception_ptr failure;
+
+    const auto work = [&]() {
+        try {
+            Searcher searcher(field, pyramid, kind, options.format, options.relaxed_budget);
+            for (int y = next_row++; y < field.height; y = next_row++) {
+                for (int x = 0; x < field.width; ++x)
+                    map.ratios[std::size_t(y) * std::size_t(field.width) + std::size_t(x)] =
+                        cone_steps_to_ratio(searcher.search(x, y), options.format);
+                ++rows_done;
+            }
+        } catch (...) {
+            std::lock_guard lock(mutex);
+            if (!failure) failure = std::current_exception();
+            next_row = field.height; // the others stop at their next row
+        }
+        std::lock_guard lock(mutex);
+        if (--running == 0) finished.notify_all();
+    };
+    std::vector<std::thread> pool;
+    for (unsigned t = 0; t < threads; ++t) pool.emplace_back(work);
+    {
+        std::unique_lock lock(mutex);
+        while (!finished.wait_for(lock, std::chrono::milliseconds(100), [&] { return running == 0; }))
+            if (options.progress) {
+                lock.unlock();
+                options.progress(double(rows_done.load()) / double(field.height));
+                lock.lock();
+            }
+    }
+    for (auto& t : pool) t.join();
+    if (failure) std::rethrow_exception(failure);
+    if (options.progress) options.progress(1.0);
+    return map;
+}
+
+} // namespace pr

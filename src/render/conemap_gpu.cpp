@@ -1,0 +1,88 @@
+// Cone maps on the GPU: uploads the max pyramid, runs shaders/conemap.comp in chunks, reads the
+// integer steps back. See render/conemap_gpu.hpp.
+#include "render/conemap_gpu.hpp"
+
+#include "core/error.hpp"
+#include "gl/objects.hpp"
+#include "render/shader_program.hpp"
+
+#include <algorithm>
+#include <string>
+
+namespace pr {
+
+namespace {
+
+constexpr int kMaxLevels = 16;     // PR_CONE_MAX_LEVELS in conemap.comp
+constexpr GLuint kGroupSize = 64;  // local_size_x in conemap.comp
+// Texels per dispatch: small enough that llvmpipe finishes each in well under a second even on
+// pathological maps, large enough that the dispatch overhead does not show.
+constexpr std::size_t kChunkTexels = 16384;
+
+} // namespace
+
+ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBuildOptions& options)
+{
+    const std::size_t n = std::size_t(std::max(field.width, 0)) * std::size_t(std::max(field.height, 0));
+    if (n == 0 || field.texels.size() != n)
+        throw Error(field.name.empty() ? "height map" : field.name, "cannot build a cone map of an empty height field");
+    const MaxPyramid pyramid = build_max_pyramid(field);
+    if (pyramid.levels() > kMaxLevels) throw Error("conemap", "height map too large for the GPU generator");
+    if (pyramid.data.size() > std::size_t(1) << 30) throw Error("conemap", "height map too large for the GPU generator");
+
+    while (glGetError() != GL_NO_ERROR) {} // errors of earlier work are not ours
+    gl::Program program = build_program({{GL_COMPUTE_SHADER, "conemap.comp"}},
+                                        {{"PR_CONE_KIND", kind == ConeKind::Relaxed ? "1" : "0"}});
+    gl::Buffer data = gl::Buffer::create();
+    glNamedBufferStorage(data.id(), GLsizeiptr(pyramid.data.size() * sizeof(float)), pyramid.data.data(), 0);
+    gl::Buffer steps = gl::Buffer::create();
+    glNamedBufferStorage(steps.id(), GLsizeiptr(n * sizeof(std::uint32_t)), nullptr, 0);
+
+    const GLuint p = program.id();
+    glProgramUniform2i(p, 0, field.width, field.height);
+    glProgramUniform1i(p, 1, pyramid.levels());
+    glProgramUniform1i(p, 2, cone_format_steps(options.format));
+    glProgramUniform1i(p, 5, options.relaxed_budget > 0 ? options.relaxed_budget : 0x7fffffff);
+    int w[kMaxLevels] = {}, h[kMaxLevels] = {}, off[kMaxLevels] = {};
+    for (int l = 0; l < pyramid.levels(); ++l) {
+        w[l] = pyramid.widths[std::size_t(l)];
+        h[l] = pyramid.heights[std::size_t(l)];
+        off[l] = int(pyramid.offsets[std::size_t(l)]);
+    }
+    glProgramUniform1iv(p, 8, kMaxLevels, w);
+    glProgramUniform1iv(p, 24, kMaxLevels, h);
+    glProgramUniform1iv(p, 40, kMaxLevels, off);
+
+    glUseProgram(p);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, data.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, steps.id());
+    for (std::size_t first = 0; first < n; first += kChunkTexels) {
+        const std::size_t count = std::min(kChunkTexels, n - first);
+        glProgramUniform1ui(p, 3, GLuint(first));
+        glProgramUniform1ui(p, 4, GLuint(count));
+        glDispatchCompute(GLuint((count + kGroupSize - 1) / kGroupSize), 1, 1);
+        glFinish(); // one chunk at a time: no long-running dispatch
+        if (options.progress) options.progress(double(first + count) / double(n));
+    }
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<std::uint32_t> k(n);
+    glGetNamedBufferSubData(steps.id(), 0, GLsizeiptr(n * sizeof(std::uint32_t)), k.data());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
+    glUseProgram(0);
+    if (const GLenum e = glGetError(); e != GL_NO_ERROR)
+        throw Error("conemap", "OpenGL error " + std::to_string(e) + " while building the cone map on the GPU");
+
+    ConeMap map;
+    map.width = field.width;
+    map.height = field.height;
+    map.kind = kind;
+    map.heights = field.texels;
+    map.ratios.resize(n);
+    const int max_steps = cone_format_steps(options.format);
+    for (std::size_t i = 0; i < n; ++i)
+        map.ratios[i] = cone_steps_to_ratio(std::min(int(k[i]), max_steps), options.format);
+    return map;
+}
+
+} // namespace pr

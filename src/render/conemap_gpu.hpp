@@ -1,0 +1,14 @@
+#pragma once
+// Cone-map generation on the GPU (shaders/conemap.comp): the CPU generator's algorithm
+// (maps/conemap.cpp) in a compute shader, one invocation per texel, so the maps are the same (see
+// docs/cone-maps.md for the tolerance). Needs a current OpenGL 4.5 context.
+#include "maps/conemap.hpp"
+
+namespace pr {
+
+// Splits the work into dispatches of a few thousand texels, each finished before the next, so a
+// software rasterizer (llvmpipe) never runs one long dispatch; options.progress is called
+// between them. options.threads is not used. Throws pr::Error("conemap", …) on GL failure.
+ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBuildOptions& options = {});
+
+} // namespace pr

@@ -1,0 +1,38 @@
+# prismrelief conemap: success paths, the cache, one-line errors with nothing written.
+# (Included by tests/CMakeLists.txt after cli_tests.cmake, which defines pr_cli, E and BAD.)
+set(CM "^prismrelief: error: ")
+pr_cli(conemap_cone EXIT 0 EXPECT_FILE c.png STDOUT "c.png: 64x64 cone rg16, built \\(cpu.*ratio min [0-9.]+ mean"
+       JSON c.json CHECKS "width:EQUAL:64|kind:STREQUAL:cone|format:STREQUAL:rg16|from_cache:STREQUAL:OFF|ratio_min:GREATER:0|ratio_max:LESS_EQUAL:1"
+       ARGS conemap --height builtin:bumps@64 --out c.png --no-cache --json c.json)
+pr_cli(conemap_relaxed_rg8 EXIT 0 EXPECT_FILE r.png STDOUT "r.png: 48x48 relaxed rg8"
+       ARGS conemap --height builtin:boxes@48 --kind relaxed --format rg8 --threads 1 --out r.png --cache-dir cache)
+pr_cli(conemap_gpu EXIT 0 EXPECT_FILE g.png STDOUT "g.png: 48x48 cone rg16, built \\(gpu"
+       ARGS conemap --height builtin:noise@48 --backend gpu --out g.png --no-cache)
+# The cache: the first run of each pair builds (fresh work folder), the second reads it.
+pr_cli(conemap_cache_miss EXIT 0 EXPECT_FILE m.png STDOUT "m.png: 40x40 cone rg16, built"
+       ARGS conemap --height builtin:pyramids@40 --out m.png --cache-dir ${PR_CLI_WORK}/conemap_cache/c)
+pr_cli(conemap_cache_hit EXIT 0 EXPECT_FILE m.png STDOUT "m.png: 40x40 cone rg16, from the cache"
+       JSON m.json CHECKS "from_cache:STREQUAL:ON"
+       ARGS conemap --height builtin:pyramids@40 --out m.png --cache-dir ${PR_CLI_WORK}/conemap_cache/c --json m.json)
+set_tests_properties(cli.conemap_cache_hit PROPERTIES DEPENDS cli.conemap_cache_miss)
+add_test(NAME cli.conemap_cache_reset COMMAND ${CMAKE_COMMAND} -E rm -rf ${PR_CLI_WORK}/conemap_cache/c)
+set_tests_properties(cli.conemap_cache_reset PROPERTIES LABELS "cli" FIXTURES_SETUP conemap_cache)
+set_tests_properties(cli.conemap_cache_miss PROPERTIES FIXTURES_REQUIRED conemap_cache)
+set_tests_properties(cli.conemap_cache_hit PROPERTIES FIXTURES_REQUIRED conemap_cache)
+# Errors: exit 1, one line naming the file or option, no output file.
+pr_cli(conemap_bad_height EXIT 1 ONE_LINE STDERR "${CM}.*not_an_image.png: " NO_FILE o.png
+       ARGS conemap --height ${BAD}/not_an_image.png --out o.png --no-cache)
+pr_cli(conemap_missing_height EXIT 1 ONE_LINE STDERR "${CM}nope.png: " NO_FILE o.png
+       ARGS conemap --height nope.png --out o.png --no-cache)
+pr_cli(conemap_bad_kind EXIT 1 ONE_LINE STDERR "${CM}--kind: unknown cone-map kind 'wide'" NO_FILE o.png
+       ARGS conemap --height builtin:bumps@16 --kind wide --out o.png --no-cache)
+pr_cli(conemap_bad_format EXIT 1 ONE_LINE STDERR "${CM}--format: " NO_FILE o.png
+       ARGS conemap --height builtin:bumps@16 --format rg32 --out o.png --no-cache)
+pr_cli(conemap_bad_backend EXIT 1 ONE_LINE STDERR "${CM}--backend: " NO_FILE o.png
+       ARGS conemap --height builtin:bumps@16 --backend tpu --out o.png --no-cache)
+pr_cli(conemap_bad_threads EXIT 1 ONE_LINE STDERR "${CM}--threads: " NO_FILE o.png
+       ARGS conemap --height builtin:bumps@16 --threads -3 --out o.png --no-cache)
+pr_cli(conemap_out_folder_missing EXIT 1 ONE_LINE STDERR "${CM}no/dir/o.png: "
+       ARGS conemap --height builtin:bumps@16 --out no/dir/o.png --no-cache)
+pr_cli(conemap_needs_out EXIT 2 STDERR "usage: .*--out" ARGS conemap --height builtin:bumps@16)
+pr_cli(conemap_help EXIT 0 STDOUT "--kind.*--format.*--backend" ARGS conemap --help)

@@ -1,0 +1,95 @@
+// The GPU cone-map generator (render/conemap_gpu, shaders/conemap.comp) against the CPU one.
+// Tolerance: none. Both run the same double-precision arithmetic with no fused multiply-add and
+// a pruning that never changes the rounded result, so the integer steps must be identical; the
+// test reports the largest difference if they are not.
+#include "gl_fixture.hpp"
+
+#include "maps/conemap.hpp"
+#include "render/conemap_gpu.hpp"
+
+#include <cmath>
+#include <random>
+
+using namespace pr;
+
+namespace {
+
+HeightField field_of(int w, int h, unsigned seed, bool smooth)
+{
+    HeightField f;
+    f.width = w;
+    f.height = h;
+    f.bits = 16;
+    f.name = "test";
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<int> d(0, 65535);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            double v = d(rng) / 65535.0;
+            if (smooth)
+                v = 0.5 + 0.25 * std::sin(6.2831853 * 3 * x / w) * std::cos(6.2831853 * 2 * y / h) +
+                    0.2 * ((x / 8 + y / 8) % 2) + 0.02 * v;
+            f.texels.push_back(float(std::round(std::clamp(v, 0.0, 1.0) * 65535.0) / 65535.0));
+        }
+    return f;
+}
+
+void expect_same(const ConeMap& gpu, const ConeMap& cpu, ConeFormat format, const char* what)
+{
+    ASSERT_EQ(gpu.ratios.size(), cpu.ratios.size());
+    const int steps = cone_format_steps(format);
+    int differ = 0, worst = 0;
+    for (std::size_t i = 0; i < cpu.ratios.size(); ++i) {
+        const int d = int(std::lround(std::abs(double(gpu.ratios[i]) - double(cpu.ratios[i])) * steps));
+        if (d != 0 && differ < 5)
+            ADD_FAILURE() << what << ": texel " << i << " gpu " << gpu.ratios[i] << " cpu " << cpu.ratios[i];
+        differ += d != 0;
+        worst = std::max(worst, d);
+    }
+    EXPECT_EQ(differ, 0) << what << ": " << differ << " texels differ, by up to " << worst << " steps";
+    EXPECT_EQ(gpu.heights, cpu.heights);
+}
+
+} // namespace
+
+TEST(ConeMapGpu, EqualsCpuCone)
+{
+    prtest::context();
+    for (bool smooth : {false, true})
+        for (ConeFormat format : {ConeFormat::Rg8, ConeFormat::Rg16}) {
+            const HeightField f = field_of(64, 40, smooth ? 3u : 4u, smooth);
+            ConeBuildOptions o;
+            o.format = format;
+            expect_same(build_cone_map_gpu(f, ConeKind::Cone, o), build_cone_map_cpu(f, ConeKind::Cone, o), format,
+                        smooth ? "cone smooth" : "cone random");
+        }
+}
+
+TEST(ConeMapGpu, EqualsCpuRelaxed)
+{
+    prtest::context();
+    for (bool smooth : {false, true}) {
+        const HeightField f = field_of(48, 48, smooth ? 5u : 6u, smooth);
+        for (int budget : {0, 256, 24}) { // exact, the default, and one that binds often
+            ConeBuildOptions o;
+            o.relaxed_budget = budget;
+            int calls = 0;
+            o.progress = [&](double) { ++calls; };
+            ConeBuildOptions cpu = o;
+            cpu.progress = nullptr;
+            expect_same(build_cone_map_gpu(f, ConeKind::Relaxed, o), build_cone_map_cpu(f, ConeKind::Relaxed, cpu),
+                        ConeFormat::Rg16, smooth ? "relaxed smooth" : "relaxed random");
+            EXPECT_GE(calls, 1);
+        }
+    }
+}
+
+TEST(ConeMapGpu, SpikeAndLargerThanOneChunk)
+{
+    prtest::context();
+    HeightField f = field_of(160, 130, 7, false); // 20800 texels: two dispatches
+    for (float& t : f.texels) t = 0.0f;
+    f.texels[1234] = 1.0f;
+    expect_same(build_cone_map_gpu(f, ConeKind::Cone, {}), build_cone_map_cpu(f, ConeKind::Cone, {}),
+                ConeFormat::Rg16, "spike");
+}

@@ -1,0 +1,416 @@
+// Cone maps (maps/conemap): the pruned generator against brute force, conservativeness at texel
+// centres, the relaxed property, rounding, PNG and cache round trips.
+#include "core/error.hpp"
+#include "maps/conemap.hpp"
+#include "temp_dir.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <random>
+
+using namespace pr;
+namespace fs = std::filesystem;
+
+namespace {
+
+HeightField make(int w, int h, const std::function<float(int, int)>& f)
+{
+    HeightField hf;
+    hf.width = w;
+    hf.height = h;
+    hf.bits = 16;
+    hf.name = "test";
+    hf.texels.resize(std::size_t(w) * std::size_t(h));
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) hf.texels[std::size_t(y) * std::size_t(w) + std::size_t(x)] = f(x, y);
+    return hf;
+}
+
+float q16(double v) { return float(std::round(std::clamp(v, 0.0, 1.0) * 65535.0) / 65535.0); }
+
+HeightField random_map(int w, int h, unsigned seed)
+{
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<int> d(0, 65535);
+    return make(w, h, [&](int, int) { return float(d(rng)) / 65535.0f; });
+}
+
+// A smooth random map (sum of a few waves): long slopes, like real height maps.
+HeightField smooth_map(int w, int h, unsigned seed)
+{
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    double a[4], px[4], py[4];
+    for (int i = 0; i < 4; ++i) a[i] = u(rng), px[i] = u(rng) * 6.28, py[i] = u(rng) * 6.28;
+    return make(w, h, [&](int x, int y) {
+        double s = 0;
+        for (int i = 0; i < 4; ++i)
+            s += a[i] * std::sin(6.2831853 * (i + 1) * x / w + px[i]) * std::cos(6.2831853 * (4 - i) * y / h + py[i]);
+        return q16(0.5 + 0.2 * s);
+    });
+}
+
+int wrapi(int i, int n) { return ((i % n) + n) % n; }
+int signed_offset(int d, int n)
+{
+    d = wrapi(d, n);
+    return 2 * d > n ? d - n : d;
+}
+
+double uv_distance(const HeightField& f, int dx, int dy)
+{
+    return std::sqrt(double(dx * dx) / (double(f.width) * f.width) + double(dy * dy) / (double(f.height) * f.height));
+}
+
+float texel(const HeightField& f, int x, int y) { return f.texels[std::size_t(y) * std::size_t(f.width) + std::size_t(x)]; }
+
+// O(n^2): every pair of texels.
+std::vector<int> brute_force(const HeightField& f, ConeKind kind, ConeFormat format)
+{
+    std::vector<int> ks;
+    for (int py = 0; py < f.height; ++py)
+        for (int px = 0; px < f.width; ++px) {
+            double c = 1.0;
+            for (int qy = 0; qy < f.height; ++qy)
+                for (int qx = 0; qx < f.width; ++qx) {
+                    const int dx = signed_offset(qx - px, f.width), dy = signed_offset(qy - py, f.height);
+                    const double dh = double(texel(f, qx, qy)) - double(texel(f, px, py));
+                    if (!(dh > 0)) continue;
+                    const double v = kind == ConeKind::Cone
+                                         ? uv_distance(f, dx, dy) / dh
+                                         : relaxed_constraint(f, px, py, dx, dy, std::numeric_limits<double>::infinity());
+                    c = std::min(c, v);
+                }
+            ks.push_back(cone_ratio_steps(c, format));
+        }
+    return ks;
+}
+
+int steps_of(const ConeMap& m, std::size_t i, ConeFormat format)
+{
+    return int(std::lround(double(m.ratios[i]) * cone_format_steps(format)));
+}
+
+// No texel q with h_q > h_p lies strictly inside p's cone (stored, rounded ratio).
+void expect_conservative(const HeightField& f, const ConeMap& m)
+{
+    int bad = 0;
+    for (int py = 0; py < f.height; ++py)
+        for (int px = 0; px < f.width; ++px) {
+            const double r = m.ratios[std::size_t(py) * std::size_t(f.width) + std::size_t(px)];
+            for (int qy = 0; qy < f.height; ++qy)
+                for (int qx = 0; qx < f.width; ++qx) {
+                    const double dh = double(texel(f, qx, qy)) - double(texel(f, px, py));
+                    if (dh > 0 && uv_distance(f, signed_offset(qx - px, f.width), signed_offset(qy - py, f.height)) < r * r * dh)
+                        ++bad;
+                }
+        }
+    EXPECT_EQ(bad, 0) << f.name;
+}
+
+struct Case {
+    std::string name;
+    HeightField field;
+};
+
+std::vector<Case> cases()
+{
+    std::vector<Case> c;
+    c.push_back({"random32", random_map(32, 32, 1)});
+    c.push_back({"random48x24", random_map(48, 24, 2)});
+    c.push_back({"smooth40x56", smooth_map(40, 56, 3)});
+    c.push_back({"spike", make(33, 33, [](int x, int y) { return x == 7 && y == 20 ? 1.0f : 0.0f; })});
+    c.push_back({"step", make(32, 32, [](int x, int) { return x < 16 ? 0.25f : 0.75f; })});
+    c.push_back({"ramp", make(64, 8, [](int x, int) { return q16(x / 63.0); })});
+    c.push_back({"steep_ramp", make(32, 32, [](int x, int y) { return q16(((x + y) % 8) / 7.0); })});
+    c.push_back({"constant", make(32, 32, [](int, int) { return 0.5f; })});
+    c.push_back({"boxes", make(36, 36, [](int x, int y) {
+                     return (x % 12 > 3 && x % 12 < 9 && y % 12 > 2) ? 0.2f + 0.05f * float((x / 12 + 3 * (y / 12)) % 9) : 0.1f;
+                 })});
+    for (auto& k : c) k.field.name = k.name;
+    return c;
+}
+
+} // namespace
+
+TEST(ConeMap, NamesParseAndReject)
+{
+    EXPECT_EQ(parse_cone_kind("cone"), ConeKind::Cone);
+    EXPECT_EQ(parse_cone_kind("relaxed"), ConeKind::Relaxed);
+    EXPECT_EQ(cone_kind_name(ConeKind::Relaxed), "relaxed");
+    EXPECT_EQ(parse_cone_format("rg8"), ConeFormat::Rg8);
+    EXPECT_EQ(cone_format_name(ConeFormat::Rg16), "rg16");
+    try {
+        parse_cone_kind("wide");
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_EQ(e.subject(), "--kind");
+    }
+    EXPECT_THROW(parse_cone_format("rg32"), Error);
+}
+
+TEST(ConeMap, RoundingIsDown)
+{
+    // sqrt(0.25) = 0.5 = 127.5/255: down to 127 (rg8); exact steps stay (up to the 1e-6 margin).
+    EXPECT_EQ(cone_ratio_steps(0.25, ConeFormat::Rg8), 127);
+    EXPECT_EQ(cone_ratio_steps(1.0, ConeFormat::Rg8), 255);
+    EXPECT_EQ(cone_ratio_steps(7.0, ConeFormat::Rg16), 65535);
+    EXPECT_EQ(cone_ratio_steps(0.0, ConeFormat::Rg16), 0);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int i = 0; i < 10000; ++i) {
+        const double c = u(rng);
+        for (ConeFormat f : {ConeFormat::Rg8, ConeFormat::Rg16}) {
+            const int k = cone_ratio_steps(c, f);
+            const float r = cone_steps_to_ratio(k, f);
+            EXPECT_LE(double(r) * r, c);                       // down
+            EXPECT_GT(double(k + 1) / cone_format_steps(f), std::sqrt(c) * (1 - 1e-6)); // by < 1 step
+            EXPECT_LE(double(r), double(k) / cone_format_steps(f));
+        }
+    }
+}
+
+TEST(ConeMap, ConeEqualsBruteForceAndIsConservative)
+{
+    for (const Case& c : cases())
+        for (ConeFormat format : {ConeFormat::Rg8, ConeFormat::Rg16}) {
+            ConeBuildOptions o;
+            o.format = format;
+            o.threads = 2;
+            const ConeMap m = build_cone_map_cpu(c.field, ConeKind::Cone, o);
+            ASSERT_EQ(m.width, c.field.width);
+            ASSERT_EQ(m.heights, c.field.texels);
+            const std::vector<int> expected = brute_force(c.field, ConeKind::Cone, format);
+            int differ = 0;
+            for (std::size_t i = 0; i < expected.size(); ++i) differ += steps_of(m, i, format) != expected[i];
+            EXPECT_EQ(differ, 0) << c.name << " " << cone_format_name(format);
+            expect_conservative(c.field, m);
+        }
+}
+
+TEST(ConeMap, KnownValues)
+{
+    // A spike of height 1 on a flat 0 map: c = distance to the spike; the spike itself: 1 (cap).
+    const HeightField f = make(32, 32, [](int x, int y) { return x == 0 && y == 0 ? 1.0f : 0.0f; });
+    const ConeMap m = build_cone_map_cpu(f, ConeKind::Cone, {});
+    EXPECT_EQ(m.ratios[0], cone_steps_to_ratio(65535, ConeFormat::Rg16));
+    // Texel (3, 0): distance 3/32 (and (31, 0) wraps to distance 1/32).
+    EXPECT_EQ(m.ratios[3], cone_steps_to_ratio(cone_ratio_steps(3.0 / 32.0, ConeFormat::Rg16), ConeFormat::Rg16));
+    EXPECT_EQ(m.ratios[31], cone_steps_to_ratio(cone_ratio_steps(1.0 / 32.0, ConeFormat::Rg16), ConeFormat::Rg16));
+    // A constant map: every cone is the cap.
+    const ConeMap c = build_cone_map_cpu(make(16, 8, [](int, int) { return 0.3f; }), ConeKind::Relaxed, {});
+    for (float r : c.ratios) EXPECT_EQ(r, 1.0f);
+}
+
+TEST(ConeMap, RelaxedEqualsBruteForceAndIsWider)
+{
+    for (const Case& c : cases()) {
+        if (c.field.width * c.field.height > 1300) continue; // brute-force marching is O(n^2 * march)
+        ConeBuildOptions o;
+        o.threads = 2;
+        o.relaxed_budget = 0; // exact
+        const ConeMap relaxed = build_cone_map_cpu(c.field, ConeKind::Relaxed, o);
+        const ConeMap cone = build_cone_map_cpu(c.field, ConeKind::Cone, o);
+        const std::vector<int> expected = brute_force(c.field, ConeKind::Relaxed, ConeFormat::Rg16);
+        int differ = 0, narrower = 0;
+        for (std::size_t i = 0; i < expected.size(); ++i) {
+            differ += steps_of(relaxed, i, ConeFormat::Rg16) != expected[i];
+            narrower += relaxed.ratios[i] < cone.ratios[i];
+        }
+        EXPECT_EQ(differ, 0) << c.name;
+        EXPECT_EQ(narrower, 0) << c.name;
+    }
+}
+
+// The relaxed property, by brute-force ray casting (GPU Gems 3, ch. 18): for every texel p and
+// every texel q, the viewing ray from p's column at the top (height 1) through q's surface point,
+// marched on past q, leaves the surface (E) outside p's relaxed cone or not above h_p: a ray that
+// enters the cone from above crosses the surface into the solid at most once inside it.
+TEST(ConeMap, RelaxedRaysLeaveTheSurfaceOutsideTheCone)
+{
+    for (const Case& c : cases()) {
+        if (c.field.width * c.field.height > 1300) continue;
+        const HeightField& f = c.field;
+        const ConeMap m = build_cone_map_cpu(f, ConeKind::Relaxed, {});
+        int inside = 0;
+        for (int py = 0; py < f.height; ++py)
+            for (int px = 0; px < f.width; ++px) {
+                const double r = m.ratios[std::size_t(py) * std::size_t(f.width) + std::size_t(px)];
+                // Walk the ray by hand (independent of the generator's bookkeeping).
+                for (int qy = 0; qy < f.height; ++qy)
+                    for (int qx = 0; qx < f.width; ++qx) {
+                        const int dx = signed_offset(qx - px, f.width), dy = signed_offset(qy - py, f.height);
+                        const double hp = texel(f, px, py), hq = texel(f, qx, qy);
+                        if (!(hq > hp)) continue;
+                        const double len = std::hypot(double(dx), double(dy));
+                        for (int k = 1; k < 4 * (f.width + f.height); ++k) {
+                            const double lambda = 1.0 + k / len;
+                            const double z = 1.0 - lambda * (1.0 - hq);
+                            if (z <= hp) break;
+                            const double x = px + lambda * dx, y = py + lambda * dy;
+                            const double x0 = std::floor(x), y0 = std::floor(y), fx = x - x0, fy = y - y0;
+                            const auto h = [&](int i, int j) { return double(texel(f, wrapi(i, f.width), wrapi(j, f.height))); };
+                            const int ix = int(x0), iy = int(y0);
+                            const double a = h(ix, iy) + (h(ix + 1, iy) - h(ix, iy)) * fx;
+                            const double b = h(ix, iy + 1) + (h(ix + 1, iy + 1) - h(ix, iy + 1)) * fx;
+                            if (a + (b - a) * fy < z) { // E: the ray is above the surface again
+                                const double dist = lambda * uv_distance(f, dx, dy);
+                                inside += dist < r * r * (z - hp) * (1 - 1e-9);
+                                break;
+                            }
+                        }
+                    }
+            }
+        EXPECT_EQ(inside, 0) << c.name;
+    }
+}
+
+// A march budget gives a narrower relaxed cone where the search needs more, never narrower than
+// the cone, and still a valid relaxed cone (checked by the ray test above with the default budget).
+TEST(ConeMap, RelaxedBudgetLiesBetweenConeAndExact)
+{
+    const HeightField f = smooth_map(48, 40, 12);
+    ConeBuildOptions exact, tight;
+    exact.relaxed_budget = 0;
+    tight.relaxed_budget = 16;
+    const ConeMap e = build_cone_map_cpu(f, ConeKind::Relaxed, exact);
+    const ConeMap t = build_cone_map_cpu(f, ConeKind::Relaxed, tight);
+    const ConeMap c = build_cone_map_cpu(f, ConeKind::Cone, {});
+    int narrower = 0;
+    for (std::size_t i = 0; i < c.ratios.size(); ++i) {
+        EXPECT_LE(t.ratios[i], e.ratios[i]);
+        EXPECT_GE(t.ratios[i], c.ratios[i]);
+        narrower += t.ratios[i] < e.ratios[i];
+    }
+    EXPECT_GT(narrower, 0); // the budget did bind somewhere
+}
+
+TEST(ConeMap, RelaxedIsWiderSomewhereOnBoxes)
+{
+    const Case c = cases()[8];
+    const ConeMap relaxed = build_cone_map_cpu(c.field, ConeKind::Relaxed, {});
+    const ConeMap cone = build_cone_map_cpu(c.field, ConeKind::Cone, {});
+    double sr = 0, sc = 0;
+    for (std::size_t i = 0; i < cone.ratios.size(); ++i) sr += relaxed.ratios[i], sc += cone.ratios[i];
+    EXPECT_GT(sr, sc * 1.05);
+}
+
+TEST(ConeMap, ThreadCountDoesNotChangeTheMap)
+{
+    const HeightField f = smooth_map(64, 48, 9);
+    for (ConeKind kind : {ConeKind::Cone, ConeKind::Relaxed}) {
+        ConeBuildOptions one, two;
+        one.threads = 1;
+        two.threads = 2;
+        int calls = 0;
+        two.progress = [&](double) { ++calls; };
+        EXPECT_EQ(build_cone_map_cpu(f, kind, one).ratios, build_cone_map_cpu(f, kind, two).ratios);
+        EXPECT_GE(calls, 1);
+    }
+}
+
+TEST(ConeMap, PngRoundTrip)
+{
+    prtest::TempDir dir;
+    const HeightField f = smooth_map(24, 16, 4);
+    for (ConeFormat format : {ConeFormat::Rg8, ConeFormat::Rg16}) {
+        ConeBuildOptions o;
+        o.format = format;
+        const ConeMap m = build_cone_map_cpu(f, ConeKind::Cone, o);
+        const fs::path p = dir.path() / ("c_" + cone_format_name(format) + ".png");
+        write_cone_png(p, m, format);
+        const ConeMap back = read_cone_png(p, ConeKind::Cone);
+        ASSERT_EQ(back.width, 24);
+        ASSERT_EQ(back.height, 16);
+        EXPECT_EQ(back.ratios, m.ratios); // exact: the file stores the steps
+        const double tol = format == ConeFormat::Rg8 ? 0.5 / 255 + 1e-6 : 0.5 / 65535 + 1e-7;
+        for (std::size_t i = 0; i < m.heights.size(); ++i) ASSERT_NEAR(back.heights[i], m.heights[i], tol);
+    }
+}
+
+TEST(ConeMap, PngReadRejectsBadFiles)
+{
+    prtest::TempDir dir;
+    const fs::path text = dir.write("text.png", "not a png at all, no sir, not even close to one");
+    try {
+        read_cone_png(text, ConeKind::Cone);
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_EQ(e.subject(), text.string());
+    }
+    EXPECT_THROW(read_cone_png(dir.path() / "missing.png", ConeKind::Cone), Error);
+    // Truncated: a real cone PNG cut in half.
+    const ConeMap m = build_cone_map_cpu(random_map(32, 32, 3), ConeKind::Cone, {});
+    const fs::path whole = dir.path() / "whole.png";
+    write_cone_png(whole, m, ConeFormat::Rg16);
+    std::ifstream in(whole, std::ios::binary);
+    std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    bytes.resize(bytes.size() / 2);
+    EXPECT_THROW(read_cone_png(dir.write_bytes("half.png", bytes), ConeKind::Cone), Error);
+}
+
+TEST(ConeMap, CacheRoundTripAndCorruptEntryIsRebuilt)
+{
+    prtest::TempDir dir;
+    const HeightField f = smooth_map(32, 32, 6);
+    for (ConeKind kind : {ConeKind::Cone, ConeKind::Relaxed}) {
+        const ConeCacheResult first = cached_cone_map(f, kind, dir.path());
+        EXPECT_FALSE(first.from_cache);
+        ASSERT_TRUE(fs::exists(first.entry));
+        const ConeCacheResult second = cached_cone_map(f, kind, dir.path());
+        EXPECT_TRUE(second.from_cache);
+        EXPECT_EQ(second.map.ratios, first.map.ratios);
+        EXPECT_EQ(second.map.heights, first.map.heights);
+        EXPECT_EQ(second.map.kind, kind);
+
+        // Flip one payload byte: the checksum catches it, the entry is rebuilt and rewritten.
+        {
+            std::fstream io(first.entry, std::ios::in | std::ios::out | std::ios::binary);
+            io.seekp(100);
+            io.put(char(0x5A));
+        }
+        const ConeCacheResult third = cached_cone_map(f, kind, dir.path());
+        EXPECT_FALSE(third.from_cache);
+        EXPECT_EQ(third.map.ratios, first.map.ratios);
+        EXPECT_TRUE(cached_cone_map(f, kind, dir.path()).from_cache);
+
+        // Truncated entry: rebuilt too.
+        fs::resize_file(first.entry, 20);
+        EXPECT_FALSE(cached_cone_map(f, kind, dir.path()).from_cache);
+        EXPECT_TRUE(cached_cone_map(f, kind, dir.path()).from_cache);
+    }
+    // Another format or another map: another entry.
+    ConeBuildOptions rg8;
+    rg8.format = ConeFormat::Rg8;
+    EXPECT_FALSE(cached_cone_map(f, ConeKind::Cone, dir.path(), rg8).from_cache);
+    HeightField g = f;
+    g.texels[5] = 0.0f;
+    EXPECT_FALSE(cached_cone_map(g, ConeKind::Cone, dir.path()).from_cache);
+}
+
+TEST(ConeMap, UnwritableCacheOnlyWarns)
+{
+    prtest::TempDir dir;
+    const fs::path blocker = dir.write("file", "a file where the cache folder should be");
+    const HeightField f = random_map(16, 16, 8);
+    const ConeCacheResult r = cached_cone_map(f, ConeKind::Cone, blocker / "cache");
+    EXPECT_FALSE(r.from_cache);
+    EXPECT_EQ(r.map.ratios.size(), 256u);
+}
+
+TEST(ConeMap, DefaultCacheDirFollowsXdg)
+{
+    const char* old = std::getenv("XDG_CACHE_HOME");
+    const std::string saved = old ? old : "";
+    ::setenv("XDG_CACHE_HOME", "/tmp/xdg-test", 1);
+    EXPECT_EQ(default_cache_dir(), fs::path("/tmp/xdg-test/prismrelief"));
+    ::setenv("XDG_CACHE_HOME", "relative/ignored", 1);
+    EXPECT_NE(default_cache_dir(), fs::path("relative/ignored/prismrelief"));
+    if (old) ::setenv("XDG_CACHE_HOME", saved.c_str(), 1);
+    else ::unsetenv("XDG_CACHE_HOME");
+}
