@@ -6,13 +6,13 @@
 
 namespace pr {
 
-Session open_session(const SceneOptions& options)
+Session open_session(const SceneOptions& options, const ContextFactory& make_context)
 {
     Session s;
     s.spec = make_scene_spec(options);
     const Backend backend = parse_backend(options.backend);
     s.scene = load_scene(s.spec);
-    s.context = create_headless_context(backend);
+    s.context = make_context ? make_context(s.spec) : create_headless_context(backend);
     s.renderer = std::make_unique<Renderer>(s.spec.width, s.spec.height);
     if (!options.cache_dir.empty()) s.renderer->set_cache_dir(options.cache_dir);
     s.renderer->upload(s.scene);

@@ -5,6 +5,7 @@
 #include "platform/context.hpp"
 #include "render/renderer.hpp"
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -20,8 +21,12 @@ struct Session {
     glm::vec3 light{0.0f, 1.0f, 0.0f};
 };
 
+// Makes the GL context once the inputs are loaded (the viewer passes one that opens its window
+// at the spec's size); empty: the headless context of --backend.
+using ContextFactory = std::function<std::unique_ptr<Context>(const SceneSpec& spec)>;
+
 // Inputs are read before any GL work, so bad files fail fast and without a context.
-Session open_session(const SceneOptions& options);
+Session open_session(const SceneOptions& options, const ContextFactory& make_context = {});
 
 // A technique as listed by --techniques: its label and how it draws.
 struct TechniqueRun {

@@ -1,13 +1,128 @@
-// prismrelief view: placeholder until its issue lands (replaced by the real command).
+// prismrelief view: the interactive viewer (src/view/) on the renderer that render uses. Built
+// only when GLFW 3 and Dear ImGui were found at configure time; otherwise it says so (exit 1).
 #include "app/commands.hpp"
+#include "app/session.hpp"
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
+
+#ifdef PRISMRELIEF_HAVE_VIEWER
+#include "view/glfw_window.hpp"
+#include "view/viewer.hpp"
+#endif
+
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
 
 namespace pr {
 
 CommandAction add_view_command(CLI::App& app)
 {
-    app.add_subcommand("view", "(not built yet)");
-    return []() -> int { throw Error("view", "not built yet"); };
+    struct State {
+        SceneOptions scene;
+        TechniqueOptions technique;
+        std::string split;
+        float divider = 0.5f;
+        std::string overlay = "none";
+        bool reference_overlay = false;
+        std::string screenshot;
+        int frames = 0;
+        std::string shader_dir;
+        bool no_panel = false;
+        bool screenshot_ui = false;
+        float render_scale = 1.0f;
+        std::vector<std::string> drops;
+    };
+    auto s = std::make_shared<State>();
+    s->technique.technique = "pom"; // with split on: POM | prism
+    CLI::App* cmd = app.add_subcommand(
+        "view", "Interactive viewer (GLFW window, Dear ImGui panel): orbit, compare techniques side by side");
+    add_scene_options(*cmd, s->scene);
+    add_technique_options(*cmd, s->technique, true);
+    cmd->add_option("--split", s->split,
+                    "Split-screen compare: A,B (left, right), e.g. pom,prism or pom,prism:cone")
+        ->group("View");
+    cmd->add_option("--divider", s->divider, "Split position, fraction of the width from the left")
+        ->group("View")
+        ->capture_default_str();
+    cmd->add_option("--overlay", s->overlay, "Wireframe overlay: none|base|shell")
+        ->group("View")
+        ->capture_default_str();
+    cmd->add_flag("--reference-overlay", s->reference_overlay,
+                  "Tint where the silhouette differs from the reference's (cyan missed, magenta extra)")
+        ->group("View");
+    cmd->add_option("--screenshot", s->screenshot,
+                    "PNG of the view (RGBA, alpha = coverage, framebuffer pixels): written after --frames, "
+                    "and by the P key")
+        ->group("View");
+    cmd->add_flag("--screenshot-ui", s->screenshot_ui,
+                  "The screenshot shows the whole window as seen (panel, background; opaque)")
+        ->group("View");
+    cmd->add_option("--frames", s->frames, "Draw this many frames, print frame times, then exit (0: interactive)")
+        ->group("View")
+        ->capture_default_str();
+    cmd->add_option("--shader-dir", s->shader_dir,
+                    "Read shaders from DIR (e.g. shaders/) and reload them when a file changes "
+                    "(also PRISMRELIEF_SHADER_DIR)")
+        ->group("View");
+    cmd->add_option("--render-scale", s->render_scale,
+                    "Renderer pixels per window pixel (0.25-1; below 1 is faster on llvmpipe, upscaled)")
+        ->group("View")
+        ->capture_default_str();
+    cmd->add_flag("--no-panel", s->no_panel, "Start with the panel hidden (H or Tab shows it)")->group("View");
+    cmd->add_option("--drop", s->drops, "Load FILE after the first frame as if dropped on the window (tests)")
+        ->group("View");
+    cmd->footer("Mouse: left drag orbits, right/middle drag pans, wheel zooms, Ctrl+left drag moves the\n"
+                "light, drag the divider in split view. Keys: 1-9,0 technique (Shift: right half), [ ]\n"
+                "previous/next, M marcher, S split, W wireframe, D reference difference, R reset view,\n"
+                "P screenshot, H/Tab panel, Q/Esc quit. --backend is not used (the window's context draws).\n"
+                "Example:\n  prismrelief view --scene meshes/scenes/plane_and_torus.json --split pom,prism");
+
+    return [s]() -> int {
+#ifndef PRISMRELIEF_HAVE_VIEWER
+        throw Error("view", "this build has no viewer (GLFW 3 and Dear ImGui were not found when it was "
+                            "configured; install libglfw3-dev and libimgui-dev and build again)");
+#else
+        view::ViewerOptions o;
+        o.left = make_draw_settings(s->technique, s->technique.technique);
+        if (!s->split.empty()) {
+            const std::vector<TechniqueRun> runs = parse_technique_list(s->split, s->technique, "--split");
+            if (runs.size() != 2) throw Error("--split", "expected two techniques A,B, got '" + s->split + "'");
+            o.left = runs[0].settings;
+            o.right = runs[1].settings;
+        }
+        if (!(s->divider >= 0.0f && s->divider <= 1.0f)) throw Error("--divider", "must be between 0 and 1");
+        o.divider = s->divider;
+        o.overlay = view::parse_wire_overlay(s->overlay);
+        if (!(s->render_scale >= 0.25f && s->render_scale <= 1.0f))
+            throw Error("--render-scale", "must be between 0.25 and 1");
+        o.render_scale = s->render_scale;
+        o.reference_overlay = s->reference_overlay;
+        o.reference = make_reference_options(s->technique);
+        if (s->frames < 0 || s->frames > 1000000) throw Error("--frames", "must be between 0 and 1000000");
+        o.frames = s->frames;
+        if (!s->screenshot.empty()) check_output_folder(s->screenshot);
+        o.screenshot = s->screenshot;
+        o.screenshot_ui = s->screenshot_ui;
+        o.panel = !s->no_panel;
+        o.drops = s->drops;
+        if (!s->shader_dir.empty()) {
+            if (!std::filesystem::is_directory(s->shader_dir))
+                throw Error("--shader-dir", s->shader_dir + " is not a folder");
+            // shader_program.cpp reads the sources from here from now on.
+            setenv("PRISMRELIEF_SHADER_DIR", s->shader_dir.c_str(), 1);
+        }
+        if (const char* dir = std::getenv("PRISMRELIEF_SHADER_DIR"); dir && *dir) o.shader_dir = dir;
+
+        GlfwWindow* window = nullptr;
+        Session session = open_session(s->scene, [&](const SceneSpec& spec) -> std::unique_ptr<Context> {
+            auto w = GlfwWindow::open(spec.width, spec.height, "prismrelief view");
+            window = w.get();
+            return w;
+        });
+        return view::run_viewer(session, *window, o);
+#endif
+    };
 }
 
 } // namespace pr

@@ -1,8 +1,83 @@
-// Wireframe overlays: placeholder until the viewer issue lands.
+// Wireframe overlays (viewer, docs figures): the base mesh's edges or the prism shells' edges,
+// drawn over what the last draw() left in the renderer's target, depth-tested against it, alpha
+// untouched (it stays the coverage). Shaders: shaders/wireframe.{vert,geom,frag}, which build the
+// shell with prism/shell.glsl like the prism technique.
 #include "render/renderer.hpp"
+
+#include "core/error.hpp"
+#include "render/shader_program.hpp"
+
+#include "common/shared.h"
+
+#include <glm/gtc/type_ptr.hpp>
 
 namespace pr {
 
-void Renderer::draw_overlay(const Camera&, Overlay, glm::vec4, const DrawSettings&) {}
+void Renderer::draw_overlay(const Camera& camera, Overlay overlay, glm::vec4 color, const DrawSettings& settings)
+{
+    const bool shell = overlay == Overlay::PrismShell;
+    // Keys cannot collide with the technique variants' ("NAME=VALUE;…"); reload_shaders() drops
+    // these programs too.
+    const std::string key = shell ? "overlay:shell" : "overlay:base";
+    auto it = programs_.find(key);
+    if (it == programs_.end()) {
+        ShaderDefines defines;
+        if (shell) defines.emplace_back("PR_OVERLAY_SHELL", "1");
+        gl::Program p = build_program({{GL_VERTEX_SHADER, "wireframe.vert"},
+                                       {GL_GEOMETRY_SHADER, "wireframe.geom"},
+                                       {GL_FRAGMENT_SHADER, "wireframe.frag"}},
+                                      defines);
+        it = programs_.emplace(key, std::move(p)).first;
+    }
+    const GLuint program = it->second.id();
+
+    // The same frame block as draw() (kept in step by hand: draw() fills it the same way).
+    const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
+    shader::FrameBlock frame{};
+    frame.u_view = camera.view();
+    frame.u_proj = camera.projection(aspect);
+    frame.u_view_proj = frame.u_proj * frame.u_view;
+    frame.u_eye = glm::vec4(camera.eye, 1.0f);
+    frame.u_light_dir = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);
+    frame.u_viewport = glm::vec4(width_, height_, 1.0f / width_, 1.0f / height_);
+    glNamedBufferSubData(frame_ubo_.id(), 0, sizeof(frame), &frame);
+    glBindBufferBase(GL_UNIFORM_BUFFER, PR_UBO_FRAME, frame_ubo_.id());
+    glBindBufferBase(GL_UNIFORM_BUFFER, PR_UBO_OBJECT, object_ubo_.id());
+
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+    glViewport(0, 0, width_, height_);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LEQUAL);
+    glDepthMask(GL_FALSE);
+    glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_FALSE);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glUseProgram(program);
+    glProgramUniform4fv(program, 0, 1, glm::value_ptr(color));
+
+    // Which shell: the prism's (contract: t in [-midlevel, 1 - midlevel]) for prism, reference
+    // and flat; base-surface techniques carve inward by depth from the polygon (contract), so
+    // their volume is the shell with midlevel 1.
+    const Technique t = settings.technique;
+    const bool inward = t != Technique::Prism && t != Technique::Reference && t != Technique::Flat;
+    for (const GpuObject& o : objects_) {
+        shader::ObjectBlock ob{};
+        ob.u_model = o.transform;
+        ob.u_normal_matrix = glm::mat4(glm::transpose(glm::inverse(glm::mat3(o.transform))));
+        ob.u_displace = glm::vec4(o.depth, inward ? 1.0f : o.midlevel, o.height_size.x, o.height_size.y);
+        ob.u_march = glm::ivec4(settings.steps, settings.refine, 0, 0);
+        ob.u_base_color = glm::vec4(o.base_color, 1.0f);
+        glNamedBufferSubData(object_ubo_.id(), 0, sizeof(ob), &ob);
+        glBindVertexArray(o.base.vao.id());
+        glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
+    }
+    glBindVertexArray(0);
+    glUseProgram(0);
+    glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
+    if (const GLenum err = glGetError(); err != GL_NO_ERROR)
+        throw Error("overlay", "OpenGL error " + std::to_string(err));
+}
 
 } // namespace pr

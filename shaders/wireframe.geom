@@ -1,0 +1,68 @@
+// Wireframe overlays, stage 2: the edges of one base triangle as line strips, or (variant
+// PR_OVERLAY_SHELL) the edges of its shell prism: bottom and top triangles, the three vertical
+// edges and the diagonal that splits each side quad — corners from shell_corner() and the
+// diagonal from diagonal_from_a(), exactly as prism.geom builds the faces it rasterizes.
+// Edges shared by neighbouring triangles are drawn twice (same pixels, same colour).
+#include "common/shared.h"
+#include "prism/shell.glsl"
+
+layout(triangles) in;
+#ifdef PR_OVERLAY_SHELL
+layout(line_strip, max_vertices = 20) out;
+#else
+layout(line_strip, max_vertices = 4) out;
+#endif
+
+in vec3 g_world[];
+in vec3 g_normal[];
+flat in uint g_weld[];
+
+// Lines lie on the surfaces they outline; pull them towards the eye by this much of window
+// depth so the depth test does not hide them behind the faces they bound (z fighting).
+const float kDepthBias = 2e-4;
+
+void put(vec3 world)
+{
+    vec4 clip = u_view_proj * vec4(world, 1.0);
+    clip.z -= 2.0 * kDepthBias * clip.w; // NDC z spans 2 units of window depth's 1
+    gl_Position = clip;
+    EmitVertex();
+}
+
+void segment(vec3 a, vec3 b)
+{
+    put(a);
+    put(b);
+    EndPrimitive();
+}
+
+void loop3(vec3 a, vec3 b, vec3 c)
+{
+    put(a);
+    put(b);
+    put(c);
+    put(a);
+    EndPrimitive();
+}
+
+void main()
+{
+#ifdef PR_OVERLAY_SHELL
+    for (int i = 0; i < 3; ++i) {
+        corner_world[i] = shell_corner(g_world[i], g_normal[i], 0.0);
+        corner_world[i + 3] = shell_corner(g_world[i], g_normal[i], 1.0);
+    }
+    loop3(corner_world[0], corner_world[1], corner_world[2]);
+    loop3(corner_world[3], corner_world[4], corner_world[5]);
+    for (int e = 0; e < 3; ++e) {
+        int a = e, b = (e + 1) % 3;
+        segment(corner_world[a], corner_world[a + 3]);
+        if (diagonal_from_a(g_weld[a], g_weld[b]))
+            segment(corner_world[a], corner_world[b + 3]);
+        else
+            segment(corner_world[b], corner_world[a + 3]);
+    }
+#else
+    loop3(g_world[0], g_world[1], g_world[2]);
+#endif
+}

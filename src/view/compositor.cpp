@@ -1,0 +1,156 @@
+#include "view/compositor.hpp"
+
+#include "core/error.hpp"
+
+#include <string>
+
+namespace pr::view {
+
+namespace {
+
+// A full-screen triangle; the viewer's only shader of its own (presentation, not rendering:
+// everything drawn comes from the Renderer and shaders/).
+const char* kVertex = R"(#version 450 core
+void main()
+{
+    vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
+    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+}
+)";
+
+const char* kFragment = R"(#version 450 core
+layout(binding = 0) uniform sampler2D s_view;
+layout(binding = 1) uniform sampler2D s_reference;
+layout(location = 0) uniform vec4 u_params; // x: divider (px, < 0 none), y: tint, z: height, w: line width
+layout(location = 0) out vec4 o_color;
+void main()
+{
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    vec4 c = texelFetch(s_view, p, 0);
+    vec3 background = mix(vec3(0.13, 0.14, 0.16), vec3(0.32, 0.34, 0.38), gl_FragCoord.y / u_params.z);
+    bool covered = c.a >= 0.5;
+    // Overlay lines outside the coverage keep alpha 0 but have a colour (the clear colour is 0).
+    bool line = !covered && max(c.r, max(c.g, c.b)) > 0.0;
+    vec3 color = covered || line ? c.rgb : background;
+    if (u_params.y > 0.0) {
+        bool ref = texelFetch(s_reference, p, 0).a >= 0.5;
+        if (ref && !covered) color = mix(color, vec3(0.0, 1.0, 1.0), 0.65);
+        else if (!ref && covered) color = mix(color, vec3(1.0, 0.0, 1.0), 0.65);
+    }
+    if (u_params.x >= 0.0 && abs(gl_FragCoord.x - u_params.x) < 0.5 * u_params.w + 0.5) color = vec3(1.0);
+    o_color = vec4(color, 1.0);
+}
+)";
+
+gl::Shader compile(GLenum stage, const char* text)
+{
+    gl::Shader s = gl::Shader::create(stage);
+    glShaderSource(s.id(), 1, &text, nullptr);
+    glCompileShader(s.id());
+    GLint ok = 0;
+    glGetShaderiv(s.id(), GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[2048] = {};
+        glGetShaderInfoLog(s.id(), sizeof(log), nullptr, log);
+        throw Error("view", std::string("compositor shader: ") + log);
+    }
+    return s;
+}
+
+void make_target(int w, int h, gl::Texture& tex, gl::Framebuffer& fbo)
+{
+    tex = gl::Texture::create(GL_TEXTURE_2D);
+    glTextureStorage2D(tex.id(), 1, GL_RGBA8, w, h);
+    glTextureParameteri(tex.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(tex.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    fbo = gl::Framebuffer::create();
+    glNamedFramebufferTexture(fbo.id(), GL_COLOR_ATTACHMENT0, tex.id(), 0);
+    if (glCheckNamedFramebufferStatus(fbo.id(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw Error("view", "could not create a " + std::to_string(w) + "x" + std::to_string(h) + " view target");
+    const GLfloat zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 0, zero);
+}
+
+} // namespace
+
+Compositor::Compositor()
+{
+    program_ = gl::Program::create();
+    gl::Shader vs = compile(GL_VERTEX_SHADER, kVertex);
+    gl::Shader fs = compile(GL_FRAGMENT_SHADER, kFragment);
+    glAttachShader(program_.id(), vs.id());
+    glAttachShader(program_.id(), fs.id());
+    glLinkProgram(program_.id());
+    GLint ok = 0;
+    glGetProgramiv(program_.id(), GL_LINK_STATUS, &ok);
+    if (!ok) throw Error("view", "compositor shader: link error");
+    glDetachShader(program_.id(), vs.id());
+    glDetachShader(program_.id(), fs.id());
+    vao_ = gl::VertexArray::create();
+}
+
+void Compositor::resize(int width, int height)
+{
+    if (width == width_ && height == height_) return;
+    width_ = width;
+    height_ = height;
+    make_target(width, height, view_tex_, view_fbo_);
+    make_target(width, height, ref_tex_, ref_fbo_);
+}
+
+void Compositor::copy_view(GLuint source_fbo, int x0, int x1, int src_w, int src_h)
+{
+    glDisable(GL_SCISSOR_TEST);
+    const bool same = src_w == width_ && src_h == height_;
+    const auto to_view = [&](int x) { return same ? x : int((long long)x * width_ / src_w); };
+    glBlitNamedFramebuffer(source_fbo, view_fbo_.id(), x0, 0, x1, src_h, to_view(x0), 0, to_view(x1), height_,
+                           GL_COLOR_BUFFER_BIT, same ? GL_NEAREST : GL_LINEAR);
+}
+
+void Compositor::copy_reference(GLuint source_fbo, int src_w, int src_h)
+{
+    glDisable(GL_SCISSOR_TEST);
+    const bool same = src_w == width_ && src_h == height_;
+    glBlitNamedFramebuffer(source_fbo, ref_fbo_.id(), 0, 0, src_w, src_h, 0, 0, width_, height_,
+                           GL_COLOR_BUFFER_BIT, same ? GL_NEAREST : GL_LINEAR);
+}
+
+void Compositor::clear_view()
+{
+    const GLfloat zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    glClearNamedFramebufferfv(view_fbo_.id(), GL_COLOR, 0, zero);
+}
+
+void Compositor::present(const Present& p)
+{
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, width_, height_);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_CULL_FACE);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glUseProgram(program_.id());
+    glProgramUniform4f(program_.id(), 0, p.divider_px, p.tint_difference ? 1.0f : 0.0f, float(height_),
+                       p.line_width);
+    glBindTextureUnit(0, view_tex_.id());
+    glBindTextureUnit(1, ref_tex_.id());
+    glBindVertexArray(vao_.id());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    glUseProgram(0);
+}
+
+RgbaImage Compositor::read_view() const
+{
+    RgbaImage img;
+    img.width = width_;
+    img.height = height_;
+    img.pixels.resize(std::size_t(width_) * height_ * 4);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glGetTextureImage(view_tex_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(img.pixels.size()),
+                      img.pixels.data());
+    return img;
+}
+
+} // namespace pr::view

@@ -1,0 +1,775 @@
+// The viewer's frame loop, input and panel. Drawing is the Renderer's (render/renderer.hpp); this
+// file only decides what to draw with which settings, copies the result to the window through
+// the Compositor, and draws the Dear ImGui panel on top.
+#include "view/viewer.hpp"
+
+#include "core/error.hpp"
+#include "gl/gl.hpp"
+#include "view/compositor.hpp"
+#include "view/glfw_window.hpp"
+#include "view/orbit.hpp"
+#include "view/shader_watch.hpp"
+
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_opengl3.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cfloat>
+#include <cmath>
+#include <cstdio>
+#include <deque>
+#include <filesystem>
+#include <sstream>
+
+namespace pr::view {
+
+WireOverlay parse_wire_overlay(const std::string& name, const std::string& option)
+{
+    if (name == "none") return WireOverlay::None;
+    if (name == "base") return WireOverlay::Base;
+    if (name == "shell") return WireOverlay::Shell;
+    throw Error(option, "unknown overlay '" + name + "' (expected none|base|shell)");
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t)
+{
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+std::vector<std::string> split_names(const std::string& s)
+{
+    std::vector<std::string> out;
+    std::istringstream in(s);
+    std::string item;
+    while (std::getline(in, item, '|'))
+        if (!item.empty()) out.push_back(item);
+    return out;
+}
+
+std::string lower_extension(const std::string& path)
+{
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
+
+double median(std::vector<double> v)
+{
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// "pom", "prism:relief": as --techniques lists name them.
+std::string display_name(const DrawSettings& d)
+{
+    const std::string t = technique_name(d.technique);
+    return d.technique == Technique::Prism ? t + ":" + marcher_name(d.marcher) : t;
+}
+
+// What the panel shows for one technique (one half of the split view).
+struct HalfStats {
+    double draw_ms = 0.0;              // smoothed
+    std::vector<double> draws;         // every timed draw (median at exit)
+    double samples_per_fragment = -1.0; // < 0: not counted yet
+    std::uint64_t fragments = 0;
+};
+
+class Viewer {
+public:
+    Viewer(Session& session, GlfwWindow& window, const ViewerOptions& options)
+        : s_(session), window_(window), o_(options)
+    {
+        half_[0] = options.left;
+        half_[1] = options.right ? *options.right : options.left;
+        split_ = options.right.has_value();
+        if (!split_) // the right half when split is switched on later: prism (or POM next to prism)
+            half_[1].technique = half_[0].technique == Technique::Prism ? Technique::Pom : Technique::Prism;
+        divider_ = std::clamp(options.divider, 0.0f, 1.0f);
+        render_scale_ = std::clamp(options.render_scale, 0.05f, 1.0f);
+        overlay_ = options.overlay;
+        reference_overlay_ = options.reference_overlay;
+        initial_camera_ = s_.camera;
+        angles_from_direction(s_.light, light_azimuth_, light_elevation_);
+        remember_scene();
+        if (!o_.shader_dir.empty()) watch_.emplace(o_.shader_dir);
+        pending_drops_ = o_.drops;
+    }
+
+    int run();
+
+private:
+    void remember_scene();
+    void init_imgui();
+    void shutdown_imgui();
+    void handle_input();
+    void handle_drop(const std::string& path);
+    void reload_scene(SceneSpec spec, bool reset_camera);
+    void apply_displacement();
+    void render_scene();
+    void draw_panel();
+    void technique_combo(int half);
+    void take_screenshot(const std::string& path);
+    RgbaImage read_window() const;
+    bool half_needs_reference() const;
+    std::string settings_key() const;
+    void fit_planes() { fit_clip_planes(s_.camera, bounds_); }
+    void error(const std::string& message);
+
+    Session& s_;
+    GlfwWindow& window_;
+    const ViewerOptions& o_;
+    std::optional<Compositor> compositor_;
+    std::optional<ShaderWatch> watch_;
+    Clock::time_point last_watch_ = Clock::now();
+
+    std::array<DrawSettings, 2> half_;
+    std::array<HalfStats, 2> stats_;
+    bool split_ = false;
+    float divider_ = 0.5f;
+    WireOverlay overlay_ = WireOverlay::None;
+    bool reference_overlay_ = false;
+    bool reference_ready_ = false;
+    bool count_samples_ = true;
+    float render_scale_ = 1.0f; // renderer pixels per framebuffer pixel (panel: faster on llvmpipe)
+    bool continuous_ = false;
+    bool show_panel_ = true;
+    bool dirty_ = true;
+    int frame_ = 0;
+    int rendered_ = 0;
+
+    Camera initial_camera_;
+    Sphere bounds_;
+    float light_azimuth_ = 0.0f, light_elevation_ = 0.0f;
+    // Displacement as loaded (per object) and the panel's edits of it.
+    std::vector<float> base_depth_;
+    std::vector<float> base_midlevel_;
+    float base_radius_ = 1.0f;
+    float depth_ = 0.0f;    // object 0's depth; other objects scale with it
+    float midlevel_ = 0.0f; // every object's
+
+    enum class Drag { None, Orbit, Pan, Light, Divider };
+    Drag drag_ = Drag::None;
+
+    std::string shader_error_;  // the last compile error (panel), cleared by a good draw
+    std::string blocked_key_;   // settings that failed to draw; retried when they or shaders change
+    std::vector<std::string> pending_drops_;
+    std::deque<std::string> log_; // load errors and notices (newest last)
+    std::deque<float> frame_ms_; // recent frame times (plot)
+    std::vector<double> all_frame_ms_;
+    Clock::time_point last_frame_ = Clock::now();
+    int screenshot_counter_ = 0;
+};
+
+void Viewer::error(const std::string& message)
+{
+    warn(message);
+    log_.push_back(message);
+    while (log_.size() > 6) log_.pop_front();
+}
+
+void Viewer::remember_scene()
+{
+    base_depth_.clear();
+    base_midlevel_.clear();
+    for (const SceneObject& o : s_.scene.objects) {
+        base_depth_.push_back(o.depth);
+        base_midlevel_.push_back(o.midlevel);
+    }
+    depth_ = base_depth_.empty() ? 0.0f : base_depth_[0];
+    midlevel_ = base_midlevel_.empty() ? 0.0f : base_midlevel_[0];
+    bounds_ = s_.scene.shell_bounds;
+    base_radius_ = bounds_.radius;
+    reference_ready_ = false;
+}
+
+// Depth and midlevel from the panel: the renderer copies them at upload, so upload again (the
+// meshes and textures are small next to a frame on llvmpipe). The shell's bounds grow by at most
+// how far any corner moved, which keeps the clip planes safe.
+void Viewer::apply_displacement()
+{
+    float grow = 0.0f;
+    const float ratio = base_depth_.empty() || base_depth_[0] <= 0.0f ? 1.0f : depth_ / base_depth_[0];
+    for (std::size_t i = 0; i < s_.scene.objects.size(); ++i) {
+        SceneObject& o = s_.scene.objects[i];
+        o.depth = base_depth_[0] > 0.0f ? base_depth_[i] * ratio : depth_;
+        o.midlevel = midlevel_;
+        const glm::mat3 m(o.transform);
+        const float scale = std::max({glm::length(m[0]), glm::length(m[1]), glm::length(m[2])});
+        const float moved = std::abs(o.depth - base_depth_[i]) + o.depth * std::abs(o.midlevel - base_midlevel_[i]) +
+                            base_depth_[i] * std::abs(o.midlevel - base_midlevel_[i]);
+        grow = std::max(grow, moved * scale);
+    }
+    bounds_.radius = base_radius_ + grow;
+    try {
+        s_.renderer->upload(s_.scene);
+    } catch (const Error& e) {
+        error(e.what());
+    }
+    reference_ready_ = false;
+    fit_planes();
+    dirty_ = true;
+}
+
+void Viewer::reload_scene(SceneSpec spec, bool reset_camera)
+{
+    Scene scene = load_scene(spec); // throws pr::Error naming the file: the old scene stays
+    try {
+        s_.renderer->upload(scene);
+    } catch (const Error&) {
+        s_.renderer->upload(s_.scene);
+        throw;
+    }
+    s_.scene = std::move(scene);
+    s_.spec = std::move(spec);
+    remember_scene();
+    if (reset_camera) {
+        s_.camera = scene_camera(s_.spec, s_.scene);
+        initial_camera_ = s_.camera;
+    } else {
+        fit_planes();
+    }
+    dirty_ = true;
+}
+
+// A mesh replaces the scene by that mesh (keeping the first object's height and colour, with
+// automatic depth and framing); a height image replaces every object's height map.
+void Viewer::handle_drop(const std::string& path)
+{
+    const std::string ext = lower_extension(path);
+    try {
+        SceneSpec spec = s_.spec;
+        if (ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl") {
+            ObjectSpec obj = spec.objects.at(0);
+            obj.mesh = path;
+            obj.depth.reset();
+            obj.transform = glm::mat4(1.0f);
+            spec.objects = {obj};
+            spec.camera.eye.reset();
+            spec.camera.target.reset();
+            reload_scene(std::move(spec), true);
+        } else if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".tga") {
+            for (ObjectSpec& obj : spec.objects) obj.height = path;
+            reload_scene(std::move(spec), false);
+        } else {
+            throw Error(path, "cannot load this file type (drop a mesh: OBJ, OFF, PLY, STL; or a height "
+                              "image: PNG, JPG, BMP, TGA)");
+        }
+        log_.push_back("loaded " + path);
+        while (log_.size() > 6) log_.pop_front();
+    } catch (const Error& e) {
+        error(e.what());
+    } catch (const std::exception& e) {
+        error(path + ": " + e.what());
+    }
+}
+
+bool Viewer::half_needs_reference() const
+{
+    return half_[0].technique == Technique::Reference || (split_ && half_[1].technique == Technique::Reference);
+}
+
+std::string Viewer::settings_key() const
+{
+    std::string key;
+    for (int h = 0; h < (split_ ? 2 : 1); ++h) {
+        const DrawSettings& d = half_[h];
+        key += std::to_string(int(d.technique)) + "," + std::to_string(int(d.marcher)) + "," +
+               std::to_string(int(d.normal_quality)) + "," + std::to_string(int(d.shadows)) + "," +
+               std::to_string(int(d.prism_exit)) + "," + std::to_string(d.depth_write) + ";";
+    }
+    return key + std::to_string(int(overlay_)) + std::to_string(reference_overlay_);
+}
+
+void Viewer::render_scene()
+{
+    if (!blocked_key_.empty() && blocked_key_ == settings_key()) return; // waits for a change
+    blocked_key_.clear();
+    Renderer& r = *s_.renderer;
+    const int w = r.width(), h = r.height(); // the render scale's pixels
+    try {
+        if ((reference_overlay_ || half_needs_reference()) && !reference_ready_) {
+            r.prepare_reference(s_.scene, s_.camera, o_.reference);
+            reference_ready_ = true;
+        }
+        const int halves = split_ ? 2 : 1;
+        const int divider_px = std::clamp(int(std::lround(divider_ * float(w))), 0, w);
+        // Count samples on the first frame and every 10th after (the instrumented variant is
+        // slower; its frames are left out of the times).
+        const bool count = count_samples_ && rendered_ % 10 == 0;
+        for (int k = 0; k < halves; ++k) {
+            const int x0 = split_ ? (k == 0 ? 0 : divider_px) : 0;
+            const int x1 = split_ ? (k == 0 ? divider_px : w) : w;
+            if (x1 <= x0) continue;
+            if (split_) {
+                // Each half only draws its own columns (the renderer's clears and draws honour it).
+                glEnable(GL_SCISSOR_TEST);
+                glScissor(x0, 0, x1 - x0, h);
+            }
+            DrawSettings d = half_[k];
+            d.count_samples = count;
+            const double ms = r.draw(s_.camera, s_.light, d);
+            HalfStats& st = stats_[k];
+            if (count) {
+                const SampleCounters c = r.read_counters();
+                st.fragments = c.fragments;
+                st.samples_per_fragment = c.fragments ? double(c.samples) / double(c.fragments) : 0.0;
+            } else {
+                st.draw_ms = st.draws.empty() ? ms : 0.8 * st.draw_ms + 0.2 * ms;
+                st.draws.push_back(ms);
+            }
+            if (overlay_ != WireOverlay::None) {
+                const auto kind = overlay_ == WireOverlay::Base ? Renderer::Overlay::BaseMesh
+                                                                : Renderer::Overlay::PrismShell;
+                const glm::vec4 color = overlay_ == WireOverlay::Base ? glm::vec4(1.0f, 0.85f, 0.2f, 1.0f)
+                                                                      : glm::vec4(0.25f, 0.9f, 1.0f, 1.0f);
+                r.draw_overlay(s_.camera, kind, color, half_[k]);
+            }
+            glDisable(GL_SCISSOR_TEST);
+            compositor_->copy_view(r.framebuffer(), x0, x1, w, h);
+        }
+        if (reference_overlay_) {
+            DrawSettings ref = half_[0];
+            ref.technique = Technique::Reference;
+            ref.count_samples = false;
+            r.draw(s_.camera, s_.light, ref);
+            compositor_->copy_reference(r.framebuffer(), w, h);
+        }
+        shader_error_.clear();
+        ++rendered_;
+    } catch (const Error& e) {
+        glDisable(GL_SCISSOR_TEST);
+        const std::string what = e.what();
+        if (what.find("shaders/") != std::string::npos) shader_error_ = what;
+        error(what);
+        blocked_key_ = settings_key();
+    }
+}
+
+void Viewer::take_screenshot(const std::string& path)
+{
+    try {
+        write_png(path, o_.screenshot_ui ? read_window() : compositor_->read_view());
+        log_.push_back("wrote " + path);
+        while (log_.size() > 6) log_.pop_front();
+        if (o_.frames > 0) std::printf("%s: %dx%d\n", path.c_str(), compositor_->width(), compositor_->height());
+    } catch (const Error& e) {
+        error(e.what());
+    }
+}
+
+// The window as shown (back buffer, before the swap): view, background, divider, panel.
+RgbaImage Viewer::read_window() const
+{
+    RgbaImage img;
+    img.width = compositor_->width();
+    img.height = compositor_->height();
+    img.pixels.resize(std::size_t(img.width) * img.height * 4);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glReadBuffer(GL_BACK);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, img.pixels.data());
+    for (std::size_t i = 3; i < img.pixels.size(); i += 4) img.pixels[i] = 255;
+    return img;
+}
+
+void Viewer::init_imgui()
+{
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGuiIO& io = ImGui::GetIO();
+    io.IniFilename = nullptr; // no imgui.ini in the working folder
+    ImGui::StyleColorsDark();
+    // High DPI: fonts and sizes follow the monitor's content scale (window coordinates are
+    // logical; the GLFW backend sets DisplayFramebufferScale for the pixels).
+    const float scale = std::clamp(window_.content_scale(), 1.0f, 4.0f);
+    ImFontConfig font;
+    font.SizePixels = std::round(13.0f * scale);
+    io.Fonts->AddFontDefault(&font);
+    ImGui::GetStyle().ScaleAllSizes(scale);
+    ImGui_ImplGlfw_InitForOpenGL(window_.handle(), true);
+    ImGui_ImplOpenGL3_Init("#version 450 core");
+}
+
+void Viewer::shutdown_imgui()
+{
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+}
+
+void Viewer::handle_input()
+{
+    ImGuiIO& io = ImGui::GetIO();
+    const float fb_scale = io.DisplayFramebufferScale.x > 0.0f ? io.DisplayFramebufferScale.x : 1.0f;
+    const float w = float(compositor_->width());
+    const float mouse_px = io.MousePos.x * fb_scale;
+    const bool near_divider = split_ && std::abs(mouse_px - divider_ * w) < 6.0f * fb_scale;
+
+    if (!io.WantCaptureMouse) {
+        if (ImGui::IsMouseClicked(ImGuiMouseButton_Left))
+            drag_ = near_divider ? Drag::Divider : io.KeyCtrl ? Drag::Light : Drag::Orbit;
+        else if (ImGui::IsMouseClicked(ImGuiMouseButton_Right) || ImGui::IsMouseClicked(ImGuiMouseButton_Middle))
+            drag_ = Drag::Pan;
+        if (io.MouseWheel != 0.0f) {
+            zoom(s_.camera, io.MouseWheel, bounds_);
+            fit_planes();
+            dirty_ = true;
+        }
+        if (near_divider || drag_ == Drag::Divider) ImGui::SetMouseCursor(ImGuiMouseCursor_ResizeEW);
+    }
+    if (!ImGui::IsMouseDown(ImGuiMouseButton_Left) && !ImGui::IsMouseDown(ImGuiMouseButton_Right) &&
+        !ImGui::IsMouseDown(ImGuiMouseButton_Middle))
+        drag_ = Drag::None;
+    const ImVec2 d = io.MouseDelta;
+    if (drag_ != Drag::None && (d.x != 0.0f || d.y != 0.0f)) {
+        switch (drag_) {
+        case Drag::Orbit:
+            orbit(s_.camera, -d.x * 0.008f, -d.y * 0.008f);
+            fit_planes();
+            break;
+        case Drag::Pan:
+            pan(s_.camera, d.x * fb_scale, d.y * fb_scale, compositor_->height());
+            fit_planes();
+            break;
+        case Drag::Light:
+            light_azimuth_ -= d.x * 0.01f;
+            light_elevation_ = std::clamp(light_elevation_ - d.y * 0.01f, -1.55f, 1.55f);
+            s_.light = direction_from_angles(light_azimuth_, light_elevation_);
+            break;
+        case Drag::Divider:
+            divider_ = std::clamp(mouse_px / w, 0.0f, 1.0f);
+            break;
+        case Drag::None: break;
+        }
+        dirty_ = true;
+    }
+
+    if (io.WantCaptureKeyboard) return;
+    const auto pressed = [](int key) { return ImGui::IsKeyPressed(key, false); };
+    const auto& table = technique_table();
+    // 1..9, 0: the table's first ten techniques (Shift: the right half, which turns split on).
+    for (int i = 0; i < 10 && i < int(table.size()); ++i) {
+        if (pressed('0' + (i + 1) % 10)) {
+            const int k = io.KeyShift ? 1 : 0;
+            if (k == 1) split_ = true;
+            half_[k].technique = table[i].technique;
+            dirty_ = true;
+        }
+    }
+    const auto cycle = [&](int step) {
+        std::size_t at = 0;
+        for (std::size_t i = 0; i < table.size(); ++i)
+            if (table[i].technique == half_[0].technique) at = i;
+        const std::size_t n = table.size();
+        half_[0].technique = table[(at + (step > 0 ? 1 : n - 1)) % n].technique;
+        dirty_ = true;
+    };
+    if (pressed(']')) cycle(1);
+    if (pressed('[')) cycle(-1);
+    if (pressed('M')) {
+        const auto names = split_names(marcher_names());
+        const std::string now = marcher_name(half_[0].marcher);
+        std::size_t at = 0;
+        for (std::size_t i = 0; i < names.size(); ++i)
+            if (names[i] == now) at = i;
+        half_[0].marcher = parse_marcher(names[(at + 1) % names.size()]);
+        dirty_ = true;
+    }
+    if (pressed('S')) split_ = !split_, dirty_ = true;
+    if (pressed('W')) overlay_ = WireOverlay((int(overlay_) + 1) % 3), dirty_ = true;
+    if (pressed('D')) reference_overlay_ = !reference_overlay_, dirty_ = true;
+    if (pressed('R')) {
+        s_.camera = initial_camera_;
+        fit_planes();
+        dirty_ = true;
+    }
+    if (pressed('H') || pressed(ImGui::GetKeyIndex(ImGuiKey_Tab))) show_panel_ = !show_panel_;
+    if (pressed('P')) {
+        const std::string path = !o_.screenshot.empty()
+                                     ? o_.screenshot
+                                     : "prismrelief-view-" + std::to_string(++screenshot_counter_) + ".png";
+        take_screenshot(path);
+    }
+    if (pressed('Q') || pressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) window_.request_close();
+}
+
+void Viewer::technique_combo(int k)
+{
+    const auto& table = technique_table();
+    DrawSettings& d = half_[k];
+    const char* label = k == 0 ? (split_ ? "left" : "technique") : "right";
+    if (ImGui::BeginCombo(label, technique_name(d.technique).c_str())) {
+        for (const TechniqueInfo& t : table) {
+            if (ImGui::Selectable(t.name, t.technique == d.technique)) {
+                d.technique = t.technique;
+                dirty_ = true;
+            }
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", t.summary);
+        }
+        ImGui::EndCombo();
+    }
+    if (d.technique == Technique::Prism) {
+        const std::string id = std::string("marcher##") + char('0' + k);
+        if (ImGui::BeginCombo(id.c_str(), marcher_name(d.marcher).c_str())) {
+            for (const std::string& m : split_names(marcher_names())) {
+                if (ImGui::Selectable(m.c_str(), m == marcher_name(d.marcher))) {
+                    d.marcher = parse_marcher(m);
+                    dirty_ = true;
+                }
+            }
+            ImGui::EndCombo();
+        }
+    }
+}
+
+void Viewer::draw_panel()
+{
+    ImGuiIO& io = ImGui::GetIO();
+    const float scale = ImGui::GetStyle().ScrollbarSize / 14.0f; // ScaleAllSizes' factor
+    ImGui::SetNextWindowPos(ImVec2(8.0f * scale, 8.0f * scale), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(330.0f * scale, 0.0f), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowBgAlpha(0.85f);
+    if (!ImGui::Begin("prismrelief", &show_panel_)) {
+        ImGui::End();
+        return;
+    }
+    ImGui::PushItemWidth(ImGui::GetWindowWidth() * 0.55f);
+    ImGui::TextDisabled("%s", s_.context->description().c_str());
+
+    // Frame time and counters.
+    const auto fmt_half = [&](int k) {
+        const HalfStats& st = stats_[k];
+        const std::string name = display_name(half_[k]);
+        if (st.samples_per_fragment >= 0.0)
+            ImGui::Text("%-14s %6.1f ms %5.1f samples/frag", name.c_str(), st.draw_ms, st.samples_per_fragment);
+        else
+            ImGui::Text("%-14s %6.1f ms", name.c_str(), st.draw_ms);
+    };
+    const float last = frame_ms_.empty() ? 0.0f : frame_ms_.back();
+    ImGui::Text("frame %.1f ms (%.0f fps), %dx%d px", last, last > 0.0f ? 1000.0f / last : 0.0f,
+                compositor_->width(), compositor_->height());
+    fmt_half(0);
+    if (split_) fmt_half(1);
+    if (!frame_ms_.empty()) {
+        std::vector<float> v(frame_ms_.begin(), frame_ms_.end());
+        ImGui::PlotLines("##frames", v.data(), int(v.size()), 0, "frame ms", 0.0f, FLT_MAX,
+                         ImVec2(0.0f, 36.0f * scale));
+    }
+    ImGui::Checkbox("count height samples", &count_samples_);
+    ImGui::SameLine();
+    ImGui::Checkbox("continuous", &continuous_);
+    static const float scales[] = {1.0f, 0.75f, 0.5f, 0.25f};
+    static const char* scale_names[] = {"100%", "75%", "50%", "25%"};
+    int si = 0;
+    for (int i = 0; i < 4; ++i)
+        if (render_scale_ == scales[i]) si = i;
+    if (ImGui::Combo("render scale", &si, scale_names, 4)) render_scale_ = scales[si];
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Pixels the renderer draws, upscaled to the window");
+
+    if (ImGui::CollapsingHeader("Technique", ImGuiTreeNodeFlags_DefaultOpen)) {
+        technique_combo(0);
+        if (ImGui::Checkbox("split compare (S)", &split_)) dirty_ = true;
+        if (split_) {
+            technique_combo(1);
+            if (ImGui::SliderFloat("divider", &divider_, 0.0f, 1.0f, "%.2f")) dirty_ = true;
+        }
+        int steps = half_[0].steps, refine = half_[0].refine;
+        bool changed = ImGui::SliderInt("steps", &steps, 1, 256);
+        changed |= ImGui::SliderInt("refine", &refine, 0, 16);
+        static const char* qualities[] = {"gather", "central", "sobel"};
+        int q = int(half_[0].normal_quality);
+        changed |= ImGui::Combo("normals", &q, qualities, 3);
+        static const char* shadows[] = {"none", "hard", "soft"};
+        int sh = int(half_[0].shadows);
+        changed |= ImGui::Combo("shadows", &sh, shadows, 3);
+        bool depth_write = half_[0].depth_write;
+        changed |= ImGui::Checkbox("depth write", &depth_write);
+        if (changed) {
+            for (DrawSettings& d : half_) {
+                d.steps = steps;
+                d.refine = refine;
+                d.normal_quality = parse_normal_quality(qualities[q]);
+                d.shadows = parse_shadows(shadows[sh]);
+                d.depth_write = depth_write;
+            }
+            dirty_ = true;
+        }
+    }
+    if (ImGui::CollapsingHeader("Scene", ImGuiTreeNodeFlags_DefaultOpen)) {
+        const float max_depth = std::max(4.0f * (base_depth_.empty() ? 0.0f : base_depth_[0]), 0.1f * base_radius_);
+        bool disp = ImGui::SliderFloat("depth", &depth_, 0.0f, max_depth, "%.4f");
+        disp |= ImGui::SliderFloat("midlevel", &midlevel_, 0.0f, 1.0f, "%.2f");
+        if (disp) apply_displacement();
+        float az = glm::degrees(light_azimuth_), el = glm::degrees(light_elevation_);
+        bool light = ImGui::SliderFloat("light azimuth", &az, -180.0f, 180.0f, "%.0f deg");
+        light |= ImGui::SliderFloat("light elevation", &el, -89.0f, 89.0f, "%.0f deg");
+        if (light) {
+            light_azimuth_ = glm::radians(az);
+            light_elevation_ = glm::radians(el);
+            s_.light = direction_from_angles(light_azimuth_, light_elevation_);
+            dirty_ = true;
+        }
+        if (ImGui::Button("reset view (R)")) {
+            s_.camera = initial_camera_;
+            fit_planes();
+            dirty_ = true;
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("screenshot (P)")) {
+            take_screenshot(!o_.screenshot.empty() ? o_.screenshot
+                                                    : "prismrelief-view-" + std::to_string(++screenshot_counter_) + ".png");
+        }
+    }
+    if (ImGui::CollapsingHeader("Overlays", ImGuiTreeNodeFlags_DefaultOpen)) {
+        int ov = int(overlay_);
+        bool changed = ImGui::RadioButton("none", &ov, 0);
+        ImGui::SameLine();
+        changed |= ImGui::RadioButton("base mesh", &ov, 1);
+        ImGui::SameLine();
+        changed |= ImGui::RadioButton("prism shell", &ov, 2);
+        if (changed) overlay_ = WireOverlay(ov), dirty_ = true;
+        if (ImGui::Checkbox("reference difference (D)", &reference_overlay_)) dirty_ = true;
+        if (reference_overlay_) {
+            ImGui::TextColored(ImVec4(0.0f, 1.0f, 1.0f, 1.0f), "missed");
+            ImGui::SameLine();
+            ImGui::TextColored(ImVec4(1.0f, 0.0f, 1.0f, 1.0f), "extra");
+            ImGui::SameLine();
+            if (ImGui::SmallButton("re-tessellate")) reference_ready_ = false, dirty_ = true;
+        }
+    }
+    if (ImGui::CollapsingHeader("Shaders")) {
+        if (watch_)
+            ImGui::TextWrapped("hot reload: watching %s", watch_->dir().string().c_str());
+        else
+            ImGui::TextWrapped("embedded shaders (hot reload: --shader-dir DIR or PRISMRELIEF_SHADER_DIR)");
+        if (ImGui::Button("reload now")) {
+            s_.renderer->reload_shaders();
+            blocked_key_.clear();
+            dirty_ = true;
+        }
+    }
+    if (!shader_error_.empty()) {
+        ImGui::Separator();
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.45f, 0.4f, 1.0f));
+        ImGui::TextWrapped("%s", shader_error_.c_str());
+        ImGui::PopStyleColor();
+    }
+    if (!log_.empty()) {
+        ImGui::Separator();
+        for (const std::string& line : log_) ImGui::TextWrapped("%s", line.c_str());
+    }
+    ImGui::TextDisabled("drop a mesh or a height image on the window");
+    (void)io;
+    ImGui::PopItemWidth();
+    ImGui::End();
+}
+
+int Viewer::run()
+{
+    window_.set_swap_interval(o_.frames > 0 ? 0 : 1);
+    compositor_.emplace();
+    init_imgui();
+    show_panel_ = o_.panel;
+    int status = kExitOk;
+    try {
+        while (!window_.should_close()) {
+            const bool busy = dirty_ || continuous_ || o_.frames > 0 || drag_ != Drag::None;
+            window_.poll_events(busy ? 0.0 : 0.25);
+            for (const std::string& path : window_.take_dropped_files()) handle_drop(path);
+            if (frame_ == 1) { // after the first frame, as if dropped by hand (tests)
+                for (const std::string& path : pending_drops_) handle_drop(path);
+                pending_drops_.clear();
+            }
+            if (watch_ && seconds_since(last_watch_) > 0.5) {
+                last_watch_ = Clock::now();
+                if (watch_->changed()) {
+                    s_.renderer->reload_shaders();
+                    blocked_key_.clear();
+                    dirty_ = true;
+                    log_.push_back("shaders reloaded");
+                    while (log_.size() > 6) log_.pop_front();
+                }
+            }
+            const GlfwWindow::Size fb = window_.framebuffer_size();
+            if (fb.width < 1 || fb.height < 1) continue; // minimized
+            const int rw = std::max(1, int(std::lround(float(fb.width) * render_scale_)));
+            const int rh = std::max(1, int(std::lround(float(fb.height) * render_scale_)));
+            if (fb.width != compositor_->width() || fb.height != compositor_->height() ||
+                rw != s_.renderer->width() || rh != s_.renderer->height()) {
+                s_.renderer->resize(rw, rh);
+                compositor_->resize(fb.width, fb.height);
+                reference_ready_ = false; // its automatic level depends on the pixel size
+                dirty_ = true;
+            }
+
+            ImGui_ImplOpenGL3_NewFrame();
+            ImGui_ImplGlfw_NewFrame();
+            ImGui::NewFrame();
+            handle_input();
+            if (show_panel_) draw_panel();
+            ImGui::Render();
+
+            if (dirty_ || continuous_ || o_.frames > 0) {
+                dirty_ = false;
+                render_scene();
+            }
+            Compositor::Present p;
+            const float fb_scale = ImGui::GetIO().DisplayFramebufferScale.x;
+            p.divider_px = split_ ? divider_ * float(fb.width) : -1.0f;
+            p.line_width = std::max(1.0f, fb_scale);
+            p.tint_difference = reference_overlay_;
+            compositor_->present(p);
+            ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+            const bool last_frame = o_.frames > 0 && frame_ + 1 >= o_.frames;
+            if (last_frame && !o_.screenshot.empty()) take_screenshot(o_.screenshot);
+            window_.swap_buffers();
+
+            const double ms = seconds_since(last_frame_) * 1000.0;
+            last_frame_ = Clock::now();
+            if (frame_ > 0) {
+                frame_ms_.push_back(float(ms));
+                all_frame_ms_.push_back(ms);
+                while (frame_ms_.size() > 120) frame_ms_.pop_front();
+            }
+            ++frame_;
+            if (o_.frames > 0 && frame_ >= o_.frames) break;
+        }
+        if (o_.frames > 0) {
+            // Frame times for docs/viewer.md: the renderer's draw (to glFinish) per technique and
+            // the whole frame (draw, copy, panel, swap).
+            std::printf("view: %d frames at %dx%d:", frame_, compositor_->width(), compositor_->height());
+            for (int k = 0; k < (split_ ? 2 : 1); ++k) {
+                const std::string name = display_name(half_[k]);
+                std::printf(" %s draw %.2f ms median", name.c_str(), median(stats_[k].draws));
+                if (stats_[k].samples_per_fragment >= 0.0)
+                    std::printf(" (%.2f samples/fragment)", stats_[k].samples_per_fragment);
+                std::printf(";");
+            }
+            std::printf(" frame %.2f ms median\n", median(all_frame_ms_));
+        }
+    } catch (...) {
+        shutdown_imgui();
+        throw;
+    }
+    shutdown_imgui();
+    return status;
+}
+
+} // namespace
+
+int run_viewer(Session& session, GlfwWindow& window, const ViewerOptions& options)
+{
+    Viewer viewer(session, window, options);
+    return viewer.run();
+}
+
+} // namespace pr::view

@@ -1,0 +1,124 @@
+# One viewer test under a virtual X server (xvfb-run): runs `prismrelief view` (and `render` for
+# the expected images), then checks coverage with view_mask_check. Prints VIEW_TEST_SKIPPED
+# (CTest's SKIP_REGULAR_EXPRESSION) when no X server can be started, instead of passing.
+# Variables: EXE, CHECK (view_mask_check), WORKDIR, CASE, MESHES, SHADERS.
+file(REMOVE_RECURSE ${WORKDIR})
+file(MAKE_DIRECTORY ${WORKDIR})
+find_program(XVFB_RUN xvfb-run)
+if(NOT XVFB_RUN)
+    message("VIEW_TEST_SKIPPED: xvfb-run is not installed (scripts/setup.sh installs xvfb and xauth)")
+    return()
+endif()
+
+# Under the sanitizer preset, LSAN_OPTIONS names tests/lsan.supp (Mesa's own leaks). The viewer
+# also loads the X11/GLX side of the system's GL and GLFW, which keep allocations until exit the
+# same way: add those libraries (never our code) to a copy used by the viewer's run only.
+if("$ENV{LSAN_OPTIONS}" MATCHES "suppressions=([^:]+)")
+    set(supp ${CMAKE_MATCH_1})
+    if(EXISTS ${supp})
+        file(READ ${supp} supp_text)
+        file(WRITE ${WORKDIR}/lsan_view.supp "${supp_text}\n# viewer (tests/cli/view_run.cmake)\n"
+             "leak:libGLX_mesa.so\nleak:libGLX.so\nleak:libGLdispatch.so\nleak:libX11.so\n"
+             "leak:libxcb\nleak:libglfw.so\n")
+        string(REPLACE "suppressions=${supp}" "suppressions=${WORKDIR}/lsan_view.supp" lsan "$ENV{LSAN_OPTIONS}")
+        set(ENV{LSAN_OPTIONS} "${lsan}")
+    endif()
+endif()
+
+# Runs the viewer under xvfb-run; sets view_err (stderr) in the caller.
+function(run_view)
+    execute_process(COMMAND ${XVFB_RUN} -a -s "-screen 0 1024x768x24" ${EXE} view ${ARGN}
+                    WORKING_DIRECTORY ${WORKDIR}
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 240)
+    if(err MATCHES "xvfb-run: error|Xvfb failed to start|cannot open display")
+        message("VIEW_TEST_SKIPPED: no X server could be started under xvfb-run:\n${err}")
+        set(view_skipped TRUE PARENT_SCOPE)
+        return()
+    endif()
+    if(NOT rc EQUAL 0)
+        message(FATAL_ERROR "view ${ARGN} failed (exit ${rc}):\n${out}\n${err}")
+    endif()
+    message("${out}")
+    set(view_err "${err}" PARENT_SCOPE)
+endfunction()
+
+function(run_render)
+    execute_process(COMMAND ${EXE} render ${ARGN} WORKING_DIRECTORY ${WORKDIR}
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 240)
+    if(NOT rc EQUAL 0)
+        message(FATAL_ERROR "render ${ARGN} failed (exit ${rc}):\n${err}")
+    endif()
+endfunction()
+
+function(check)
+    execute_process(COMMAND ${CHECK} ${ARGN} WORKING_DIRECTORY ${WORKDIR}
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    message("${out}${err}")
+    if(NOT rc EQUAL 0)
+        message(FATAL_ERROR "check failed: ${ARGN} (images kept in ${WORKDIR})")
+    endif()
+endfunction()
+
+set(torus --mesh ${MESHES}/torus.obj --height builtin:bricks --size 160x120)
+
+if(CASE STREQUAL "single")
+    # The viewer's image is render's: same camera, same size, same renderer. Tolerance: a few
+    # pixels, should a driver round the blit or the clear differently (here it is exact).
+    run_view(${torus} --technique prism --frames 3 --screenshot view.png)
+    if(view_skipped)
+        return()
+    endif()
+    run_render(${torus} --technique prism --out render.png)
+    check(same view.png render.png 4)
+elseif(CASE STREQUAL "split")
+    # POM | prism: each half is that technique's render, and the prism half covers pixels outside
+    # the base outline that POM's does not (true silhouettes).
+    run_view(${torus} --split pom,prism --divider 0.5 --frames 3 --screenshot split.png)
+    if(view_skipped)
+        return()
+    endif()
+    run_render(${torus} --technique pom --out pom.png)
+    run_render(${torus} --technique prism --out prism.png)
+    check(split split.png pom.png prism.png 0.5 4 20)
+elseif(CASE STREQUAL "overlay")
+    # The shell's wireframe changes colours, never coverage.
+    run_view(${torus} --technique prism --overlay shell --frames 2 --screenshot shell.png)
+    if(view_skipped)
+        return()
+    endif()
+    run_view(${torus} --technique prism --frames 2 --screenshot plain.png)
+    check(rgb shell.png plain.png 200)
+    run_view(${torus} --technique pom --overlay base --reference-overlay --frames 2 --screenshot base.png)
+    run_render(${torus} --technique pom --out pom.png)
+    check(rgb base.png pom.png 100)
+elseif(CASE STREQUAL "drop")
+    # A dropped mesh replaces the scene (framed anew); a bad file is reported and the viewer goes on.
+    run_view(${torus} --technique relief --frames 3 --drop nonexistent.obj --drop ${MESHES}/cube.obj
+             --screenshot cube.png)
+    if(view_skipped)
+        return()
+    endif()
+    if(NOT view_err MATCHES "nonexistent.obj")
+        message(FATAL_ERROR "the bad drop was not reported: ${view_err}")
+    endif()
+    run_render(--mesh ${MESHES}/cube.obj --height builtin:bricks --size 160x120 --technique relief --out cube_render.png)
+    check(same cube.png cube_render.png 4)
+elseif(CASE STREQUAL "shader_error")
+    # Hot reload's failure path: a broken shader in --shader-dir is reported (file and line) and
+    # the viewer keeps running to the end of its frames.
+    file(COPY ${SHADERS}/ DESTINATION ${WORKDIR}/shaders)
+    file(READ ${WORKDIR}/shaders/surface.frag text)
+    file(WRITE ${WORKDIR}/shaders/surface.frag "${text}\nthis is not glsl;\n")
+    run_view(${torus} --technique pom --frames 3 --shader-dir ${WORKDIR}/shaders --screenshot broken.png)
+    if(view_skipped)
+        return()
+    endif()
+    if(NOT view_err MATCHES "shaders/surface.frag:[0-9]+")
+        message(FATAL_ERROR "the compile error was not reported with file and line: ${view_err}")
+    endif()
+    if(NOT EXISTS ${WORKDIR}/broken.png)
+        message(FATAL_ERROR "no screenshot after a shader error")
+    endif()
+else()
+    message(FATAL_ERROR "unknown CASE ${CASE}")
+endif()

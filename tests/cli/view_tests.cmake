@@ -1,0 +1,35 @@
+# prismrelief view (issue #6). Window tests run under xvfb-run and are reported as skipped (not
+# passed) when no X server can start; they take the "xvfb" lock so two never race for a display.
+if(TARGET pr_view)
+    add_executable(view_mask_check ${PROJECT_SOURCE_DIR}/tests/view/view_mask_check.cpp)
+    target_link_libraries(view_mask_check PRIVATE pr_core)
+
+    pr_cli(view_help EXIT 0 STDOUT "--split.*--divider.*--overlay.*--screenshot.*--frames" ARGS view --help)
+    pr_cli(view_bad_split EXIT 1 ONE_LINE STDERR "${E}--split: expected two techniques"
+           ARGS view --mesh ${M}/torus.obj --split pom)
+    pr_cli(view_bad_split_name EXIT 1 ONE_LINE STDERR "${E}--split: unknown technique 'magic'"
+           ARGS view --mesh ${M}/torus.obj --split pom,magic)
+    pr_cli(view_bad_overlay EXIT 1 ONE_LINE STDERR "${E}--overlay: " ARGS view --mesh ${M}/torus.obj --overlay all)
+    pr_cli(view_bad_divider EXIT 1 ONE_LINE STDERR "${E}--divider: " ARGS view --mesh ${M}/torus.obj --divider 2)
+    pr_cli(view_missing_mesh EXIT 1 ONE_LINE STDERR "${E}.*nonexistent.obj: " ARGS view --mesh nonexistent.obj)
+    pr_cli(view_no_display EXIT 1 ONE_LINE STDERR "${E}view: cannot open a window" ENV DISPLAY= WAYLAND_DISPLAY=
+           ARGS view --mesh ${M}/torus.obj --frames 1)
+
+    foreach(case single split overlay drop shader_error)
+        add_test(NAME view.${case}
+                 COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:prismrelief> -DCHECK=$<TARGET_FILE:view_mask_check>
+                         -DWORKDIR=${CMAKE_CURRENT_BINARY_DIR}/view_work/${case} -DCASE=${case}
+                         -DMESHES=${PROJECT_SOURCE_DIR}/meshes -DSHADERS=${PROJECT_SOURCE_DIR}/shaders
+                         -P ${CMAKE_CURRENT_SOURCE_DIR}/cli/view_run.cmake)
+        set_tests_properties(view.${case} PROPERTIES LABELS "view;gl" TIMEOUT 300 RESOURCE_LOCK xvfb
+                             SKIP_REGULAR_EXPRESSION "VIEW_TEST_SKIPPED")
+    endforeach()
+else()
+    pr_cli(view_not_built EXIT 1 ONE_LINE STDERR "${E}view: this build has no viewer" ARGS view --mesh ${M}/torus.obj)
+endif()
+
+# The wireframe overlay itself (Renderer::draw_overlay) needs no window: an OSMesa GL test.
+add_executable(view_overlay_test ${PROJECT_SOURCE_DIR}/tests/view/test_overlay.cpp)
+target_link_libraries(view_overlay_test PRIVATE pr_app GTest::gtest_main)
+target_compile_definitions(view_overlay_test PRIVATE PR_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+gtest_discover_tests(view_overlay_test PROPERTIES LABELS gl DISCOVERY_TIMEOUT 60)

@@ -1,0 +1,78 @@
+// Renderer::draw_overlay (the viewer's wireframes): lines change colours, never coverage; the
+// shell's lines reach outside the base outline (its top lies depth above the surface); programs
+// are rebuilt after reload_shaders().
+#include "../gl/gl_fixture.hpp"
+
+#include <glm/glm.hpp>
+
+using namespace pr;
+
+namespace {
+
+Camera low_camera()
+{
+    Camera c;
+    c.eye = {0.0f, -2.6f, 1.0f};
+    c.target = {0.0f, 0.0f, 0.1f};
+    c.up = {0.0f, 0.0f, 1.0f};
+    c.near_plane = 0.1f;
+    c.far_plane = 10.0f;
+    return c;
+}
+
+struct Counts {
+    std::size_t alpha_changed = 0;   // must stay 0
+    std::size_t colour_changed = 0;  // covered pixels recoloured by lines
+    std::size_t outside = 0;         // uncovered pixels with a line colour
+};
+
+Counts compare(const RgbaImage& plain, const RgbaImage& lined)
+{
+    Counts c;
+    for (int y = 0; y < plain.height; ++y)
+        for (int x = 0; x < plain.width; ++x) {
+            const auto p = plain.at(x, y), q = lined.at(x, y);
+            c.alpha_changed += p.a != q.a;
+            if (p.a >= 128 && (p.r != q.r || p.g != q.g || p.b != q.b)) ++c.colour_changed;
+            if (q.a < 128 && (q.r | q.g | q.b)) ++c.outside;
+        }
+    return c;
+}
+
+} // namespace
+
+TEST(Overlay, LinesKeepCoverageAndTheShellReachesOutsideTheOutline)
+{
+    prtest::context();
+    Renderer r(96, 72);
+    const Scene scene = prtest::one_object(prtest::square(), prtest::height_from(16, [](float, float) { return 0.5f; }), 0.3f);
+    r.upload(scene);
+    const Camera cam = low_camera();
+    DrawSettings flat;
+    flat.technique = Technique::Flat;
+    const glm::vec3 light(0.0f, -0.3f, 1.0f);
+
+    r.draw(cam, light, flat);
+    const RgbaImage plain = r.read_color();
+    ASSERT_GT(prtest::coverage(plain), 500u);
+
+    r.draw(cam, light, flat);
+    r.draw_overlay(cam, Renderer::Overlay::BaseMesh, {1.0f, 0.0f, 0.0f, 1.0f}, flat);
+    const Counts base = compare(plain, r.read_color());
+    EXPECT_EQ(base.alpha_changed, 0u);
+    EXPECT_GT(base.colour_changed, 50u); // outline and diagonal of the square
+    // Outside the coverage only along the outline (a line's pixels straddle the square's edge).
+    EXPECT_LT(base.outside, 2u * 96u + 2u * 72u);
+
+    r.draw(cam, light, flat);
+    r.draw_overlay(cam, Renderer::Overlay::PrismShell, {0.0f, 1.0f, 0.0f, 1.0f}, flat);
+    const Counts shell = compare(plain, r.read_color());
+    EXPECT_EQ(shell.alpha_changed, 0u);
+    // The top cap and the sides stand above the far edge: many more lines outside the outline.
+    EXPECT_GT(shell.outside, base.outside + 100u) << base.outside;
+
+    // Hot reload drops the overlay programs too; they build again.
+    r.reload_shaders();
+    r.draw(cam, light, flat);
+    EXPECT_NO_THROW(r.draw_overlay(cam, Renderer::Overlay::PrismShell, {0.0f, 1.0f, 0.0f, 1.0f}, flat));
+}

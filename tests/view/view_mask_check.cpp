@@ -1,0 +1,83 @@
+// Compares the viewer's screenshots with render's PNGs by coverage (alpha >= 128, contract).
+//   view_mask_check same A.png B.png MAX_DIFF
+//       the masks differ in at most MAX_DIFF pixels
+//   view_mask_check split SPLIT.png LEFT.png RIGHT.png DIVIDER MAX_DIFF MIN_EXTRA
+//       columns left of round(DIVIDER * width) match LEFT's mask, the rest RIGHT's (at most MAX_DIFF
+//       pixels differ), and the right half holds at least MIN_EXTRA pixels that RIGHT covers and
+//       LEFT does not (the split view shows where the two silhouettes differ)
+//   view_mask_check rgb A.png B.png MIN_CHANGED
+//       same masks, and at least MIN_CHANGED pixels whose colour differs (overlays)
+// Exit 0 when the check holds; prints the counts either way.
+#include "core/image.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <string>
+
+namespace {
+
+bool covered(const pr::RgbaImage& img, int x, int y) { return img.at(x, y).a >= 128; }
+
+bool same_size(const pr::RgbaImage& a, const pr::RgbaImage& b)
+{
+    if (a.width == b.width && a.height == b.height) return true;
+    std::printf("size differs: %dx%d against %dx%d\n", a.width, a.height, b.width, b.height);
+    return false;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+    try {
+        const std::string mode = argc > 1 ? argv[1] : "";
+        if (mode == "same" && argc == 5) {
+            const auto a = pr::read_rgba(argv[2]), b = pr::read_rgba(argv[3]);
+            if (!same_size(a, b)) return 1;
+            long diff = 0, cov = 0;
+            for (int y = 0; y < a.height; ++y)
+                for (int x = 0; x < a.width; ++x) {
+                    diff += covered(a, x, y) != covered(b, x, y);
+                    cov += covered(a, x, y);
+                }
+            std::printf("same: %ld pixels covered, %ld differ (max %s)\n", cov, diff, argv[4]);
+            return cov > 0 && diff <= std::atol(argv[4]) ? 0 : 1;
+        }
+        if (mode == "split" && argc == 8) {
+            const auto s = pr::read_rgba(argv[2]), l = pr::read_rgba(argv[3]), r = pr::read_rgba(argv[4]);
+            if (!same_size(s, l) || !same_size(s, r)) return 1;
+            const int x0 = static_cast<int>(std::lround(std::atof(argv[5]) * s.width));
+            long diff = 0, extra = 0;
+            for (int y = 0; y < s.height; ++y)
+                for (int x = 0; x < s.width; ++x) {
+                    const pr::RgbaImage& expect = x < x0 ? l : r;
+                    diff += covered(s, x, y) != covered(expect, x, y);
+                    if (x >= x0) extra += covered(s, x, y) && covered(r, x, y) && !covered(l, x, y);
+                }
+            std::printf("split at column %d: %ld pixels differ from the halves (max %s), right half covers "
+                        "%ld pixels the left technique does not (min %s)\n",
+                        x0, diff, argv[6], extra, argv[7]);
+            return diff <= std::atol(argv[6]) && extra >= std::atol(argv[7]) ? 0 : 1;
+        }
+        if (mode == "rgb" && argc == 5) {
+            const auto a = pr::read_rgba(argv[2]), b = pr::read_rgba(argv[3]);
+            if (!same_size(a, b)) return 1;
+            long diff = 0, changed = 0;
+            for (int y = 0; y < a.height; ++y)
+                for (int x = 0; x < a.width; ++x) {
+                    diff += covered(a, x, y) != covered(b, x, y);
+                    const auto p = a.at(x, y), q = b.at(x, y);
+                    changed += p.r != q.r || p.g != q.g || p.b != q.b;
+                }
+            std::printf("rgb: masks differ in %ld pixels (max 0), colour in %ld (min %s)\n", diff, changed, argv[4]);
+            return diff == 0 && changed >= std::atol(argv[4]) ? 0 : 1;
+        }
+        std::fprintf(stderr, "usage: view_mask_check same|split|rgb … (see the source)\n");
+        return 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "view_mask_check: %s\n", e.what());
+        return 1;
+    }
+}
