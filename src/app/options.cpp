@@ -89,6 +89,10 @@ void add_scene_options(CLI::App& app, SceneOptions& o)
     app.add_option("--max-triangles", o.max_triangles, "Refuse meshes with more triangles")
         ->group("Scene")
         ->capture_default_str();
+    app.add_option("--max-image-size", o.max_image_size,
+                   "Refuse height and colour images (and built-in maps) larger than N pixels per "
+                   "side (default 16384 per side and 64 Mpixel in all; 1-16384)")
+        ->group("Scene");
     app.add_option("--uv-scale", o.uv_scale,
                    "Generated UVs (meshes without UVs): texture repeats across the largest extent")
         ->group("Scene")
@@ -380,6 +384,12 @@ SceneSpec make_scene_spec(const SceneOptions& o)
     if (!std::isfinite(spec.camera.azimuth_deg)) throw Error("--azimuth", "must be a finite number");
     if (o.max_triangles < 1) throw Error("--max-triangles", "must be at least 1");
     spec.mesh_options.max_triangles = o.max_triangles;
+    if (o.max_image_size) {
+        if (*o.max_image_size < 1 || *o.max_image_size > 16384)
+            throw Error("--max-image-size", "must be between 1 and 16384 pixels per side");
+        spec.image_limits.max_dimension = *o.max_image_size;
+        spec.image_limits.max_pixels = std::int64_t(*o.max_image_size) * *o.max_image_size;
+    }
     if (!(o.uv_scale > 0.0f) || !std::isfinite(o.uv_scale)) throw Error("--uv-scale", "must be > 0");
     spec.mesh_options.uv_scale = o.uv_scale;
     spec.mesh_options.force_generated_uvs = o.generate_uvs;

@@ -23,6 +23,7 @@ struct SceneOptions {
     std::string size = "800x600";
     std::string backend = "osmesa";
     std::size_t max_triangles = MeshOptions{}.max_triangles;
+    std::optional<int> max_image_size; // --max-image-size N: images up to NxN (default ImageLimits)
     float uv_scale = MeshOptions{}.uv_scale;
     bool generate_uvs = false;
     std::string cache_dir; // derived maps (cone maps); empty: default_cache_dir()

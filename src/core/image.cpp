@@ -87,6 +87,10 @@ std::string stb_reason()
     if (code == "outofdata" || code == "read past buffer" || code == "not enough pixels" ||
         code == "bad file" || code == "no IDAT")
         return "truncated or corrupt data: " + code;
+    // Some decoders (JPEG cut inside its tables) fail without a reason of their own, leaving the
+    // stale one of another format's signature test: the header was readable, the data was not.
+    if (code == "bad png sig" || code == "not GIF" || code == "no SOI")
+        return "truncated or corrupt data";
     if (code == "0-pixel image" || code == "0 width") return "the image has no pixels (0x0)";
     if (code == "too large") return "its header claims absurd dimensions";
     if (code == "outofmem") return "out of memory while decoding";
@@ -157,6 +161,51 @@ void check_dimensions(const std::string& subject, std::int64_t w, std::int64_t h
                                          w, h, pixels, limits.max_pixels));
 }
 
+// stb_image 2.27 (Debian 12) trusts the symbol counts of a JPEG Huffman table (DHT segment): a
+// table of more than 256 symbols writes past its arrays (found by tests/fuzz/fuzz_image; later
+// stb versions refuse it). Walk the marker segments the way stb reads them and refuse such a
+// table before stb sees it.
+void check_jpeg_tables(const std::string& subject, const std::vector<std::uint8_t>& b)
+{
+    const auto at = [&b](std::size_t i) -> unsigned { return i < b.size() ? b[i] : 0u; }; // stb reads 0 past the end
+    std::size_t i = 0;
+    while (i < b.size() && b[i] == 0xFF) ++i;
+    if (i == 0 || at(i) != 0xD8) return; // not JPEG (stb's SOI check: FF... D8)
+    ++i;
+    while (i + 1 < b.size()) {
+        if (b[i] != 0xFF) { // entropy-coded data or junk: stb skips to the next marker
+            ++i;
+            continue;
+        }
+        const unsigned m = b[i + 1];
+        if (m == 0xFF) { // fill bytes
+            ++i;
+            continue;
+        }
+        if (m == 0xD9) return; // EOI
+        if (m == 0x00 || m == 0x01 || m == 0xD8 || (m >= 0xD0 && m <= 0xD7)) { // no length
+            i += 2;
+            continue;
+        }
+        const std::size_t length = at(i + 2) << 8 | at(i + 3);
+        if (m == 0xC4) {
+            long remaining = long(length) - 2;
+            std::size_t p = i + 4;
+            while (remaining > 0 && p < b.size()) {
+                unsigned n = 0;
+                for (std::size_t k = 1; k <= 16; ++k) n += at(p + k);
+                if (n > 256)
+                    throw Error(subject, fmt::format("not a supported image (corrupt JPEG: a Huffman "
+                                                     "table of {} symbols, at most 256)",
+                                                     n));
+                p += 17 + n;
+                remaining -= long(17 + n);
+            }
+        }
+        i += 2 + length;
+    }
+}
+
 // Image bytes whose header passed the limits: decoding may allocate w*h*channels safely.
 struct Checked {
     const stbi_uc* data;
@@ -167,6 +216,7 @@ Checked check_header(const std::string& subject, const std::vector<std::uint8_t>
                      const ImageLimits& limits)
 {
     if (bytes.empty()) throw Error(subject, "not a supported image (empty file)");
+    check_jpeg_tables(subject, bytes);
     const std::optional<Sniffed> sniffed = sniff(bytes);
     if (sniffed && sniffed->width && sniffed->height)
         check_dimensions(subject, *sniffed->width, *sniffed->height, limits);

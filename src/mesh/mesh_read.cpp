@@ -446,13 +446,34 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
         const size_t n = tokenize(line, tok, 6);
         if (n == 0) continue;
         const string where = line_prefix(lines.line());
+        // OpenMesh reads the header as a stream of words, not lines: the first three words after
+        // "ply" as format, type and version, then keywords, each followed by the words it expects
+        // (a number after "element NAME"). A word that does not parse as its number leaves the
+        // stream failed and its header loop spinning forever (found by tests/fuzz/fuzz_mesh), so
+        // every line must hold exactly the words OpenMesh will take from it.
+        if (!have_format && tok[0] != "format")
+            fail(subject, where + "expected the format line right after 'ply'");
         if (tok[0] == "end_header") {
+            if (n != 1) fail(subject, where + "unexpected words after end_header");
             ended = true;
             break;
-        } else if (tok[0] == "comment" || tok[0] == "obj_info") {
+        } else if (tok[0] == "comment") {
+            continue;
+        } else if (tok[0] == "obj_info") {
+            // The words after obj_info are read as keywords: refuse those that take arguments.
+            size_t pos = 0;
+            while (pos < line.size()) {
+                while (pos < line.size() && is_space(line[pos])) ++pos;
+                const size_t start = pos;
+                while (pos < line.size() && !is_space(line[pos])) ++pos;
+                const string_view word = line.substr(start, pos - start);
+                if (word == "element" || word == "property" || word == "end_header")
+                    fail(subject, where + "obj_info line contains the header keyword " + shown(word));
+            }
             continue;
         } else if (tok[0] == "format") {
-            if (n < 2) fail(subject, where + "incomplete format line");
+            if (n != 3 || !parse_finite_float(tok[2]))
+                fail(subject, where + "malformed format line (expected 'format TYPE 1.0')");
             if (tok[1] == "ascii")
                 ascii = true;
             else if (tok[1] != "binary_little_endian" && tok[1] != "binary_big_endian")
@@ -466,6 +487,8 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
         } else if (tok[0] == "property") {
             if (elements.empty()) fail(subject, where + "property before any element");
             PlyProperty p;
+            if (n != (n > 1 && tok[1] == "list" ? 5u : 3u))
+                fail(subject, where + "malformed property line");
             if (n >= 5 && tok[1] == "list") {
                 p.count_size = ply_type_size(tok[2]);
                 p.size = ply_type_size(tok[3]);

@@ -26,8 +26,13 @@ EglApi& api()
 {
     static EglApi a;
     if (!a.lib) {
+        // PRISMRELIEF_EGL_LIBRARY names another libEGL (like PRISMRELIEF_OSMESA_LIBRARY).
+        if (const char* lib = std::getenv("PRISMRELIEF_EGL_LIBRARY"); lib && *lib) {
+            a.lib = dlopen(lib, RTLD_NOW | RTLD_LOCAL);
+            if (!a.lib) throw Error("--backend", std::string("egl: cannot load ") + lib);
+        }
         for (const char* name : {"libEGL.so.1", "libEGL.so"})
-            if ((a.lib = dlopen(name, RTLD_NOW | RTLD_LOCAL))) break;
+            if (a.lib || (a.lib = dlopen(name, RTLD_NOW | RTLD_LOCAL))) break;
         if (!a.lib) throw Error("--backend", "egl: libEGL is not installed");
         a.get_proc = reinterpret_cast<PFNEGLGETPROCADDRESSPROC>(dlsym(a.lib, "eglGetProcAddress"));
         if (!a.get_proc) throw Error("--backend", "egl: libEGL has no eglGetProcAddress");

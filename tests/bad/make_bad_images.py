@@ -1,0 +1,113 @@
+#!/usr/bin/env python3
+"""Writes the hostile and odd input files of tests/bad/ that are binary (images, binary meshes).
+
+Python standard library only (zlib + struct write PNGs; a baseline JPEG is assembled by hand).
+The outputs are tiny and committed; run this again only to regenerate them:
+
+    python3 tests/bad/make_bad_images.py        # writes next to this script
+
+Each file's expected outcome is in docs/robustness.md and tests/cli/robustness_tests.cmake.
+"""
+import os
+import random
+import struct
+import zlib
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def write(name, data):
+    with open(os.path.join(HERE, name), "wb") as f:
+        f.write(data)
+
+
+# ---- PNG ------------------------------------------------------------------------------------
+
+def chunk(kind, payload):
+    body = kind + payload
+    return struct.pack(">I", len(payload)) + body + struct.pack(">I", zlib.crc32(body) & 0xFFFFFFFF)
+
+
+def png(width, height, bit_depth, colour_type, rows, palette=None):
+    """rows: list of bytes objects, one per row (top row first), already packed."""
+    sig = b"\x89PNG\r\n\x1a\n"
+    ihdr = struct.pack(">IIBBBBB", width, height, bit_depth, colour_type, 0, 0, 0)
+    raw = b"".join(b"\x00" + r for r in rows)  # filter 0 (None) on every row
+    out = sig + chunk(b"IHDR", ihdr)
+    if palette is not None:
+        out += chunk(b"PLTE", b"".join(bytes(c) for c in palette))
+    return out + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b"")
+
+
+def bumps(x, y, n):
+    """A smooth, tileable bump pattern in [0, 1]."""
+    import math
+    return 0.5 + 0.25 * math.sin(2 * math.pi * 2 * x / n) + 0.25 * math.sin(2 * math.pi * 2 * y / n)
+
+
+N = 32
+grey8 = [bytes(int(round(255 * bumps(x, y, N))) for x in range(N)) for y in range(N)]
+valid_grey = png(N, N, 8, 0, grey8)
+
+# Valid but odd: each must render.
+write("one_pixel.png", png(1, 1, 8, 0, [bytes([200])]))
+write("sixteen_bit.png", png(N, N, 16, 0, [b"".join(struct.pack(">H", int(round(65535 * bumps(x, y, N))))
+                                                       for x in range(N)) for y in range(N)]))
+palette = [(i * 16, i * 16, i * 16) for i in range(16)]  # grey ramp, 16 entries
+write("paletted.png", png(N, N, 8, 3, [bytes(int(round(15 * bumps(x, y, N))) for x in range(N))
+                                       for y in range(N)], palette))
+write("alpha.png", png(N, N, 8, 6, [b"".join(bytes([int(round(255 * bumps(x, y, N))), 64 + x * 4, 128,
+                                                     255 if (x + y) % 8 else 0]) for x in range(N))
+                                    for y in range(N)]))
+write("grey_alpha.png", png(N, N, 8, 4, [b"".join(bytes([int(round(255 * bumps(x, y, N))), 255 - 4 * y])
+                                                  for x in range(N)) for y in range(N)]))
+
+# Refused with one line naming the file.
+write("truncated.png", valid_grey[: len(valid_grey) * 2 // 3])
+write("truncated_header.png", valid_grey[:20])  # cut inside IHDR
+write("zero_size.png", png(0, 0, 8, 0, []))
+write("huge_header.png", b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 100000, 100000, 8, 0, 0, 0, 0))
+      + chunk(b"IEND", b""))
+write("huge_area.png", b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 16000, 16000, 8, 0, 0, 0, 0))
+      + chunk(b"IEND", b""))
+
+# ---- JPEG (baseline, one grey component, every coefficient zero: a uniform 50 % grey) ---------
+
+def segment(marker, payload):
+    return bytes([0xFF, marker]) + struct.pack(">H", len(payload) + 2) + payload
+
+
+def jpeg(width, height, scan=True):
+    dqt = segment(0xDB, b"\x00" + bytes([1] * 64))
+    sof = segment(0xC0, struct.pack(">BHHB", 8, height, width, 1) + bytes([1, 0x11, 0]))
+    one_code = bytes([1] + [0] * 15)  # a single Huffman code of length 1 ('0')
+    dht = segment(0xC4, b"\x00" + one_code + b"\x00" + b"\x10" + one_code + b"\x00")
+    sos = segment(0xDA, bytes([1, 1, 0x00, 0, 63, 0]))
+    blocks = ((width + 7) // 8) * ((height + 7) // 8)
+    bits = "00" * blocks  # DC difference category 0, then end-of-block
+    bits += "1" * (-len(bits) % 8)
+    data = bytes(int(bits[i:i + 8], 2) for i in range(0, len(bits), 8))
+    data = data.replace(b"\xff", b"\xff\x00")
+    out = b"\xff\xd8" + dqt + sof + dht
+    if scan:
+        out += sos + data + b"\xff\xd9"
+    return out
+
+
+tiny = jpeg(16, 16)
+write("tiny.jpg", tiny)                                   # valid: renders (uniform height)
+write("truncated.jpg", tiny[: len(tiny) - 30])            # cut inside the Huffman tables
+write("huge_header.jpg", jpeg(60000, 60000, scan=False))  # claims 60000x60000, no scan
+
+# ---- binary meshes -----------------------------------------------------------------------------
+
+rng = random.Random(7)
+noise = bytes(rng.randrange(256) for _ in range(1000))
+write("garbage.stl", noise)                              # neither ASCII nor binary STL
+write("garbage_binary.ply", noise)                       # no PLY header at all
+# A binary STL header claiming 42,949,672 triangles (2.1 GB) in an 84-byte file.
+write("huge_header.stl", b"binary STL header claiming 2 GB".ljust(80, b" ") + struct.pack("<I", 42949672))
+# A PLY header claiming 2^31-1 vertices and faces: nothing may be allocated for it.
+write("huge_header.ply", b"ply\nformat binary_little_endian 1.0\nelement vertex 2147483647\n"
+      b"property float x\nproperty float y\nproperty float z\nelement face 2147483647\n"
+      b"property list uchar int vertex_indices\nend_header\n" + noise[:64])

@@ -1,0 +1,149 @@
+# Robustness (issue #7): hostile and odd images, meshes and GL failures at the command line.
+# Included from tests/CMakeLists.txt after cli_tests.cmake, whose pr_cli(), ${E}, ${M} and ${BAD}
+# it uses. The corpus in tests/bad/ (images and binary meshes: make_bad_images.py) and every
+# outcome are listed in docs/robustness.md.
+
+# A refusal: exit 1, exactly one stderr line naming the file with the expected problem, no output.
+function(pr_refuse name file message)
+    pr_cli(${name} EXIT 1 ONE_LINE STDERR "${E}.*${file}: ${message}" NO_FILE o.png ${ARGN})
+endfunction()
+
+# ---- images: refused, for --height and --color alike --------------------------------------------
+foreach(case "truncated.png|not a supported image \\(truncated or corrupt data"
+             "truncated_header.png|not a supported image \\(corrupt or unsupported PNG\\)"
+             "zero_size.png|the image is 0x0 pixels: nothing to use"
+             "not_an_image.png|not a supported image \\(unknown format"
+             "truncated.jpg|not a supported image \\(truncated or corrupt data"
+             "huge_header.jpg|the image is 60000x60000 pixels, more than the limit of 16384 per side"
+             "huge_header.png|the image is 100000x100000 pixels, more than the limit of 16384 per side"
+             "huge_area.png|the image is 16000x16000 = 256000000 pixels, more than the limit of 67108864"
+             # Found by fuzzing (tests/fuzz/fuzz_image): overflowed stb_image 2.27's Huffman tables.
+             "fuzz_jpeg_huffman_overflow.jpg|not a supported image \\(corrupt JPEG: a Huffman table of [0-9]+ symbols")
+    string(REPLACE "|" ";" parts "${case}")
+    list(GET parts 0 file)
+    list(GET parts 1 message)
+    string(MAKE_C_IDENTIFIER "${file}" id)
+    foreach(role height color)
+        pr_refuse(image_${role}_${id} "${file}" "${message}"
+                  ARGS render --mesh ${M}/cube.obj --${role} ${BAD}/${file} --size 32x32 --out o.png)
+    endforeach()
+endforeach()
+
+# ---- images: valid but odd, must render (exit 0, a file, something covered) --------------------
+# "coverage 0.0%" would mean NaN-derived garbage discarded every fragment.
+set(COVERED "coverage (0\\.[1-9]|[1-9])")
+foreach(file one_pixel.png sixteen_bit.png paletted.png alpha.png grey_alpha.png tiny.jpg)
+    string(MAKE_C_IDENTIFIER "${file}" id)
+    foreach(role height color)
+        pr_cli(image_${role}_${id} EXIT 0 EXPECT_FILE o.png STDOUT "o.png: 48x48 prism, .*${COVERED}"
+               ARGS render --mesh ${M}/torus.obj --${role} ${BAD}/${file} --technique prism
+                    --size 48x48 --out o.png)
+    endforeach()
+endforeach()
+# A colour picture as a height: a warning, then the render.
+pr_cli(image_height_colour_warns EXIT 0 EXPECT_FILE o.png
+       STDERR "warning: .*alpha.png: colour image; using its first \\(red\\) channel"
+       ARGS render --mesh ${M}/torus.obj --height ${BAD}/alpha.png --size 32x32 --out o.png)
+# No NaN-derived garbage in the displacement: the prism (GPU heights) against the reference (CPU
+# tessellation of the same heights) agrees on the outline and the depth is finite and small.
+foreach(file sixteen_bit.png paletted.png one_pixel.png)
+    string(MAKE_C_IDENTIFIER "${file}" id)
+    pr_cli(image_odd_matches_reference_${id} EXIT 0 JSON r.json
+           CHECKS "results.0.iou:GREATER:0.9|results.0.depth_error_mean:LESS:0.05|results.0.depth_error_max:LESS:1"
+           ARGS compare --mesh ${M}/torus.obj --height ${BAD}/${file} --size 64x64
+                --techniques prism,reference --json r.json)
+endforeach()
+
+# ---- image limits -----------------------------------------------------------------------------
+pr_refuse(max_image_size_file "sixteen_bit.png" "the image is 32x32 pixels, more than the limit of 16 per side"
+          ARGS render --mesh ${M}/cube.obj --height ${BAD}/sixteen_bit.png --max-image-size 16 --out o.png)
+pr_refuse(max_image_size_builtin "builtin:noise@64" "size after '@' must be N or WxH with each side between 1 and 32"
+          ARGS render --mesh ${M}/cube.obj --height builtin:noise@64 --max-image-size 32 --out o.png)
+pr_refuse(max_image_size_bad "--max-image-size" "must be between 1 and 16384"
+          ARGS render --mesh ${M}/cube.obj --max-image-size 0 --out o.png)
+pr_cli(max_image_size_fits EXIT 0 EXPECT_FILE o.png
+       ARGS render --mesh ${M}/cube.obj --height ${BAD}/sixteen_bit.png --max-image-size 32 --size 32x32 --out o.png)
+pr_refuse(max_triangles "torus.obj" "has 2304 triangles after triangulation; the limit is 1000"
+          ARGS render --mesh ${M}/torus.obj --max-triangles 1000 --out o.png)
+
+# ---- meshes the first corpus lacked -------------------------------------------------------------
+foreach(case "garbage.stl|is neither ASCII STL .* nor binary STL"
+             "garbage_binary.ply|does not start with 'ply'"
+             "huge_header.stl|.*its header claims 42949672 triangles, 2147483684 bytes, but the file has 84"
+             "huge_header.ply|header claims 2147483647 vertices and 2147483647 faces, more than a file of 251 bytes can hold"
+             "truncated.obj|line 4: vertex position is not three finite numbers"
+             "truncated.off|header claims 4 vertices and 2 faces, more than a file of 42 bytes can hold"
+             "truncated.ply|header claims 4 vertices and 2 faces, more than a file of 192 bytes can hold")
+    string(REPLACE "|" ";" parts "${case}")
+    list(GET parts 0 file)
+    list(GET parts 1 message)
+    string(MAKE_C_IDENTIFIER "${file}" id)
+    pr_refuse(mesh_${id} "${file}" "${message}"
+              ARGS render --mesh ${BAD}/${file} --technique prism --size 48x48 --out o.png)
+endforeach()
+# Found by fuzzing (tests/fuzz/fuzz_mesh): a PLY version word that is not a number left OpenMesh's
+# header loop spinning forever; header keywords inside obj_info would do the same.
+pr_refuse(mesh_fuzz_ply_bad_version "fuzz_ply_bad_version.ply" "line 2: malformed format line"
+          ARGS render --mesh ${BAD}/fuzz_ply_bad_version.ply --size 48x48 --out o.png)
+pr_refuse(mesh_ply_obj_info_keyword "ply_obj_info_keyword.ply" "line 3: obj_info line contains the header keyword 'element'"
+          ARGS render --mesh ${BAD}/ply_obj_info_keyword.ply --size 48x48 --out o.png)
+# Half the faces wound the other way: warned about, still drawn (prism and reference agree).
+pr_cli(mesh_inconsistent_orientation EXIT 0 EXPECT_FILE o.png
+       STDERR "warning: .*inconsistent_orientation.obj: 4 edges join faces of opposite orientation"
+       STDOUT "o.png: 48x48 prism, .*${COVERED}"
+       ARGS render --mesh ${BAD}/inconsistent_orientation.obj --technique prism --size 48x48 --out o.png)
+pr_cli(mesh_inconsistent_orientation_reference EXIT 0 JSON r.json
+       CHECKS "results.0.iou:GREATER:0.9"
+       ARGS compare --mesh ${BAD}/inconsistent_orientation.obj --size 64x64 --techniques prism,reference
+            --json r.json)
+
+# ---- GL failures --------------------------------------------------------------------------------
+# No EGL library (the OSMesa case is cli.no_gl_context).
+if(EGL_INCLUDE_DIR)
+    pr_cli(no_egl_library EXIT 1 ONE_LINE STDERR "${E}--backend: egl: cannot load /nonexistent/libEGL.so"
+           NO_FILE o.png ENV PRISMRELIEF_EGL_LIBRARY=/nonexistent/libEGL.so
+           ARGS render --mesh ${M}/cube.obj --backend egl --size 32x32 --out o.png)
+endif()
+pr_cli(shader_dir_missing EXIT 1 ONE_LINE STDERR "${E}shaders/.*: not found in PRISMRELIEF_SHADER_DIR=/nonexistent"
+       NO_FILE o.png ENV PRISMRELIEF_SHADER_DIR=/nonexistent
+       ARGS render --mesh ${M}/cube.obj --size 32x32 --out o.png)
+
+# A shader that does not compile: a copy of shaders/ (made at test time, in the test's own work
+# folder) with a syntax error on line 2 of common/lighting.glsl. The error names the program's
+# file on its first line and the broken include with its line in the compiler log after it.
+set(BROKEN_SHADERS ${PR_CLI_WORK}/broken_shader/shaders)
+set(BREAK_SCRIPT ${CMAKE_CURRENT_BINARY_DIR}/break_shader.cmake)
+file(WRITE ${BREAK_SCRIPT} [=[
+file(REMOVE_RECURSE ${DEST})
+file(COPY ${SOURCE}/ DESTINATION ${DEST})
+file(READ ${DEST}/common/lighting.glsl text)
+file(WRITE ${DEST}/common/lighting.glsl "// broken on purpose by cli.broken_shader\nfloat broken_on_purpose = ;\n${text}")
+]=])
+add_test(NAME cli.broken_shader_setup
+         COMMAND ${CMAKE_COMMAND} -DSOURCE=${PROJECT_SOURCE_DIR}/shaders -DDEST=${BROKEN_SHADERS}
+                 -P ${BREAK_SCRIPT})
+set_tests_properties(cli.broken_shader_setup PROPERTIES LABELS "cli" FIXTURES_SETUP broken_shaders)
+pr_cli(broken_shader EXIT 1 NO_FILE o.png ENV PRISMRELIEF_SHADER_DIR=${BROKEN_SHADERS}
+       STDERR "${E}shaders/surface.frag: compile error.*\nshaders/common/lighting.glsl:2:[0-9]+: error"
+       ARGS render --mesh ${M}/cube.obj --technique relief --size 32x32 --out o.png)
+set_tests_properties(cli.broken_shader PROPERTIES FIXTURES_REQUIRED broken_shaders)
+
+# Out of memory for GL objects: llvmpipe's buffers and textures are host memory, so an address-space
+# limit (prlimit --as) makes their allocation fail. Not under ASan, which reserves terabytes of
+# address space for its shadow memory.
+find_program(PRLIMIT prlimit)
+if(PRLIMIT AND NOT PRISMRELIEF_SANITIZE)
+    foreach(case "reference_out_of_memory|scene: out of GPU memory while uploading geometry|--mesh|${M}/torus.obj|--technique|reference|--reference-level|128|--size|64x64"
+                 "target_out_of_memory|--size: could not create a 16384x16384 render target|--mesh|${M}/cube.obj|--technique|flat|--size|16384x16384")
+        string(REPLACE "|" ";" parts "${case}")
+        list(POP_FRONT parts name message)
+        string(REPLACE ";" "|" args "${parts}")
+        add_test(NAME cli.${name}
+                 COMMAND ${CMAKE_COMMAND} -DEXE=${PRLIMIT}
+                         "-DARGS=--as=1200000000|$<TARGET_FILE:prismrelief>|render|${args}|--out|o.png"
+                         -DWORKDIR=${PR_CLI_WORK}/${name} -DEXPECT_EXIT=1 -DONE_LINE=ON
+                         "-DSTDERR_REGEX=${E}${message}" -DNO_FILE=o.png
+                         -P ${CMAKE_CURRENT_SOURCE_DIR}/cli/run_cli.cmake)
+        set_tests_properties(cli.${name} PROPERTIES LABELS "cli" TIMEOUT 180)
+    endforeach()
+endif()
