@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Prism accuracy table (docs/prism.md): compare at 512x512 on the bundled curved meshes,
 # outward bumps with depth 4% of the bounding-box diagonal (the default), from three auto-framed
-# elevations. Prints a Markdown table. Usage: scripts/accuracy.sh [extra compare flags]
+# elevations. Prints a Markdown table. Usage: [TECHNIQUES=a,b,...] [PRISMRELIEF=exe] scripts/accuracy.sh [extra compare flags]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-pr=build/src/prismrelief
+pr=${PRISMRELIEF:-build/src/prismrelief}
+techniques=${TECHNIQUES:-pom,prism,prism:linear,prism:relief:vertex}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 echo "| mesh | elevation | technique | IoU | silhouette px wrong | only in reference px | depth error mean (% of depth) | median (% of depth) | max |"
@@ -12,7 +13,7 @@ echo "|---|---|---|---|---|---|---|---|---|"
 for mesh in uv_sphere torus rock; do
     for el in 0 35 75; do
         "$pr" compare --mesh "meshes/$mesh.obj" --height builtin:bumps --size 512x512 --elevation "$el" \
-            --techniques pom,prism,prism:linear,prism:relief:vertex --json "$tmp/r.json" "$@" >/dev/null
+            --techniques "$techniques" --json "$tmp/r.json" "$@" >/dev/null
         python3 - "$tmp/r.json" "$mesh" "$el" "meshes/$mesh.obj" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))

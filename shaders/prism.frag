@@ -111,7 +111,7 @@ void main()
 #if PR_MARCHER == PR_MARCH_LINEAR
     float s = interpolate_bracket(br);
 #elif PR_MARCHER == PR_MARCH_CONE || PR_MARCHER == PR_MARCH_RELAXED_CONE
-    float s = refine_binary(ray, br, cone_refine_steps(ray, br, u_march.y), g);
+    float s = refine_binary_secant(ray, br, cone_refine_steps(ray, br, u_march.y), g);
 #elif PR_MARCHER == PR_MARCH_MAX_MIP
     float s = br.t_below; // exact: no refinement
 #else

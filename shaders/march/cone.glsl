@@ -25,6 +25,16 @@ vec2 cone_at(vec2 uv)
     return vec2(rg.r, rg.g * rg.g);
 }
 
+// A relaxed cone only promises that a ray coming down through it crosses the surface at most
+// once; a rising ray (dir.z >= 0: inside a prism, entering through a side wall) may pass through a
+// bump and out again within one relaxed step. Such rays step linearly.
+#if (defined(PR_MARCHER) && PR_MARCHER == PR_MARCH_RELAXED_CONE) || \
+    (defined(PR_TECHNIQUE) && PR_TECHNIQUE == PR_TECH_RELAXED_CONE)
+#define PR_CONE_IS_RELAXED 1
+#else
+#define PR_CONE_IS_RELAXED 0
+#endif
+
 Bracket march_cone(MarchRay r)
 {
     float min_dt = r.t_end / float(max(r.steps, 1));
@@ -37,6 +47,7 @@ Bracket march_cone(MarchRay r)
     for (int i = 0; i < r.steps; ++i) {
         float denom = run - hc.y * r.dir.z;
         float dt = denom > 1e-12 ? hc.y * d / denom : r.t_end;
+        if (PR_CONE_IS_RELAXED == 1 && r.dir.z >= 0.0) dt = 0.0; // the minimum step
         float t_next = min(t + max(dt, min_dt), r.t_end);
         vec3 p = r.origin + t_next * r.dir;
         vec2 hc_next = cone_at(p.xy);
@@ -52,10 +63,16 @@ Bracket march_cone(MarchRay r)
 
 // Binary steps that leave the bracket of a cone march as narrow as relief's (--refine halvings of
 // one linear step): a relaxed cone's last step may be several linear steps long.
+// The cone marchers finish with a secant (refine_binary_secant), which replaces the last
+// PR_CONE_SECANT_SAVES halvings.
+#ifndef PR_CONE_SECANT_SAVES
+#define PR_CONE_SECANT_SAVES 3
+#endif
 int cone_refine_steps(MarchRay r, Bracket b, int refine)
 {
     float min_dt = r.t_end / float(max(r.steps, 1));
     float ratio = (b.t_below - b.t_above) / min_dt;
-    return refine + (ratio > 1.0 ? int(ceil(log2(ratio))) : 0);
+    int halvings = refine + (ratio > 1.0 ? int(ceil(log2(ratio))) : 0);
+    return max(halvings - PR_CONE_SECANT_SAVES, min(refine, 1));
 }
 #endif // PR_HEIGHT_FROM_CONE
