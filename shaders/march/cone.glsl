@@ -66,7 +66,7 @@ Bracket march_cone(MarchRay r)
 // The cone marchers finish with a secant (refine_binary_secant), which replaces the last
 // PR_CONE_SECANT_SAVES halvings.
 #ifndef PR_CONE_SECANT_SAVES
-#define PR_CONE_SECANT_SAVES 3
+#define PR_CONE_SECANT_SAVES 4
 #endif
 int cone_refine_steps(MarchRay r, Bracket b, int refine)
 {

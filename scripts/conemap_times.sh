@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# Times `prismrelief conemap` on every built-in height map and on pathological ones, at 512² and
+# 1024², cone and relaxed, CPU (all cores) and GPU (compute shader; llvmpipe unless --gl-backend
+# egl finds a GPU). Prints a Markdown table for docs/benchmarks.md. Nothing is cached.
+#
+#   scripts/conemap_times.sh [build/src/prismrelief] [sizes...]      e.g. ... build/src/prismrelief 512
+set -euo pipefail
+exe=${1:-build/src/prismrelief}
+shift || true
+sizes=("$@")
+[ ${#sizes[@]} -gt 0 ] || sizes=(512 1024)
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+# Pathological maps as 16-bit PNGs (standard library only): a single spike on a flat floor (every
+# texel's nearest higher texel is far: ring searches see the whole map), a step, a ramp, white
+# noise (every texel has a higher neighbour: tiny cones, the cheapest case for pruning).
+python3 - "$work" "${sizes[@]}" <<'EOF'
+import random, struct, sys, zlib
+out, sizes = sys.argv[1], [int(s) for s in sys.argv[2:]]
+def png16(path, n, f):
+    rows = b"".join(b"\0" + b"".join(struct.pack(">H", int(round(max(0.0, min(1.0, f(x, y))) * 65535)))
+                                     for x in range(n)) for y in range(n))
+    chunk = lambda k, p: struct.pack(">I", len(p)) + k + p + struct.pack(">I", zlib.crc32(k + p) & 0xFFFFFFFF)
+    with open(path, "wb") as fh:
+        fh.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", n, n, 16, 0, 0, 0, 0))
+                 + chunk(b"IDAT", zlib.compress(rows, 6)) + chunk(b"IEND", b""))
+for n in sizes:
+    rnd = random.Random(7)
+    png16(f"{out}/spike{n}.png", n, lambda x, y: 1.0 if (x, y) == (n // 3, n // 2) else 0.0)
+    png16(f"{out}/step{n}.png", n, lambda x, y: 1.0 if x >= n // 2 else 0.0)
+    png16(f"{out}/ramp{n}.png", n, lambda x, y: x / (n - 1))
+    png16(f"{out}/white{n}.png", n, lambda x, y: rnd.random())
+EOF
+
+echo "| height map | size | cone cpu s | relaxed cpu s | cone gpu s | relaxed gpu s |"
+echo "|---|---:|---:|---:|---:|---:|"
+for n in "${sizes[@]}"; do
+    for map in bumps bricks noise pyramids boxes const:0.5 spike step ramp white; do
+        case $map in
+            spike|step|ramp|white) height=$work/$map$n.png; label="$map (file)";;
+            *) height=builtin:$map@$n; label=$map;;
+        esac
+        row="| $label | $n"
+        for backend in cpu gpu; do
+            for kind in cone relaxed; do
+                "$exe" conemap --height "$height" --kind "$kind" --backend "$backend" --no-cache \
+                    --out "$work/o.png" --json "$work/o.json" >/dev/null
+                ms=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['ms'])" "$work/o.json")
+                row+=" | $(python3 -c "print(f'{$ms/1000:.2f}')")"
+            done
+        done
+        # columns were produced cpu-cone, cpu-relaxed, gpu-cone, gpu-relaxed: the header's order
+        echo "$row |"
+    done
+done
