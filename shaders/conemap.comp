@@ -23,6 +23,7 @@ layout(location = 2) uniform int u_steps;   // 255 or 65535
 layout(location = 3) uniform uint u_first;  // first texel of this dispatch
 layout(location = 4) uniform uint u_count;  // texels in this dispatch
 layout(location = 5) uniform int u_budget;  // kind relaxed: march steps per texel (ConeBuildOptions)
+layout(location = 6) uniform int u_node_budget; // nodes per search (ConeBuildOptions::node_budget)
 layout(location = 8) uniform int u_level_w[PR_CONE_MAX_LEVELS];
 layout(location = 24) uniform int u_level_h[PR_CONE_MAX_LEVELS];
 layout(location = 40) uniform int u_level_offset[PR_CONE_MAX_LEVELS];
@@ -134,7 +135,15 @@ int search(int px, int py, bool relaxed)
     int budget = u_budget;
     s_level[0] = top; s_i[0] = 0; s_j[0] = 0; s_bound[0] = 0.0lf;
     int sp = 1;
+    int visits = 0;
     while (sp > 0 && k > 0) {
+        if (++visits > u_node_budget) {
+            double rest = best;
+            for (int r = 0; r < sp; ++r)
+                if (s_bound[r] * kMargin < threshold) rest = min(rest, s_bound[r]);
+            if (rest < best) k = ratio_steps(rest);
+            break;
+        }
         --sp;
         int level = s_level[sp], ni = s_i[sp], nj = s_j[sp];
         double nbound = s_bound[sp];

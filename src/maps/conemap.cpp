@@ -185,9 +185,11 @@ struct Node {
 // One texel's search. Returns k (the ratio in format steps).
 class Searcher {
 public:
-    Searcher(const HeightField& f, const MaxPyramid& pyr, ConeKind kind, ConeFormat format, int budget)
+    Searcher(const HeightField& f, const MaxPyramid& pyr, ConeKind kind, ConeFormat format, int budget,
+             int node_budget)
         : f_(f), pyr_(pyr), kind_(kind), format_(format), steps_(cone_format_steps(format)),
           budget_(budget > 0 ? budget : std::numeric_limits<int>::max()),
+          node_budget_(node_budget > 0 ? node_budget : std::numeric_limits<int>::max()),
           inv_w2_(1.0 / (double(f.width) * double(f.width))),
           inv_h2_(1.0 / (double(f.height) * double(f.height))), top_(pyr.levels() - 1),
           global_max_(pyr.at(top_, 0, 0))
@@ -212,7 +214,16 @@ public:
         stack_.clear();
         stack_.push_back({top_, 0, 0, 0.0});
         int budget = budget_;
+        int visits = 0;
         while (!stack_.empty()) {
+            if (++visits > node_budget_) {
+                // Out of nodes: what is left counts by its lower bounds (conservative).
+                double rest = best;
+                for (const Node& r : stack_)
+                    if (r.bound * kMargin < threshold) rest = std::min(rest, r.bound);
+                if (rest < best) k = cone_ratio_steps(rest, format_);
+                break;
+            }
             const Node n = stack_.back();
             stack_.pop_back();
             if (n.bound * kMargin >= threshold) continue; // k went down since it was pushed
@@ -288,6 +299,7 @@ private:
     ConeFormat format_;
     int steps_;
     int budget_;
+    int node_budget_;
     double inv_w2_, inv_h2_;
     int top_;
     float global_max_;
@@ -319,7 +331,7 @@ ConeMap build_cone_map_cpu(const HeightField& field, ConeKind kind, const ConeBu
 
     const auto work = [&]() {
         try {
-            Searcher searcher(field, pyramid, kind, options.format, options.relaxed_budget);
+            Searcher searcher(field, pyramid, kind, options.format, options.relaxed_budget, options.node_budget);
             for (int y = next_row++; y < field.height; y = next_row++) {
                 for (int x = 0; x < field.width; ++x)
                     map.ratios[std::size_t(y) * std::size_t(field.width) + std::size_t(x)] =

@@ -40,6 +40,11 @@ struct ConeBuildOptions {
     // rest of it is replaced by lower bounds, giving a narrower (still valid) relaxed cone, never
     // narrower than the conservative cone. 0: unbounded (exact relaxed cones; slow on large maps).
     int relaxed_budget = 256;
+    // Quadtree nodes one texel's search may visit (both kinds). Where a search needs more (maps on
+    // which many far texels limit the cone almost equally, like a long ramp), the nodes left count
+    // by their lower bounds: a narrower cone, still conservative. No built-in map comes near it.
+    // 0: unbounded (the exact rounded minimum everywhere).
+    int node_budget = 1024;
 };
 
 // Multi-threaded CPU generator.
@@ -53,7 +58,7 @@ ConeMap read_cone_png(const std::filesystem::path& path, ConeKind kind);
 // ---- generator details shared by the CPU and GPU paths (docs/cone-maps.md) ----
 
 // Bumped whenever the generator's output changes: part of every cache key.
-inline constexpr std::uint32_t kConeGeneratorVersion = 1;
+inline constexpr std::uint32_t kConeGeneratorVersion = 2;
 
 // 255 (rg8) or 65535 (rg16): the ratio is stored as k / steps, k an integer.
 int cone_format_steps(ConeFormat format);

@@ -43,6 +43,7 @@ ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBu
     glProgramUniform1i(p, 1, pyramid.levels());
     glProgramUniform1i(p, 2, cone_format_steps(options.format));
     glProgramUniform1i(p, 5, options.relaxed_budget > 0 ? options.relaxed_budget : 0x7fffffff);
+    glProgramUniform1i(p, 6, options.node_budget > 0 ? options.node_budget : 0x7fffffff);
     int w[kMaxLevels] = {}, h[kMaxLevels] = {}, off[kMaxLevels] = {};
     for (int l = 0; l < pyramid.levels(); ++l) {
         w[l] = pyramid.widths[std::size_t(l)];

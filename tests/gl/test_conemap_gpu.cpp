@@ -84,6 +84,20 @@ TEST(ConeMapGpu, EqualsCpuRelaxed)
     }
 }
 
+TEST(ConeMapGpu, EqualsCpuWithABindingNodeBudget)
+{
+    prtest::context();
+    HeightField f = field_of(64, 48, 8, true);
+    for (int y = 0; y < f.height; ++y) // a ramp: the search runs out of nodes on most texels
+        for (int x = 0; x < f.width; ++x) f.texels[std::size_t(y * f.width + x)] = float(x + 0.3 * y) / 80.0f;
+    for (ConeKind kind : {ConeKind::Cone, ConeKind::Relaxed}) {
+        ConeBuildOptions o;
+        o.node_budget = 24;
+        expect_same(build_cone_map_gpu(f, kind, o), build_cone_map_cpu(f, kind, o), ConeFormat::Rg16,
+                    kind == ConeKind::Cone ? "cone ramp budget" : "relaxed ramp budget");
+    }
+}
+
 TEST(ConeMapGpu, SpikeAndLargerThanOneChunk)
 {
     prtest::context();

@@ -290,6 +290,33 @@ TEST(ConeMap, RelaxedBudgetLiesBetweenConeAndExact)
     EXPECT_GT(narrower, 0); // the budget did bind somewhere
 }
 
+// A node budget (pathological maps: a long ramp) gives a narrower cone where the search runs out,
+// never a wider one: still conservative against brute force.
+TEST(ConeMap, NodeBudgetStaysConservative)
+{
+    const HeightField f = make(64, 48, [](int x, int y) { return q16((x + 0.3 * y) / 80.0); });
+    ConeBuildOptions exact, tight;
+    exact.node_budget = 0;
+    tight.node_budget = 24;
+    for (ConeKind kind : {ConeKind::Cone, ConeKind::Relaxed}) {
+        const ConeMap e = build_cone_map_cpu(f, kind, exact);
+        const ConeMap t = build_cone_map_cpu(f, kind, tight);
+        int narrower = 0;
+        for (std::size_t i = 0; i < e.ratios.size(); ++i) {
+            EXPECT_LE(t.ratios[i], e.ratios[i]);
+            narrower += t.ratios[i] < e.ratios[i];
+        }
+        EXPECT_GT(narrower, 0) << cone_kind_name(kind); // the budget did bind
+        if (kind == ConeKind::Cone) expect_conservative(f, t);
+    }
+    // The default budget does not bind on the test maps: the exact result (brute-force tested).
+    for (const Case& c : cases()) {
+        const ConeMap d = build_cone_map_cpu(c.field, ConeKind::Cone, {});
+        const ConeMap e = build_cone_map_cpu(c.field, ConeKind::Cone, exact);
+        EXPECT_EQ(d.ratios, e.ratios) << c.name;
+    }
+}
+
 TEST(ConeMap, RelaxedIsWiderSomewhereOnBoxes)
 {
     const Case c = cases()[8];
