@@ -325,23 +325,27 @@ void Renderer::ensure_aux_textures(AuxMap map)
     if (glGetError() == GL_OUT_OF_MEMORY) throw Error("scene", "out of GPU memory while uploading derived maps");
 }
 
-double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSettings& settings)
+void Renderer::upload_frame(const Camera& camera, glm::vec3 light_dir)
 {
-    const GLuint program = program_for(settings);
-    const AuxMap aux_map = settings.aux_map();
-    ensure_aux_textures(aux_map);
     const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
-
     shader::FrameBlock frame{};
     frame.u_view = camera.view();
     frame.u_proj = camera.projection(aspect);
     frame.u_view_proj = frame.u_proj * frame.u_view;
     frame.u_eye = glm::vec4(camera.eye, 1.0f);
-    frame.u_light_dir = glm::vec4(glm::normalize(light_dir), 0.0f);
+    frame.u_light_dir = glm::vec4(light_dir, 0.0f);
     frame.u_viewport = glm::vec4(width_, height_, 1.0f / width_, 1.0f / height_);
     glNamedBufferSubData(frame_ubo_.id(), 0, sizeof(frame), &frame);
     glBindBufferBase(GL_UNIFORM_BUFFER, PR_UBO_FRAME, frame_ubo_.id());
     glBindBufferBase(GL_UNIFORM_BUFFER, PR_UBO_OBJECT, object_ubo_.id());
+}
+
+double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSettings& settings)
+{
+    const GLuint program = program_for(settings);
+    const AuxMap aux_map = settings.aux_map();
+    ensure_aux_textures(aux_map);
+    upload_frame(camera, glm::normalize(light_dir));
     if (settings.count_samples) {
         const GLuint zero = 0;
         glClearNamedBufferData(counters_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);

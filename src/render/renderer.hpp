@@ -120,6 +120,8 @@ private:
     std::filesystem::path cache_dir_;
     // Builds (or reads from the cache) and uploads the derived map each object needs.
     void ensure_aux_textures(AuxMap map);
+    // Fills and binds the frame block (camera, light, viewport) and binds the object block.
+    void upload_frame(const Camera& camera, glm::vec3 light_dir);
 };
 
 } // namespace pr

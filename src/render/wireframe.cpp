@@ -31,18 +31,7 @@ void Renderer::draw_overlay(const Camera& camera, Overlay overlay, glm::vec4 col
     }
     const GLuint program = it->second.id();
 
-    // The same frame block as draw() (kept in step by hand: draw() fills it the same way).
-    const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
-    shader::FrameBlock frame{};
-    frame.u_view = camera.view();
-    frame.u_proj = camera.projection(aspect);
-    frame.u_view_proj = frame.u_proj * frame.u_view;
-    frame.u_eye = glm::vec4(camera.eye, 1.0f);
-    frame.u_light_dir = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);
-    frame.u_viewport = glm::vec4(width_, height_, 1.0f / width_, 1.0f / height_);
-    glNamedBufferSubData(frame_ubo_.id(), 0, sizeof(frame), &frame);
-    glBindBufferBase(GL_UNIFORM_BUFFER, PR_UBO_FRAME, frame_ubo_.id());
-    glBindBufferBase(GL_UNIFORM_BUFFER, PR_UBO_OBJECT, object_ubo_.id());
+    upload_frame(camera, glm::vec3(0.0f, 1.0f, 0.0f)); // the frame block of draw(); no lighting
 
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
     glViewport(0, 0, width_, height_);
