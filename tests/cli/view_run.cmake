@@ -1,7 +1,8 @@
 # One viewer test under a virtual X server (xvfb-run): runs `prismrelief view` (and `render` for
 # the expected images), then checks coverage with view_mask_check. Prints VIEW_TEST_SKIPPED
 # (CTest's SKIP_REGULAR_EXPRESSION) when no X server can be started, instead of passing.
-# Variables: EXE, CHECK (view_mask_check), WORKDIR, CASE, MESHES, SHADERS.
+# Variables: EXE, CHECK (view_mask_check), WORKDIR, CASE, MESHES, SHADERS, PRELOAD (LD_PRELOAD list
+# for the viewer in the sanitizer build, else empty).
 file(REMOVE_RECURSE ${WORKDIR})
 file(MAKE_DIRECTORY ${WORKDIR})
 find_program(XVFB_RUN xvfb-run)
@@ -27,7 +28,11 @@ endif()
 
 # Runs the viewer under xvfb-run; sets view_err (stderr) in the caller.
 function(run_view)
-    execute_process(COMMAND ${XVFB_RUN} -a -s "-screen 0 1024x768x24" ${EXE} view ${ARGN}
+    set(launch ${EXE})
+    if(PRELOAD) # sanitizer build (view_tests.cmake): keep Mesa's GLX/DRI libraries mapped to the end
+        set(launch env LD_PRELOAD=${PRELOAD} ${EXE})
+    endif()
+    execute_process(COMMAND ${XVFB_RUN} -a -s "-screen 0 1024x768x24" ${launch} view ${ARGN}
                     WORKING_DIRECTORY ${WORKDIR}
                     RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 240)
     if(err MATCHES "xvfb-run: error|Xvfb failed to start|cannot open display")
