@@ -163,8 +163,10 @@ void check_dimensions(const std::string& subject, std::int64_t w, std::int64_t h
 
 // stb_image 2.27 (Debian 12) trusts the symbol counts of a JPEG Huffman table (DHT segment): a
 // table of more than 256 symbols writes past its arrays (found by tests/fuzz/fuzz_image; later
-// stb versions refuse it). Walk the marker segments the way stb reads them and refuse such a
-// table before stb sees it.
+// stb versions refuse it). It also decodes a scan with a Huffman table that no DHT defined:
+// the table is uninitialized memory and the decoder indexes its arrays with garbage (found by
+// tests/fuzz/fuzz_image). Walk the marker segments the way stb reads them and refuse both
+// before stb sees the file.
 void check_jpeg_tables(const std::string& subject, const std::vector<std::uint8_t>& b)
 {
     const auto at = [&b](std::size_t i) -> unsigned { return i < b.size() ? b[i] : 0u; }; // stb reads 0 past the end
@@ -172,6 +174,8 @@ void check_jpeg_tables(const std::string& subject, const std::vector<std::uint8_
     while (i < b.size() && b[i] == 0xFF) ++i;
     if (i == 0 || at(i) != 0xD8) return; // not JPEG (stb's SOI check: FF... D8)
     ++i;
+    bool defined[2][4] = {}; // [0: DC, 1: AC][table id]: set by a DHT
+    bool progressive = false;
     while (i + 1 < b.size()) {
         if (b[i] != 0xFF) { // entropy-coded data or junk: stb skips to the next marker
             ++i;
@@ -198,12 +202,60 @@ void check_jpeg_tables(const std::string& subject, const std::vector<std::uint8_
                     throw Error(subject, fmt::format("not a supported image (corrupt JPEG: a Huffman "
                                                      "table of {} symbols, at most 256)",
                                                      n));
+                const unsigned tc = at(p) >> 4, th = at(p) & 15; // stb refuses tc > 1, th > 3
+                if (tc <= 1 && th <= 3) defined[tc][th] = true;
                 p += 17 + n;
                 remaining -= long(17 + n);
+            }
+        } else if (m == 0xC2) {
+            progressive = true;
+        } else if (m == 0xDA) {
+            // SOS: Ns, then Ns x (component, DC table << 4 | AC table), then Ss, Se, Ah << 4 | Al.
+            // The tables stb's decoder will use must exist (out-of-range ids stb refuses itself).
+            const unsigned ns = at(i + 4);
+            const unsigned ss = at(i + 5 + 2 * ns), ah = at(i + 7 + 2 * ns) >> 4;
+            const bool uses_dc = !progressive || (ss == 0 && ah == 0);
+            const bool uses_ac = !progressive || ss != 0;
+            for (unsigned c = 0; c < ns && c < 4; ++c) {
+                const unsigned td = at(i + 6 + 2 * c) >> 4, ta = at(i + 6 + 2 * c) & 15;
+                const char* missing = uses_dc && td <= 3 && !defined[0][td]   ? "DC"
+                                      : uses_ac && ta <= 3 && !defined[1][ta] ? "AC"
+                                                                              : nullptr;
+                if (missing)
+                    throw Error(subject, fmt::format("not a supported image (corrupt JPEG: a scan uses "
+                                                     "{} Huffman table {}, which no DHT segment defines)",
+                                                     missing, std::string_view(missing) == "DC" ? td : ta));
             }
         }
         i += 2 + length;
     }
+}
+
+// stb_image 2.27 (Debian 12) copies an IDAT chunk's data with memcpy even when the chunk is
+// empty; for an empty IDAT before any data the destination is a null pointer (undefined
+// behaviour, found by tests/fuzz/fuzz_image). Empty IDAT chunks carry nothing: drop them before
+// stb sees the file. Chunks are walked as stb walks them (length, type, data, CRC); a chunk that
+// runs past the end stops the walk and is left for stb to refuse.
+void drop_empty_png_idat(std::vector<std::uint8_t>& b)
+{
+    static constexpr std::uint8_t signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    if (b.size() < 8 || !std::equal(signature, signature + 8, b.begin())) return;
+    std::size_t in = 8, out = 8;
+    while (b.size() - in >= 12) {
+        const std::size_t length = std::size_t(b[in]) << 24 | std::size_t(b[in + 1]) << 16 |
+                                   std::size_t(b[in + 2]) << 8 | std::size_t(b[in + 3]);
+        if (length > b.size() - in - 12) break;
+        const std::size_t chunk = 12 + length;
+        if (length != 0 || std::memcmp(&b[in + 4], "IDAT", 4) != 0) {
+            if (out != in) std::memmove(b.data() + out, b.data() + in, chunk);
+            out += chunk;
+        }
+        in += chunk;
+    }
+    if (out == in) return;
+    const std::size_t tail = b.size() - in;
+    std::memmove(b.data() + out, b.data() + in, tail);
+    b.resize(out + tail);
 }
 
 // Image bytes whose header passed the limits: decoding may allocate w*h*channels safely.
@@ -212,11 +264,12 @@ struct Checked {
     int len;
 };
 
-Checked check_header(const std::string& subject, const std::vector<std::uint8_t>& bytes,
+Checked check_header(const std::string& subject, std::vector<std::uint8_t>& bytes,
                      const ImageLimits& limits)
 {
     if (bytes.empty()) throw Error(subject, "not a supported image (empty file)");
     check_jpeg_tables(subject, bytes);
+    drop_empty_png_idat(bytes);
     const std::optional<Sniffed> sniffed = sniff(bytes);
     if (sniffed && sniffed->width && sniffed->height)
         check_dimensions(subject, *sniffed->width, *sniffed->height, limits);
@@ -283,7 +336,7 @@ bool stb_swaps_16_bit_pnm()
 
 HeightField load_height_file(const std::string& path, const ImageLimits& limits)
 {
-    const std::vector<std::uint8_t> bytes = read_file(path);
+    std::vector<std::uint8_t> bytes = read_file(path);
     const Checked c = check_header(path, bytes, limits);
     HeightField hf;
     hf.name = path;
@@ -324,7 +377,7 @@ HeightField load_height_file(const std::string& path, const ImageLimits& limits)
 
 RgbaImage load_rgba_file(const std::string& path, const ImageLimits& limits)
 {
-    const std::vector<std::uint8_t> bytes = read_file(path);
+    std::vector<std::uint8_t> bytes = read_file(path);
     const Checked c = check_header(path, bytes, limits);
     int w = 0, h = 0, n = 0;
     StbiPtr<stbi_uc> data;

@@ -61,6 +61,11 @@ write("alpha.png", png(N, N, 8, 6, [b"".join(bytes([int(round(255 * bumps(x, y, 
                                     for y in range(N)]))
 write("grey_alpha.png", png(N, N, 8, 4, [b"".join(bytes([int(round(255 * bumps(x, y, N))), 255 - 4 * y])
                                                   for x in range(N)) for y in range(N)]))
+# Found by fuzzing (tests/fuzz/fuzz_image): an empty IDAT chunk before the image data made
+# stb_image 2.27 memcpy to a null pointer (undefined behaviour). A valid PNG: it must render.
+sig_ihdr = valid_grey[:8 + 25]  # signature and IHDR chunk
+assert valid_grey[8 + 25 + 4:8 + 25 + 8] == b"IDAT"
+write("fuzz_png_empty_idat.png", sig_ihdr + chunk(b"IDAT", b"") + valid_grey[8 + 25:])
 
 # Refused with one line naming the file.
 write("truncated.png", valid_grey[: len(valid_grey) * 2 // 3])

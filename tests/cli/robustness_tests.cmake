@@ -18,7 +18,10 @@ foreach(case "truncated.png|not a supported image \\(truncated or corrupt data"
              "huge_header.png|the image is 100000x100000 pixels, more than the limit of 16384 per side"
              "huge_area.png|the image is 16000x16000 = 256000000 pixels, more than the limit of 67108864"
              # Found by fuzzing (tests/fuzz/fuzz_image): overflowed stb_image 2.27's Huffman tables.
-             "fuzz_jpeg_huffman_overflow.jpg|not a supported image \\(corrupt JPEG: a Huffman table of [0-9]+ symbols")
+             "fuzz_jpeg_huffman_overflow.jpg|not a supported image \\(corrupt JPEG: a Huffman table of [0-9]+ symbols"
+             # Found by fuzzing: a scan using an AC table no DHT defines; stb_image 2.27 decoded
+             # with the uninitialized table and indexed past its arrays.
+             "fuzz_jpeg_undefined_huffman_table.jpg|not a supported image \\(corrupt JPEG: a scan uses AC Huffman table 0, which no DHT segment defines\\)")
     string(REPLACE "|" ";" parts "${case}")
     list(GET parts 0 file)
     list(GET parts 1 message)
@@ -31,8 +34,11 @@ endforeach()
 
 # ---- images: valid but odd, must render (exit 0, a file, something covered) --------------------
 # "coverage 0.0%" would mean NaN-derived garbage discarded every fragment.
+# fuzz_png_empty_idat.png was found by fuzzing (tests/fuzz/fuzz_image): an empty IDAT chunk
+# before the data made stb_image 2.27 memcpy to a null pointer; empty IDATs are now dropped first.
 set(COVERED "coverage (0\\.[1-9]|[1-9])")
-foreach(file one_pixel.png sixteen_bit.png paletted.png alpha.png grey_alpha.png tiny.jpg)
+foreach(file one_pixel.png sixteen_bit.png paletted.png alpha.png grey_alpha.png tiny.jpg
+             fuzz_png_empty_idat.png)
     string(MAKE_C_IDENTIFIER "${file}" id)
     foreach(role height color)
         pr_cli(image_${role}_${id} EXIT 0 EXPECT_FILE o.png STDOUT "o.png: 48x48 prism, .*${COVERED}"
