@@ -32,7 +32,7 @@ struct MeshVertex {
 
 struct MeshOptions {
     std::size_t max_triangles = 10'000'000; // after triangulation; more fails early with an error (about
-                                            // 1.1 GB of peak memory per million with prism: docs/robustness.md)
+                                            // 0.5 GB of peak memory per million with prism: docs/robustness.md)
     // Automatic UVs for meshes without them (see docs/mesh-input.md): box projection on the
     // dominant axis of each face's welded normal; `uv_scale` UV units (texture repeats) across the
     // largest extent of the bounding box.
