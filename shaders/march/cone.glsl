@@ -17,17 +17,10 @@
 
 #ifdef PR_HEIGHT_FROM_CONE // (common/height.glsl declares s_cone then)
 
-// One fetch of the cone map at level 0: (height, c). Counted as a height sample.
-vec2 cone_at(vec2 uv)
-{
-    ++g_height_samples;
-    vec2 rg = textureLod(s_cone, uv, 0.0).rg;
-    return vec2(rg.r, rg.g * rg.g);
-}
-
 // A relaxed cone only promises that a ray coming down through it crosses the surface at most
 // once; a rising ray (dir.z >= 0: inside a prism, entering through a side wall) may pass through a
-// bump and out again within one relaxed step. Such rays step linearly.
+// bump and out again within one relaxed step. Such rays step with the conservative cone, which the
+// renderer stores in the relaxed texture's blue channel (src/render/renderer.cpp).
 #if (defined(PR_MARCHER) && PR_MARCHER == PR_MARCH_RELAXED_CONE) || \
     (defined(PR_TECHNIQUE) && PR_TECHNIQUE == PR_TECH_RELAXED_CONE)
 #define PR_CONE_IS_RELAXED 1
@@ -35,22 +28,37 @@ vec2 cone_at(vec2 uv)
 #define PR_CONE_IS_RELAXED 0
 #endif
 
+// One fetch of the cone map at level 0: (height, c, conservative c). Counted as a height sample.
+vec3 cone_at(vec2 uv)
+{
+    ++g_height_samples;
+    vec3 rgb = textureLod(s_cone, uv, 0.0).rgb;
+#if PR_CONE_IS_RELAXED == 1
+    return vec3(rgb.r, rgb.g * rgb.g, rgb.b * rgb.b);
+#else
+    return vec3(rgb.r, rgb.g * rgb.g, rgb.g * rgb.g);
+#endif
+}
+
+
 Bracket march_cone(MarchRay r)
 {
     float min_dt = r.t_end / float(max(r.steps, 1));
     float run = length(r.dir.xy); // UV units per unit t
-    vec2 hc = cone_at(r.origin.xy);
+    vec3 hc = cone_at(r.origin.xy);
+    // Rising rays use the conservative ratio (z), descending ones the map's (y).
+    bool rising = r.dir.z >= 0.0;
     float d = r.origin.z - hc.x;
     if (d <= PR_HIT_EPSILON) return Bracket(true, 0.0, 0.0, 0.0, max(-d, 0.0));
     float t = 0.0;
     // Each iteration advances at least min_dt, so at most `steps` of them.
     for (int i = 0; i < r.steps; ++i) {
-        float denom = run - hc.y * r.dir.z;
-        float dt = denom > 1e-12 ? hc.y * d / denom : r.t_end;
-        if (PR_CONE_IS_RELAXED == 1 && r.dir.z >= 0.0) dt = 0.0; // the minimum step
+        float c = rising ? hc.z : hc.y;
+        float denom = run - c * r.dir.z;
+        float dt = denom > 1e-12 ? c * d / denom : r.t_end;
         float t_next = min(t + max(dt, min_dt), r.t_end);
         vec3 p = r.origin + t_next * r.dir;
-        vec2 hc_next = cone_at(p.xy);
+        vec3 hc_next = cone_at(p.xy);
         float d_next = p.z - hc_next.x;
         if (d_next <= PR_HIT_EPSILON) return Bracket(true, t, t_next, d, max(-d_next, 0.0));
         t = t_next;

@@ -53,17 +53,23 @@ gl::Texture make_color_texture(const RgbaImage& img)
 
 // Cone map: R = height, G = sqrt(cone ratio), level 0 only (cone ratios of a coarser level would
 // mean nothing), bilinear, repeat. RG16 keeps the 16-bit heights and the rounded-down ratios exact.
-gl::Texture make_cone_texture(const ConeMap& map)
+// R = height, G = the map's ratio, and for a relaxed map B = the conservative cone's ratio of the
+// same heights (shaders/march/cone.glsl steps rising rays with it).
+gl::Texture make_cone_texture(const ConeMap& map, const ConeMap* conservative = nullptr)
 {
-    std::vector<float> rg(std::size_t(map.width) * map.height * 2);
-    for (std::size_t i = 0; i < map.heights.size(); ++i) {
-        rg[2 * i] = map.heights[i];
-        rg[2 * i + 1] = map.ratios[i];
+    const std::size_t n = map.heights.size();
+    const std::size_t channels = conservative ? 3 : 2;
+    std::vector<float> texels(n * channels);
+    for (std::size_t i = 0; i < n; ++i) {
+        texels[channels * i] = map.heights[i];
+        texels[channels * i + 1] = map.ratios[i];
+        if (conservative) texels[channels * i + 2] = conservative->ratios[i];
     }
     gl::Texture t = gl::Texture::create(GL_TEXTURE_2D);
-    glTextureStorage2D(t.id(), 1, GL_RG16, map.width, map.height);
+    glTextureStorage2D(t.id(), 1, conservative ? GL_RGB16 : GL_RG16, map.width, map.height);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage2D(t.id(), 0, 0, 0, map.width, map.height, GL_RG, GL_FLOAT, rg.data());
+    glTextureSubImage2D(t.id(), 0, 0, 0, map.width, map.height, conservative ? GL_RGB : GL_RG, GL_FLOAT,
+                        texels.data());
     glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
@@ -316,8 +322,13 @@ void Renderer::ensure_aux_textures(AuxMap map)
             if (map == AuxMap::MaxMip) {
                 t = make_max_pyramid_texture(*o.height_field);
             } else {
-                const ConeKind kind = map == AuxMap::Cone ? ConeKind::Cone : ConeKind::Relaxed;
-                t = make_cone_texture(cached_cone_map(*o.height_field, kind, cache_dir_).map);
+                const ConeMap cone = cached_cone_map(*o.height_field, ConeKind::Cone, cache_dir_).map;
+                if (map == AuxMap::Cone) {
+                    t = make_cone_texture(cone);
+                } else {
+                    const ConeMap relaxed = cached_cone_map(*o.height_field, ConeKind::Relaxed, cache_dir_).map;
+                    t = make_cone_texture(relaxed, &cone);
+                }
             }
         }
         o.aux_texture[k] = t.id();
