@@ -93,11 +93,15 @@ TEST(Prism, OutlineMatchesTheReferenceOnCurvedMeshes)
             const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, elevation, 30.0f);
             r.prepare_reference(scene, c, ReferenceOptions{});
             const FrameCapture ref = capture(r, c, Technique::Reference);
+            std::size_t relief_wrong = 0;
             for (Marcher marcher : {Marcher::Relief, Marcher::Linear, Marcher::Cone, Marcher::RelaxedCone, Marcher::MaxMip}) {
                 const CompareMetrics prism = compare_frames(capture(r, c, Technique::Prism, marcher), ref);
                 const std::string what = std::string(name) + " elevation " + std::to_string(elevation) +
                                          " marcher " + marcher_name(marcher);
                 EXPECT_GT(prism.iou, 0.98) << what;
+                // The fast marchers keep relief's outline (a relaxed step through a bump tip would not).
+                if (marcher == Marcher::Relief) relief_wrong = prism.silhouette_wrong_px;
+                EXPECT_LE(prism.silhouette_wrong_px, relief_wrong + 2 + relief_wrong / 20) << what;
                 ASSERT_TRUE(prism.depth_error_median.has_value());
                 EXPECT_LT(*prism.depth_error_median, 0.02 * depth) << what;
             }
