@@ -103,8 +103,10 @@ void Compositor::copy_view(GLuint source_fbo, int x0, int x1, int src_w, int src
     glDisable(GL_SCISSOR_TEST);
     const bool same = src_w == width_ && src_h == height_;
     const auto to_view = [&](int x) { return same ? x : int((long long)x * width_ / src_w); };
+    // Nearest, also when scaling (--render-scale): the view target is what screenshots save, and its
+    // alpha must stay coverage (0 or 1), with no colour bled in from the empty background.
     glBlitNamedFramebuffer(source_fbo, view_fbo_.id(), x0, 0, x1, src_h, to_view(x0), 0, to_view(x1), height_,
-                           GL_COLOR_BUFFER_BIT, same ? GL_NEAREST : GL_LINEAR);
+                           GL_COLOR_BUFFER_BIT, GL_NEAREST);
 }
 
 void Compositor::copy_reference(GLuint source_fbo, int src_w, int src_h)

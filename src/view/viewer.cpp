@@ -323,8 +323,8 @@ void Viewer::render_scene()
                 st.fragments = c.fragments;
                 st.samples_per_fragment = c.fragments ? double(c.samples) / double(c.fragments) : 0.0;
             } else {
-                st.draw_ms = st.draws.empty() ? ms : 0.8 * st.draw_ms + 0.2 * ms;
-                st.draws.push_back(ms);
+                st.draw_ms = st.draw_ms <= 0.0 ? ms : 0.8 * st.draw_ms + 0.2 * ms;
+                if (o_.frames > 0) st.draws.push_back(ms); // for the --frames summary only
             }
             if (overlay_ != WireOverlay::None) {
                 const auto kind = overlay_ == WireOverlay::Base ? Renderer::Overlay::BaseMesh
@@ -348,6 +348,9 @@ void Viewer::render_scene()
     } catch (const Error& e) {
         glDisable(GL_SCISSOR_TEST);
         const std::string what = e.what();
+        // --frames (tests, docs figures): a frame that cannot be drawn fails the run (exit 1, no
+        // screenshot) rather than saving a blank image; interactively the viewer goes on.
+        if (o_.frames > 0) throw;
         if (what.find("shaders/") != std::string::npos) shader_error_ = what;
         error(what);
         blocked_key_ = settings_key();
@@ -362,6 +365,7 @@ void Viewer::take_screenshot(const std::string& path)
         while (log_.size() > 6) log_.pop_front();
         if (o_.frames > 0) std::printf("%s: %dx%d\n", path.c_str(), compositor_->width(), compositor_->height());
     } catch (const Error& e) {
+        if (o_.frames > 0) throw; // --frames --screenshot: the PNG is the result; failing to write it fails
         error(e.what());
     }
 }
@@ -685,7 +689,7 @@ int Viewer::run()
             const bool busy = dirty_ || continuous_ || o_.frames > 0 || drag_ != Drag::None;
             window_.poll_events(busy ? 0.0 : 0.25);
             for (const std::string& path : window_.take_dropped_files()) handle_drop(path);
-            if (frame_ == 1) { // after the first frame, as if dropped by hand (tests)
+            if (frame_ == (o_.frames == 1 ? 0 : 1)) { // after the first frame, as if dropped by hand (tests)
                 for (const std::string& path : pending_drops_) handle_drop(path);
                 pending_drops_.clear();
             }
@@ -700,7 +704,10 @@ int Viewer::run()
                 }
             }
             const GlfwWindow::Size fb = window_.framebuffer_size();
-            if (fb.width < 1 || fb.height < 1) continue; // minimized
+            if (fb.width < 1 || fb.height < 1) { // minimized
+                if (o_.frames > 0) throw Error("view", "the window has no pixels to draw (minimized?)");
+                continue;
+            }
             const int rw = std::max(1, int(std::lround(float(fb.width) * render_scale_)));
             const int rh = std::max(1, int(std::lround(float(fb.height) * render_scale_)));
             if (fb.width != compositor_->width() || fb.height != compositor_->height() ||
@@ -737,7 +744,7 @@ int Viewer::run()
             last_frame_ = Clock::now();
             if (frame_ > 0) {
                 frame_ms_.push_back(float(ms));
-                all_frame_ms_.push_back(ms);
+                if (o_.frames > 0) all_frame_ms_.push_back(ms);
                 while (frame_ms_.size() > 120) frame_ms_.pop_front();
             }
             ++frame_;
