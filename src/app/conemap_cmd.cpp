@@ -124,16 +124,15 @@ CommandAction add_conemap_command(CLI::App& app)
         }
         const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         bar.clear();
-        write_cone_png(s->out, result.map, options.format);
 
         const ConeMap& m = result.map;
         double sum = 0.0, lo = 1.0, hi = 0.0;
         for (float r : m.ratios) sum += r, lo = std::min(lo, double(r)), hi = std::max(hi, double(r));
         const double mean = m.ratios.empty() ? 0.0 : sum / double(m.ratios.size());
         const std::string how = result.from_cache ? "from the cache (" + result.entry.string() + ")" : "built (" + device + ")";
-        std::printf("%s: %dx%d %s %s, %s in %.0f ms, ratio min %.4f mean %.4f max %.4f\n", s->out.c_str(), m.width,
-                    m.height, cone_kind_name(kind).c_str(), cone_format_name(options.format).c_str(), how.c_str(), ms,
-                    lo, mean, hi);
+        // Both outputs or neither: the PNG first, then the report; a report that cannot be written
+        // takes the PNG with it.
+        write_cone_png(s->out, result.map, options.format);
         if (!s->json.empty()) {
             const nlohmann::json report = {{"height_map", s->height},
                                            {"width", m.width},
@@ -148,8 +147,17 @@ CommandAction add_conemap_command(CLI::App& app)
                                            {"ratio_min", lo},
                                            {"ratio_mean", mean},
                                            {"ratio_max", hi}};
-            write_file_atomic(s->json, report.dump(2) + "\n");
+            try {
+                write_file_atomic(s->json, report.dump(2) + "\n");
+            } catch (...) {
+                std::error_code ignored;
+                std::filesystem::remove(s->out, ignored);
+                throw;
+            }
         }
+        std::printf("%s: %dx%d %s %s, %s in %.0f ms, ratio min %.4f mean %.4f max %.4f\n", s->out.c_str(), m.width,
+                    m.height, cone_kind_name(kind).c_str(), cone_format_name(options.format).c_str(), how.c_str(), ms,
+                    lo, mean, hi);
         return kExitOk;
     };
 }

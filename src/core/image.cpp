@@ -236,6 +236,8 @@ void check_jpeg_tables(const std::string& subject, const std::vector<std::uint8_
 // behaviour, found by tests/fuzz/fuzz_image). Empty IDAT chunks carry nothing: drop them before
 // stb sees the file. Chunks are walked as stb walks them (length, type, data, CRC); a chunk that
 // runs past the end stops the walk and is left for stb to refuse.
+} // namespace
+
 void drop_empty_png_idat(std::vector<std::uint8_t>& b)
 {
     static constexpr std::uint8_t signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
@@ -257,6 +259,8 @@ void drop_empty_png_idat(std::vector<std::uint8_t>& b)
     std::memmove(b.data() + out, b.data() + in, tail);
     b.resize(out + tail);
 }
+
+namespace {
 
 // Image bytes whose header passed the limits: decoding may allocate w*h*channels safely.
 struct Checked {

@@ -163,16 +163,19 @@ ConeMap read_cone_png(const std::filesystem::path& path, ConeKind kind)
     const std::string name = path.string();
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(name, "cannot open");
-    const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     static const std::uint8_t signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
     if (bytes.size() < 33 || std::memcmp(bytes.data(), signature, 8) != 0)
         throw Error(name, "not a PNG file (a cone map is an RGB PNG: R height, G ratio)");
     if (bytes.size() > std::size_t(1) << 30) throw Error(name, "file too large");
+    drop_empty_png_idat(bytes);
     const int len = int(bytes.size());
     int w = 0, h = 0, comp = 0;
     if (!stbi_info_from_memory(bytes.data(), len, &w, &h, &comp))
         throw Error(name, std::string("not a readable PNG (") + stbi_failure_reason() + ")");
-    if (w < 1 || h < 1 || w > 16384 || h > 16384)
+    const ImageLimits limits;
+    if (w < 1 || h < 1 || w > limits.max_dimension || h > limits.max_dimension ||
+        std::int64_t(w) * h > limits.max_pixels)
         throw Error(name, "cone map size " + std::to_string(w) + "x" + std::to_string(h) + " out of range");
     if (comp != 3 && comp != 4)
         throw Error(name, "a cone map has RGB channels (R height, G ratio); this file has " + std::to_string(comp));

@@ -20,6 +20,7 @@
 #include <condition_variable>
 #include <limits>
 #include <mutex>
+#include <system_error>
 #include <thread>
 
 namespace pr {
@@ -347,7 +348,19 @@ ConeMap build_cone_map_cpu(const HeightField& field, ConeKind kind, const ConeBu
         if (--running == 0) finished.notify_all();
     };
     std::vector<std::thread> pool;
-    for (unsigned t = 0; t < threads; ++t) pool.emplace_back(work);
+    try {
+        for (unsigned t = 0; t < threads; ++t) pool.emplace_back(work);
+    } catch (const std::system_error&) {
+        // The system refused a thread (limits, memory): go on with those that started, or with
+        // this thread alone (a joinable std::thread must never be destroyed unjoined).
+        std::unique_lock lock(mutex);
+        running -= threads - unsigned(pool.size());
+        if (pool.empty()) {
+            running = 1;
+            lock.unlock();
+            work();
+        }
+    }
     {
         std::unique_lock lock(mutex);
         while (!finished.wait_for(lock, std::chrono::milliseconds(100), [&] { return running == 0; }))

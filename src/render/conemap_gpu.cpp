@@ -23,12 +23,12 @@ constexpr std::size_t kChunkTexels = 16384;
 
 ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBuildOptions& options)
 {
+    const std::string subject = field.name.empty() ? "height map" : field.name; // for error lines
     const std::size_t n = std::size_t(std::max(field.width, 0)) * std::size_t(std::max(field.height, 0));
-    if (n == 0 || field.texels.size() != n)
-        throw Error(field.name.empty() ? "height map" : field.name, "cannot build a cone map of an empty height field");
+    if (n == 0 || field.texels.size() != n) throw Error(subject, "cannot build a cone map of an empty height field");
     const MaxPyramid pyramid = build_max_pyramid(field);
-    if (pyramid.levels() > kMaxLevels) throw Error("conemap", "height map too large for the GPU generator");
-    if (pyramid.data.size() > std::size_t(1) << 30) throw Error("conemap", "height map too large for the GPU generator");
+    if (pyramid.levels() > kMaxLevels) throw Error(subject, "height map too large for the GPU generator");
+    if (pyramid.data.size() > std::size_t(1) << 30) throw Error(subject, "height map too large for the GPU generator");
 
     while (glGetError() != GL_NO_ERROR) {} // errors of earlier work are not ours
     gl::Program program = build_program({{GL_COMPUTE_SHADER, "conemap.comp"}},
@@ -72,7 +72,7 @@ ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBu
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
     glUseProgram(0);
     if (const GLenum e = glGetError(); e != GL_NO_ERROR)
-        throw Error("conemap", "OpenGL error " + std::to_string(e) + " while building the cone map on the GPU");
+        throw Error(subject, "OpenGL error " + std::to_string(e) + " while building the cone map on the GPU");
 
     ConeMap map;
     map.width = field.width;

@@ -36,3 +36,6 @@ pr_cli(conemap_out_folder_missing EXIT 1 ONE_LINE STDERR "${CM}no/dir/o.png: "
        ARGS conemap --height builtin:bumps@16 --out no/dir/o.png --no-cache)
 pr_cli(conemap_needs_out EXIT 2 STDERR "usage: .*--out" ARGS conemap --height builtin:bumps@16)
 pr_cli(conemap_help EXIT 0 STDOUT "--kind.*--format.*--backend" ARGS conemap --help)
+# Both outputs or neither: a report that cannot be written (/proc takes no new files) takes the PNG.
+pr_cli(conemap_json_unwritable EXIT 1 ONE_LINE STDERR "${CM}/proc/x.json: " NO_FILE c.png
+       ARGS conemap --height builtin:bumps@16 --out c.png --json /proc/x.json --no-cache)
