@@ -132,12 +132,10 @@ CommandAction add_compare_command(CLI::App& app)
             std::vector<Tile> tiles = top;
             tiles.insert(tiles.end(), bottom.begin(), bottom.end());
             write_png(s->out, compose_grid(tiles, static_cast<int>(top.size())));
-            std::printf("wrote %s\n", s->out.c_str());
         }
-        if (!s->json.empty()) {
-            write_file_atomic(s->json, report.dump(2) + "\n");
-            std::printf("wrote %s\n", s->json.c_str());
-        }
+        if (!s->json.empty()) write_second_output(s->json, report.dump(2) + "\n", s->out);
+        if (!s->out.empty()) std::printf("wrote %s\n", s->out.c_str());
+        if (!s->json.empty()) std::printf("wrote %s\n", s->json.c_str());
         return kExitOk;
     };
 }

@@ -130,8 +130,7 @@ CommandAction add_conemap_command(CLI::App& app)
         for (float r : m.ratios) sum += r, lo = std::min(lo, double(r)), hi = std::max(hi, double(r));
         const double mean = m.ratios.empty() ? 0.0 : sum / double(m.ratios.size());
         const std::string how = result.from_cache ? "from the cache (" + result.entry.string() + ")" : "built (" + device + ")";
-        // Both outputs or neither: the PNG first, then the report; a report that cannot be written
-        // takes the PNG with it.
+        // Both outputs or neither (write_second_output).
         write_cone_png(s->out, result.map, options.format);
         if (!s->json.empty()) {
             const nlohmann::json report = {{"height_map", s->height},
@@ -147,13 +146,7 @@ CommandAction add_conemap_command(CLI::App& app)
                                            {"ratio_min", lo},
                                            {"ratio_mean", mean},
                                            {"ratio_max", hi}};
-            try {
-                write_file_atomic(s->json, report.dump(2) + "\n");
-            } catch (...) {
-                std::error_code ignored;
-                std::filesystem::remove(s->out, ignored);
-                throw;
-            }
+            write_second_output(s->json, report.dump(2) + "\n", s->out);
         }
         std::printf("%s: %dx%d %s %s, %s in %.0f ms, ratio min %.4f mean %.4f max %.4f\n", s->out.c_str(), m.width,
                     m.height, cone_kind_name(kind).c_str(), cone_format_name(options.format).c_str(), how.c_str(), ms,

@@ -65,4 +65,17 @@ void write_file_atomic(const std::filesystem::path& path, std::string_view text)
     write_file_atomic(path, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
 }
 
+void write_second_output(const std::filesystem::path& path, std::string_view text, const std::filesystem::path& first)
+{
+    try {
+        write_file_atomic(path, text);
+    } catch (...) {
+        if (!first.empty()) {
+            std::error_code ignored;
+            std::filesystem::remove(first, ignored);
+        }
+        throw;
+    }
+}
+
 } // namespace pr

@@ -14,6 +14,11 @@ namespace pr {
 void write_file_atomic(const std::filesystem::path& path, std::span<const std::uint8_t> bytes);
 void write_file_atomic(const std::filesystem::path& path, std::string_view text);
 
+// The second output of a run that writes two (an image, then its JSON report): writes `text` to
+// `path` atomically and, if that fails, removes `first` (already written) before rethrowing, so
+// the run leaves both files or neither. An empty `first` is ignored.
+void write_second_output(const std::filesystem::path& path, std::string_view text, const std::filesystem::path& first);
+
 // Fails early (before long work) when `path` could not be written: its folder is missing or it
 // names a folder. Throws pr::Error naming `path`.
 void check_output_folder(const std::filesystem::path& path);

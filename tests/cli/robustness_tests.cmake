@@ -153,3 +153,8 @@ if(PRLIMIT AND NOT PRISMRELIEF_SANITIZE)
         set_tests_properties(cli.${name} PROPERTIES LABELS "cli" TIMEOUT 180)
     endforeach()
 endif()
+
+# Two outputs, both or neither: a report that cannot be written (/proc takes no new files) takes
+# the grid image with it (write_second_output).
+pr_cli(compare_json_unwritable EXIT 1 ONE_LINE STDERR "^prismrelief: error: /proc/x.json: " NO_FILE g.png
+       ARGS compare --mesh ${M}/cube.obj --techniques pom --size 32x32 --out g.png --json /proc/x.json)
