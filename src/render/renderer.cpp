@@ -424,16 +424,21 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     return std::chrono::duration<double, std::milli>(end - start).count();
 }
 
-RgbaImage Renderer::read_color() const
+RgbaImage read_texture_rgba8(GLuint texture, int width, int height)
 {
     RgbaImage img;
-    img.width = width_;
-    img.height = height_;
-    img.pixels.resize(std::size_t(width_) * height_ * 4);
+    img.width = width;
+    img.height = height;
+    img.pixels.resize(std::size_t(width) * std::size_t(height) * 4);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glGetTextureImage(color_target_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE,
-                      static_cast<GLsizei>(img.pixels.size()), img.pixels.data());
+    glGetTextureImage(texture, 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(img.pixels.size()),
+                      img.pixels.data());
     return img;
+}
+
+RgbaImage Renderer::read_color() const
+{
+    return read_texture_rgba8(color_target_.id(), width_, height_);
 }
 
 std::vector<float> Renderer::read_depth() const

@@ -1,6 +1,7 @@
 #include "view/compositor.hpp"
 
 #include "core/error.hpp"
+#include "render/renderer.hpp"
 
 #include <string>
 
@@ -145,14 +146,7 @@ void Compositor::present(const Present& p)
 
 RgbaImage Compositor::read_view() const
 {
-    RgbaImage img;
-    img.width = width_;
-    img.height = height_;
-    img.pixels.resize(std::size_t(width_) * height_ * 4);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glGetTextureImage(view_tex_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(img.pixels.size()),
-                      img.pixels.data());
-    return img;
+    return read_texture_rgba8(view_tex_.id(), width_, height_);
 }
 
 } // namespace pr::view
