@@ -7,7 +7,8 @@
 // (a rising ray whose slope is steeper than the cone's never leaves it: it goes to the end).
 // With a conservative map the cone is empty, so the ray never passes the surface; with a relaxed
 // map it crosses the surface at most once inside the cone, so the first sample below the
-// surface brackets the first crossing. Either way a binary search (refine_binary) finishes.
+// surface brackets the first crossing. Either way a binary search finishes, ending with a secant
+// (refine_binary_secant, march/relief.glsl).
 //
 // Every step is at least the linear step t_end / steps (contract: equal --steps means equal
 // step length), so cone stepping never does more work than the linear search and converges
