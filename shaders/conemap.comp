@@ -118,7 +118,11 @@ double relaxed_constraint(int px, int py, int dx, int dy, double stop, inout int
 }
 #endif
 
-int s_level[PR_CONE_STACK], s_i[PR_CONE_STACK], s_j[PR_CONE_STACK];
+// A node packed in one uint (level: 4 bits, i and j: 14 bits each; sizes are at most 16384), so
+// the stack is two private arrays, not four: llvmpipe turns each dynamically indexed private
+// array access into a per-lane loop.
+uint s_node[PR_CONE_STACK];
+uint pack_node(int level, int i, int j) { return uint(level) << 28 | uint(i) << 14 | uint(j); }
 double s_bound[PR_CONE_STACK];
 
 // maps::Searcher::search: the ratio of texel (px, py) in format steps, for cones or relaxed cones.
@@ -133,7 +137,7 @@ int search(int px, int py, bool relaxed)
     double best = 1.0lf;
     double threshold = 1.0lf;
     int budget = u_budget;
-    s_level[0] = top; s_i[0] = 0; s_j[0] = 0; s_bound[0] = 0.0lf;
+    s_node[0] = pack_node(top, 0, 0); s_bound[0] = 0.0lf;
     int sp = 1;
     int visits = 0;
     while (sp > 0 && k > 0) {
@@ -145,7 +149,8 @@ int search(int px, int py, bool relaxed)
             break;
         }
         --sp;
-        int level = s_level[sp], ni = s_i[sp], nj = s_j[sp];
+        uint node = s_node[sp];
+        int level = int(node >> 28), ni = int((node >> 14) & 0x3fffu), nj = int(node & 0x3fffu);
         double nbound = s_bound[sp];
         if (nbound * kMargin >= threshold) continue;
         if (level == 0) {
@@ -185,11 +190,11 @@ int search(int px, int py, bool relaxed)
                 // Keep [base, sp) sorted by decreasing bound.
                 int at = sp;
                 while (at > base && s_bound[at - 1] < bound) {
-                    s_level[at] = s_level[at - 1]; s_i[at] = s_i[at - 1]; s_j[at] = s_j[at - 1];
+                    s_node[at] = s_node[at - 1];
                     s_bound[at] = s_bound[at - 1];
                     --at;
                 }
-                s_level[at] = cl; s_i[at] = ci; s_j[at] = cj; s_bound[at] = bound;
+                s_node[at] = pack_node(cl, ci, cj); s_bound[at] = bound;
                 ++sp;
             }
     }
