@@ -79,6 +79,9 @@ if(CASE STREQUAL "single")
     endif()
     run_render(${torus} --technique prism --out render.png)
     check(same view.png render.png 4)
+    # A lower render scale is scaled up without blending: alpha stays coverage.
+    run_view(${torus} --technique pom --render-scale 0.5 --frames 2 --screenshot half.png)
+    check(binary half.png)
 elseif(CASE STREQUAL "split")
     # POM | prism: each half is that technique's render, and the prism half covers pixels outside
     # the base outline that POM's does not (true silhouettes).

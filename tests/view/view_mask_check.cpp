@@ -7,6 +7,8 @@
 //       LEFT does not (the split view shows where the two silhouettes differ)
 //   view_mask_check rgb A.png B.png MIN_CHANGED
 //       same masks, and at least MIN_CHANGED pixels whose colour differs (overlays)
+//   view_mask_check binary A.png
+//       alpha is coverage: every pixel 0 or 255, and some covered
 // Exit 0 when the check holds; prints the counts either way.
 #include "core/image.hpp"
 
@@ -44,6 +46,17 @@ int main(int argc, char** argv)
                 }
             std::printf("same: %ld pixels covered, %ld differ (max %s)\n", cov, diff, argv[4]);
             return cov > 0 && diff <= std::atol(argv[4]) ? 0 : 1;
+        }
+        if (mode == "binary" && argc == 3) {
+            const auto a = pr::read_rgba(argv[2]);
+            long partial = 0, cov = 0;
+            for (int y = 0; y < a.height; ++y)
+                for (int x = 0; x < a.width; ++x) {
+                    partial += a.at(x, y).a != 0 && a.at(x, y).a != 255;
+                    cov += a.at(x, y).a == 255;
+                }
+            std::printf("binary: %ld pixels covered, %ld with partial alpha (max 0)\n", cov, partial);
+            return cov > 0 && partial == 0 ? 0 : 1;
         }
         if (mode == "split" && argc == 8) {
             const auto s = pr::read_rgba(argv[2]), l = pr::read_rgba(argv[3]), r = pr::read_rgba(argv[4]);
