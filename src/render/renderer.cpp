@@ -336,6 +336,18 @@ void Renderer::ensure_aux_textures(AuxMap map)
     if (glGetError() == GL_OUT_OF_MEMORY) throw Error("scene", "out of GPU memory while uploading derived maps");
 }
 
+void Renderer::upload_object(const GpuObject& o, const DrawSettings& settings, float midlevel)
+{
+    shader::ObjectBlock ob{};
+    ob.u_model = o.transform;
+    ob.u_normal_matrix = glm::mat4(glm::transpose(glm::inverse(glm::mat3(o.transform))));
+    ob.u_displace = glm::vec4(o.depth, midlevel, o.height_size.x, o.height_size.y);
+    ob.u_march = glm::ivec4(settings.steps, settings.refine, 0, o.color_texture ? PR_FLAG_COLOR_TEXTURE : 0);
+    ob.u_material = glm::vec4(0.12f, 0.88f, 0.18f, 48.0f);
+    ob.u_base_color = glm::vec4(o.base_color, 1.0f);
+    glNamedBufferSubData(object_ubo_.id(), 0, sizeof(ob), &ob);
+}
+
 void Renderer::upload_frame(const Camera& camera, glm::vec3 light_dir)
 {
     const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
@@ -378,15 +390,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
     const bool prism = settings.technique == Technique::Prism;
     const auto set_object = [&](const GpuObject& o) {
-        shader::ObjectBlock ob{};
-        ob.u_model = o.transform;
-        ob.u_normal_matrix = glm::mat4(glm::transpose(glm::inverse(glm::mat3(o.transform))));
-        ob.u_displace = glm::vec4(o.depth, o.midlevel, o.height_size.x, o.height_size.y);
-        ob.u_march = glm::ivec4(settings.steps, settings.refine, 0,
-                                o.color_texture ? PR_FLAG_COLOR_TEXTURE : 0);
-        ob.u_material = glm::vec4(0.12f, 0.88f, 0.18f, 48.0f);
-        ob.u_base_color = glm::vec4(o.base_color, 1.0f);
-        glNamedBufferSubData(object_ubo_.id(), 0, sizeof(ob), &ob);
+        upload_object(o, settings, o.midlevel);
         glBindTextureUnit(PR_TEX_HEIGHT, o.height_texture);
         // Without a colour texture the unit still needs a valid texture; it is not sampled.
         glBindTextureUnit(PR_TEX_COLOR, o.color_texture ? o.color_texture : o.height_texture);

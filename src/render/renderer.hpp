@@ -125,6 +125,8 @@ private:
     void ensure_aux_textures(AuxMap map);
     // Fills and binds the frame block (camera, light, viewport) and binds the object block.
     void upload_frame(const Camera& camera, glm::vec3 light_dir);
+    // Fills the object block for `o` drawn with `settings` (draw() and draw_overlay()).
+    void upload_object(const GpuObject& o, const DrawSettings& settings, float midlevel);
 };
 
 } // namespace pr

@@ -50,13 +50,7 @@ void Renderer::draw_overlay(const Camera& camera, Overlay overlay, glm::vec4 col
     const Technique t = settings.technique;
     const bool inward = t != Technique::Prism && t != Technique::Reference && t != Technique::Flat;
     for (const GpuObject& o : objects_) {
-        shader::ObjectBlock ob{};
-        ob.u_model = o.transform;
-        ob.u_normal_matrix = glm::mat4(glm::transpose(glm::inverse(glm::mat3(o.transform))));
-        ob.u_displace = glm::vec4(o.depth, inward ? 1.0f : o.midlevel, o.height_size.x, o.height_size.y);
-        ob.u_march = glm::ivec4(settings.steps, settings.refine, 0, 0);
-        ob.u_base_color = glm::vec4(o.base_color, 1.0f);
-        glNamedBufferSubData(object_ubo_.id(), 0, sizeof(ob), &ob);
+        upload_object(o, settings, inward ? 1.0f : o.midlevel);
         glBindVertexArray(o.base.vao.id());
         glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
     }
