@@ -125,6 +125,15 @@ uint s_node[PR_CONE_STACK];
 uint pack_node(int level, int i, int j) { return uint(level) << 28 | uint(i) << 14 | uint(j); }
 double s_bound[PR_CONE_STACK];
 
+// maps::Searcher::rest_bound: min(c, the bound of every node on the stack that could still lower
+// the result), the ratio when a budget stops the search early.
+double rest_bound(double c, double threshold, int sp)
+{
+    for (int r = 0; r < sp; ++r)
+        if (s_bound[r] * kMargin < threshold) c = min(c, s_bound[r]);
+    return c;
+}
+
 // maps::Searcher::search: the ratio of texel (px, py) in format steps, for cones or relaxed cones.
 int search(int px, int py, bool relaxed)
 {
@@ -142,9 +151,7 @@ int search(int px, int py, bool relaxed)
     int visits = 0;
     while (sp > 0 && k > 0) {
         if (++visits > u_node_budget) {
-            double rest = best;
-            for (int r = 0; r < sp; ++r)
-                if (s_bound[r] * kMargin < threshold) rest = min(rest, s_bound[r]);
+            double rest = rest_bound(best, threshold, sp);
             if (rest < best) k = ratio_steps(rest);
             break;
         }
@@ -161,8 +168,7 @@ int search(int px, int py, bool relaxed)
                                        threshold / kMargin * (1.0lf + 1e-9lf), budget, nbound);
                 if (c < 0.0lf) c = 1e300lf;
                 if (budget <= 0) {
-                    for (int r = 0; r < sp; ++r)
-                        if (s_bound[r] * kMargin < threshold) c = min(c, s_bound[r]);
+                    c = rest_bound(c, threshold, sp);
                     sp = 0;
                 }
             }

@@ -219,9 +219,7 @@ public:
         while (!stack_.empty()) {
             if (++visits > node_budget_) {
                 // Out of nodes: what is left counts by its lower bounds (conservative).
-                double rest = best;
-                for (const Node& r : stack_)
-                    if (r.bound * kMargin < threshold) rest = std::min(rest, r.bound);
+                const double rest = rest_bound(best, threshold);
                 if (rest < best) k = cone_ratio_steps(rest, format_);
                 break;
             }
@@ -236,8 +234,7 @@ public:
                     c = relaxed_constraint(f_, px, py, sx, sy, threshold / kMargin * (1.0 + 1e-9), budget, n.bound);
                     if (budget <= 0) {
                         // Out of budget: what is left counts by its lower bounds.
-                        for (const Node& rest : stack_)
-                            if (rest.bound * kMargin < threshold) c = std::min(c, rest.bound);
+                        c = rest_bound(c, threshold);
                         stack_.clear();
                     }
                 }
@@ -271,6 +268,14 @@ public:
     }
 
 private:
+    // min(c, the lower bound of every node still on the stack that could lower the result): the
+    // ratio when a budget stops the search early.
+    double rest_bound(double c, double threshold) const
+    {
+        for (const Node& n : stack_)
+            if (n.bound * kMargin < threshold) c = std::min(c, n.bound);
+        return c;
+    }
     static int signed_offset(int d, int n)
     {
         d = wrap(d, n);
