@@ -145,8 +145,9 @@ std::optional<Sniffed> sniff(const std::vector<std::uint8_t>& b)
     return std::nullopt;
 }
 
-void check_dimensions(const std::string& subject, std::int64_t w, std::int64_t h,
-                      const ImageLimits& limits)
+} // namespace
+
+void check_image_dimensions(const std::string& subject, std::int64_t w, std::int64_t h, const ImageLimits& limits)
 {
     if (w <= 0 || h <= 0)
         throw Error(subject, fmt::format("the image is {}x{} pixels: nothing to use", w, h));
@@ -160,6 +161,8 @@ void check_dimensions(const std::string& subject, std::int64_t w, std::int64_t h
                                          "of {}",
                                          w, h, pixels, limits.max_pixels));
 }
+
+namespace {
 
 // stb_image 2.27 (Debian 12) trusts the symbol counts of a JPEG Huffman table (DHT segment): a
 // table of more than 256 symbols writes past its arrays (found by tests/fuzz/fuzz_image; later
@@ -276,7 +279,7 @@ Checked check_header(const std::string& subject, std::vector<std::uint8_t>& byte
     drop_empty_png_idat(bytes);
     const std::optional<Sniffed> sniffed = sniff(bytes);
     if (sniffed && sniffed->width && sniffed->height)
-        check_dimensions(subject, *sniffed->width, *sniffed->height, limits);
+        check_image_dimensions(subject, *sniffed->width, *sniffed->height, limits);
     const Checked c{bytes.data(), static_cast<int>(bytes.size())};
     int w = 0, h = 0, comp = 0;
     if (!stbi_info_from_memory(c.data, c.len, &w, &h, &comp)) {
@@ -287,14 +290,14 @@ Checked check_header(const std::string& subject, std::vector<std::uint8_t>& byte
                                              sniffed->format));
         fail_decode(subject);
     }
-    check_dimensions(subject, w, h, limits);
+    check_image_dimensions(subject, w, h, limits);
     return c;
 }
 
 // Decoders that learn the size late (JPEG's DNL marker) could disagree with the header.
 void check_decoded(const std::string& subject, int w, int h, const ImageLimits& limits)
 {
-    check_dimensions(subject, w, h, limits);
+    check_image_dimensions(subject, w, h, limits);
 }
 
 float quantize16(float x) { return std::round(std::clamp(x, 0.0f, 1.0f) * 65535.0f) / 65535.0f; }

@@ -49,6 +49,10 @@ struct RgbaImage {
 // `spec` is a file (PNG, JPG, BMP, TGA; 8 or 16 bit; first channel) or "builtin:NAME" (see
 // builtin_height_names()). Throws pr::Error naming the file on any problem (missing, not an
 // image, truncated, 0x0, too large).
+// Throws pr::Error(subject, …) when a w x h image is empty or exceeds `limits` (every image read
+// checks its header's size with it before decoding).
+void check_image_dimensions(const std::string& subject, std::int64_t w, std::int64_t h, const ImageLimits& limits = {});
+
 // Removes empty IDAT chunks from PNG bytes (stb_image 2.27 has undefined behaviour on them; see
 // image.cpp). Other bytes, and non-PNG input, are left as they are. Every PNG read goes through it.
 void drop_empty_png_idat(std::vector<std::uint8_t>& bytes);

@@ -173,10 +173,7 @@ ConeMap read_cone_png(const std::filesystem::path& path, ConeKind kind)
     int w = 0, h = 0, comp = 0;
     if (!stbi_info_from_memory(bytes.data(), len, &w, &h, &comp))
         throw Error(name, std::string("not a readable PNG (") + stbi_failure_reason() + ")");
-    const ImageLimits limits;
-    if (w < 1 || h < 1 || w > limits.max_dimension || h > limits.max_dimension ||
-        std::int64_t(w) * h > limits.max_pixels)
-        throw Error(name, "cone map size " + std::to_string(w) + "x" + std::to_string(h) + " out of range");
+    check_image_dimensions(name, w, h);
     if (comp != 3 && comp != 4)
         throw Error(name, "a cone map has RGB channels (R height, G ratio); this file has " + std::to_string(comp));
     const bool wide = stbi_is_16_bit_from_memory(bytes.data(), len) != 0;
