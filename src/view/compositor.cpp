@@ -2,61 +2,13 @@
 
 #include "core/error.hpp"
 #include "render/renderer.hpp"
+#include "render/shader_program.hpp"
 
 #include <string>
 
 namespace pr::view {
 
 namespace {
-
-// A full-screen triangle; the viewer's only shader of its own (presentation, not rendering:
-// everything drawn comes from the Renderer and shaders/).
-const char* kVertex = R"(#version 450 core
-void main()
-{
-    vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
-    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
-
-const char* kFragment = R"(#version 450 core
-layout(binding = 0) uniform sampler2D s_view;
-layout(binding = 1) uniform sampler2D s_reference;
-layout(location = 0) uniform vec4 u_params; // x: divider (px, < 0 none), y: tint, z: height, w: line width
-layout(location = 0) out vec4 o_color;
-void main()
-{
-    ivec2 p = ivec2(gl_FragCoord.xy);
-    vec4 c = texelFetch(s_view, p, 0);
-    vec3 background = mix(vec3(0.13, 0.14, 0.16), vec3(0.32, 0.34, 0.38), gl_FragCoord.y / u_params.z);
-    bool covered = c.a >= 0.5;
-    // Overlay lines outside the coverage keep alpha 0 but have a colour (the clear colour is 0).
-    bool line = !covered && max(c.r, max(c.g, c.b)) > 0.0;
-    vec3 color = covered || line ? c.rgb : background;
-    if (u_params.y > 0.0) {
-        bool ref = texelFetch(s_reference, p, 0).a >= 0.5;
-        if (ref && !covered) color = mix(color, vec3(0.0, 1.0, 1.0), 0.65);
-        else if (!ref && covered) color = mix(color, vec3(1.0, 0.0, 1.0), 0.65);
-    }
-    if (u_params.x >= 0.0 && abs(gl_FragCoord.x - u_params.x) < 0.5 * u_params.w + 0.5) color = vec3(1.0);
-    o_color = vec4(color, 1.0);
-}
-)";
-
-gl::Shader compile(GLenum stage, const char* text)
-{
-    gl::Shader s = gl::Shader::create(stage);
-    glShaderSource(s.id(), 1, &text, nullptr);
-    glCompileShader(s.id());
-    GLint ok = 0;
-    glGetShaderiv(s.id(), GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[2048] = {};
-        glGetShaderInfoLog(s.id(), sizeof(log), nullptr, log);
-        throw Error("view", std::string("compositor shader: ") + log);
-    }
-    return s;
-}
 
 void make_target(int w, int h, gl::Texture& tex, gl::Framebuffer& fbo)
 {
@@ -75,19 +27,9 @@ void make_target(int w, int h, gl::Texture& tex, gl::Framebuffer& fbo)
 } // namespace
 
 Compositor::Compositor()
+    : program_(build_program({{GL_VERTEX_SHADER, "compositor.vert"}, {GL_FRAGMENT_SHADER, "compositor.frag"}}, {})),
+      vao_(gl::VertexArray::create())
 {
-    program_ = gl::Program::create();
-    gl::Shader vs = compile(GL_VERTEX_SHADER, kVertex);
-    gl::Shader fs = compile(GL_FRAGMENT_SHADER, kFragment);
-    glAttachShader(program_.id(), vs.id());
-    glAttachShader(program_.id(), fs.id());
-    glLinkProgram(program_.id());
-    GLint ok = 0;
-    glGetProgramiv(program_.id(), GL_LINK_STATUS, &ok);
-    if (!ok) throw Error("view", "compositor shader: link error");
-    glDetachShader(program_.id(), vs.id());
-    glDetachShader(program_.id(), fs.id());
-    vao_ = gl::VertexArray::create();
 }
 
 void Compositor::resize(int width, int height)
