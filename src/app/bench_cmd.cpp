@@ -4,6 +4,7 @@
 #include "app/session.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/stats.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -36,13 +37,6 @@ double histogram_percentile(const std::vector<std::uint32_t>& histogram, double 
         if (seen >= std::max<std::uint64_t>(rank, 1)) return double(i);
     }
     return double(histogram.size() - 1);
-}
-
-double median(std::vector<double> v)
-{
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 } // namespace

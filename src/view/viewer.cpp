@@ -4,6 +4,7 @@
 #include "view/viewer.hpp"
 
 #include "core/error.hpp"
+#include "core/stats.hpp"
 #include "gl/gl.hpp"
 #include "view/compositor.hpp"
 #include "view/glfw_window.hpp"
@@ -58,14 +59,6 @@ std::string lower_extension(const std::string& path)
     std::string ext = std::filesystem::path(path).extension().string();
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     return ext;
-}
-
-double median(std::vector<double> v)
-{
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 // "pom", "prism:relief": as --techniques lists name them.
