@@ -115,7 +115,8 @@ private:
     bool half_needs_reference() const;
     std::string settings_key() const;
     void fit_planes() { fit_clip_planes(s_.camera, bounds_); }
-    void error(const std::string& message);
+    void error(const std::string& message); // warns, and shows it in the panel's log
+    void note(const std::string& message);  // the panel's log only (newest last, the last six)
 
     Session& s_;
     GlfwWindow& window_;
@@ -165,6 +166,11 @@ private:
 void Viewer::error(const std::string& message)
 {
     warn(message);
+    note(message);
+}
+
+void Viewer::note(const std::string& message)
+{
     log_.push_back(message);
     while (log_.size() > 6) log_.pop_front();
 }
@@ -256,8 +262,7 @@ void Viewer::handle_drop(const std::string& path)
             throw Error(path, "cannot load this file type (drop a mesh: OBJ, OFF, PLY, STL; or a height "
                               "image: PNG, JPG, BMP, TGA)");
         }
-        log_.push_back("loaded " + path);
-        while (log_.size() > 6) log_.pop_front();
+        note("loaded " + path);
     } catch (const Error& e) {
         error(e.what());
     } catch (const std::exception& e) {
@@ -354,8 +359,7 @@ void Viewer::take_screenshot(const std::string& path)
 {
     try {
         write_png(path, o_.screenshot_ui ? read_window() : compositor_->read_view());
-        log_.push_back("wrote " + path);
-        while (log_.size() > 6) log_.pop_front();
+        note("wrote " + path);
         if (o_.frames > 0) std::printf("%s: %dx%d\n", path.c_str(), compositor_->width(), compositor_->height());
     } catch (const Error& e) {
         if (o_.frames > 0) throw; // --frames --screenshot: the PNG is the result; failing to write it fails
@@ -692,8 +696,7 @@ int Viewer::run()
                     s_.renderer->reload_shaders();
                     blocked_key_.clear();
                     dirty_ = true;
-                    log_.push_back("shaders reloaded");
-                    while (log_.size() > 6) log_.pop_front();
+                    note("shaders reloaded");
                 }
             }
             const GlfwWindow::Size fb = window_.framebuffer_size();
