@@ -86,6 +86,16 @@ std::string marcher_name(Marcher m)
     return "?";
 }
 
+const std::vector<Marcher>& all_marchers()
+{
+    static const std::vector<Marcher> all = [] {
+        std::vector<Marcher> v;
+        for (const MarcherInfo& m : kMarchers) v.push_back(m.marcher);
+        return v;
+    }();
+    return all;
+}
+
 std::string marcher_names()
 {
     std::string s;

@@ -35,6 +35,7 @@ NormalQuality parse_normal_quality(const std::string& name);
 Marcher parse_marcher(const std::string& name, const std::string& option = "--marcher");
 std::string marcher_name(Marcher m);
 std::string marcher_names(); // "linear|relief|cone|relaxed-cone|max-mip"
+const std::vector<Marcher>& all_marchers(); // in that order (the viewer's combo and M key)
 Shadows parse_shadows(const std::string& name, const std::string& option = "--shadows");
 std::string shadows_name(Shadows s);
 PrismExit parse_prism_exit(const std::string& name, const std::string& option = "--prism-exit");

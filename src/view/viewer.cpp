@@ -23,7 +23,6 @@
 #include <cstdio>
 #include <deque>
 #include <filesystem>
-#include <sstream>
 
 namespace pr::view {
 
@@ -42,16 +41,6 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t)
 {
     return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-std::vector<std::string> split_names(const std::string& s)
-{
-    std::vector<std::string> out;
-    std::istringstream in(s);
-    std::string item;
-    while (std::getline(in, item, '|'))
-        if (!item.empty()) out.push_back(item);
-    return out;
 }
 
 std::string lower_extension(const std::string& path)
@@ -477,12 +466,9 @@ void Viewer::handle_input()
     if (pressed(']')) cycle(1);
     if (pressed('[')) cycle(-1);
     if (pressed('M')) {
-        const auto names = split_names(marcher_names());
-        const std::string now = marcher_name(half_[0].marcher);
-        std::size_t at = 0;
-        for (std::size_t i = 0; i < names.size(); ++i)
-            if (names[i] == now) at = i;
-        half_[0].marcher = parse_marcher(names[(at + 1) % names.size()]);
+        const std::vector<Marcher>& all = all_marchers();
+        const auto at = std::find(all.begin(), all.end(), half_[0].marcher);
+        half_[0].marcher = at == all.end() || at + 1 == all.end() ? all.front() : *(at + 1);
         dirty_ = true;
     }
     if (pressed('S')) split_ = !split_, dirty_ = true;
@@ -521,9 +507,9 @@ void Viewer::technique_combo(int k)
     if (d.technique == Technique::Prism) {
         const std::string id = std::string("marcher##") + char('0' + k);
         if (ImGui::BeginCombo(id.c_str(), marcher_name(d.marcher).c_str())) {
-            for (const std::string& m : split_names(marcher_names())) {
-                if (ImGui::Selectable(m.c_str(), m == marcher_name(d.marcher))) {
-                    d.marcher = parse_marcher(m);
+            for (Marcher m : all_marchers()) {
+                if (ImGui::Selectable(marcher_name(m).c_str(), m == d.marcher)) {
+                    d.marcher = m;
                     dirty_ = true;
                 }
             }
