@@ -100,6 +100,9 @@ private:
     void draw_panel();
     void technique_combo(int half);
     void take_screenshot(const std::string& path);
+    void screenshot_now(); // key P and the panel's button: --screenshot's path, else a numbered name
+    void reset_view();     // key R and the panel's button
+    void reload_shaders(); // the watcher and the panel's button
     RgbaImage read_window() const;
     bool half_needs_reference() const;
     std::string settings_key() const;
@@ -356,6 +359,26 @@ void Viewer::take_screenshot(const std::string& path)
     }
 }
 
+void Viewer::screenshot_now()
+{
+    take_screenshot(!o_.screenshot.empty() ? o_.screenshot
+                                           : "prismrelief-view-" + std::to_string(++screenshot_counter_) + ".png");
+}
+
+void Viewer::reset_view()
+{
+    s_.camera = initial_camera_;
+    fit_planes();
+    dirty_ = true;
+}
+
+void Viewer::reload_shaders()
+{
+    s_.renderer->reload_shaders();
+    blocked_key_.clear(); // retry the settings that failed to compile
+    dirty_ = true;
+}
+
 // The window as shown (back buffer, before the swap): view, background, divider, panel.
 RgbaImage Viewer::read_window() const
 {
@@ -474,18 +497,9 @@ void Viewer::handle_input()
     if (pressed('S')) split_ = !split_, dirty_ = true;
     if (pressed('W')) overlay_ = WireOverlay((int(overlay_) + 1) % 3), dirty_ = true;
     if (pressed('D')) reference_overlay_ = !reference_overlay_, dirty_ = true;
-    if (pressed('R')) {
-        s_.camera = initial_camera_;
-        fit_planes();
-        dirty_ = true;
-    }
+    if (pressed('R')) reset_view();
     if (pressed('H') || pressed(ImGui::GetKeyIndex(ImGuiKey_Tab))) show_panel_ = !show_panel_;
-    if (pressed('P')) {
-        const std::string path = !o_.screenshot.empty()
-                                     ? o_.screenshot
-                                     : "prismrelief-view-" + std::to_string(++screenshot_counter_) + ".png";
-        take_screenshot(path);
-    }
+    if (pressed('P')) screenshot_now();
     if (pressed('Q') || pressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) window_.request_close();
 }
 
@@ -520,7 +534,6 @@ void Viewer::technique_combo(int k)
 
 void Viewer::draw_panel()
 {
-    ImGuiIO& io = ImGui::GetIO();
     const float scale = ImGui::GetStyle().ScrollbarSize / 14.0f; // ScaleAllSizes' factor
     ImGui::SetNextWindowPos(ImVec2(8.0f * scale, 8.0f * scale), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(330.0f * scale, 0.0f), ImGuiCond_FirstUseEver);
@@ -605,16 +618,9 @@ void Viewer::draw_panel()
             s_.light = direction_from_angles(light_azimuth_, light_elevation_);
             dirty_ = true;
         }
-        if (ImGui::Button("reset view (R)")) {
-            s_.camera = initial_camera_;
-            fit_planes();
-            dirty_ = true;
-        }
+        if (ImGui::Button("reset view (R)")) reset_view();
         ImGui::SameLine();
-        if (ImGui::Button("screenshot (P)")) {
-            take_screenshot(!o_.screenshot.empty() ? o_.screenshot
-                                                    : "prismrelief-view-" + std::to_string(++screenshot_counter_) + ".png");
-        }
+        if (ImGui::Button("screenshot (P)")) screenshot_now();
     }
     if (ImGui::CollapsingHeader("Overlays", ImGuiTreeNodeFlags_DefaultOpen)) {
         int ov = int(overlay_);
@@ -638,11 +644,7 @@ void Viewer::draw_panel()
             ImGui::TextWrapped("hot reload: watching %s", watch_->dir().string().c_str());
         else
             ImGui::TextWrapped("embedded shaders (hot reload: --shader-dir DIR or PRISMRELIEF_SHADER_DIR)");
-        if (ImGui::Button("reload now")) {
-            s_.renderer->reload_shaders();
-            blocked_key_.clear();
-            dirty_ = true;
-        }
+        if (ImGui::Button("reload now")) reload_shaders();
     }
     if (!shader_error_.empty()) {
         ImGui::Separator();
@@ -655,7 +657,6 @@ void Viewer::draw_panel()
         for (const std::string& line : log_) ImGui::TextWrapped("%s", line.c_str());
     }
     ImGui::TextDisabled("drop a mesh or a height image on the window");
-    (void)io;
     ImGui::PopItemWidth();
     ImGui::End();
 }
@@ -666,7 +667,6 @@ int Viewer::run()
     compositor_.emplace();
     init_imgui();
     show_panel_ = o_.panel;
-    int status = kExitOk;
     try {
         while (!window_.should_close()) {
             const bool busy = dirty_ || continuous_ || o_.frames > 0 || drag_ != Drag::None;
@@ -679,9 +679,7 @@ int Viewer::run()
             if (watch_ && seconds_since(last_watch_) > 0.5) {
                 last_watch_ = Clock::now();
                 if (watch_->changed()) {
-                    s_.renderer->reload_shaders();
-                    blocked_key_.clear();
-                    dirty_ = true;
+                    reload_shaders();
                     note("shaders reloaded");
                 }
             }
@@ -750,7 +748,7 @@ int Viewer::run()
         throw;
     }
     shutdown_imgui();
-    return status;
+    return kExitOk;
 }
 
 } // namespace
