@@ -3,41 +3,37 @@
 // first crossing inside the bracket. One height sample per step.
 #include "march/linear.glsl"
 
-float refine_binary(MarchRay r, Bracket b, int steps, UvGrad g)
+// Halves the bracket `steps` times (one height sample each), keeping the ray's height above the
+// surface at both ends (d_above > 0 at t_above, d_below >= 0 below it at t_below).
+Bracket halve_bracket(MarchRay r, Bracket b, int steps, UvGrad g)
 {
-    float lo = b.t_above;
-    float hi = b.t_below;
     for (int i = 0; i < steps; ++i) {
-        float mid = 0.5 * (lo + hi);
-        vec3 p = r.origin + mid * r.dir;
-        if (p.z <= height_at(p.xy, g))
-            hi = mid;
-        else
-            lo = mid;
-    }
-    return 0.5 * (lo + hi);
-}
-
-// Binary steps as refine_binary, then one secant (the POM interpolation) inside the last bracket
-// instead of its midpoint: no extra sample. On a smooth surface the secant's error shrinks with
-// the square of the bracket, so fewer halvings reach the same accuracy (cone marchers use it).
-float refine_binary_secant(MarchRay r, Bracket b, int steps, UvGrad g)
-{
-    float lo = b.t_above, hi = b.t_below;
-    float d_lo = b.d_above, d_hi = b.d_below; // both >= 0: above at lo, below at hi
-    for (int i = 0; i < steps; ++i) {
-        float mid = 0.5 * (lo + hi);
+        float mid = 0.5 * (b.t_above + b.t_below);
         vec3 p = r.origin + mid * r.dir;
         float d = p.z - height_at(p.xy, g);
         if (d <= 0.0) {
-            hi = mid;
-            d_hi = -d;
+            b.t_below = mid;
+            b.d_below = -d;
         } else {
-            lo = mid;
-            d_lo = d;
+            b.t_above = mid;
+            b.d_above = d;
         }
     }
-    float sum = d_lo + d_hi;
-    return sum > 0.0 ? lo + (hi - lo) * (d_lo / sum) : 0.5 * (lo + hi);
+    return b;
 }
 
+// Relief's refinement: the midpoint of the halved bracket.
+float refine_binary(MarchRay r, Bracket b, int steps, UvGrad g)
+{
+    Bracket h = halve_bracket(r, b, steps, g);
+    return 0.5 * (h.t_above + h.t_below);
+}
+
+// The same halvings, then one secant (the POM interpolation, interpolate_bracket) inside the last
+// bracket instead of its midpoint: no extra sample. On a smooth surface the secant's error
+// shrinks with the square of the bracket, so fewer halvings reach the same accuracy (cone
+// marchers use it).
+float refine_binary_secant(MarchRay r, Bracket b, int steps, UvGrad g)
+{
+    return interpolate_bracket(halve_bracket(r, b, steps, g));
+}
