@@ -1,8 +1,9 @@
-// Wireframe overlays, stage 2: the edges of one base triangle as line strips, or (variant
-// PR_OVERLAY_SHELL) the edges of its shell prism: bottom and top triangles, the three vertical
-// edges and the diagonal that splits each side quad — corners from shell_corner() and the
-// diagonal from diagonal_from_a(), exactly as prism.geom builds the faces it rasterizes.
-// Edges shared by neighbouring triangles are drawn twice (same pixels, same colour).
+// Wireframe overlays, drawn after prism.vert (the prism's own shell vertices): the edges of one
+// base triangle as line strips, or (variant PR_OVERLAY_SHELL) the edges of its shell prism: bottom
+// and top triangles, the three vertical edges and the diagonal that splits each side quad —
+// corners from shell_corner() and the diagonal from diagonal_from_a(), exactly as prism.geom
+// builds the faces it rasterizes. Edges shared by neighbouring triangles are drawn twice (same
+// pixels, same colour).
 #include "common/shared.h"
 #include "prism/shell.glsl"
 

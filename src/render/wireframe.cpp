@@ -1,7 +1,7 @@
 // Wireframe overlays (viewer, docs figures): the base mesh's edges or the prism shells' edges,
 // drawn over what the last draw() left in the renderer's target, depth-tested against it, alpha
-// untouched (it stays the coverage). Shaders: shaders/wireframe.{vert,geom,frag}, which build the
-// shell with prism/shell.glsl like the prism technique.
+// untouched (it stays the coverage). Shaders: shaders/prism.vert and wireframe.{geom,frag}, which
+// build the shell with prism/shell.glsl like the prism technique.
 #include "render/renderer.hpp"
 
 #include "core/error.hpp"
@@ -23,7 +23,7 @@ void Renderer::draw_overlay(const Camera& camera, Overlay overlay, glm::vec4 col
     if (it == programs_.end()) {
         ShaderDefines defines;
         if (shell) defines.emplace_back("PR_OVERLAY_SHELL", "1");
-        gl::Program p = build_program({{GL_VERTEX_SHADER, "wireframe.vert"},
+        gl::Program p = build_program({{GL_VERTEX_SHADER, "prism.vert"}, // the prism's own shell vertices
                                        {GL_GEOMETRY_SHADER, "wireframe.geom"},
                                        {GL_FRAGMENT_SHADER, "wireframe.frag"}},
                                       defines);
