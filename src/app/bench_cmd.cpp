@@ -1,6 +1,7 @@
 // prismrelief bench: frame times (interleaved A B A B … so drift cancels in ratios) and GPU
 // counters (fragments shaded, height samples per fragment) per technique.
 #include "app/commands.hpp"
+#include "app/progress.hpp"
 #include "app/session.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -12,7 +13,6 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
-#include <unistd.h>
 
 namespace pr {
 
@@ -85,13 +85,13 @@ CommandAction add_bench_command(CLI::App& app)
         }
         for (int w = 0; w < s->warmup; ++w)
             for (const TechniqueRun& run : runs) r.draw(session.camera, session.light, run.settings);
-        const bool tty = isatty(fileno(stderr));
+        ProgressBar bar("bench");
         for (int f = 0; f < s->frames; ++f) {
             for (std::size_t i = 0; i < runs.size(); ++i)
                 rows[i].ms.push_back(r.draw(session.camera, session.light, runs[i].settings));
-            if (tty) std::fprintf(stderr, "\rbench: frame %d/%d", f + 1, s->frames);
+            bar(double(f + 1) / double(s->frames));
         }
-        if (tty) std::fprintf(stderr, "\r%*s\r", 40, "");
+        bar.clear();
 
         nlohmann::json results = nlohmann::json::array();
         std::printf("%s, %dx%d, %d frames per technique (interleaved)\n", session.context->description().c_str(),

@@ -1,6 +1,7 @@
 // prismrelief conemap: a cone or relaxed-cone map of a height map, as a PNG (R height, G ratio;
 // docs/cone-maps.md), through the derived-map cache.
 #include "app/commands.hpp"
+#include "app/progress.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/image.hpp"
@@ -15,38 +16,8 @@
 #include <cstdio>
 #include <memory>
 #include <thread>
-#include <unistd.h>
 
 namespace pr {
-
-namespace {
-
-// "[#####.....]  50%" on stderr, redrawn in place; only when stderr is a terminal.
-class ProgressBar {
-public:
-    explicit ProgressBar(bool enabled) : enabled_(enabled) {}
-    ~ProgressBar() { clear(); }
-    void operator()(double fraction)
-    {
-        if (!enabled_) return;
-        const int width = 30, filled = std::clamp(int(fraction * width + 0.5), 0, width);
-        std::fprintf(stderr, "\rconemap: [%s%s] %3d%%", std::string(std::size_t(filled), '#').c_str(),
-                     std::string(std::size_t(width - filled), '.').c_str(), int(fraction * 100.0 + 0.5));
-        std::fflush(stderr);
-        shown_ = true;
-    }
-    void clear()
-    {
-        if (shown_) std::fprintf(stderr, "\r%*s\r", 50, "");
-        shown_ = false;
-    }
-
-private:
-    bool enabled_;
-    bool shown_ = false;
-};
-
-} // namespace
 
 CommandAction add_conemap_command(CLI::App& app)
 {
@@ -101,7 +72,7 @@ CommandAction add_conemap_command(CLI::App& app)
         if (!s->json.empty()) check_output_folder(s->json);
         const HeightField field = load_height(s->height);
 
-        ProgressBar bar(isatty(fileno(stderr)) != 0);
+        ProgressBar bar("conemap");
         options.progress = [&bar](double f) { bar(f); };
         std::string device = gpu ? "gpu" : "cpu";
         const ConeBuilder build = [&](const HeightField& f, ConeKind k, const ConeBuildOptions& o) {
