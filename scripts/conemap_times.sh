@@ -15,16 +15,14 @@ trap 'rm -rf "$work"' EXIT
 # Pathological maps as 16-bit PNGs (standard library only): a single spike on a flat floor (every
 # texel's nearest higher texel is far: ring searches see the whole map), a step, a ramp, white
 # noise (every texel has a higher neighbour: tiny cones, the cheapest case for pruning).
-python3 - "$work" "${sizes[@]}" <<'EOF'
-import random, struct, sys, zlib
-out, sizes = sys.argv[1], [int(s) for s in sys.argv[2:]]
+python3 - "$work" "$(dirname "$0")" "${sizes[@]}" <<'EOF'
+import random, struct, sys
+out, scripts, sizes = sys.argv[1], sys.argv[2], [int(s) for s in sys.argv[3:]]
+sys.path.insert(0, scripts)
+from pngio import write_png
 def png16(path, n, f):
-    rows = b"".join(b"\0" + b"".join(struct.pack(">H", int(round(max(0.0, min(1.0, f(x, y))) * 65535)))
-                                     for x in range(n)) for y in range(n))
-    chunk = lambda k, p: struct.pack(">I", len(p)) + k + p + struct.pack(">I", zlib.crc32(k + p) & 0xFFFFFFFF)
-    with open(path, "wb") as fh:
-        fh.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", n, n, 16, 0, 0, 0, 0))
-                 + chunk(b"IDAT", zlib.compress(rows, 6)) + chunk(b"IEND", b""))
+    write_png(path, n, [b"".join(struct.pack(">H", int(round(max(0.0, min(1.0, f(x, y))) * 65535))) for x in range(n))
+                        for y in range(n)], bit_depth=16)
 for n in sizes:
     rnd = random.Random(7)
     png16(f"{out}/spike{n}.png", n, lambda x, y: 1.0 if (x, y) == (n // 3, n // 2) else 0.0)
