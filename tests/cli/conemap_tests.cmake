@@ -39,3 +39,17 @@ pr_cli(conemap_help EXIT 0 STDOUT "--kind.*--format.*--backend" ARGS conemap --h
 # Both outputs or neither: a report that cannot be written (/proc takes no new files) takes the PNG.
 pr_cli(conemap_json_unwritable EXIT 1 ONE_LINE STDERR "${CM}/proc/x.json: " NO_FILE c.png
        ARGS conemap --height builtin:bumps@16 --out c.png --json /proc/x.json --no-cache)
+
+# The fast marchers and self-shadowing from the command line (cone maps built on first use in a
+# fresh --cache-dir), and one-line errors for unknown names.
+pr_cli(render_relaxed_cone_shadows EXIT 0 EXPECT_FILE s.png STDOUT "s.png: 64x48 relaxed-cone"
+       ARGS render --mesh ${M}/plane.obj --height builtin:boxes@64 --technique relaxed-cone --shadows soft
+            --size 64x48 --cache-dir rc_cache --out s.png)
+pr_cli(compare_fast_marchers EXIT 0 STDOUT "prism:cone .*prism:relaxed-cone .*prism:max-mip"
+       JSON f.json CHECKS "results.0.iou:GREATER:0.9|results.1.iou:GREATER:0.9|results.2.iou:GREATER:0.9"
+       ARGS compare --mesh ${M}/torus.obj --height builtin:bumps@128 --size 96x96 --cache-dir fm_cache
+            --techniques prism:cone,prism:relaxed-cone,prism:max-mip --shadows hard --json f.json)
+pr_cli(shadows_unknown EXIT 1 ONE_LINE STDERR "${CM}--shadows: unknown shadow mode 'dark'" NO_FILE o.png
+       ARGS render --mesh ${M}/cube.obj --shadows dark --out o.png)
+pr_cli(marcher_unknown EXIT 1 ONE_LINE STDERR "${CM}--marcher: unknown marcher 'warp'" NO_FILE o.png
+       ARGS render --mesh ${M}/cube.obj --technique prism --marcher warp --out o.png)
