@@ -54,11 +54,9 @@ BaseVertex base_vertex(uint index)
     return v;
 }
 
-void main()
+// Fills corner_world/corner_tex (shell.glsl) and `from_a` for prism `prim`; returns its vertices.
+void load_prism(uint prim, out BaseVertex bv[3], out bool from_a[3])
 {
-    uint prim = uint(gl_PrimitiveID);
-    BaseVertex bv[3];
-    bool from_a[3];
     for (int i = 0; i < 3; ++i) {
         bv[i] = base_vertex(b_indices[3u * prim + uint(i)]);
         vec3 world, n;
@@ -69,34 +67,23 @@ void main()
         corner_tex[i + 3] = vec3(bv[i].uv, 1.0);
     }
     for (int e = 0; e < 3; ++e) from_a[e] = diagonal_from_a(bv[e].weld, bv[(e + 1) % 3].weld);
+}
 
-    // The ray is eye + t * dir with t = 1 at this fragment (the entry).
-    vec3 dir = v_world - u_eye.xyz;
-    float t_exit;
-    vec3 tex_exit;
-#ifdef PR_PRISM_EXIT_VERTEX
-    // Interpolated distances to the texture-space prism's planes (prism.geom): the nearest is
-    // the exit. Moving lambda along v_dir_tex moves lambda * dir in the world (same frame).
-    float lambda = max(min(min(min(v_dist_sides.x, v_dist_sides.y), min(v_dist_sides.z, v_dist_sides.w)),
-                           v_dist_top), 0.0);
-    t_exit = 1.0 + lambda;
-    tex_exit = v_tex + lambda * v_dir_tex;
-#else
-    prism_exit(dir, v_tex, from_a, t_exit, tex_exit);
-#endif
-
-    // March from entry to exit in texture space, linear in t between them. Steps: --steps per
-    // full height range (as the base-surface techniques, so equal --steps means equal step
-    // length), and at least one sample per two texels along the uv path, so grazing rays near
-    // the silhouette do not step over bumps.
-    vec3 seg = tex_exit - v_tex;
+// One march from `tex_in` to `tex_out` in texture space (linear in the ray parameter between
+// them). Steps: --steps per full height range (as the base-surface techniques, so equal --steps
+// means equal step length), and at least one sample per two texels along the uv path, so grazing
+// rays near the silhouette do not step over bumps. Returns the hit's fraction of the segment, or
+// -1 when the ray stays above the height field.
+float march_segment(vec3 tex_in, vec3 tex_out)
+{
+    vec3 seg = tex_out - tex_in;
     vec2 texels = seg.xy * vec2(textureSize(s_height, 0));
     int steps = int(ceil(float(u_march.x) * abs(seg.z) + 0.5 * length(texels)));
     steps = clamp(steps, 1, 4 * max(u_march.x, 1) + 64);
     // Geometry (the outline and the depth) uses height level 0, as the reference does
     // (contract); filtering it by mip level would move the surface, not just smooth its look.
     UvGrad g = UvGrad(vec2(0.0), vec2(0.0));
-    MarchRay ray = MarchRay(v_tex, seg, 1.0, steps);
+    MarchRay ray = MarchRay(tex_in, seg, 1.0, steps);
 #if PR_MARCHER == PR_MARCH_CONE || PR_MARCHER == PR_MARCH_RELAXED_CONE
     Bracket br = march_cone(ray);
 #elif PR_MARCHER == PR_MARCH_MAX_MIP
@@ -104,21 +91,118 @@ void main()
 #else
     Bracket br = march_linear(ray, g);
 #endif
-    if (!br.hit) {
+    if (!br.hit) return -1.0;
+#if PR_MARCHER == PR_MARCH_LINEAR
+    return interpolate_bracket(br);
+#elif PR_MARCHER == PR_MARCH_CONE || PR_MARCHER == PR_MARCH_RELAXED_CONE
+    return refine_binary_secant(ray, br, cone_refine_steps(ray, br, u_march.y), g);
+#elif PR_MARCHER == PR_MARCH_MAX_MIP
+    return br.t_below; // exact: no refinement
+#else
+    return refine_binary(ray, br, u_march.y, g);
+#endif
+}
+
+#ifdef PR_PRISM_WALK
+layout(std430, binding = PR_SSBO_ADJACENCY) readonly buffer Adjacency { uint b_adjacency[]; };
+struct ShellCorners {
+    vec4 bottom_u; // bottom corner (world), u
+    vec4 top_v;    // top corner (world), v
+};
+layout(std430, binding = PR_SSBO_CORNERS) readonly buffer Corners { ShellCorners b_corners[]; };
+// A ray that crosses more prisms than this without a hit is dropped (it runs almost parallel to
+// a very finely tessellated surface); docs/prism.md.
+#ifndef PR_WALK_MAX_PRISMS
+#define PR_WALK_MAX_PRISMS 256
+#endif
+
+// What the walk needs of prism `prim`: its corners (corner_world/corner_tex, shell.glsl) from
+// the precomputed buffer, its vertex indices and welded ids, and its side diagonals.
+void load_walk_prism(uint prim, out uint index[3], out uint weld[3], out bool from_a[3])
+{
+    for (int i = 0; i < 3; ++i) {
+        index[i] = b_indices[3u * prim + uint(i)];
+        ShellCorners c = b_corners[index[i]];
+        weld[i] = floatBitsToUint(b_vertices[index[i] * 16u + 15u]);
+        corner_world[i] = c.bottom_u.xyz;
+        corner_world[i + 3] = c.top_v.xyz;
+        corner_tex[i] = vec3(c.bottom_u.w, c.top_v.w, 0.0);
+        corner_tex[i + 3] = vec3(c.bottom_u.w, c.top_v.w, 1.0);
+    }
+    for (int e = 0; e < 3; ++e) from_a[e] = diagonal_from_a(weld[e], weld[(e + 1) % 3]);
+}
+#endif
+
+void main()
+{
+    uint prim = uint(gl_PrimitiveID);
+    BaseVertex bv[3];
+    bool from_a[3];
+#ifndef PR_PRISM_WALK
+    load_prism(prim, bv, from_a);
+#endif
+
+    // The ray is eye + t * dir with t = 1 at this fragment (the entry).
+    vec3 dir = v_world - u_eye.xyz;
+    float t_in = 1.0, t_out;
+    vec3 tex_in = v_tex, tex_out;
+    float s;
+#ifdef PR_PRISM_WALK
+    // Only the shell's outside is rasterized (prism.geom); from there the ray goes from prism to
+    // prism through the side it leaves by, until it meets the height field or leaves the shell.
+    s = -1.0;
+    uint index[3], weld[3];
+    load_walk_prism(prim, index, weld, from_a);
+    for (int k = 0; k < PR_WALK_MAX_PRISMS; ++k) {
+        WalkExit ex = walk_exit(dir, t_in * (1.0 - 1e-6), from_a, 1e-5);
+        // No way out of the first prism: the rasterizer's snapped edge put the fragment a little
+        // outside its face; compare the planes only (shell.glsl).
+        if (ex.face < 0 && k == 0) ex = walk_exit(dir, t_in * (1.0 - 1e-6), from_a, 1e30);
+        if (ex.face < 0) {
+            // None out of a later one: the ray came in where the shell folds over itself (a
+            // crease deeper than its radius). It is inside the shell there: take the entry.
+            if (k > 0) s = 0.0;
+            t_out = t_in;
+            tex_out = tex_in;
+            break;
+        }
+        t_out = ex.t;
+        tex_out = vec3(ex.tex.xy, clamp(ex.tex.z, 0.0, 1.0));
+        s = march_segment(tex_in, tex_out);
+        if (s >= 0.0) break;
+        // Out through a cap, or a side without a neighbour: the ray leaves the shell.
+        uint next = ex.face >= 2 ? b_adjacency[3u * prim + uint(ex.face - 2)] : 0xffffffffu;
+        if (next == 0xffffffffu) break;
+        // Into the neighbour: the same point, at the same height and the same place along the
+        // shared edge, in the neighbour's own uv (a seam may change it).
+        uint from_weld = weld[ex.face - 2];
+        prim = next >> 2u;
+        int edge = int(next & 3u);
+        load_walk_prism(prim, index, weld, from_a);
+        float along = clamp(weld[edge] == from_weld ? ex.lambda : 1.0 - ex.lambda, 0.0, 1.0);
+        tex_in = vec3(mix(corner_tex[edge].xy, corner_tex[(edge + 1) % 3].xy, along), tex_out.z);
+        t_in = t_out;
+    }
+    for (int i = 0; i < 3; ++i) bv[i] = base_vertex(index[i]); // the frame at the hit (below)
+#else
+#ifdef PR_PRISM_EXIT_VERTEX
+    // Interpolated distances to the texture-space prism's planes (prism.geom): the nearest is
+    // the exit. Moving lambda along v_dir_tex moves lambda * dir in the world (same frame).
+    float lambda = max(min(min(min(v_dist_sides.x, v_dist_sides.y), min(v_dist_sides.z, v_dist_sides.w)),
+                           v_dist_top), 0.0);
+    t_out = 1.0 + lambda;
+    tex_out = v_tex + lambda * v_dir_tex;
+#else
+    prism_exit(dir, v_tex, from_a, t_out, tex_out);
+#endif
+    s = march_segment(tex_in, tex_out);
+#endif
+    if (s < 0.0) {
         count_fragment();
         discard;
     }
-#if PR_MARCHER == PR_MARCH_LINEAR
-    float s = interpolate_bracket(br);
-#elif PR_MARCHER == PR_MARCH_CONE || PR_MARCHER == PR_MARCH_RELAXED_CONE
-    float s = refine_binary_secant(ray, br, cone_refine_steps(ray, br, u_march.y), g);
-#elif PR_MARCHER == PR_MARCH_MAX_MIP
-    float s = br.t_below; // exact: no refinement
-#else
-    float s = refine_binary(ray, br, u_march.y, g);
-#endif
-    vec3 tex = v_tex + s * seg;
-    vec3 hit = u_eye.xyz + mix(1.0, t_exit, s) * dir;
+    vec3 tex = mix(tex_in, tex_out, s);
+    vec3 hit = u_eye.xyz + mix(t_in, t_out, s) * dir;
 
     // Frame at the hit: barycentrics of its uv in the base triangle's uv triangle.
     vec2 d1 = bv[1].uv - bv[0].uv, d2 = bv[2].uv - bv[0].uv, dp = tex.xy - bv[0].uv;
@@ -130,6 +214,7 @@ void main()
     vec3 n = normalize(mat3(u_normal_matrix) * (bv[0].normal * w.x + bv[1].normal * w.y + bv[2].normal * w.z));
     vec3 t_axis = mat3(u_model) * (bv[0].tangent * w.x + bv[1].tangent * w.y + bv[2].tangent * w.z);
     vec3 b_axis = mat3(u_model) * (bv[0].bitangent * w.x + bv[1].bitangent * w.y + bv[2].bitangent * w.z);
+    UvGrad g = UvGrad(vec2(0.0), vec2(0.0));
     vec3 shading_n = height_normal(tex.xy, t_axis, b_axis, n, u_displace.x);
     vec3 light_dir = normalize(u_light_dir.xyz);
     float visibility = 1.0;

@@ -1,6 +1,7 @@
 // Prism silhouettes, stage 2: extrude each triangle into its shell prism and emit only the
 // faces that face the eye. Each face is planar (sides are split into two triangles), and a ray
-// enters the shell through exactly one front face of one prism, so nothing is shaded twice.
+// enters each prism through exactly one front face, so nothing is shaded twice. With the walk
+// (PR_PRISM_WALK) only the faces on the shell's outside are emitted.
 // Output per vertex: 4 (position) + 3 (world) + 3 (texture coordinate) scalars (+ 8 for the
 // per-vertex exit variant); at most 18 vertices (top 3 + bottom 3 + three sides of 4) — geometry-shader cost grows with both.
 #include "common/shared.h"
@@ -8,6 +9,9 @@
 
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 18) out;
+#ifdef PR_PRISM_WALK
+layout(std430, binding = PR_SSBO_ADJACENCY) readonly buffer Adjacency { uint b_adjacency[]; };
+#endif
 
 in vec3 g_world[];
 in vec3 g_normal[];
@@ -91,10 +95,20 @@ void main()
     }
 
     triangle(3, 4, 5); // top cap, outward along +N (base triangles are counter-clockwise)
+#ifdef PR_PRISM_WALK
+    // The walk (prism.frag) carries each ray from prism to prism, so only the shell's outside is
+    // drawn: the tops, and on open meshes the bottoms and the walls along edges without a
+    // neighbour. On a closed mesh that is 3 vertices per triangle instead of up to 18.
+    bool open_shell = (u_march.w & PR_FLAG_OPEN_SHELL) != 0;
+    if (open_shell) triangle(0, 2, 1);
+    for (int e = 0; e < 3; ++e) {
+        if (!open_shell || b_adjacency[3u * uint(gl_PrimitiveIDIn) + uint(e)] != 0xffffffffu) continue;
+#else
     // Bottom cap, outward along -N. Needed on open meshes (seen from below), and on closed ones
     // it also catches grazing rays whose exit falls numerically on an edge of the neighbour.
     triangle(0, 2, 1);
     for (int e = 0; e < 3; ++e) {
+#endif
         int a = e, b = (e + 1) % 3;
         // Quad a0 b0 b1 a1, outward; split along a0-b1 or b0-a1 (shell.glsl).
         if (diagonal_from_a(g_weld[a], g_weld[b])) {

@@ -30,6 +30,8 @@ using mat4 = glm::mat4;
 #define PR_SSBO_COUNTERS 0
 #define PR_SSBO_VERTICES 1 // the mesh's vertex buffer (MeshVertex, 16 floats each), prism only
 #define PR_SSBO_INDICES 2  // its index buffer, prism only
+#define PR_SSBO_ADJACENCY 3 // per triangle edge: the triangle across it (src/mesh/adjacency.hpp), prism walk only
+#define PR_SSBO_CORNERS 4   // per vertex: vec4(bottom corner, u), vec4(top corner, v), world space; prism walk only
 
 // Technique ids (PR_TECHNIQUE is defined to one of them per program variant).
 #define PR_TECH_FLAT 0
@@ -62,6 +64,7 @@ using mat4 = glm::mat4;
 
 // Bits of ObjectBlock.u_march.w.
 #define PR_FLAG_COLOR_TEXTURE 1
+#define PR_FLAG_OPEN_SHELL 2 // the mesh has boundary (or non-manifold) edges: the prism walk needs its walls and bottom
 
 // Per frame: camera and light, world space.
 PR_UNIFORM_BLOCK(FrameBlock, PR_UBO_FRAME)

@@ -28,26 +28,41 @@ bool diagonal_from_a(uint weld_a, uint weld_b)
 vec3 corner_world[6];
 vec3 corner_tex[6];
 
-// Ray eye + t * dir against triangle (a, b, c) (Moller-Trumbore). Keeps the nearest hit with
-// t > t_min: its parameter and texture coordinate (barycentric mix of the corners').
-void exit_candidate(int a, int b, int c, vec3 dir, float t_min, inout float t_best, inout vec3 tex_best)
+// Ray eye + t * dir against the prism's triangle (a, b, c) (Moller-Trumbore), grown by `slack`
+// in barycentric units: false when they do not meet; else the parameter t, the barycentric
+// weights of a, b, c, and det, whose sign tells the side: det < 0 where the ray goes out through
+// a face wound counter-clockwise seen from outside.
+bool ray_triangle(int a, int b, int c, vec3 dir, float slack, out float t, out vec3 w, out float det)
 {
+    t = 0.0;
+    w = vec3(0.0);
     vec3 e1 = corner_world[b] - corner_world[a];
     vec3 e2 = corner_world[c] - corner_world[a];
     vec3 p = cross(dir, e2);
-    float det = dot(e1, p);
-    if (abs(det) < 1e-30) return;
+    det = dot(e1, p);
+    if (abs(det) < 1e-30) return false;
     float inv = 1.0 / det;
     vec3 s = u_eye.xyz - corner_world[a];
     float bu = dot(s, p) * inv;
     vec3 q = cross(s, e1);
     float bv = dot(dir, q) * inv;
-    const float slack = 1e-5; // the exit may lie exactly on an edge between two triangles
-    if (bu < -slack || bv < -slack || bu + bv > 1.0 + slack) return;
-    float t = dot(e2, q) * inv;
+    if (bu < -slack || bv < -slack || bu + bv > 1.0 + slack) return false;
+    t = dot(e2, q) * inv;
+    w = vec3(1.0 - bu - bv, bu, bv);
+    return true;
+}
+
+// Keeps the nearest hit of triangle (a, b, c) with t > t_min: its parameter and texture
+// coordinate (barycentric mix of the corners').
+void exit_candidate(int a, int b, int c, vec3 dir, float t_min, inout float t_best, inout vec3 tex_best)
+{
+    float t, det;
+    vec3 w;
+    // Slack: the exit may lie exactly on an edge between two triangles.
+    if (!ray_triangle(a, b, c, dir, 1e-5, t, w, det)) return;
     if (t > t_min && t < t_best) {
         t_best = t;
-        tex_best = corner_tex[a] * (1.0 - bu - bv) + corner_tex[b] * bu + corner_tex[c] * bv;
+        tex_best = corner_tex[a] * w.x + corner_tex[b] * w.y + corner_tex[c] * w.z;
     }
 }
 
@@ -77,4 +92,63 @@ bool prism_exit(vec3 dir, vec3 entry_tex, bool from_a[3], out float t_exit, out 
         return false;
     }
     return true;
+}
+
+// ---- The prism walk (PR_PRISM_WALK) -----------------------------------------------------------
+// Where the ray leaves the prism through a face it goes *out* of (faces it comes in by are
+// ignored, so the face of entry needs no epsilon), beyond t_min. Face: 0 top, 1 bottom, 2 + e the
+// side of edge e, with `lambda` the exit's position along that edge (0 at corner e, 1 at corner
+// e + 1); -1: no exit.
+struct WalkExit {
+    float t;
+    vec3 tex;
+    int face;
+    float lambda;
+};
+
+// `orient`: +1 for a prism whose faces wind counter-clockwise seen from outside, -1 for one turned
+// inside out by normals that oppose the winding (prism_orientation()).
+void walk_candidate(int a, int b, int c, int face, vec3 dir, float t_min, float orient, float slack,
+                    inout WalkExit best)
+{
+    float t, det;
+    vec3 w;
+    if (!ray_triangle(a, b, c, dir, slack, t, w, det) || det * orient >= 0.0) return;
+    if (t > t_min && t < best.t) {
+        best.t = t;
+        best.tex = corner_tex[a] * w.x + corner_tex[b] * w.y + corner_tex[c] * w.z;
+        best.face = face;
+        // Weight of the edge's second corner (bottom or top), for the side faces.
+        int second = (face + 2) % 3;
+        best.lambda = (a % 3 == second ? w.x : 0.0) + (b % 3 == second ? w.y : 0.0) + (c % 3 == second ? w.z : 0.0);
+    }
+}
+
+float prism_orientation()
+{
+    vec3 n = cross(corner_world[1] - corner_world[0], corner_world[2] - corner_world[0]);
+    vec3 up = corner_world[3] + corner_world[4] + corner_world[5] - corner_world[0] - corner_world[1] - corner_world[2];
+    return dot(n, up) < 0.0 ? -1.0 : 1.0;
+}
+
+// `slack` grows the faces (ray_triangle); a huge one compares planes only, which on a convex
+// prism still finds the way out of a ray that comes in just outside it (the rasterizer snaps
+// vertices to its subpixel grid, so a fragment on an edge may lie a little outside its face).
+WalkExit walk_exit(vec3 dir, float t_min, bool from_a[3], float slack)
+{
+    WalkExit best = WalkExit(1e30, vec3(0.0), -1, 0.0);
+    float orient = prism_orientation();
+    walk_candidate(3, 4, 5, 0, dir, t_min, orient, slack, best);
+    walk_candidate(0, 2, 1, 1, dir, t_min, orient, slack, best);
+    for (int e = 0; e < 3; ++e) {
+        int a = e, b = (e + 1) % 3;
+        if (from_a[e]) {
+            walk_candidate(a, b, b + 3, 2 + e, dir, t_min, orient, slack, best);
+            walk_candidate(a, b + 3, a + 3, 2 + e, dir, t_min, orient, slack, best);
+        } else {
+            walk_candidate(a, b, a + 3, 2 + e, dir, t_min, orient, slack, best);
+            walk_candidate(b, b + 3, a + 3, 2 + e, dir, t_min, orient, slack, best);
+        }
+    }
+    return best;
 }

@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "maps/conemap.hpp"
+#include "mesh/adjacency.hpp"
 #include "render/reference_geometry.hpp"
 #include "render/shader_program.hpp"
 
@@ -114,6 +115,26 @@ gl::Texture make_max_pyramid_texture(const HeightField& hf)
     return t;
 }
 
+// The prism walk's corners (PR_SSBO_CORNERS): per render vertex the shell's bottom and top in
+// world space, the formula of shaders/prism/shell.glsl, with the UV in their w (prism.frag reads
+// two vec4 per corner instead of a vertex and two matrix products).
+gl::Buffer make_shell_corners(const SceneObject& so)
+{
+    const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(so.transform)));
+    std::vector<glm::vec4> corners;
+    corners.reserve(std::max<std::size_t>(so.mesh.vertices.size(), 1) * 2);
+    for (const MeshVertex& v : so.mesh.vertices) {
+        const glm::vec3 world = glm::vec3(so.transform * glm::vec4(v.position, 1.0f));
+        const glm::vec3 n = glm::normalize(normal_matrix * v.normal);
+        corners.emplace_back(world + so.depth * (0.0f - so.midlevel) * n, v.uv.x);
+        corners.emplace_back(world + so.depth * (1.0f - so.midlevel) * n, v.uv.y);
+    }
+    if (corners.empty()) corners.resize(2);
+    gl::Buffer b = gl::Buffer::create();
+    glNamedBufferStorage(b.id(), static_cast<GLsizeiptr>(corners.size() * sizeof(glm::vec4)), corners.data(), 0);
+    return b;
+}
+
 std::string variant_key(const ShaderDefines& defines)
 {
     std::string key;
@@ -136,6 +157,7 @@ ShaderDefines defines_for(const DrawSettings& s)
     if (s.technique == Technique::Prism) {
         d.emplace_back("PR_MARCHER", marcher[static_cast<int>(s.marcher)]);
         if (s.prism_exit == PrismExit::Vertex) d.emplace_back("PR_PRISM_EXIT_VERTEX", "1");
+        if (s.prism_exit == PrismExit::Walk) d.emplace_back("PR_PRISM_WALK", "1");
     }
     if (s.depth_write && s.technique != Technique::Prism) d.emplace_back("PR_DEPTH_WRITE", "1");
     if (s.shadows != Shadows::None && s.technique != Technique::Flat && s.technique != Technique::Reference)
@@ -201,6 +223,14 @@ void Renderer::upload(const Scene& scene)
         o.transform = so.transform;
         o.base_color = so.base_color;
         o.base = make_geometry(so.mesh.vertices, so.mesh.indices);
+        const EdgeAdjacency adjacency = edge_adjacency(so.mesh.vertices, so.mesh.indices);
+        o.adjacency = gl::Buffer::create();
+        glNamedBufferStorage(o.adjacency.id(),
+                             static_cast<GLsizeiptr>(std::max<std::size_t>(adjacency.neighbours.size(), 1) *
+                                                     sizeof(std::uint32_t)),
+                             adjacency.neighbours.data(), 0);
+        o.open_shell = adjacency.open_edges > 0;
+        o.corners = make_shell_corners(so);
 
         // Textures shared between objects are uploaded once; the cache owns them and each
         // object refers to the cached name (gl::Texture is move-only, so objects hold none).
@@ -342,7 +372,8 @@ void Renderer::upload_object(const GpuObject& o, const DrawSettings& settings, f
     ob.u_model = o.transform;
     ob.u_normal_matrix = glm::mat4(glm::transpose(glm::inverse(glm::mat3(o.transform))));
     ob.u_displace = glm::vec4(o.depth, midlevel, o.height_size.x, o.height_size.y);
-    ob.u_march = glm::ivec4(settings.steps, settings.refine, 0, o.color_texture ? PR_FLAG_COLOR_TEXTURE : 0);
+    ob.u_march = glm::ivec4(settings.steps, settings.refine, 0,
+                            (o.color_texture ? PR_FLAG_COLOR_TEXTURE : 0) | (o.open_shell ? PR_FLAG_OPEN_SHELL : 0));
     ob.u_material = glm::vec4(0.12f, 0.88f, 0.18f, 48.0f);
     ob.u_base_color = glm::vec4(o.base_color, 1.0f);
     glNamedBufferSubData(object_ubo_.id(), 0, sizeof(ob), &ob);
@@ -412,6 +443,8 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
                 // The fragment shader rebuilds its prism from the mesh buffers (prism.frag).
                 glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_VERTICES, o.base.vertices.id());
                 glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_INDICES, o.base.indices.id());
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_ADJACENCY, o.adjacency.id());
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_CORNERS, o.corners.id());
             }
             glBindVertexArray(o.base.vao.id());
             glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);

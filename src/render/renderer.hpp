@@ -93,6 +93,9 @@ private:
 
     struct GpuObject {
         Geometry base;
+        gl::Buffer adjacency;    // edge_adjacency() of the base mesh (the prism walk)
+        bool open_shell = false; // it has edges without a neighbour
+        gl::Buffer corners;      // shell corners per vertex, world space (the prism walk)
         std::vector<Geometry> reference; // chunks of the tessellated ground truth
         GLuint height_texture = 0; // owned by texture_cache_
         GLuint color_texture = 0;  // 0: plain base colour

@@ -133,7 +133,8 @@ PrismExit parse_prism_exit(const std::string& name, const std::string& option)
 {
     if (name == "exact") return PrismExit::Exact;
     if (name == "vertex") return PrismExit::Vertex;
-    throw Error(option, "unknown prism exit '" + name + "' (expected exact|vertex)");
+    if (name == "walk") return PrismExit::Walk;
+    throw Error(option, "unknown prism exit '" + name + "' (expected exact|vertex|walk)");
 }
 
 } // namespace pr

@@ -16,8 +16,10 @@ enum class Marcher { Linear, Relief, Cone, RelaxedCone, MaxMip };
 // Self-shadowing: march from the hit towards the light through the height field.
 enum class Shadows { None, Hard, Soft };
 // How the prism finds where the ray leaves it: exactly per fragment, or from per-vertex distances
-// to the texture-space prism's planes, interpolated (the seed's draft).
-enum class PrismExit { Exact, Vertex };
+// to the texture-space prism's planes, interpolated (the seed's draft); or exactly, and then the
+// ray walks on into the prism across that face until it hits or leaves the shell (only the
+// shell's outer faces are rasterized; docs/prism.md).
+enum class PrismExit { Exact, Vertex, Walk };
 enum class NormalQuality { Gather, Central, Sobel };
 
 struct TechniqueInfo {

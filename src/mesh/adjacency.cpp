@@ -1,0 +1,57 @@
+#include "mesh/adjacency.hpp"
+
+#include "core/error.hpp"
+
+#include <algorithm>
+
+namespace pr {
+
+EdgeAdjacency edge_adjacency(const std::vector<MeshVertex>& vertices, const std::vector<std::uint32_t>& indices)
+{
+    const std::size_t triangles = indices.size() / 3;
+    if (triangles >= (std::size_t(1) << 30))
+        throw Error("mesh", "too many triangles for the prism walk's adjacency (2^30 or more)");
+    EdgeAdjacency out;
+    out.neighbours.assign(triangles * 3, kNoNeighbour);
+
+    // Bucket every edge by the smaller weld id of its ends (counting sort: two passes over the
+    // edges, 4 bytes per edge and per welded position), then pair edges within a bucket.
+    const auto weld = [&](std::size_t corner) { return vertices[indices[corner]].weld_id; };
+    const auto ends = [&](std::size_t edge) {
+        const std::size_t t = edge / 3, e = edge % 3;
+        const std::uint32_t a = weld(3 * t + e), b = weld(3 * t + (e + 1) % 3);
+        return std::pair{std::min(a, b), std::max(a, b)};
+    };
+    std::uint32_t weld_count = 0;
+    for (const MeshVertex& v : vertices) weld_count = std::max(weld_count, v.weld_id + 1);
+    std::vector<std::uint32_t> start(std::size_t(weld_count) + 1, 0);
+    for (std::size_t edge = 0; edge < triangles * 3; ++edge) ++start[ends(edge).first + 1];
+    for (std::size_t w = 0; w < weld_count; ++w) start[w + 1] += start[w];
+    std::vector<std::uint32_t> bucket(triangles * 3);
+    {
+        std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+        for (std::size_t edge = 0; edge < triangles * 3; ++edge)
+            bucket[fill[ends(edge).first]++] = static_cast<std::uint32_t>(edge);
+    }
+    for (std::size_t w = 0; w < weld_count; ++w) {
+        const auto first = bucket.begin() + start[w], last = bucket.begin() + start[w + 1];
+        std::sort(first, last, [&](std::uint32_t x, std::uint32_t y) {
+            return std::pair{ends(x).second, x} < std::pair{ends(y).second, y};
+        });
+        for (auto it = first; it != last;) {
+            auto same = it;
+            while (same != last && ends(*same).second == ends(*it).second) ++same;
+            // Degenerate edges (both ends one position) never pair; more than two is non-manifold.
+            if (same - it == 2 && ends(*it).first != ends(*it).second) {
+                const std::uint32_t x = *it, y = *(it + 1);
+                out.neighbours[x] = (y / 3) << 2 | (y % 3);
+                out.neighbours[y] = (x / 3) << 2 | (x % 3);
+            }
+            it = same;
+        }
+    }
+    out.open_edges = static_cast<std::size_t>(std::count(out.neighbours.begin(), out.neighbours.end(), kNoNeighbour));
+    return out;
+}
+
+} // namespace pr

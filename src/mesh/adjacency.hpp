@@ -1,0 +1,25 @@
+#pragma once
+// Which triangle lies across each edge: what the prism walk (shaders/prism.frag) follows from
+// one prism into the next. Edges are matched by welded position ids, so UV seams, which split
+// render vertices but not positions, do not cut the surface apart.
+#include "mesh/mesh.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace pr {
+
+// Per triangle t and edge e (corners e and (e + 1) % 3), entry 3 t + e holds
+// (neighbour << 2 | neighbour's edge), or kNoNeighbour on a boundary edge and on a non-manifold
+// one (shared by more than two triangles): there the shell has a wall of its own.
+inline constexpr std::uint32_t kNoNeighbour = 0xffffffffu;
+
+struct EdgeAdjacency {
+    std::vector<std::uint32_t> neighbours; // 3 per triangle
+    std::size_t open_edges = 0;            // entries that are kNoNeighbour
+};
+
+// Throws pr::Error when the mesh has 2^30 triangles or more (the packing's limit).
+EdgeAdjacency edge_adjacency(const std::vector<MeshVertex>& vertices, const std::vector<std::uint32_t>& indices);
+
+} // namespace pr
