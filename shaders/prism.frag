@@ -174,12 +174,11 @@ void main()
         uint next = ex.face >= 2 ? b_adjacency[3u * prim + uint(ex.face - 2)] : 0xffffffffu;
         if (next == 0xffffffffu) break;
         // Into the neighbour: the same point, at the same height and the same place along the
-        // shared edge, in the neighbour's own uv (a seam may change it).
-        uint from_weld = weld[ex.face - 2];
+        // shared edge, which the neighbour runs the other way, in its own uv (a seam may change it).
         prim = next >> 2u;
         int edge = int(next & 3u);
         load_walk_prism(prim, index, weld, from_a);
-        float along = clamp(weld[edge] == from_weld ? ex.lambda : 1.0 - ex.lambda, 0.0, 1.0);
+        float along = clamp(1.0 - ex.lambda, 0.0, 1.0);
         tex_in = vec3(mix(corner_tex[edge].xy, corner_tex[(edge + 1) % 3].xy, along), tex_out.z);
         t_in = t_out;
     }

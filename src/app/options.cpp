@@ -145,9 +145,10 @@ void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_techn
         ->group("Technique")
         ->capture_default_str();
     app.add_option("--prism-exit", o.prism_exit,
-                   "prism: where the ray leaves its prism: exact (per fragment), vertex (per-vertex "
-                   "plane distances, interpolated) or walk (exact, then on into the neighbouring prism; "
-                   "only the shell's outside is drawn). In lists: prism:MARCHER:EXIT")
+                   "prism: walk (the ray goes from prism to prism across exact exits; only the shell's "
+                   "outside is drawn), exact (each front face of every prism is drawn and marched to its "
+                   "exact exit) or vertex (per-vertex plane distances, interpolated). In lists: "
+                   "prism:MARCHER:EXIT")
         ->group("Technique")
         ->capture_default_str();
     app.add_option("--normal-quality", o.normal_quality,

@@ -38,7 +38,7 @@ struct TechniqueOptions {
     int refine = DrawSettings{}.refine;
     std::string normal_quality = "sobel";
     std::string marcher = "relief";
-    std::string prism_exit = "exact";
+    std::string prism_exit = "walk";
     bool depth_write = false;
     std::string shadows = "none";
     int reference_level = 0; // 0: automatic

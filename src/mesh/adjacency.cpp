@@ -22,6 +22,9 @@ EdgeAdjacency edge_adjacency(const std::vector<MeshVertex>& vertices, const std:
         const std::uint32_t a = weld(3 * t + e), b = weld(3 * t + (e + 1) % 3);
         return std::pair{std::min(a, b), std::max(a, b)};
     };
+    const auto same_direction = [&](std::size_t x, std::size_t y) {
+        return weld(3 * (x / 3) + x % 3) == weld(3 * (y / 3) + y % 3);
+    };
     std::uint32_t weld_count = 0;
     for (const MeshVertex& v : vertices) weld_count = std::max(weld_count, v.weld_id + 1);
     std::vector<std::uint32_t> start(std::size_t(weld_count) + 1, 0);
@@ -41,8 +44,10 @@ EdgeAdjacency edge_adjacency(const std::vector<MeshVertex>& vertices, const std:
         for (auto it = first; it != last;) {
             auto same = it;
             while (same != last && ends(*same).second == ends(*it).second) ++same;
-            // Degenerate edges (both ends one position) never pair; more than two is non-manifold.
-            if (same - it == 2 && ends(*it).first != ends(*it).second) {
+            // Degenerate edges (both ends one position) never pair; more than two is non-manifold;
+            // two that run the same way join faces of opposite orientation, whose prisms extrude
+            // to opposite sides: the walk cannot go from one into the other.
+            if (same - it == 2 && ends(*it).first != ends(*it).second && !same_direction(*it, *(it + 1))) {
                 const std::uint32_t x = *it, y = *(it + 1);
                 out.neighbours[x] = (y / 3) << 2 | (y % 3);
                 out.neighbours[y] = (x / 3) << 2 | (x % 3);

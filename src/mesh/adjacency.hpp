@@ -10,8 +10,10 @@
 namespace pr {
 
 // Per triangle t and edge e (corners e and (e + 1) % 3), entry 3 t + e holds
-// (neighbour << 2 | neighbour's edge), or kNoNeighbour on a boundary edge and on a non-manifold
-// one (shared by more than two triangles): there the shell has a wall of its own.
+// (neighbour << 2 | neighbour's edge), or kNoNeighbour on a boundary edge, on a non-manifold one
+// (shared by more than two triangles) and on one that joins faces of opposite orientation: there
+// the shell has a wall of its own. A neighbour runs the shared edge the other way (its corner
+// `edge` is this triangle's corner e + 1).
 inline constexpr std::uint32_t kNoNeighbour = 0xffffffffu;
 
 struct EdgeAdjacency {

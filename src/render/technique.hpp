@@ -55,7 +55,7 @@ struct DrawSettings {
     int steps = 32;  // linear steps over the full height range
     int refine = 6;  // binary refinement steps (relief)
     Marcher marcher = Marcher::Relief; // prism only
-    PrismExit prism_exit = PrismExit::Exact; // prism only
+    PrismExit prism_exit = PrismExit::Walk; // prism only
     NormalQuality normal_quality = NormalQuality::Sobel;
     Shadows shadows = Shadows::None;
     bool depth_write = false; // base-surface techniques: write the depth of what they show

@@ -1,4 +1,5 @@
-// The prism technique against the reference: watertightness, IoU, depth write, grazing views.
+// The prism technique against the reference: watertightness, IoU, depth write, grazing views,
+// with the walk (the default) and with every front face drawn (--prism-exit exact).
 #include "gl_fixture.hpp"
 
 #include "eval/metrics.hpp"
@@ -11,7 +12,7 @@ using namespace pr;
 namespace {
 
 FrameCapture capture(Renderer& r, const Camera& c, Technique t, Marcher m = Marcher::Relief,
-                     PrismExit exit = PrismExit::Exact)
+                     PrismExit exit = PrismExit::Walk)
 {
     DrawSettings s;
     s.technique = t;
@@ -38,6 +39,10 @@ int holes(const RgbaImage& img)
     return n;
 }
 
+const PrismExit kExits[] = {PrismExit::Walk, PrismExit::Exact};
+
+std::string exit_label(PrismExit e) { return e == PrismExit::Walk ? " (walk)" : " (exact)"; }
+
 } // namespace
 
 // Constant height 1 on the closed sphere: the surface is the top cap everywhere, hit with the
@@ -53,11 +58,14 @@ TEST(Prism, ClosedSphereAtConstantHeightOneIsWatertight)
         const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, elevation, 30.0f);
         r.prepare_reference(scene, c, ReferenceOptions{});
         const FrameCapture ref = capture(r, c, Technique::Reference);
-        const FrameCapture prism = capture(r, c, Technique::Prism);
-        const CompareMetrics m = compare_frames(prism, ref);
-        EXPECT_EQ(holes(prism.color), 0) << elevation;
-        EXPECT_LE(m.silhouette_wrong_px, 2u * 192u) << "more than ~2 px of outline per row, elevation " << elevation;
-        EXPECT_GT(m.iou, 0.99) << elevation;
+        for (PrismExit e : kExits) {
+            const FrameCapture prism = capture(r, c, Technique::Prism, Marcher::Relief, e);
+            const CompareMetrics m = compare_frames(prism, ref);
+            EXPECT_EQ(holes(prism.color), 0) << elevation << exit_label(e);
+            EXPECT_LE(m.silhouette_wrong_px, 2u * 192u)
+                << "more than ~2 px of outline per row, elevation " << elevation << exit_label(e);
+            EXPECT_GT(m.iou, 0.99) << elevation << exit_label(e);
+        }
     }
 }
 
@@ -71,9 +79,12 @@ TEST(Prism, BottomCapIsHit)
     r.upload(scene);
     const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, 35.0f, 30.0f);
     r.prepare_reference(scene, c, ReferenceOptions{});
-    const CompareMetrics m = compare_frames(capture(r, c, Technique::Prism), capture(r, c, Technique::Reference));
-    EXPECT_GT(m.iou, 0.99);
-    EXPECT_EQ(holes(capture(r, c, Technique::Prism).color), 0);
+    const FrameCapture ref = capture(r, c, Technique::Reference);
+    for (PrismExit e : kExits) {
+        const FrameCapture prism = capture(r, c, Technique::Prism, Marcher::Relief, e);
+        EXPECT_GT(compare_frames(prism, ref).iou, 0.99) << exit_label(e);
+        EXPECT_EQ(holes(prism.color), 0) << exit_label(e);
+    }
 }
 
 // Outward bumps on the three bundled curved meshes, three elevations, 160 px: the prism's
@@ -105,6 +116,9 @@ TEST(Prism, OutlineMatchesTheReferenceOnCurvedMeshes)
                 ASSERT_TRUE(prism.depth_error_median.has_value());
                 EXPECT_LT(*prism.depth_error_median, 0.02 * depth) << what;
             }
+            const CompareMetrics exact =
+                compare_frames(capture(r, c, Technique::Prism, Marcher::Relief, PrismExit::Exact), ref);
+            EXPECT_GT(exact.iou, 0.98) << name << " elevation " << elevation << " (exact)";
             const CompareMetrics pom = compare_frames(capture(r, c, Technique::Pom), ref);
             EXPECT_LT(pom.iou, 0.95) << name << " elevation " << elevation;
         }
@@ -123,8 +137,11 @@ TEST(Prism, InwardAndCentredDisplacementMatchTheReference)
         r.upload(scene);
         const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, 35.0f, 30.0f);
         r.prepare_reference(scene, c, ReferenceOptions{});
-        const CompareMetrics m = compare_frames(capture(r, c, Technique::Prism), capture(r, c, Technique::Reference));
-        EXPECT_GT(m.iou, 0.98) << "midlevel " << midlevel;
+        const FrameCapture ref = capture(r, c, Technique::Reference);
+        for (PrismExit e : kExits) {
+            const CompareMetrics m = compare_frames(capture(r, c, Technique::Prism, Marcher::Relief, e), ref);
+            EXPECT_GT(m.iou, 0.98) << "midlevel " << midlevel << exit_label(e);
+        }
     }
 }
 
@@ -140,26 +157,28 @@ TEST(Prism, DepthAgreesWithTheReferenceWhereAPlaneCrosses)
     r.upload(scene);
     r.prepare_reference(scene, c, ReferenceOptions{});
     const FrameCapture ref = capture(r, c, Technique::Reference);
-    const FrameCapture prism = capture(r, c, Technique::Prism);
-    // A plane through the centre, facing the camera: the sphere is in front where its distance
-    // is below the plane's. Compare that decision pixel by pixel.
-    const glm::vec3 n = glm::normalize(c.eye - c.target);
-    int disagree = 0, both = 0;
-    for (int y = 0; y < 128; ++y)
-        for (int x = 0; x < 128; ++x) {
-            const std::size_t p = std::size_t(y) * 128 + x;
-            if (ref.color.pixels[4 * p + 3] < 128 || prism.color.pixels[4 * p + 3] < 128) continue;
-            const glm::mat4 inv = glm::inverse(c.projection(1.0f) * c.view());
-            glm::vec4 far = inv * glm::vec4((x + 0.5f) / 64 - 1, (y + 0.5f) / 64 - 1, 1, 1);
-            const glm::vec3 dir = glm::normalize(glm::vec3(far) / far.w - c.eye);
-            const float plane = glm::dot(c.target - c.eye, n) / glm::dot(dir, n);
-            const float dr = depth_to_distance(c, 128, 128, float(x), float(y), ref.depth[p]);
-            const float dp = depth_to_distance(c, 128, 128, float(x), float(y), prism.depth[p]);
-            ++both;
-            disagree += (dr < plane) != (dp < plane);
-        }
-    EXPECT_GT(both, 3000);
-    EXPECT_LT(disagree, both / 100); // only where the sphere meets the plane within a step
+    for (PrismExit e : kExits) {
+        const FrameCapture prism = capture(r, c, Technique::Prism, Marcher::Relief, e);
+        // A plane through the centre, facing the camera: the sphere is in front where its distance
+        // is below the plane's. Compare that decision pixel by pixel.
+        const glm::vec3 n = glm::normalize(c.eye - c.target);
+        int disagree = 0, both = 0;
+        for (int y = 0; y < 128; ++y)
+            for (int x = 0; x < 128; ++x) {
+                const std::size_t p = std::size_t(y) * 128 + x;
+                if (ref.color.pixels[4 * p + 3] < 128 || prism.color.pixels[4 * p + 3] < 128) continue;
+                const glm::mat4 inv = glm::inverse(c.projection(1.0f) * c.view());
+                glm::vec4 far = inv * glm::vec4((x + 0.5f) / 64 - 1, (y + 0.5f) / 64 - 1, 1, 1);
+                const glm::vec3 dir = glm::normalize(glm::vec3(far) / far.w - c.eye);
+                const float plane = glm::dot(c.target - c.eye, n) / glm::dot(dir, n);
+                const float dr = depth_to_distance(c, 128, 128, float(x), float(y), ref.depth[p]);
+                const float dp = depth_to_distance(c, 128, 128, float(x), float(y), prism.depth[p]);
+                ++both;
+                disagree += (dr < plane) != (dp < plane);
+            }
+        EXPECT_GT(both, 3000) << exit_label(e);
+        EXPECT_LT(disagree, both / 100) << exit_label(e); // only where the sphere meets the plane within a step
+    }
 }
 
 // Grazing views: no NaN (black) pixels, no stripes of background inside the outline.
@@ -176,16 +195,18 @@ TEST(Prism, GrazingViewHasNoBlackPixelsOrStripes)
     c.target = {0.0f, 0.0f, 0.0f};
     c.fovy_deg = 30.0f;
     fit_clip_planes(c, scene.shell_bounds);
-    const FrameCapture f = capture(r, c, Technique::Prism);
-    std::size_t black = 0, covered = 0;
-    for (std::size_t p = 0; p < std::size_t(160) * 96; ++p)
-        if (f.color.pixels[4 * p + 3] >= 128) {
-            ++covered;
-            black += f.color.pixels[4 * p] + f.color.pixels[4 * p + 1] + f.color.pixels[4 * p + 2] == 0;
-        }
-    EXPECT_GT(covered, 1000u);
-    EXPECT_EQ(black, 0u);
-    EXPECT_EQ(holes(f.color), 0);
+    for (PrismExit e : kExits) {
+        const FrameCapture f = capture(r, c, Technique::Prism, Marcher::Relief, e);
+        std::size_t black = 0, covered = 0;
+        for (std::size_t p = 0; p < std::size_t(160) * 96; ++p)
+            if (f.color.pixels[4 * p + 3] >= 128) {
+                ++covered;
+                black += f.color.pixels[4 * p] + f.color.pixels[4 * p + 1] + f.color.pixels[4 * p + 2] == 0;
+            }
+        EXPECT_GT(covered, 1000u) << exit_label(e);
+        EXPECT_EQ(black, 0u) << exit_label(e);
+        EXPECT_EQ(holes(f.color), 0) << exit_label(e);
+    }
 }
 
 // The seed's per-vertex exit (distances to the texture-space prism's planes, interpolated):
@@ -202,11 +223,59 @@ TEST(Prism, PerVertexExitIsCloseToTheExactOne)
         const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, 45.0f, 30.0f);
         r.prepare_reference(scene, c, ReferenceOptions{});
         const FrameCapture ref = capture(r, c, Technique::Reference);
-        const CompareMetrics exact = compare_frames(capture(r, c, Technique::Prism), ref);
+        const CompareMetrics exact =
+            compare_frames(capture(r, c, Technique::Prism, Marcher::Relief, PrismExit::Exact), ref);
         const CompareMetrics vertex =
             compare_frames(capture(r, c, Technique::Prism, Marcher::Relief, PrismExit::Vertex), ref);
         const bool flat = std::string(name) == "plane.obj";
         EXPECT_GT(vertex.iou, flat ? 0.995 : 0.97) << name;
         EXPECT_LE(vertex.iou, exact.iou + 1e-3) << name;
+    }
+}
+
+// The walk rasterizes only the shell's outside: on a closed mesh about as many fragments as the
+// base surface has, where drawing every front face of every prism shades several times more.
+TEST(Prism, WalkShadesOnlyTheShellsOutside)
+{
+    prtest::context();
+    Renderer r(128, 128);
+    auto bumps = std::make_shared<HeightField>(load_height("builtin:bumps@128"));
+    Scene scene = mesh_scene("torus.obj", bumps, 0.04f);
+    r.upload(scene);
+    const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, 35.0f, 30.0f);
+    const auto fragments = [&](Technique t, PrismExit e) {
+        DrawSettings s;
+        s.technique = t;
+        s.prism_exit = e;
+        s.count_samples = true;
+        r.draw(c, glm::vec3(0.0f, 0.0f, 1.0f), s);
+        return r.read_counters().fragments;
+    };
+    const auto relief = fragments(Technique::Relief, PrismExit::Walk);
+    const auto walk = fragments(Technique::Prism, PrismExit::Walk);
+    const auto exact = fragments(Technique::Prism, PrismExit::Exact);
+    EXPECT_LT(walk, relief * 13 / 10);
+    EXPECT_GT(exact, 3 * walk);
+}
+
+// An open mesh: the walk draws the bottom cap and the walls along the boundary, so the plane
+// seen from above at an angle (walls in view) and from below matches the reference as the
+// exact exit does.
+TEST(Prism, WalkDrawsTheWallsAndBottomOfOpenMeshes)
+{
+    prtest::context();
+    Renderer r(128, 128);
+    auto bumps = std::make_shared<HeightField>(load_height("builtin:bumps@128"));
+    Scene scene = mesh_scene("plane.obj", bumps, 0.06f);
+    r.upload(scene);
+    for (float elevation : {12.0f, -30.0f}) {
+        const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, elevation, 30.0f);
+        r.prepare_reference(scene, c, ReferenceOptions{});
+        const FrameCapture ref = capture(r, c, Technique::Reference);
+        const CompareMetrics walk = compare_frames(capture(r, c, Technique::Prism, Marcher::Relief, PrismExit::Walk), ref);
+        const CompareMetrics exact =
+            compare_frames(capture(r, c, Technique::Prism, Marcher::Relief, PrismExit::Exact), ref);
+        EXPECT_GT(walk.iou, 0.98) << elevation;
+        EXPECT_GE(walk.iou, exact.iou - 0.002) << elevation;
     }
 }

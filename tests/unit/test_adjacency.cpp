@@ -1,0 +1,94 @@
+// Edge adjacency for the prism walk: pairs across UV seams (by welded position), boundaries,
+// non-manifold edges and faces of opposite orientation have none.
+#include "mesh/adjacency.hpp"
+#include "mesh/mesh.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+namespace {
+
+// Vertices with the given welded ids (a UV seam: two vertices, one id) and triangles.
+struct Soup {
+    std::vector<pr::MeshVertex> vertices;
+    std::vector<std::uint32_t> indices;
+};
+
+Soup soup(const std::vector<std::uint32_t>& welds, std::vector<std::uint32_t> indices)
+{
+    Soup s;
+    for (std::uint32_t w : welds) {
+        pr::MeshVertex v;
+        v.weld_id = w;
+        s.vertices.push_back(v);
+    }
+    s.indices = std::move(indices);
+    return s;
+}
+
+std::uint32_t across(std::uint32_t triangle, std::uint32_t edge) { return triangle << 2 | edge; }
+
+// Every pairing is mutual and joins the same two welded positions, run the other way.
+void expect_consistent(const Soup& s, const pr::EdgeAdjacency& a)
+{
+    ASSERT_EQ(a.neighbours.size(), s.indices.size());
+    const auto weld = [&](std::size_t t, std::size_t corner) { return s.vertices[s.indices[3 * t + corner % 3]].weld_id; };
+    for (std::size_t i = 0; i < a.neighbours.size(); ++i) {
+        const std::uint32_t n = a.neighbours[i];
+        if (n == pr::kNoNeighbour) continue;
+        const std::size_t t = i / 3, e = i % 3, u = n >> 2, f = n & 3;
+        EXPECT_EQ(a.neighbours[3 * u + f], across(std::uint32_t(t), std::uint32_t(e))) << i;
+        EXPECT_EQ(weld(u, f), weld(t, e + 1)) << i;
+        EXPECT_EQ(weld(u, f + 1), weld(t, e)) << i;
+    }
+}
+
+} // namespace
+
+TEST(Adjacency, TwoTrianglesShareOneEdgeAcrossAUvSeam)
+{
+    // Quad 0 1 2 3 split along 0-2; the second triangle uses copies 4 (of 0) and 5 (of 2).
+    const Soup s = soup({0, 1, 2, 3, 0, 2}, {0, 1, 2, 4, 5, 3});
+    const pr::EdgeAdjacency a = pr::edge_adjacency(s.vertices, s.indices);
+    expect_consistent(s, a);
+    EXPECT_EQ(a.neighbours[2], across(1, 0)); // edge 2-0 of the first is edge 4-5 of the second
+    EXPECT_EQ(a.neighbours[3], across(0, 2));
+    EXPECT_EQ(a.open_edges, 4u);
+}
+
+TEST(Adjacency, ClosedMeshesHaveNoOpenEdges)
+{
+    for (const char* name : {"cube.obj", "uv_sphere.obj", "torus.obj", "rock.obj"}) {
+        const pr::PreparedMesh m = pr::load_mesh(std::filesystem::path(PR_SOURCE_DIR) / "meshes" / name);
+        const Soup s{m.vertices, m.indices};
+        const pr::EdgeAdjacency a = pr::edge_adjacency(m.vertices, m.indices);
+        expect_consistent(s, a);
+        EXPECT_EQ(a.open_edges, 0u) << name;
+    }
+    const pr::PreparedMesh plane = pr::load_mesh(std::filesystem::path(PR_SOURCE_DIR) / "meshes" / "plane.obj");
+    const pr::EdgeAdjacency a = pr::edge_adjacency(plane.vertices, plane.indices);
+    EXPECT_GT(a.open_edges, 0u);
+    EXPECT_LT(a.open_edges, a.neighbours.size() / 4);
+}
+
+TEST(Adjacency, NonManifoldAndFlippedEdgesHaveNoNeighbour)
+{
+    // Three triangles on edge 0-1 (a fin): none of them pairs there.
+    const Soup fin = soup({0, 1, 2, 3, 4}, {0, 1, 2, 1, 0, 3, 1, 0, 4});
+    const pr::EdgeAdjacency a = pr::edge_adjacency(fin.vertices, fin.indices);
+    EXPECT_EQ(a.neighbours[0], pr::kNoNeighbour);
+    EXPECT_EQ(a.neighbours[3], pr::kNoNeighbour);
+    EXPECT_EQ(a.neighbours[6], pr::kNoNeighbour);
+    EXPECT_EQ(a.open_edges, 9u);
+    // Two triangles that run their shared edge the same way (one of them flipped).
+    const Soup flipped = soup({0, 1, 2, 3}, {0, 1, 2, 0, 1, 3});
+    EXPECT_EQ(pr::edge_adjacency(flipped.vertices, flipped.indices).open_edges, 6u);
+    // A degenerate edge (both ends one position) pairs with nothing.
+    const Soup degenerate = soup({0, 0, 1, 0, 0, 2}, {0, 1, 2, 4, 3, 5});
+    const pr::EdgeAdjacency d = pr::edge_adjacency(degenerate.vertices, degenerate.indices);
+    EXPECT_EQ(d.neighbours[0], pr::kNoNeighbour);
+    EXPECT_EQ(d.neighbours[3], pr::kNoNeighbour);
+}
