@@ -29,8 +29,9 @@ layout(location = 0) out vec4 o_color;
 // early depth rejection against what is already drawn.
 layout(depth_greater) out float gl_FragDepth;
 
-layout(std430, binding = PR_SSBO_VERTICES) readonly buffer Vertices { float b_vertices[]; };
-layout(std430, binding = PR_SSBO_INDICES) readonly buffer Indices { uint b_indices[]; };
+// MeshVertex (src/mesh/mesh.hpp) is 16 floats: read as four vec4, which llvmpipe fetches in four
+// loads per lane instead of one per scalar.
+layout(std430, binding = PR_SSBO_VERTICES) readonly buffer Vertices { vec4 b_vertices[]; };
 
 struct BaseVertex {
     vec3 position;
@@ -43,14 +44,15 @@ struct BaseVertex {
 
 BaseVertex base_vertex(uint index)
 {
-    uint o = index * 16u; // MeshVertex: 16 scalars (src/mesh/mesh.hpp)
+    uint o = index * 4u;
+    vec4 p_nx = b_vertices[o], ny_nz_uv = b_vertices[o + 1u], tangent = b_vertices[o + 2u], b_weld = b_vertices[o + 3u];
     BaseVertex v;
-    v.position = vec3(b_vertices[o], b_vertices[o + 1u], b_vertices[o + 2u]);
-    v.normal = vec3(b_vertices[o + 3u], b_vertices[o + 4u], b_vertices[o + 5u]);
-    v.uv = vec2(b_vertices[o + 6u], b_vertices[o + 7u]);
-    v.tangent = vec3(b_vertices[o + 8u], b_vertices[o + 9u], b_vertices[o + 10u]);
-    v.bitangent = vec3(b_vertices[o + 12u], b_vertices[o + 13u], b_vertices[o + 14u]);
-    v.weld = floatBitsToUint(b_vertices[o + 15u]);
+    v.position = p_nx.xyz;
+    v.normal = vec3(p_nx.w, ny_nz_uv.xy);
+    v.uv = ny_nz_uv.zw;
+    v.tangent = tangent.xyz;
+    v.bitangent = b_weld.xyz;
+    v.weld = floatBitsToUint(b_weld.w);
     return v;
 }
 
@@ -78,7 +80,7 @@ float march_segment(vec3 tex_in, vec3 tex_out)
 {
     vec3 seg = tex_out - tex_in;
     vec2 texels = seg.xy * vec2(textureSize(s_height, 0));
-    int steps = int(ceil(float(u_march.x) * abs(seg.z) + 0.5 * length(texels)));
+    int steps = int(ceil(max(float(u_march.x) * abs(seg.z), 0.5 * length(texels))));
     steps = clamp(steps, 1, 4 * max(u_march.x, 1) + 64);
     // Geometry (the outline and the depth) uses height level 0, as the reference does
     // (contract); filtering it by mip level would move the surface, not just smooth its look.
@@ -104,31 +106,15 @@ float march_segment(vec3 tex_in, vec3 tex_out)
 }
 
 #ifdef PR_PRISM_WALK
-layout(std430, binding = PR_SSBO_ADJACENCY) readonly buffer Adjacency { uint b_adjacency[]; };
-struct ShellCorners {
-    vec4 bottom_u; // bottom corner (world), u
-    vec4 top_v;    // top corner (world), v
-};
-layout(std430, binding = PR_SSBO_CORNERS) readonly buffer Corners { ShellCorners b_corners[]; };
 // A ray that crosses more prisms than this without a hit is dropped (it runs almost parallel to
 // a very finely tessellated surface); docs/prism.md.
 #ifndef PR_WALK_MAX_PRISMS
 #define PR_WALK_MAX_PRISMS 256
 #endif
 
-// What the walk needs of prism `prim`: its corners (corner_world/corner_tex, shell.glsl) from
-// the precomputed buffer, its vertex indices and welded ids, and its side diagonals.
 void load_walk_prism(uint prim, out uint index[3], out uint weld[3], out bool from_a[3])
 {
-    for (int i = 0; i < 3; ++i) {
-        index[i] = b_indices[3u * prim + uint(i)];
-        ShellCorners c = b_corners[index[i]];
-        weld[i] = floatBitsToUint(b_vertices[index[i] * 16u + 15u]);
-        corner_world[i] = c.bottom_u.xyz;
-        corner_world[i + 3] = c.top_v.xyz;
-        corner_tex[i] = vec3(c.bottom_u.w, c.top_v.w, 0.0);
-        corner_tex[i + 3] = vec3(c.bottom_u.w, c.top_v.w, 1.0);
-    }
+    load_walk_prism(prim, index, weld);
     for (int e = 0; e < 3; ++e) from_a[e] = diagonal_from_a(weld[e], weld[(e + 1) % 3]);
 }
 #endif
@@ -179,7 +165,11 @@ void main()
         int edge = int(next & 3u);
         load_walk_prism(prim, index, weld, from_a);
         float along = clamp(1.0 - ex.lambda, 0.0, 1.0);
-        tex_in = vec3(mix(corner_tex[edge].xy, corner_tex[(edge + 1) % 3].xy, along), tex_out.z);
+        // (Selects, not corner_tex[edge]: an index unknown at compile time would send the whole
+        // array to memory on some compilers, llvmpipe's among them.)
+        vec2 from = edge == 0 ? corner_tex[0].xy : (edge == 1 ? corner_tex[1].xy : corner_tex[2].xy);
+        vec2 to = edge == 0 ? corner_tex[1].xy : (edge == 1 ? corner_tex[2].xy : corner_tex[0].xy);
+        tex_in = vec3(mix(from, to, along), tex_out.z);
         t_in = t_out;
     }
     for (int i = 0; i < 3; ++i) bv[i] = base_vertex(index[i]); // the frame at the hit (below)

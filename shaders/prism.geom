@@ -9,9 +9,6 @@
 
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 18) out;
-#ifdef PR_PRISM_WALK
-layout(std430, binding = PR_SSBO_ADJACENCY) readonly buffer Adjacency { uint b_adjacency[]; };
-#endif
 
 in vec3 g_world[];
 in vec3 g_normal[];
@@ -85,38 +82,54 @@ void triangle(int a, int b, int c)
     EndPrimitive();
 }
 
+// The side quad of edge e (a0 b0 b1 a1, outward), split along a0-b1 or b0-a1 (shell.glsl).
+// Called with constant e, so that every corner index is known at compile time (an index that is
+// not would send the corner arrays to memory on llvmpipe).
+void side(int e)
+{
+    int a = e, b = (e + 1) % 3;
+    if (diagonal_from_a(g_weld[a], g_weld[b])) {
+        triangle(a, b, b + 3);
+        triangle(a, b + 3, a + 3);
+    } else {
+        triangle(a, b, a + 3);
+        triangle(b, b + 3, a + 3);
+    }
+}
+
 void main()
 {
+#ifdef PR_PRISM_WALK
+    // The walk's own corners (tight top, shell.glsl), so that entry faces and exits agree.
+    uint index[3], weld[3];
+    load_walk_prism(uint(gl_PrimitiveIDIn), index, weld);
+#else
     for (int i = 0; i < 3; ++i) {
         corner_world[i] = shell_corner(g_world[i], g_normal[i], 0.0);
         corner_world[i + 3] = shell_corner(g_world[i], g_normal[i], 1.0);
         corner_tex[i] = vec3(g_uv[i], 0.0);
         corner_tex[i + 3] = vec3(g_uv[i], 1.0);
     }
+#endif
 
     triangle(3, 4, 5); // top cap, outward along +N (base triangles are counter-clockwise)
 #ifdef PR_PRISM_WALK
     // The walk (prism.frag) carries each ray from prism to prism, so only the shell's outside is
     // drawn: the tops, and on open meshes the bottoms and the walls along edges without a
     // neighbour. On a closed mesh that is 3 vertices per triangle instead of up to 18.
-    bool open_shell = (u_march.w & PR_FLAG_OPEN_SHELL) != 0;
-    if (open_shell) triangle(0, 2, 1);
-    for (int e = 0; e < 3; ++e) {
-        if (!open_shell || b_adjacency[3u * uint(gl_PrimitiveIDIn) + uint(e)] != 0xffffffffu) continue;
+    if ((u_march.w & PR_FLAG_OPEN_SHELL) != 0) {
+        triangle(0, 2, 1);
+        uint first = 3u * uint(gl_PrimitiveIDIn);
+        if (b_adjacency[first] == 0xffffffffu) side(0);
+        if (b_adjacency[first + 1u] == 0xffffffffu) side(1);
+        if (b_adjacency[first + 2u] == 0xffffffffu) side(2);
+    }
 #else
     // Bottom cap, outward along -N. Needed on open meshes (seen from below), and on closed ones
     // it also catches grazing rays whose exit falls numerically on an edge of the neighbour.
     triangle(0, 2, 1);
-    for (int e = 0; e < 3; ++e) {
+    side(0);
+    side(1);
+    side(2);
 #endif
-        int a = e, b = (e + 1) % 3;
-        // Quad a0 b0 b1 a1, outward; split along a0-b1 or b0-a1 (shell.glsl).
-        if (diagonal_from_a(g_weld[a], g_weld[b])) {
-            triangle(a, b, b + 3);
-            triangle(a, b + 3, a + 3);
-        } else {
-            triangle(a, b, a + 3);
-            triangle(b, b + 3, a + 3);
-        }
-    }
 }

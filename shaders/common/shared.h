@@ -31,7 +31,7 @@ using mat4 = glm::mat4;
 #define PR_SSBO_VERTICES 1 // the mesh's vertex buffer (MeshVertex, 16 floats each), prism only
 #define PR_SSBO_INDICES 2  // its index buffer, prism only
 #define PR_SSBO_ADJACENCY 3 // per triangle edge: the triangle across it (src/mesh/adjacency.hpp), prism walk only
-#define PR_SSBO_CORNERS 4   // per vertex: vec4(bottom corner, u), vec4(top corner, v), world space; prism walk only
+#define PR_SSBO_CORNERS 4   // per vertex: vec4(bottom corner, u), vec4(depth * N, v), vec4(top height, weld, 0, 0); walk only
 
 // Technique ids (PR_TECHNIQUE is defined to one of them per program variant).
 #define PR_TECH_FLAT 0

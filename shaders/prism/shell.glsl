@@ -94,6 +94,41 @@ bool prism_exit(vec3 dir, vec3 entry_tex, bool from_a[3], out float t_exit, out 
     return true;
 }
 
+// ---- The prism walk's buffers ------------------------------------------------------------------
+layout(std430, binding = PR_SSBO_INDICES) readonly buffer Indices { uint b_indices[]; };
+#ifdef PR_PRISM_WALK
+// Per vertex (src/render/renderer.cpp, make_shell_corners): the shell's bottom corner and u,
+// depth * N and v, and the height of the top (shell_bounds.hpp) with the welded id.
+struct ShellVertex {
+    vec4 bottom_u;
+    vec4 dn_v;
+    vec4 top_weld;
+};
+layout(std430, binding = PR_SSBO_CORNERS) readonly buffer Corners { ShellVertex b_corners[]; };
+layout(std430, binding = PR_SSBO_ADJACENCY) readonly buffer Adjacency { uint b_adjacency[]; };
+
+// Fills corner_world/corner_tex with prism `prim` (top at the tight height, or at 1 with
+// PR_PRISM_FULL_SHELL); returns its vertex indices and welded ids. The geometry shader and the
+// walk both build their prisms here, so they agree to the bit.
+void load_walk_prism(uint prim, out uint index[3], out uint weld[3])
+{
+    for (int i = 0; i < 3; ++i) {
+        index[i] = b_indices[3u * prim + uint(i)];
+        ShellVertex c = b_corners[index[i]];
+#ifdef PR_PRISM_FULL_SHELL
+        float top = 1.0;
+#else
+        float top = c.top_weld.x;
+#endif
+        corner_world[i] = c.bottom_u.xyz;
+        corner_world[i + 3] = c.bottom_u.xyz + top * c.dn_v.xyz;
+        corner_tex[i] = vec3(c.bottom_u.w, c.dn_v.w, 0.0);
+        corner_tex[i + 3] = vec3(c.bottom_u.w, c.dn_v.w, top);
+        weld[i] = floatBitsToUint(c.top_weld.y);
+    }
+}
+#endif
+
 // ---- The prism walk (PR_PRISM_WALK) -----------------------------------------------------------
 // Where the ray leaves the prism through a face it goes *out* of (faces it comes in by are
 // ignored, so the face of entry needs no epsilon), beyond t_min. Face: 0 top, 1 bottom, 2 + e the

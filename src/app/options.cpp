@@ -151,6 +151,11 @@ void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_techn
                    "prism:MARCHER:EXIT")
         ->group("Technique")
         ->capture_default_str();
+    app.add_option("--prism-shell", o.prism_shell,
+                   "prism walk: tight (each top cap at the highest the height field gets around its "
+                   "corners) or full (top caps at height 1). In lists: prism:MARCHER:walk:SHELL")
+        ->group("Technique")
+        ->capture_default_str();
     app.add_option("--normal-quality", o.normal_quality,
                    "Normal from heights: gather (4-tap), central (differences), sobel (3x3)")
         ->group("Technique")
@@ -189,8 +194,8 @@ DrawSettings make_draw_settings(const TechniqueOptions& o, const std::string& te
                                 const std::string& option)
 {
     DrawSettings s;
-    // "prism:relief" or "prism:relief:vertex" name the marcher and the exit inside the technique
-    // (lists of --techniques).
+    // "prism:relief", "prism:relief:vertex" or "prism:relief:walk:full" name the marcher, the exit
+    // and the walk's shell inside the technique (lists of --techniques).
     std::vector<std::string> parts;
     for (std::size_t start = 0;;) {
         const std::size_t colon = technique.find(':', start);
@@ -201,11 +206,17 @@ DrawSettings make_draw_settings(const TechniqueOptions& o, const std::string& te
     s.technique = parse_technique(parts[0], option);
     s.marcher = parse_marcher(o.marcher, "--marcher");
     s.prism_exit = parse_prism_exit(o.prism_exit, "--prism-exit");
+    s.full_shell = parse_prism_shell(o.prism_shell, "--prism-shell");
     if (parts.size() > 1) {
-        if (s.technique != Technique::Prism || parts.size() > 3)
-            throw Error(option, "'" + technique + "': only prism takes options (prism:MARCHER[:EXIT])");
+        if (s.technique != Technique::Prism || parts.size() > 4)
+            throw Error(option, "'" + technique + "': only prism takes options (prism:MARCHER[:EXIT[:SHELL]])");
         s.marcher = parse_marcher(parts[1], option);
-        if (parts.size() == 3) s.prism_exit = parse_prism_exit(parts[2], option);
+        if (parts.size() >= 3) s.prism_exit = parse_prism_exit(parts[2], option);
+        if (parts.size() == 4) {
+            if (s.prism_exit != PrismExit::Walk)
+                throw Error(option, "'" + technique + "': only the walk takes a shell (prism:MARCHER:walk:SHELL)");
+            s.full_shell = parse_prism_shell(parts[3], option);
+        }
     }
     if (o.steps < 1 || o.steps > 1024) throw Error("--steps", "must be between 1 and 1024");
     if (o.refine < 0 || o.refine > 32) throw Error("--refine", "must be between 0 and 32");

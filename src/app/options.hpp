@@ -39,6 +39,7 @@ struct TechniqueOptions {
     std::string normal_quality = "sobel";
     std::string marcher = "relief";
     std::string prism_exit = "walk";
+    std::string prism_shell = "tight";
     bool depth_write = false;
     std::string shadows = "none";
     int reference_level = 0; // 0: automatic

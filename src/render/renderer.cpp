@@ -4,11 +4,13 @@
 #include "maps/conemap.hpp"
 #include "mesh/adjacency.hpp"
 #include "render/reference_geometry.hpp"
+#include "render/shell_bounds.hpp"
 #include "render/shader_program.hpp"
 
 #include "common/shared.h"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
@@ -115,21 +117,25 @@ gl::Texture make_max_pyramid_texture(const HeightField& hf)
     return t;
 }
 
-// The prism walk's corners (PR_SSBO_CORNERS): per render vertex the shell's bottom and top in
-// world space, the formula of shaders/prism/shell.glsl, with the UV in their w (prism.frag reads
-// two vec4 per corner instead of a vertex and two matrix products).
+// The prism walk's shell (PR_SSBO_CORNERS), per render vertex, world space, the formula of
+// shaders/prism/shell.glsl: vec4(bottom corner, u), vec4(depth * N, v), vec4(tight top height,
+// welded id as float bits, 0, 0). The corner at height h is bottom + h * depth * N; the walk reads
+// three vec4 per corner instead of a vertex and two matrix products.
 gl::Buffer make_shell_corners(const SceneObject& so)
 {
     const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(so.transform)));
+    const std::vector<float> top = shell_top_heights(so.mesh.vertices, so.mesh.indices, *so.height);
     std::vector<glm::vec4> corners;
-    corners.reserve(std::max<std::size_t>(so.mesh.vertices.size(), 1) * 2);
-    for (const MeshVertex& v : so.mesh.vertices) {
+    corners.reserve(std::max<std::size_t>(so.mesh.vertices.size(), 1) * 3);
+    for (std::size_t i = 0; i < so.mesh.vertices.size(); ++i) {
+        const MeshVertex& v = so.mesh.vertices[i];
         const glm::vec3 world = glm::vec3(so.transform * glm::vec4(v.position, 1.0f));
-        const glm::vec3 n = glm::normalize(normal_matrix * v.normal);
-        corners.emplace_back(world + so.depth * (0.0f - so.midlevel) * n, v.uv.x);
-        corners.emplace_back(world + so.depth * (1.0f - so.midlevel) * n, v.uv.y);
+        const glm::vec3 dn = so.depth * glm::normalize(normal_matrix * v.normal);
+        corners.emplace_back(world - so.midlevel * dn, v.uv.x);
+        corners.emplace_back(dn, v.uv.y);
+        corners.emplace_back(top[i], std::bit_cast<float>(v.weld_id), 0.0f, 0.0f);
     }
-    if (corners.empty()) corners.resize(2);
+    if (corners.empty()) corners.resize(3);
     gl::Buffer b = gl::Buffer::create();
     glNamedBufferStorage(b.id(), static_cast<GLsizeiptr>(corners.size() * sizeof(glm::vec4)), corners.data(), 0);
     return b;
@@ -158,6 +164,7 @@ ShaderDefines defines_for(const DrawSettings& s)
         d.emplace_back("PR_MARCHER", marcher[static_cast<int>(s.marcher)]);
         if (s.prism_exit == PrismExit::Vertex) d.emplace_back("PR_PRISM_EXIT_VERTEX", "1");
         if (s.prism_exit == PrismExit::Walk) d.emplace_back("PR_PRISM_WALK", "1");
+        if (s.prism_exit == PrismExit::Walk && s.full_shell) d.emplace_back("PR_PRISM_FULL_SHELL", "1");
     }
     if (s.depth_write && s.technique != Technique::Prism) d.emplace_back("PR_DEPTH_WRITE", "1");
     if (s.shadows != Shadows::None && s.technique != Technique::Flat && s.technique != Technique::Reference)

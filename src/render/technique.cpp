@@ -134,7 +134,14 @@ PrismExit parse_prism_exit(const std::string& name, const std::string& option)
     if (name == "exact") return PrismExit::Exact;
     if (name == "vertex") return PrismExit::Vertex;
     if (name == "walk") return PrismExit::Walk;
-    throw Error(option, "unknown prism exit '" + name + "' (expected exact|vertex|walk)");
+    throw Error(option, "unknown prism exit '" + name + "' (expected walk|exact|vertex)");
+}
+
+bool parse_prism_shell(const std::string& name, const std::string& option)
+{
+    if (name == "tight") return false;
+    if (name == "full") return true;
+    throw Error(option, "unknown prism shell '" + name + "' (expected tight|full)");
 }
 
 } // namespace pr

@@ -41,6 +41,8 @@ const std::vector<Marcher>& all_marchers(); // in that order (the viewer's combo
 Shadows parse_shadows(const std::string& name, const std::string& option = "--shadows");
 std::string shadows_name(Shadows s);
 PrismExit parse_prism_exit(const std::string& name, const std::string& option = "--prism-exit");
+// "tight" or "full": returns DrawSettings::full_shell.
+bool parse_prism_shell(const std::string& name, const std::string& option = "--prism-shell");
 
 std::string normal_quality_name(NormalQuality q);
 
@@ -56,6 +58,7 @@ struct DrawSettings {
     int refine = 6;  // binary refinement steps (relief)
     Marcher marcher = Marcher::Relief; // prism only
     PrismExit prism_exit = PrismExit::Walk; // prism only
+    bool full_shell = false; // walk: top caps at height 1, not at the field's local maximum (shell_bounds.hpp)
     NormalQuality normal_quality = NormalQuality::Sobel;
     Shadows shadows = Shadows::None;
     bool depth_write = false; // base-surface techniques: write the depth of what they show

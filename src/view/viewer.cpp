@@ -274,7 +274,8 @@ std::string Viewer::settings_key() const
         const DrawSettings& d = half_[h];
         key += std::to_string(int(d.technique)) + "," + std::to_string(int(d.marcher)) + "," +
                std::to_string(int(d.normal_quality)) + "," + std::to_string(int(d.shadows)) + "," +
-               std::to_string(int(d.prism_exit)) + "," + std::to_string(d.depth_write) + ";";
+               std::to_string(int(d.prism_exit)) + "," + std::to_string(d.full_shell) + "," +
+               std::to_string(d.depth_write) + ";";
     }
     return key + std::to_string(int(overlay_)) + std::to_string(reference_overlay_);
 }

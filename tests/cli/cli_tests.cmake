@@ -119,10 +119,16 @@ if(EGL_INCLUDE_DIR)
 endif()
 
 # Prism options in lists and flags.
-pr_cli(compare_prism_variants EXIT 0 STDOUT "prism:linear .*prism:relief:vertex"
-       JSON v.json CHECKS "${R}.1.iou:GREATER:0.9|${R}.0.iou:GREATER:0.9"
+pr_cli(compare_prism_variants EXIT 0 STDOUT "prism:linear .*prism:relief:vertex .*prism:relief:exact .*prism:relief:walk:full"
+       JSON v.json CHECKS "${R}.0.iou:GREATER:0.9|${R}.1.iou:GREATER:0.9|${R}.2.iou:GREATER:0.9|${R}.3.iou:GREATER:0.9"
        ARGS compare --mesh ${M}/torus.obj --height builtin:bumps@128 --size 96x96
-            --techniques prism:linear,prism:relief:vertex --json v.json)
+            --techniques prism:linear,prism:relief:vertex,prism:relief:exact,prism:relief:walk:full --json v.json)
+pr_cli(prism_shell_unknown EXIT 1 ONE_LINE STDERR "${E}--prism-shell: unknown prism shell 'thin' \\(expected tight\\|full\\)"
+       ARGS render --mesh ${M}/torus.obj --technique prism --prism-shell thin --out p.png NO_FILE p.png)
+pr_cli(prism_shell_needs_walk EXIT 1 ONE_LINE STDERR "${E}--techniques: 'prism:relief:exact:full': only the walk takes a shell"
+       ARGS compare --mesh ${M}/torus.obj --techniques prism:relief:exact:full)
+pr_cli(render_prism_full_shell EXIT 0 EXPECT_FILE p.png STDOUT "p.png: 64x64 prism"
+       ARGS render --mesh ${M}/torus.obj --technique prism --prism-shell full --size 64x64 --out p.png)
 pr_cli(prism_exit_unknown EXIT 1 ONE_LINE STDERR "${E}--prism-exit: unknown prism exit 'nearest'"
        ARGS render --mesh ${M}/torus.obj --technique prism --prism-exit nearest --out p.png NO_FILE p.png)
 pr_cli(marcher_on_pom EXIT 1 ONE_LINE STDERR "${E}--techniques: 'pom:relief': only prism takes options"

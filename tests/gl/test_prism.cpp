@@ -279,3 +279,34 @@ TEST(Prism, WalkDrawsTheWallsAndBottomOfOpenMeshes)
         EXPECT_GE(walk.iou, exact.iou - 0.002) << elevation;
     }
 }
+
+// The tight shell (top caps at the field's local maximum) draws what the full one (top caps at
+// height 1) draws, and its rays start lower: fewer height samples per fragment.
+TEST(Prism, TightShellMatchesTheFullShellWithFewerSamples)
+{
+    prtest::context();
+    Renderer r(128, 128);
+    auto bumps = std::make_shared<HeightField>(load_height("builtin:bumps@128"));
+    for (const char* name : {"torus.obj", "rock.obj"}) {
+        Scene scene = mesh_scene(name, bumps, 0.04f);
+        r.upload(scene);
+        const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, 35.0f, 30.0f);
+        r.prepare_reference(scene, c, ReferenceOptions{});
+        const FrameCapture ref = capture(r, c, Technique::Reference);
+        double iou[2] = {0.0, 0.0};
+        std::uint64_t samples[2] = {0, 0};
+        for (bool full : {false, true}) {
+            DrawSettings s;
+            s.technique = Technique::Prism;
+            s.full_shell = full;
+            r.draw(c, glm::normalize(glm::vec3(-0.3f, 0.6f, 1.0f)), s);
+            iou[full] = compare_frames({r.read_color(), r.read_depth(), c}, ref).iou;
+            s.count_samples = true;
+            r.draw(c, glm::normalize(glm::vec3(-0.3f, 0.6f, 1.0f)), s);
+            samples[full] = r.read_counters().samples;
+        }
+        EXPECT_GT(iou[0], 0.98) << name;
+        EXPECT_NEAR(iou[0], iou[1], 0.003) << name;
+        EXPECT_LT(samples[0], samples[1] * 9 / 10) << name;
+    }
+}

@@ -27,12 +27,14 @@ TEST(ShaderVariants, EveryTechniqueQualityAndInstrumentationCompiles)
                     s.depth_write = depth_write;
                     s.count_samples = count;
                     for (Marcher m : {Marcher::Linear, Marcher::Relief})
-                        for (PrismExit e : {PrismExit::Exact, PrismExit::Vertex}) {
-                            s.marcher = m;
-                            s.prism_exit = e;
-                            EXPECT_NO_THROW(r.program_for(s)) << t.name << " " << normal_quality_name(q);
-                            if (t.technique != Technique::Prism) break;
-                        }
+                        for (PrismExit e : {PrismExit::Walk, PrismExit::Exact, PrismExit::Vertex})
+                            for (bool full_shell : {false, true}) {
+                                s.marcher = m;
+                                s.prism_exit = e;
+                                s.full_shell = full_shell;
+                                EXPECT_NO_THROW(r.program_for(s)) << t.name << " " << normal_quality_name(q);
+                                if (t.technique != Technique::Prism) break;
+                            }
                 }
 }
 

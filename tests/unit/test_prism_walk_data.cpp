@@ -1,11 +1,16 @@
-// Edge adjacency for the prism walk: pairs across UV seams (by welded position), boundaries,
-// non-manifold edges and faces of opposite orientation have none.
+// The prism walk's mesh data: edge adjacency (pairs across UV seams by welded position;
+// boundaries, non-manifold edges and faces of opposite orientation have none) and the tight
+// shell's top heights.
+#include "core/image.hpp"
 #include "mesh/adjacency.hpp"
 #include "mesh/mesh.hpp"
+#include "render/shell_bounds.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <string>
 #include <filesystem>
 #include <vector>
 
@@ -91,4 +96,37 @@ TEST(Adjacency, NonManifoldAndFlippedEdgesHaveNoNeighbour)
     const pr::EdgeAdjacency d = pr::edge_adjacency(degenerate.vertices, degenerate.indices);
     EXPECT_EQ(d.neighbours[0], pr::kNoNeighbour);
     EXPECT_EQ(d.neighbours[3], pr::kNoNeighbour);
+}
+
+// The tight shell's top: at every point of every triangle the bilinear field stays below the top
+// interpolated from the corners (their minimum bounds it), equal for every copy of a position.
+TEST(ShellBounds, TopStaysAboveTheFieldAndAgreesAcrossSeams)
+{
+    const pr::HeightField h = pr::load_height("builtin:bumps@64");
+    for (const char* name : {"uv_sphere.obj", "rock.obj", "plane.obj"}) {
+        const pr::PreparedMesh m = pr::load_mesh(std::filesystem::path(PR_SOURCE_DIR) / "meshes" / name);
+        const std::vector<float> top = pr::shell_top_heights(m.vertices, m.indices, h);
+        ASSERT_EQ(top.size(), m.vertices.size());
+        double sum = 0.0;
+        for (std::size_t t = 0; t < m.indices.size(); t += 3) {
+            const pr::MeshVertex *a = &m.vertices[m.indices[t]], *b = &m.vertices[m.indices[t + 1]],
+                                 *c = &m.vertices[m.indices[t + 2]];
+            const float lowest = std::min({top[m.indices[t]], top[m.indices[t + 1]], top[m.indices[t + 2]]});
+            for (int i = 0; i <= 8; ++i)
+                for (int j = 0; i + j <= 8; ++j) {
+                    const float u = i / 8.0f, v = j / 8.0f;
+                    const glm::vec2 uv = a->uv * (1.0f - u - v) + b->uv * u + c->uv * v;
+                    ASSERT_LE(h.sample(uv), lowest + 1e-6f) << name << " triangle " << t / 3;
+                }
+        }
+        std::vector<float> by_weld(m.weld_count, -1.0f);
+        for (std::size_t i = 0; i < m.vertices.size(); ++i) {
+            float& w = by_weld[m.vertices[i].weld_id];
+            if (w < 0.0f) w = top[i];
+            EXPECT_EQ(w, top[i]) << name << " vertex " << i;
+            EXPECT_LE(top[i], 1.0f);
+            sum += top[i];
+        }
+        if (std::string(name) == "rock.obj") EXPECT_LT(sum / double(top.size()), 0.8) << "not tight";
+    }
 }

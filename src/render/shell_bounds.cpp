@@ -1,0 +1,52 @@
+#include "render/shell_bounds.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/common.hpp>
+
+namespace pr {
+namespace {
+
+// Maximum of the bilinear field over the UV box [lo, hi]: the texels at the corners of every
+// cell the box touches (a bilinear cell never exceeds its corners).
+float box_max(const HeightField& h, glm::vec2 lo, glm::vec2 hi, float global_max)
+{
+    const double x0 = std::floor(double(lo.x) * h.width - 0.5), x1 = std::floor(double(hi.x) * h.width - 0.5) + 1.0;
+    const double y0 = std::floor(double(lo.y) * h.height - 0.5), y1 = std::floor(double(hi.y) * h.height - 0.5) + 1.0;
+    if (!(x1 - x0 < h.width && y1 - y0 < h.height) || (x1 - x0 + 1.0) * (y1 - y0 + 1.0) > 4096.0)
+        return global_max; // wraps around the texture, not finite, or larger than it is worth
+    float m = 0.0f;
+    for (auto y = static_cast<long long>(y0); y <= static_cast<long long>(y1); ++y)
+        for (auto x = static_cast<long long>(x0); x <= static_cast<long long>(x1); ++x)
+            m = std::max(m, h.at(static_cast<int>(((x % h.width) + h.width) % h.width),
+                                 static_cast<int>(((y % h.height) + h.height) % h.height)));
+    return m;
+}
+
+} // namespace
+
+std::vector<float> shell_top_heights(const std::vector<MeshVertex>& vertices,
+                                     const std::vector<std::uint32_t>& indices, const HeightField& height)
+{
+    const float global_max = std::clamp(height.max_value(), 0.0f, 1.0f);
+    std::uint32_t weld_count = 0;
+    for (const MeshVertex& v : vertices) weld_count = std::max(weld_count, v.weld_id + 1);
+    std::vector<float> weld_top(weld_count, 0.0f);
+    for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
+        const glm::vec2 a = vertices[indices[t]].uv, b = vertices[indices[t + 1]].uv, c = vertices[indices[t + 2]].uv;
+        const float m = box_max(height, glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c)), global_max);
+        for (int k = 0; k < 3; ++k) {
+            float& w = weld_top[vertices[indices[t + k]].weld_id];
+            w = std::max(w, m);
+        }
+    }
+    // The GPU reads the heights at 8 or 16 bits: allow one step of rounding up.
+    const float step = height.bits > 8 ? 1.0f / 65535.0f : 1.0f / 255.0f;
+    std::vector<float> top(vertices.size());
+    for (std::size_t i = 0; i < vertices.size(); ++i)
+        top[i] = std::min(1.0f, weld_top[vertices[i].weld_id] + step);
+    return top;
+}
+
+} // namespace pr

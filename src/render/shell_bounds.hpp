@@ -1,0 +1,20 @@
+#pragma once
+// A tighter shell for the prism walk: at each welded position, the highest the height field gets
+// over the triangles around it. The shell's top there is that height instead of 1, so rays enter
+// lower and cross fewer prisms, and the field still lies under every top cap (docs/prism.md).
+#include "core/image.hpp"
+#include "mesh/mesh.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace pr {
+
+// Per render vertex: an upper bound, in [0, 1], of the bilinear height field over every triangle
+// that shares the vertex's welded position (each triangle's bound covers the texels of its UV
+// bounding box, with repeat wrap, plus the GPU's quantization of the heights), equal for every
+// copy of a position, so that neighbouring prisms keep identical side faces.
+std::vector<float> shell_top_heights(const std::vector<MeshVertex>& vertices,
+                                     const std::vector<std::uint32_t>& indices, const HeightField& height);
+
+} // namespace pr
