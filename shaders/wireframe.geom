@@ -1,8 +1,8 @@
 // Wireframe overlays, drawn after prism.vert (the prism's own shell vertices): the edges of one
 // base triangle as line strips, or (variant PR_OVERLAY_SHELL) the edges of its shell prism: bottom
 // and top triangles, the three vertical edges and the diagonal that splits each side quad —
-// corners from shell_corner() and the diagonal from diagonal_from_a(), exactly as prism.geom
-// builds the faces it rasterizes. Edges shared by neighbouring triangles are drawn twice (same
+// corners from shell_corner() (or, for the prism walk, load_walk_prism() with its tight tops) and
+// the diagonal from diagonal_from_a(), exactly as prism.geom builds the faces it rasterizes. Edges shared by neighbouring triangles are drawn twice (same
 // pixels, same colour).
 #include "common/shared.h"
 #include "prism/shell.glsl"
@@ -49,10 +49,15 @@ void loop3(vec3 a, vec3 b, vec3 c)
 void main()
 {
 #ifdef PR_OVERLAY_SHELL
+#ifdef PR_PRISM_WALK
+    uint index[3], weld[3]; // the walk's prism, tight top included (shell.glsl)
+    load_walk_prism(uint(gl_PrimitiveIDIn), index, weld);
+#else
     for (int i = 0; i < 3; ++i) {
         corner_world[i] = shell_corner(g_world[i], g_normal[i], 0.0);
         corner_world[i + 3] = shell_corner(g_world[i], g_normal[i], 1.0);
     }
+#endif
     loop3(corner_world[0], corner_world[1], corner_world[2]);
     loop3(corner_world[3], corner_world[4], corner_world[5]);
     for (int e = 0; e < 3; ++e) {

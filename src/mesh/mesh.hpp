@@ -32,7 +32,8 @@ struct MeshVertex {
 
 struct MeshOptions {
     std::size_t max_triangles = 10'000'000; // after triangulation; more fails early with an error (about
-                                            // 0.5 GB of peak memory per million with prism: docs/robustness.md)
+                                            // 0.3 GB of peak memory per million with prism, 0.5 GB with its exact
+                                            // exit: docs/robustness.md)
     // Automatic UVs for meshes without them (see docs/mesh-input.md): box projection on the
     // dominant axis of each face's welded normal; `uv_scale` UV units (texture repeats) across the
     // largest extent of the bounding box.

@@ -16,13 +16,18 @@ namespace pr {
 void Renderer::draw_overlay(const Camera& camera, Overlay overlay, glm::vec4 color, const DrawSettings& settings)
 {
     const bool shell = overlay == Overlay::PrismShell;
+    // The walk's shell (tight tops, from its per-vertex buffer) when that is what the prism draws.
+    const bool walk = shell && settings.technique == Technique::Prism && settings.prism_exit == PrismExit::Walk;
+    const bool full = walk && settings.full_shell;
     // Keys cannot collide with the technique variants' ("NAME=VALUE;…"); reload_shaders() drops
     // these programs too.
-    const std::string key = shell ? "overlay:shell" : "overlay:base";
+    const std::string key = !shell ? "overlay:base" : !walk ? "overlay:shell" : full ? "overlay:walk-full" : "overlay:walk";
     auto it = programs_.find(key);
     if (it == programs_.end()) {
         ShaderDefines defines;
         if (shell) defines.emplace_back("PR_OVERLAY_SHELL", "1");
+        if (walk) defines.emplace_back("PR_PRISM_WALK", "1");
+        if (full) defines.emplace_back("PR_PRISM_FULL_SHELL", "1");
         gl::Program p = build_program({{GL_VERTEX_SHADER, "prism.vert"}, // the prism's own shell vertices
                                        {GL_GEOMETRY_SHADER, "wireframe.geom"},
                                        {GL_FRAGMENT_SHADER, "wireframe.frag"}},
@@ -51,6 +56,10 @@ void Renderer::draw_overlay(const Camera& camera, Overlay overlay, glm::vec4 col
     const bool inward = t != Technique::Prism && t != Technique::Reference && t != Technique::Flat;
     for (const GpuObject& o : objects_) {
         upload_object(o, settings, inward ? 1.0f : o.midlevel);
+        if (walk) {
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_INDICES, o.base.indices.id());
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_CORNERS, o.corners.id());
+        }
         glBindVertexArray(o.base.vao.id());
         glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
     }

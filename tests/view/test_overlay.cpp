@@ -71,6 +71,23 @@ TEST(Overlay, LinesKeepCoverageAndTheShellReachesOutsideTheOutline)
     // The top cap and the sides stand above the far edge: many more lines outside the outline.
     EXPECT_GT(shell.outside, base.outside + 100u) << base.outside;
 
+    // For the prism walk the overlay draws the walk's shell: with the tight top (at the constant
+    // height 0.5, not 1) it stands about half as far above the square as the full shell.
+    DrawSettings prism;
+    prism.technique = Technique::Prism;
+    std::size_t outside[2] = {0, 0};
+    for (bool full : {false, true}) {
+        prism.full_shell = full;
+        r.draw(cam, light, flat);
+        r.draw_overlay(cam, Renderer::Overlay::PrismShell, {0.0f, 1.0f, 0.0f, 1.0f}, prism);
+        const Counts c = compare(plain, r.read_color());
+        EXPECT_EQ(c.alpha_changed, 0u);
+        outside[full] = c.outside;
+    }
+    EXPECT_EQ(outside[1], shell.outside); // full: the contract's shell, as drawn for flat
+    EXPECT_LT(outside[0] + 50u, outside[1]);
+    EXPECT_GT(outside[0], base.outside);
+
     // Hot reload drops the overlay programs too; they build again.
     r.reload_shaders();
     r.draw(cam, light, flat);
