@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 pr=${PRISMRELIEF:-build/src/prismrelief}
-techniques=${TECHNIQUES:-pom,prism,prism:linear,prism:relief:vertex}
+techniques=${TECHNIQUES:-pom,prism,prism:linear,prism:relief:walk:full,prism:relief:exact,prism:relief:vertex}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 echo "| mesh | elevation | technique | IoU | silhouette px wrong | only in reference px | depth error mean (% of depth) | median (% of depth) | max |"

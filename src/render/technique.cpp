@@ -137,6 +137,15 @@ PrismExit parse_prism_exit(const std::string& name, const std::string& option)
     throw Error(option, "unknown prism exit '" + name + "' (expected walk|exact|vertex)");
 }
 
+std::string prism_exit_name(PrismExit e)
+{
+    switch (e) {
+    case PrismExit::Exact: return "exact";
+    case PrismExit::Vertex: return "vertex";
+    default: return "walk";
+    }
+}
+
 bool parse_prism_shell(const std::string& name, const std::string& option)
 {
     if (name == "tight") return false;

@@ -41,6 +41,7 @@ const std::vector<Marcher>& all_marchers(); // in that order (the viewer's combo
 Shadows parse_shadows(const std::string& name, const std::string& option = "--shadows");
 std::string shadows_name(Shadows s);
 PrismExit parse_prism_exit(const std::string& name, const std::string& option = "--prism-exit");
+std::string prism_exit_name(PrismExit e);
 // "tight" or "full": returns DrawSettings::full_shell.
 bool parse_prism_shell(const std::string& name, const std::string& option = "--prism-shell");
 

@@ -50,11 +50,15 @@ std::string lower_extension(const std::string& path)
     return ext;
 }
 
-// "pom", "prism:relief": as --techniques lists name them.
+// "pom", "prism:relief", "prism:relief:exact", "prism:cone:walk:full": as --techniques lists name
+// them (the default walk with its tight shell is left out).
 std::string display_name(const DrawSettings& d)
 {
     const std::string t = technique_name(d.technique);
-    return d.technique == Technique::Prism ? t + ":" + marcher_name(d.marcher) : t;
+    if (d.technique != Technique::Prism) return t;
+    std::string name = t + ":" + marcher_name(d.marcher);
+    if (d.prism_exit != PrismExit::Walk) return name + ":" + prism_exit_name(d.prism_exit);
+    return d.full_shell ? name + ":walk:full" : name;
 }
 
 // What the panel shows for one technique (one half of the split view).
@@ -529,6 +533,20 @@ void Viewer::technique_combo(int k)
                 }
             }
             ImGui::EndCombo();
+        }
+        const std::string exit_id = std::string("exit##") + char('0' + k);
+        if (ImGui::BeginCombo(exit_id.c_str(), prism_exit_name(d.prism_exit).c_str())) {
+            for (PrismExit e : {PrismExit::Walk, PrismExit::Exact, PrismExit::Vertex}) {
+                if (ImGui::Selectable(prism_exit_name(e).c_str(), e == d.prism_exit)) {
+                    d.prism_exit = e;
+                    dirty_ = true;
+                }
+            }
+            ImGui::EndCombo();
+        }
+        if (d.prism_exit == PrismExit::Walk) {
+            const std::string full_id = std::string("full shell##") + char('0' + k);
+            if (ImGui::Checkbox(full_id.c_str(), &d.full_shell)) dirty_ = true;
         }
     }
 }
