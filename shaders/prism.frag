@@ -141,16 +141,14 @@ void main()
     load_walk_prism(prim, index, weld, from_a);
     for (int k = 0; k < PR_WALK_MAX_PRISMS; ++k) {
         WalkExit ex = walk_exit(dir, t_in * (1.0 - 1e-6), from_a, 1e-5);
-        // No way out of the first prism: the rasterizer's snapped edge put the fragment a little
-        // outside its face; compare the planes only (shell.glsl).
-        if (ex.face < 0 && k == 0) ex = walk_exit(dir, t_in * (1.0 - 1e-6), from_a, 1e30);
+        // No way out: in the first prism the rasterizer's snapped edge put the fragment a little
+        // outside its face; later, the ray came in where the shell folds. Compare the planes only
+        // (shell.glsl), which on a convex prism still finds the way out.
+        if (ex.face < 0) ex = walk_exit(dir, t_in * (1.0 - 1e-6), from_a, 1e30);
         if (ex.face < 0) {
-            // None out of a later one: the ray came in where the shell folds over itself (a
-            // crease deeper than its radius). It is inside the shell there: take the entry.
-            if (k > 0) s = 0.0;
             t_out = t_in;
             tex_out = tex_in;
-            break;
+            break; // lost: a miss
         }
         t_out = ex.t;
         tex_out = vec3(ex.tex.xy, clamp(ex.tex.z, 0.0, 1.0));

@@ -117,7 +117,22 @@ void main()
     // The walk (prism.frag) carries each ray from prism to prism, so only the shell's outside is
     // drawn: the tops, and on open meshes the bottoms and the walls along edges without a
     // neighbour. On a closed mesh that is 3 vertices per triangle instead of up to 18.
-    if ((u_march.w & PR_FLAG_OPEN_SHELL) != 0) {
+    // Where the shell folds (a cap offset past the surface's centre of curvature turns over:
+    // inward shells at sharp convex edges, outward ones in tight creases), its outside is not
+    // just the tops, and a walk through the folded prisms can lose its way: such prisms emit all
+    // their front faces, as with the exact exit, and each of those fragments walks too.
+    vec3 n_base = cross(g_world[1] - g_world[0], g_world[2] - g_world[0]);
+    vec3 n_bottom = cross(corner_world[1] - corner_world[0], corner_world[2] - corner_world[0]);
+    vec3 n_top = cross(corner_world[4] - corner_world[3], corner_world[5] - corner_world[3]);
+    const float kFoldCos = 0.5; // a cap turned more than 60 degrees from its base triangle
+    bool folded = dot(n_bottom, n_base) < kFoldCos * length(n_bottom) * length(n_base) ||
+                  dot(n_top, n_base) < kFoldCos * length(n_top) * length(n_base);
+    if (folded) {
+        triangle(0, 2, 1);
+        side(0);
+        side(1);
+        side(2);
+    } else if ((u_march.w & PR_FLAG_OPEN_SHELL) != 0) {
         triangle(0, 2, 1);
         uint first = 3u * uint(gl_PrimitiveIDIn);
         if (b_adjacency[first] == 0xffffffffu) side(0);

@@ -94,6 +94,12 @@ bool prism_exit(vec3 dir, vec3 entry_tex, bool from_a[3], out float t_exit, out 
     return true;
 }
 
+// +1 when the walk's current prism (load_walk_prism) winds counter-clockwise seen from outside.
+// Judged on the base triangle (height `midlevel`), which is never folded: a bottom or top cap
+// offset by more than the surface's radius of curvature may be (inward shells at sharp convex
+// edges, outward ones in tight creases).
+float walk_orientation;
+
 // ---- The prism walk's buffers ------------------------------------------------------------------
 layout(std430, binding = PR_SSBO_INDICES) readonly buffer Indices { uint b_indices[]; };
 #ifdef PR_PRISM_WALK
@@ -112,6 +118,7 @@ layout(std430, binding = PR_SSBO_ADJACENCY) readonly buffer Adjacency { uint b_a
 // walk both build their prisms here, so they agree to the bit.
 void load_walk_prism(uint prim, out uint index[3], out uint weld[3])
 {
+    vec3 base[3], up = vec3(0.0);
     for (int i = 0; i < 3; ++i) {
         index[i] = b_indices[3u * prim + uint(i)];
         ShellVertex c = b_corners[index[i]];
@@ -125,7 +132,10 @@ void load_walk_prism(uint prim, out uint index[3], out uint weld[3])
         corner_tex[i] = vec3(c.bottom_u.w, c.dn_v.w, 0.0);
         corner_tex[i + 3] = vec3(c.bottom_u.w, c.dn_v.w, top);
         weld[i] = floatBitsToUint(c.top_weld.y);
+        base[i] = c.bottom_u.xyz + u_displace.y * c.dn_v.xyz;
+        up += c.dn_v.xyz;
     }
+    walk_orientation = dot(cross(base[1] - base[0], base[2] - base[0]), up) < 0.0 ? -1.0 : 1.0;
 }
 #endif
 
@@ -142,7 +152,7 @@ struct WalkExit {
 };
 
 // `orient`: +1 for a prism whose faces wind counter-clockwise seen from outside, -1 for one turned
-// inside out by normals that oppose the winding (prism_orientation()).
+// inside out by normals that oppose the winding (walk_orientation).
 void walk_candidate(int a, int b, int c, int face, vec3 dir, float t_min, float orient, float slack,
                     inout WalkExit best)
 {
@@ -159,20 +169,13 @@ void walk_candidate(int a, int b, int c, int face, vec3 dir, float t_min, float 
     }
 }
 
-float prism_orientation()
-{
-    vec3 n = cross(corner_world[1] - corner_world[0], corner_world[2] - corner_world[0]);
-    vec3 up = corner_world[3] + corner_world[4] + corner_world[5] - corner_world[0] - corner_world[1] - corner_world[2];
-    return dot(n, up) < 0.0 ? -1.0 : 1.0;
-}
-
 // `slack` grows the faces (ray_triangle); a huge one compares planes only, which on a convex
 // prism still finds the way out of a ray that comes in just outside it (the rasterizer snaps
 // vertices to its subpixel grid, so a fragment on an edge may lie a little outside its face).
 WalkExit walk_exit(vec3 dir, float t_min, bool from_a[3], float slack)
 {
     WalkExit best = WalkExit(1e30, vec3(0.0), -1, 0.0);
-    float orient = prism_orientation();
+    float orient = walk_orientation;
     walk_candidate(3, 4, 5, 0, dir, t_min, orient, slack, best);
     walk_candidate(0, 2, 1, 1, dir, t_min, orient, slack, best);
     for (int e = 0; e < 3; ++e) {
