@@ -121,17 +121,18 @@ gl::Texture make_max_pyramid_texture(const HeightField& hf)
 // shaders/prism/shell.glsl: vec4(bottom corner, u), vec4(depth * N, v), vec4(tight top height,
 // welded id as float bits, 0, 0). The corner at height h is bottom + h * depth * N; the walk reads
 // three vec4 per corner instead of a vertex and two matrix products.
-gl::Buffer make_shell_corners(const SceneObject& so)
+gl::Buffer make_shell_corners(const std::vector<MeshVertex>& vertices, const std::vector<std::uint32_t>& indices,
+                              const HeightField& height, const glm::mat4& transform, float depth, float midlevel)
 {
-    const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(so.transform)));
-    const std::vector<float> top = shell_top_heights(so.mesh.vertices, so.mesh.indices, *so.height);
+    const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(transform)));
+    const std::vector<float> top = shell_top_heights(vertices, indices, height);
     std::vector<glm::vec4> corners;
-    corners.reserve(std::max<std::size_t>(so.mesh.vertices.size(), 1) * 3);
-    for (std::size_t i = 0; i < so.mesh.vertices.size(); ++i) {
-        const MeshVertex& v = so.mesh.vertices[i];
-        const glm::vec3 world = glm::vec3(so.transform * glm::vec4(v.position, 1.0f));
-        const glm::vec3 dn = so.depth * glm::normalize(normal_matrix * v.normal);
-        corners.emplace_back(world - so.midlevel * dn, v.uv.x);
+    corners.reserve(std::max<std::size_t>(vertices.size(), 1) * 3);
+    for (std::size_t i = 0; i < vertices.size(); ++i) {
+        const MeshVertex& v = vertices[i];
+        const glm::vec3 world = glm::vec3(transform * glm::vec4(v.position, 1.0f));
+        const glm::vec3 dn = depth * glm::normalize(normal_matrix * v.normal);
+        corners.emplace_back(world - midlevel * dn, v.uv.x);
         corners.emplace_back(dn, v.uv.y);
         corners.emplace_back(top[i], std::bit_cast<float>(v.weld_id), 0.0f, 0.0f);
     }
@@ -230,14 +231,6 @@ void Renderer::upload(const Scene& scene)
         o.transform = so.transform;
         o.base_color = so.base_color;
         o.base = make_geometry(so.mesh.vertices, so.mesh.indices);
-        const EdgeAdjacency adjacency = edge_adjacency(so.mesh.vertices, so.mesh.indices);
-        o.adjacency = gl::Buffer::create();
-        glNamedBufferStorage(o.adjacency.id(),
-                             static_cast<GLsizeiptr>(std::max<std::size_t>(adjacency.neighbours.size(), 1) *
-                                                     sizeof(std::uint32_t)),
-                             adjacency.neighbours.data(), 0);
-        o.open_shell = adjacency.open_edges > 0;
-        o.corners = make_shell_corners(so);
 
         // Textures shared between objects are uploaded once; the cache owns them and each
         // object refers to the cached name (gl::Texture is move-only, so objects hold none).
@@ -373,6 +366,32 @@ void Renderer::ensure_aux_textures(AuxMap map)
     if (glGetError() == GL_OUT_OF_MEMORY) throw Error("scene", "out of GPU memory while uploading derived maps");
 }
 
+void Renderer::ensure_walk_data()
+{
+    // Built on the first walk draw, not at upload: other techniques need none of it (on a
+    // 5-million-triangle mesh it takes about 2 s). The mesh comes back from its own buffers.
+    for (GpuObject& o : objects_) {
+        if (o.corners) continue;
+        GLint64 vertex_bytes = 0;
+        glGetNamedBufferParameteri64v(o.base.vertices.id(), GL_BUFFER_SIZE, &vertex_bytes);
+        std::vector<MeshVertex> vertices(static_cast<std::size_t>(vertex_bytes) / sizeof(MeshVertex));
+        std::vector<std::uint32_t> indices(static_cast<std::size_t>(o.base.index_count));
+        glGetNamedBufferSubData(o.base.vertices.id(), 0, static_cast<GLsizeiptr>(vertices.size() * sizeof(MeshVertex)),
+                                vertices.data());
+        glGetNamedBufferSubData(o.base.indices.id(), 0, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)),
+                                indices.data());
+        const EdgeAdjacency adjacency = edge_adjacency(vertices, indices);
+        o.adjacency = gl::Buffer::create();
+        glNamedBufferStorage(o.adjacency.id(),
+                             static_cast<GLsizeiptr>(std::max<std::size_t>(adjacency.neighbours.size(), 1) *
+                                                     sizeof(std::uint32_t)),
+                             adjacency.neighbours.data(), 0);
+        o.open_shell = adjacency.open_edges > 0;
+        o.corners = make_shell_corners(vertices, indices, *o.height_field, o.transform, o.depth, o.midlevel);
+    }
+    if (glGetError() == GL_OUT_OF_MEMORY) throw Error("scene", "out of GPU memory while building the prism walk's buffers");
+}
+
 void Renderer::upload_object(const GpuObject& o, const DrawSettings& settings, float midlevel)
 {
     shader::ObjectBlock ob{};
@@ -406,6 +425,8 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     const GLuint program = program_for(settings);
     const AuxMap aux_map = settings.aux_map();
     ensure_aux_textures(aux_map);
+    const bool walk = settings.technique == Technique::Prism && settings.prism_exit == PrismExit::Walk;
+    if (walk) ensure_walk_data();
     upload_frame(camera, glm::normalize(light_dir));
     if (settings.count_samples) {
         const GLuint zero = 0;
@@ -450,8 +471,10 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
                 // The fragment shader rebuilds its prism from the mesh buffers (prism.frag).
                 glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_VERTICES, o.base.vertices.id());
                 glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_INDICES, o.base.indices.id());
-                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_ADJACENCY, o.adjacency.id());
-                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_CORNERS, o.corners.id());
+                if (walk) {
+                    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_ADJACENCY, o.adjacency.id());
+                    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_CORNERS, o.corners.id());
+                }
             }
             glBindVertexArray(o.base.vao.id());
             glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);

@@ -93,9 +93,11 @@ private:
 
     struct GpuObject {
         Geometry base;
-        gl::Buffer adjacency;    // edge_adjacency() of the base mesh (the prism walk)
-        bool open_shell = false; // it has edges without a neighbour
-        gl::Buffer corners;      // shell corners per vertex, world space (the prism walk)
+        // The prism walk's data, built on its first draw (ensure_walk_data): edge_adjacency() of
+        // the base mesh, whether it has edges without a neighbour, shell corners per vertex.
+        gl::Buffer adjacency;
+        bool open_shell = false;
+        gl::Buffer corners;
         std::vector<Geometry> reference; // chunks of the tessellated ground truth
         GLuint height_texture = 0; // owned by texture_cache_
         GLuint color_texture = 0;  // 0: plain base colour
@@ -130,6 +132,7 @@ private:
     void upload_frame(const Camera& camera, glm::vec3 light_dir);
     // Fills the object block for `o` drawn with `settings` (draw() and draw_overlay()).
     void upload_object(const GpuObject& o, const DrawSettings& settings, float midlevel);
+    void ensure_walk_data(); // adjacency, shell corners and open_shell of every object
 };
 
 } // namespace pr

@@ -35,6 +35,7 @@ void Renderer::draw_overlay(const Camera& camera, Overlay overlay, glm::vec4 col
         it = programs_.emplace(key, std::move(p)).first;
     }
     const GLuint program = it->second.id();
+    if (walk) ensure_walk_data();
 
     upload_frame(camera, glm::vec3(0.0f, 1.0f, 0.0f)); // the frame block of draw(); no lighting
 
