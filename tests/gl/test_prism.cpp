@@ -41,6 +41,17 @@ int holes(const RgbaImage& img)
 
 const PrismExit kExits[] = {PrismExit::Walk, PrismExit::Exact};
 
+std::shared_ptr<HeightField> bumps_map(int size)
+{
+    return std::make_shared<HeightField>(load_height("builtin:bumps@" + std::to_string(size)));
+}
+
+// Auto-framed at azimuth 30 degrees, as every view here.
+Camera framed(const Scene& scene, float elevation_deg)
+{
+    return frame_sphere(scene.shell_bounds, 40.0f, 1.0f, elevation_deg, 30.0f);
+}
+
 std::string exit_label(PrismExit e) { return e == PrismExit::Walk ? " (walk)" : " (exact)"; }
 
 } // namespace
@@ -55,7 +66,7 @@ TEST(Prism, ClosedSphereAtConstantHeightOneIsWatertight)
     Scene scene = mesh_scene("uv_sphere.obj", prtest::height_from(8, [](float, float) { return 1.0f; }), 0.04f);
     r.upload(scene);
     for (float elevation : {0.0f, 35.0f, 75.0f}) {
-        const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, elevation, 30.0f);
+        const Camera c = framed(scene, elevation);
         r.prepare_reference(scene, c, ReferenceOptions{});
         const FrameCapture ref = capture(r, c, Technique::Reference);
         for (PrismExit e : kExits) {
@@ -77,7 +88,7 @@ TEST(Prism, BottomCapIsHit)
     Renderer r(128, 128);
     Scene scene = mesh_scene("torus.obj", prtest::height_from(8, [](float, float) { return 0.0f; }), 0.04f);
     r.upload(scene);
-    const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, 35.0f, 30.0f);
+    const Camera c = framed(scene, 35.0f);
     r.prepare_reference(scene, c, ReferenceOptions{});
     const FrameCapture ref = capture(r, c, Technique::Reference);
     for (PrismExit e : kExits) {
@@ -95,13 +106,13 @@ TEST(Prism, OutlineMatchesTheReferenceOnCurvedMeshes)
     prtest::context();
     Renderer r(160, 160);
     r.set_cache_dir(prtest::cache_dir());
-    auto bumps = std::make_shared<HeightField>(load_height("builtin:bumps@256"));
+    auto bumps = bumps_map(256);
     for (const char* name : {"uv_sphere.obj", "torus.obj", "rock.obj"}) {
         Scene scene = mesh_scene(name, bumps, 0.04f);
         r.upload(scene);
         const float depth = scene.objects[0].depth;
         for (float elevation : {0.0f, 35.0f, 75.0f}) {
-            const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, elevation, 30.0f);
+            const Camera c = framed(scene, elevation);
             r.prepare_reference(scene, c, ReferenceOptions{});
             const FrameCapture ref = capture(r, c, Technique::Reference);
             std::size_t relief_wrong = 0;
@@ -131,13 +142,13 @@ TEST(Prism, InwardAndCentredDisplacementMatchTheReference)
 {
     prtest::context();
     Renderer r(128, 128);
-    auto bumps = std::make_shared<HeightField>(load_height("builtin:bumps@128"));
+    auto bumps = bumps_map(128);
     for (const char* name : {"torus.obj", "rock.obj"}) {
         for (float midlevel : {1.0f, 0.5f}) {
             Scene scene = mesh_scene(name, bumps, 0.04f);
             scene.objects[0].midlevel = midlevel;
             r.upload(scene);
-            const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, 35.0f, 30.0f);
+            const Camera c = framed(scene, 35.0f);
             r.prepare_reference(scene, c, ReferenceOptions{});
             const FrameCapture ref = capture(r, c, Technique::Reference);
             for (PrismExit e : kExits) {
@@ -154,7 +165,7 @@ TEST(Prism, DepthAgreesWithTheReferenceWhereAPlaneCrosses)
 {
     prtest::context();
     Renderer r(128, 128);
-    auto bumps = std::make_shared<HeightField>(load_height("builtin:bumps@128"));
+    auto bumps = bumps_map(128);
     Scene scene = mesh_scene("uv_sphere.obj", bumps, 0.05f);
     const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, 10.0f, 0.0f);
     r.upload(scene);
@@ -219,11 +230,11 @@ TEST(Prism, PerVertexExitIsCloseToTheExactOne)
 {
     prtest::context();
     Renderer r(160, 160);
-    auto bumps = std::make_shared<HeightField>(load_height("builtin:bumps@256"));
+    auto bumps = bumps_map(256);
     for (const char* name : {"plane.obj", "uv_sphere.obj", "torus.obj"}) {
         Scene scene = mesh_scene(name, bumps, 0.04f);
         r.upload(scene);
-        const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, 45.0f, 30.0f);
+        const Camera c = framed(scene, 45.0f);
         r.prepare_reference(scene, c, ReferenceOptions{});
         const FrameCapture ref = capture(r, c, Technique::Reference);
         const CompareMetrics exact =
@@ -242,10 +253,10 @@ TEST(Prism, WalkShadesOnlyTheShellsOutside)
 {
     prtest::context();
     Renderer r(128, 128);
-    auto bumps = std::make_shared<HeightField>(load_height("builtin:bumps@128"));
+    auto bumps = bumps_map(128);
     Scene scene = mesh_scene("torus.obj", bumps, 0.04f);
     r.upload(scene);
-    const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, 35.0f, 30.0f);
+    const Camera c = framed(scene, 35.0f);
     const auto fragments = [&](Technique t, PrismExit e) {
         DrawSettings s;
         s.technique = t;
@@ -268,11 +279,11 @@ TEST(Prism, WalkDrawsTheWallsAndBottomOfOpenMeshes)
 {
     prtest::context();
     Renderer r(128, 128);
-    auto bumps = std::make_shared<HeightField>(load_height("builtin:bumps@128"));
+    auto bumps = bumps_map(128);
     Scene scene = mesh_scene("plane.obj", bumps, 0.06f);
     r.upload(scene);
     for (float elevation : {12.0f, -30.0f}) {
-        const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, elevation, 30.0f);
+        const Camera c = framed(scene, elevation);
         r.prepare_reference(scene, c, ReferenceOptions{});
         const FrameCapture ref = capture(r, c, Technique::Reference);
         const CompareMetrics walk = compare_frames(capture(r, c, Technique::Prism, Marcher::Relief, PrismExit::Walk), ref);
@@ -289,11 +300,11 @@ TEST(Prism, TightShellMatchesTheFullShellWithFewerSamples)
 {
     prtest::context();
     Renderer r(128, 128);
-    auto bumps = std::make_shared<HeightField>(load_height("builtin:bumps@128"));
+    auto bumps = bumps_map(128);
     for (const char* name : {"torus.obj", "rock.obj"}) {
         Scene scene = mesh_scene(name, bumps, 0.04f);
         r.upload(scene);
-        const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 1.0f, 35.0f, 30.0f);
+        const Camera c = framed(scene, 35.0f);
         r.prepare_reference(scene, c, ReferenceOptions{});
         const FrameCapture ref = capture(r, c, Technique::Reference);
         double iou[2] = {0.0, 0.0};
