@@ -1,9 +1,10 @@
 // libFuzzer harness: bytes -> a mesh file -> pr::load_mesh (our pre-validation of OBJ/OFF/PLY/STL,
 // OpenMesh's reader into our importer, then preparation: triangulation, welding, normals, UVs,
-// tangents). The first byte picks the extension, the rest is the file. pr::Error is the expected
+// tangents) -> pr::edge_adjacency (the prism walk's neighbours). The first byte picks the extension, the rest is the file. pr::Error is the expected
 // outcome for bad input; a crash, a sanitizer report, any other exception or a hang is a finding.
 #include "core/error.hpp"
 #include "fuzz_common.hpp"
+#include "mesh/adjacency.hpp"
 #include "mesh/mesh.hpp"
 
 #include <cmath>
@@ -36,6 +37,21 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                     std::fprintf(stderr, "non-finite vertex attribute\n");
                     std::abort();
                 }
+        }
+        // The walk's adjacency: every pairing mutual, across the same two welded positions.
+        const pr::EdgeAdjacency adjacency = pr::edge_adjacency(mesh.vertices, mesh.indices);
+        const auto weld = [&](std::size_t t, std::size_t corner) {
+            return mesh.vertices[mesh.indices[3 * t + corner % 3]].weld_id;
+        };
+        for (std::size_t i = 0; i < adjacency.neighbours.size(); ++i) {
+            const std::uint32_t n = adjacency.neighbours[i];
+            if (n == pr::kNoNeighbour) continue;
+            const std::size_t t = i / 3, e = i % 3, u = n >> 2, f = n & 3u;
+            if (u >= mesh.triangle_count() || f > 2 || adjacency.neighbours[3 * u + f] != (t << 2 | e) ||
+                weld(u, f) != weld(t, e + 1) || weld(u, f + 1) != weld(t, e)) {
+                std::fprintf(stderr, "inconsistent adjacency at edge %zu\n", i);
+                std::abort();
+            }
         }
     } catch (const pr::Error&) {
         // A clear, one-line refusal: the documented outcome for bad input.
