@@ -140,11 +140,11 @@ void main()
     uint index[3], weld[3];
     load_walk_prism(prim, index, weld, from_a);
     for (int k = 0; k < PR_WALK_MAX_PRISMS; ++k) {
-        WalkExit ex = walk_exit(dir, t_in * (1.0 - 1e-6), from_a, 1e-5);
+        ExitFace ex = nearest_exit(dir, t_in * (1.0 - 1e-6), from_a, 1e-5, walk_orientation);
         // No way out: in the first prism the rasterizer's snapped edge put the fragment a little
         // outside its face; later, the ray came in where the shell folds. Compare the planes only
         // (shell.glsl), which on a convex prism still finds the way out.
-        if (ex.face < 0) ex = walk_exit(dir, t_in * (1.0 - 1e-6), from_a, 1e30);
+        if (ex.face < 0) ex = nearest_exit(dir, t_in * (1.0 - 1e-6), from_a, 1e30, walk_orientation);
         if (ex.face < 0) {
             t_out = t_in;
             tex_out = tex_in;

@@ -23,8 +23,9 @@ bool diagonal_from_a(uint weld_a, uint weld_b)
     return weld_a < weld_b;
 }
 
-// The six corners of the prism being processed: 0..2 bottom (h = 0), 3..5 top (h = 1), world
-// space and texture space (u, v, height). Filled by the stage before calling prism_exit().
+// The six corners of the prism being processed: 0..2 bottom (h = 0), 3..5 top (h = 1, or the
+// walk's tight top), world space and texture space (u, v, height). Filled by the stage before it
+// looks for an exit (nearest_exit, prism_exit).
 vec3 corner_world[6];
 vec3 corner_tex[6];
 
@@ -49,48 +50,6 @@ bool ray_triangle(int a, int b, int c, vec3 dir, float slack, out float t, out v
     if (bu < -slack || bv < -slack || bu + bv > 1.0 + slack) return false;
     t = dot(e2, q) * inv;
     w = vec3(1.0 - bu - bv, bu, bv);
-    return true;
-}
-
-// Keeps the nearest hit of triangle (a, b, c) with t > t_min: its parameter and texture
-// coordinate (barycentric mix of the corners').
-void exit_candidate(int a, int b, int c, vec3 dir, float t_min, inout float t_best, inout vec3 tex_best)
-{
-    float t, det;
-    vec3 w;
-    // Slack: the exit may lie exactly on an edge between two triangles.
-    if (!ray_triangle(a, b, c, dir, 1e-5, t, w, det)) return;
-    if (t > t_min && t < t_best) {
-        t_best = t;
-        tex_best = corner_tex[a] * w.x + corner_tex[b] * w.y + corner_tex[c] * w.z;
-    }
-}
-
-// Where the ray eye + t * dir (t = 1 at a point on the prism's surface) leaves the prism: the
-// nearest of its eight triangles beyond t = 1 (all eight: a twisted side can make the prism
-// non-convex). `from_a[e]`: diagonal_from_a() of edge e. Returns false when no face is found
-// (the ray grazes an edge); then t = 1 and tex = entry_tex.
-bool prism_exit(vec3 dir, vec3 entry_tex, bool from_a[3], out float t_exit, out vec3 tex_exit)
-{
-    t_exit = 1e30;
-    tex_exit = entry_tex;
-    float t_min = 1.0 + 1e-5;
-    exit_candidate(3, 4, 5, dir, t_min, t_exit, tex_exit);
-    exit_candidate(0, 2, 1, dir, t_min, t_exit, tex_exit);
-    for (int e = 0; e < 3; ++e) {
-        int a = e, b = (e + 1) % 3;
-        if (from_a[e]) {
-            exit_candidate(a, b, b + 3, dir, t_min, t_exit, tex_exit);
-            exit_candidate(a, b + 3, a + 3, dir, t_min, t_exit, tex_exit);
-        } else {
-            exit_candidate(a, b, a + 3, dir, t_min, t_exit, tex_exit);
-            exit_candidate(b, b + 3, a + 3, dir, t_min, t_exit, tex_exit);
-        }
-    }
-    if (t_exit > 1e29) {
-        t_exit = 1.0;
-        return false;
-    }
     return true;
 }
 
@@ -139,26 +98,28 @@ void load_walk_prism(uint prim, out uint index[3], out uint weld[3])
 }
 #endif
 
-// ---- The prism walk (PR_PRISM_WALK) -----------------------------------------------------------
-// Where the ray leaves the prism through a face it goes *out* of (faces it comes in by are
-// ignored, so the face of entry needs no epsilon), beyond t_min. Face: 0 top, 1 bottom, 2 + e the
-// side of edge e, with `lambda` the exit's position along that edge (0 at corner e, 1 at corner
-// e + 1); -1: no exit.
-struct WalkExit {
+// ---- Where a ray leaves a prism -----------------------------------------------------------------
+// The nearest of the prism's eight triangles (all eight: a twisted side can make the prism
+// non-convex) that the ray eye + t * dir crosses beyond t_min. Face: 0 top, 1 bottom, 2 + e the
+// side of edge e, with `lambda` the crossing's position along that edge (0 at corner e, 1 at
+// corner e + 1); -1: none.
+struct ExitFace {
     float t;
     vec3 tex;
     int face;
     float lambda;
 };
 
-// `orient`: +1 for a prism whose faces wind counter-clockwise seen from outside, -1 for one turned
-// inside out by normals that oppose the winding (walk_orientation).
-void walk_candidate(int a, int b, int c, int face, vec3 dir, float t_min, float orient, float slack,
-                    inout WalkExit best)
+// `orient`: 0 counts every crossing; +1 only those the ray goes *out* through, for a prism whose
+// faces wind counter-clockwise seen from outside, -1 the same for one turned inside out by
+// normals that oppose the winding (the walk: walk_orientation), so the face of entry needs no
+// epsilon.
+void exit_candidate(int a, int b, int c, int face, vec3 dir, float t_min, float orient, float slack,
+                    inout ExitFace best)
 {
     float t, det;
     vec3 w;
-    if (!ray_triangle(a, b, c, dir, slack, t, w, det) || det * orient >= 0.0) return;
+    if (!ray_triangle(a, b, c, dir, slack, t, w, det) || det * orient > 0.0) return;
     if (t > t_min && t < best.t) {
         best.t = t;
         best.tex = corner_tex[a] * w.x + corner_tex[b] * w.y + corner_tex[c] * w.z;
@@ -169,24 +130,35 @@ void walk_candidate(int a, int b, int c, int face, vec3 dir, float t_min, float 
     }
 }
 
-// `slack` grows the faces (ray_triangle); a huge one compares planes only, which on a convex
-// prism still finds the way out of a ray that comes in just outside it (the rasterizer snaps
-// vertices to its subpixel grid, so a fragment on an edge may lie a little outside its face).
-WalkExit walk_exit(vec3 dir, float t_min, bool from_a[3], float slack)
+// `from_a[e]`: diagonal_from_a() of edge e. `slack` grows the faces (ray_triangle): 1e-5 lets an
+// exit lie exactly on an edge between two triangles; a huge one compares planes only, which on a
+// convex prism still finds the way out of a ray that comes in just outside it (the rasterizer
+// snaps vertices to its subpixel grid, so a fragment on an edge may lie a little outside its face).
+ExitFace nearest_exit(vec3 dir, float t_min, bool from_a[3], float slack, float orient)
 {
-    WalkExit best = WalkExit(1e30, vec3(0.0), -1, 0.0);
-    float orient = walk_orientation;
-    walk_candidate(3, 4, 5, 0, dir, t_min, orient, slack, best);
-    walk_candidate(0, 2, 1, 1, dir, t_min, orient, slack, best);
+    ExitFace best = ExitFace(1e30, vec3(0.0), -1, 0.0);
+    exit_candidate(3, 4, 5, 0, dir, t_min, orient, slack, best);
+    exit_candidate(0, 2, 1, 1, dir, t_min, orient, slack, best);
     for (int e = 0; e < 3; ++e) {
         int a = e, b = (e + 1) % 3;
         if (from_a[e]) {
-            walk_candidate(a, b, b + 3, 2 + e, dir, t_min, orient, slack, best);
-            walk_candidate(a, b + 3, a + 3, 2 + e, dir, t_min, orient, slack, best);
+            exit_candidate(a, b, b + 3, 2 + e, dir, t_min, orient, slack, best);
+            exit_candidate(a, b + 3, a + 3, 2 + e, dir, t_min, orient, slack, best);
         } else {
-            walk_candidate(a, b, a + 3, 2 + e, dir, t_min, orient, slack, best);
-            walk_candidate(b, b + 3, a + 3, 2 + e, dir, t_min, orient, slack, best);
+            exit_candidate(a, b, a + 3, 2 + e, dir, t_min, orient, slack, best);
+            exit_candidate(b, b + 3, a + 3, 2 + e, dir, t_min, orient, slack, best);
         }
     }
     return best;
+}
+
+// The exact exit (--prism-exit exact) of the ray eye + t * dir, t = 1 at a point on the prism's
+// surface: the nearest crossing beyond t = 1. Returns false when none is found (the ray grazes an
+// edge); then t = 1 and tex = entry_tex.
+bool prism_exit(vec3 dir, vec3 entry_tex, bool from_a[3], out float t_exit, out vec3 tex_exit)
+{
+    ExitFace ex = nearest_exit(dir, 1.0 + 1e-5, from_a, 1e-5, 0.0);
+    t_exit = ex.face < 0 ? 1.0 : ex.t;
+    tex_exit = ex.face < 0 ? entry_tex : ex.tex;
+    return ex.face >= 0;
 }
