@@ -164,8 +164,8 @@ ShaderDefines defines_for(const DrawSettings& s)
     if (s.technique == Technique::Prism) {
         d.emplace_back("PR_MARCHER", marcher[static_cast<int>(s.marcher)]);
         if (s.prism_exit == PrismExit::Vertex) d.emplace_back("PR_PRISM_EXIT_VERTEX", "1");
-        if (s.prism_exit == PrismExit::Walk) d.emplace_back("PR_PRISM_WALK", "1");
-        if (s.prism_exit == PrismExit::Walk && s.full_shell) d.emplace_back("PR_PRISM_FULL_SHELL", "1");
+        if (s.prism_walk()) d.emplace_back("PR_PRISM_WALK", "1");
+        if (s.prism_walk() && s.full_shell) d.emplace_back("PR_PRISM_FULL_SHELL", "1");
     }
     if (s.depth_write && s.technique != Technique::Prism) d.emplace_back("PR_DEPTH_WRITE", "1");
     if (s.shadows != Shadows::None && s.technique != Technique::Flat && s.technique != Technique::Reference)
@@ -425,7 +425,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     const GLuint program = program_for(settings);
     const AuxMap aux_map = settings.aux_map();
     ensure_aux_textures(aux_map);
-    const bool walk = settings.technique == Technique::Prism && settings.prism_exit == PrismExit::Walk;
+    const bool walk = settings.prism_walk();
     if (walk) ensure_walk_data();
     upload_frame(camera, glm::normalize(light_dir));
     if (settings.count_samples) {

@@ -66,6 +66,8 @@ struct DrawSettings {
     bool count_samples = false; // instrumented variant (bench)
 
     AuxMap aux_map() const;
+    // The prism with the walk: its shaders, buffers (Renderer::ensure_walk_data) and overlay.
+    bool prism_walk() const { return technique == Technique::Prism && prism_exit == PrismExit::Walk; }
 };
 
 // Ground truth (technique `reference`): how finely to tessellate.

@@ -17,7 +17,7 @@ void Renderer::draw_overlay(const Camera& camera, Overlay overlay, glm::vec4 col
 {
     const bool shell = overlay == Overlay::PrismShell;
     // The walk's shell (tight tops, from its per-vertex buffer) when that is what the prism draws.
-    const bool walk = shell && settings.technique == Technique::Prism && settings.prism_exit == PrismExit::Walk;
+    const bool walk = shell && settings.prism_walk();
     const bool full = walk && settings.full_shell;
     // Keys cannot collide with the technique variants' ("NAME=VALUE;…"); reload_shaders() drops
     // these programs too.
