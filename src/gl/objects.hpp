@@ -4,7 +4,9 @@
 // GL name is ever deleted twice or leaked by a copy. Objects are created with DSA (GL 4.5).
 #include "gl/gl.hpp"
 
+#include <algorithm>
 #include <utility>
+#include <vector>
 
 namespace pr::gl {
 
@@ -78,5 +80,16 @@ using Framebuffer = Object<FramebufferTraits>;
 using Query = Object<QueryTraits>;
 using Shader = Object<ShaderTraits>;
 using Program = Object<ProgramTraits>;
+
+// An immutable buffer (no storage flags) holding `data`; an empty vector gets room for one element,
+// since GL refuses a zero size.
+template <typename T>
+Buffer immutable_buffer(const std::vector<T>& data)
+{
+    Buffer b = Buffer::create();
+    glNamedBufferStorage(b.id(), static_cast<GLsizeiptr>(std::max<std::size_t>(data.size(), 1) * sizeof(T)),
+                         data.empty() ? nullptr : data.data(), 0);
+    return b;
+}
 
 } // namespace pr::gl

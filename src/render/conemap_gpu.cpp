@@ -33,8 +33,7 @@ ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBu
     while (glGetError() != GL_NO_ERROR) {} // errors of earlier work are not ours
     gl::Program program = build_program({{GL_COMPUTE_SHADER, "conemap.comp"}},
                                         {{"PR_CONE_KIND", kind == ConeKind::Relaxed ? "1" : "0"}});
-    gl::Buffer data = gl::Buffer::create();
-    glNamedBufferStorage(data.id(), GLsizeiptr(pyramid.data.size() * sizeof(float)), pyramid.data.data(), 0);
+    gl::Buffer data = gl::immutable_buffer(pyramid.data);
     gl::Buffer steps = gl::Buffer::create();
     glNamedBufferStorage(steps.id(), GLsizeiptr(n * sizeof(std::uint32_t)), nullptr, 0);
 

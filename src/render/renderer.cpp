@@ -127,7 +127,7 @@ gl::Buffer make_shell_corners(const std::vector<MeshVertex>& vertices, const std
     const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(transform)));
     const std::vector<float> top = shell_top_heights(vertices, indices, height);
     std::vector<glm::vec4> corners;
-    corners.reserve(std::max<std::size_t>(vertices.size(), 1) * 3);
+    corners.reserve(vertices.size() * 3);
     for (std::size_t i = 0; i < vertices.size(); ++i) {
         const MeshVertex& v = vertices[i];
         const glm::vec3 world = glm::vec3(transform * glm::vec4(v.position, 1.0f));
@@ -136,10 +136,7 @@ gl::Buffer make_shell_corners(const std::vector<MeshVertex>& vertices, const std
         corners.emplace_back(dn, v.uv.y);
         corners.emplace_back(top[i], std::bit_cast<float>(v.weld_id), 0.0f, 0.0f);
     }
-    if (corners.empty()) corners.resize(3);
-    gl::Buffer b = gl::Buffer::create();
-    glNamedBufferStorage(b.id(), static_cast<GLsizeiptr>(corners.size() * sizeof(glm::vec4)), corners.data(), 0);
-    return b;
+    return gl::immutable_buffer(corners);
 }
 
 std::string variant_key(const ShaderDefines& defines)
@@ -253,12 +250,8 @@ Renderer::Geometry Renderer::make_geometry(const std::vector<MeshVertex>& verts,
                                            const std::vector<std::uint32_t>& idx)
 {
     Geometry g;
-    g.vertices = gl::Buffer::create();
-    glNamedBufferStorage(g.vertices.id(), static_cast<GLsizeiptr>(verts.size() * sizeof(MeshVertex)),
-                         verts.data(), 0);
-    g.indices = gl::Buffer::create();
-    glNamedBufferStorage(g.indices.id(), static_cast<GLsizeiptr>(idx.size() * sizeof(std::uint32_t)),
-                         idx.data(), 0);
+    g.vertices = gl::immutable_buffer(verts);
+    g.indices = gl::immutable_buffer(idx);
     g.index_count = static_cast<GLsizei>(idx.size());
     g.vao = gl::VertexArray::create();
     const GLuint vao = g.vao.id();
@@ -381,11 +374,7 @@ void Renderer::ensure_walk_data()
         glGetNamedBufferSubData(o.base.indices.id(), 0, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)),
                                 indices.data());
         const EdgeAdjacency adjacency = edge_adjacency(vertices, indices);
-        o.adjacency = gl::Buffer::create();
-        glNamedBufferStorage(o.adjacency.id(),
-                             static_cast<GLsizeiptr>(std::max<std::size_t>(adjacency.neighbours.size(), 1) *
-                                                     sizeof(std::uint32_t)),
-                             adjacency.neighbours.data(), 0);
+        o.adjacency = gl::immutable_buffer(adjacency.neighbours);
         o.open_shell = adjacency.open_edges > 0;
         o.corners = make_shell_corners(vertices, indices, *o.height_field, o.transform, o.depth, o.midlevel);
     }

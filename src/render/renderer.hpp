@@ -16,10 +16,10 @@
 
 namespace pr {
 
-// Per-draw GPU counters (instrumented variants only).
 // Reads an RGBA8 texture's level 0 (bottom row first, as GL stores it).
 RgbaImage read_texture_rgba8(GLuint texture, int width, int height);
 
+// Per-draw GPU counters (instrumented variants only).
 struct SampleCounters {
     std::uint64_t fragments = 0;  // fragments that ran the technique's shader
     std::uint64_t samples = 0;    // height samples taken by marchers (contract definition)
