@@ -25,8 +25,7 @@ EdgeAdjacency edge_adjacency(const std::vector<MeshVertex>& vertices, const std:
     const auto same_direction = [&](std::size_t x, std::size_t y) {
         return weld(3 * (x / 3) + x % 3) == weld(3 * (y / 3) + y % 3);
     };
-    std::uint32_t weld_count = 0;
-    for (const MeshVertex& v : vertices) weld_count = std::max(weld_count, v.weld_id + 1);
+    const std::uint32_t weld_count = welded_position_count(vertices);
     std::vector<std::uint32_t> start(std::size_t(weld_count) + 1, 0);
     for (std::size_t edge = 0; edge < triangles * 3; ++edge) ++start[ends(edge).first + 1];
     for (std::size_t w = 0; w < weld_count; ++w) start[w + 1] += start[w];

@@ -1,6 +1,7 @@
 #pragma once
 // Mesh loading and preparation. This module is the only place that includes OpenMesh; what it
 // returns is plain data (PreparedMesh), so nothing else depends on OpenMesh types.
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -52,6 +53,15 @@ struct PreparedMesh {
     std::size_t dropped_triangles = 0;  // degenerate (zero area) triangles removed
     std::size_t triangle_count() const { return indices.size() / 3; }
 };
+
+// One more than the largest welded id among `vertices`: PreparedMesh::weld_count for vertices
+// that come without their PreparedMesh (read back from the GPU).
+inline std::uint32_t welded_position_count(const std::vector<MeshVertex>& vertices)
+{
+    std::uint32_t n = 0;
+    for (const MeshVertex& v : vertices) n = std::max(n, v.weld_id + 1);
+    return n;
+}
 
 // Reads OBJ (v/vt/vn, polygons, negative indices), OFF, PLY, STL (ASCII or binary) through
 // OpenMesh, validates what it returns, and prepares it. Throws pr::Error("<file>", "<problem>")

@@ -30,9 +30,7 @@ std::vector<float> shell_top_heights(const std::vector<MeshVertex>& vertices,
                                      const std::vector<std::uint32_t>& indices, const HeightField& height)
 {
     const float global_max = std::clamp(height.max_value(), 0.0f, 1.0f);
-    std::uint32_t weld_count = 0;
-    for (const MeshVertex& v : vertices) weld_count = std::max(weld_count, v.weld_id + 1);
-    std::vector<float> weld_top(weld_count, 0.0f);
+    std::vector<float> weld_top(welded_position_count(vertices), 0.0f);
     for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
         const glm::vec2 a = vertices[indices[t]].uv, b = vertices[indices[t + 1]].uv, c = vertices[indices[t + 2]].uv;
         const float m = box_max(height, glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c)), global_max);
