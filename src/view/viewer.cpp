@@ -50,6 +50,23 @@ std::string lower_extension(const std::string& path)
     return ext;
 }
 
+// A combo box over `options`, each shown by `name`; true when the user picked one.
+template <typename T, typename Name>
+bool choice_combo(const std::string& id, T& value, const std::vector<T>& options, Name name)
+{
+    bool changed = false;
+    if (ImGui::BeginCombo(id.c_str(), name(value).c_str())) {
+        for (const T& option : options) {
+            if (ImGui::Selectable(name(option).c_str(), option == value)) {
+                value = option;
+                changed = true;
+            }
+        }
+        ImGui::EndCombo();
+    }
+    return changed;
+}
+
 // "pom", "prism:relief", "prism:relief:exact", "prism:cone:walk:full": as --techniques lists name
 // them (the default walk with its tight shell is left out).
 std::string display_name(const DrawSettings& d)
@@ -524,29 +541,12 @@ void Viewer::technique_combo(int k)
         ImGui::EndCombo();
     }
     if (d.technique == Technique::Prism) {
-        const std::string id = std::string("marcher##") + char('0' + k);
-        if (ImGui::BeginCombo(id.c_str(), marcher_name(d.marcher).c_str())) {
-            for (Marcher m : all_marchers()) {
-                if (ImGui::Selectable(marcher_name(m).c_str(), m == d.marcher)) {
-                    d.marcher = m;
-                    dirty_ = true;
-                }
-            }
-            ImGui::EndCombo();
-        }
-        const std::string exit_id = std::string("exit##") + char('0' + k);
-        if (ImGui::BeginCombo(exit_id.c_str(), prism_exit_name(d.prism_exit).c_str())) {
-            for (PrismExit e : {PrismExit::Walk, PrismExit::Exact, PrismExit::Vertex}) {
-                if (ImGui::Selectable(prism_exit_name(e).c_str(), e == d.prism_exit)) {
-                    d.prism_exit = e;
-                    dirty_ = true;
-                }
-            }
-            ImGui::EndCombo();
-        }
+        static const std::vector<PrismExit> exits = {PrismExit::Walk, PrismExit::Exact, PrismExit::Vertex};
+        const std::string half = std::string("##") + char('0' + k);
+        if (choice_combo("marcher" + half, d.marcher, all_marchers(), marcher_name)) dirty_ = true;
+        if (choice_combo("exit" + half, d.prism_exit, exits, prism_exit_name)) dirty_ = true;
         if (d.prism_exit == PrismExit::Walk) {
-            const std::string full_id = std::string("full shell##") + char('0' + k);
-            if (ImGui::Checkbox(full_id.c_str(), &d.full_shell)) dirty_ = true;
+            if (ImGui::Checkbox(("full shell" + half).c_str(), &d.full_shell)) dirty_ = true;
         }
     }
 }
