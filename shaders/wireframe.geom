@@ -2,8 +2,8 @@
 // base triangle as line strips, or (variant PR_OVERLAY_SHELL) the edges of its shell prism: bottom
 // and top triangles, the three vertical edges and the diagonal that splits each side quad —
 // corners from shell_corner() (or, for the prism walk, load_walk_prism() with its tight tops) and
-// the diagonal from diagonal_from_a(), exactly as prism.geom builds the faces it rasterizes. Edges shared by neighbouring triangles are drawn twice (same
-// pixels, same colour).
+// the diagonal from diagonal_from_a(), exactly as prism.geom builds the faces it rasterizes.
+// Edges shared by neighbouring triangles are drawn twice (same pixels, same colour).
 #include "common/shared.h"
 #include "prism/shell.glsl"
 
