@@ -26,7 +26,7 @@ if("$ENV{LSAN_OPTIONS}" MATCHES "suppressions=([^:]+)")
     endif()
 endif()
 
-# Runs the viewer under xvfb-run; sets view_err (stderr) in the caller.
+# Runs the viewer under xvfb-run; sets view_out and view_err (stdout, stderr) in the caller.
 function(run_view)
     set(launch ${EXE})
     if(PRELOAD) # sanitizer build (view_tests.cmake): keep Mesa's GLX/DRI libraries mapped to the end
@@ -48,6 +48,7 @@ function(run_view)
         message(FATAL_ERROR "view ${ARGN} failed (exit ${rc}):\n${out}\n${err}")
     endif()
     message("${out}")
+    set(view_out "${out}" PARENT_SCOPE)
     set(view_err "${err}" PARENT_SCOPE)
 endfunction()
 
@@ -92,6 +93,16 @@ elseif(CASE STREQUAL "split")
     run_render(${torus} --technique pom --out pom.png)
     run_render(${torus} --technique prism --out prism.png)
     check(split split.png pom.png prism.png 0.5 4 20)
+    # The prism's exit and shell per half, named as --techniques lists name them: each half is
+    # render's image with the same options.
+    run_view(${torus} --split prism:relief:exact,prism:relief:walk:full --divider 0.5 --frames 2
+             --screenshot exits.png)
+    if(NOT view_out MATCHES "prism:relief:exact draw .*prism:relief:walk:full draw")
+        message(FATAL_ERROR "the halves are not named prism:relief:exact and prism:relief:walk:full:\n${view_out}")
+    endif()
+    run_render(${torus} --technique prism --prism-exit exact --out exact.png)
+    run_render(${torus} --technique prism --prism-shell full --out full.png)
+    check(split exits.png exact.png full.png 0.5 4 0)
 elseif(CASE STREQUAL "overlay")
     # The shell's wireframe changes colours, never coverage.
     run_view(${torus} --technique prism --overlay shell --frames 2 --screenshot shell.png)
