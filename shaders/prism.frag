@@ -76,16 +76,28 @@ void load_prism(uint prim, out BaseVertex bv[3], out bool from_a[3])
 // means equal step length), and at least one sample per two texels along the uv path, so grazing
 // rays near the silhouette do not step over bumps. Returns the hit's fraction of the segment, or
 // -1 when the ray stays above the height field.
+int segment_steps(vec3 seg)
+{
+    vec2 texels = seg.xy * vec2(textureSize(s_height, 0));
+    int steps = int(ceil(max(float(u_march.x) * abs(seg.z), 0.5 * length(texels))));
+    return clamp(steps, 1, 4 * max(u_march.x, 1) + 64);
+}
+
 float march_segment(vec3 tex_in, vec3 tex_out)
 {
     vec3 seg = tex_out - tex_in;
-    vec2 texels = seg.xy * vec2(textureSize(s_height, 0));
-    int steps = int(ceil(max(float(u_march.x) * abs(seg.z), 0.5 * length(texels))));
-    steps = clamp(steps, 1, 4 * max(u_march.x, 1) + 64);
+    int steps = segment_steps(seg);
     // Geometry (the outline and the depth) uses height level 0, as the reference does
     // (contract); filtering it by mip level would move the surface, not just smooth its look.
     UvGrad g = UvGrad(vec2(0.0), vec2(0.0));
     MarchRay ray = MarchRay(tex_in, seg, 1.0, steps);
+#if defined(PR_PRISM_TEARS) && PR_MARCHER != PR_MARCH_LINEAR && PR_MARCHER != PR_MARCH_RELIEF
+    // Under a torn surface (g_height_flip): the cone and max maps describe h, not 1 - h.
+    if (g_height_flip != 0.0) {
+        Bracket lin = march_linear(ray, g);
+        return lin.hit ? refine_binary(ray, lin, u_march.y, g) : -1.0;
+    }
+#endif
 #if PR_MARCHER == PR_MARCH_CONE || PR_MARCHER == PR_MARCH_RELAXED_CONE
     Bracket br = march_cone(ray);
 #elif PR_MARCHER == PR_MARCH_MAX_MIP
@@ -106,6 +118,12 @@ float march_segment(vec3 tex_in, vec3 tex_out)
 }
 
 #ifdef PR_PRISM_WALK
+#ifdef PR_PRISM_TEARS
+// Pixels where a walk went into the object through a tear (pass 1 writes, pass 2 reads).
+layout(binding = PR_IMAGE_TEARS, r32ui) uniform uimage2D u_tears;
+layout(binding = PR_IMAGE_TEAR_TILES, r32ui) uniform uimage2D u_tear_tiles;
+#endif
+
 // A ray that crosses more prisms than this without a hit is dropped (it runs almost parallel to
 // a very finely tessellated surface); docs/prism.md.
 #ifndef PR_WALK_MAX_PRISMS
@@ -137,6 +155,16 @@ void main()
     // Only the shell's outside is rasterized (prism.geom); from there the ray goes from prism to
     // prism through the side it leaves by, until it meets the height field or leaves the shell.
     s = -1.0;
+    // Tears (closed meshes with UV seams: PR_PRISM_TEARS): where the two sides of a seam give
+    // the edge different heights, the displaced surface is torn. A ray that crosses the seam
+    // under the far side's surface goes on *below* it (g_height_flip), as the true surface lets
+    // it; if it leaves through the bottom into the object, its pixel is marked, and a second pass
+    // (PR_PRISM_INSIDE) starts at the far side's bottoms, from inside, where marked.
+    bool below = false;
+#ifdef PR_PRISM_INSIDE
+    if (imageLoad(u_tears, ivec2(gl_FragCoord.xy)).r == 0u) discard;
+    below = true;
+#endif
     uint index[3], weld[3];
     load_walk_prism(prim, index, weld, from_a);
     for (int k = 0; k < PR_WALK_MAX_PRISMS; ++k) {
@@ -152,11 +180,27 @@ void main()
         }
         t_out = ex.t;
         tex_out = vec3(ex.tex.xy, clamp(ex.tex.z, 0.0, 1.0));
+#ifdef PR_PRISM_TEARS
+        // Below the surface: the flipped ray against the flipped heights (height.glsl).
+        g_height_flip = below ? 1.0 : 0.0;
+        s = march_segment(below ? vec3(tex_in.xy, 1.0 - tex_in.z) : tex_in,
+                          below ? vec3(tex_out.xy, 1.0 - tex_out.z) : tex_out);
+        g_height_flip = 0.0;
+#else
         s = march_segment(tex_in, tex_out);
+#endif
         if (s >= 0.0) break;
         // Out through a cap, or a side without a neighbour: the ray leaves the shell.
         uint next = ex.face >= 2 ? b_adjacency[3u * prim + uint(ex.face - 2)] : 0xffffffffu;
-        if (next == 0xffffffffu) break;
+        if (next == 0xffffffffu) {
+#if defined(PR_PRISM_TEARS) && !defined(PR_PRISM_INSIDE)
+            if (below && ex.face == 1) {
+                imageStore(u_tears, ivec2(gl_FragCoord.xy), uvec4(1u));
+                imageStore(u_tear_tiles, ivec2(gl_FragCoord.xy) / PR_TEAR_TILE, uvec4(1u));
+            }
+#endif
+            break;
+        }
         // Into the neighbour: the same point, at the same height and the same place along the
         // shared edge, which the neighbour runs the other way, in its own uv (a seam may change it).
         prim = next >> 2u;
@@ -169,6 +213,16 @@ void main()
         vec2 to = edge == 0 ? corner_tex[1].xy : (edge == 1 ? corner_tex[2].xy : corner_tex[0].xy);
         tex_in = vec3(mix(from, to, along), tex_out.z);
         t_in = t_out;
+#ifdef PR_PRISM_TEARS
+        {
+            // Across a seam (the uv jumps by more than whole repeats), above or below is decided
+            // anew by the far side's height; elsewhere the surface is continuous.
+            vec2 jump = tex_in.xy - tex_out.xy;
+            jump -= round(jump);
+            if (any(greaterThan(abs(jump), vec2(1e-4))))
+                below = tex_in.z < height_at(tex_in.xy, UvGrad(vec2(0.0), vec2(0.0)));
+        }
+#endif
     }
     for (int i = 0; i < 3; ++i) bv[i] = base_vertex(index[i]); // the frame at the hit (below)
 #else
@@ -203,6 +257,9 @@ void main()
     vec3 b_axis = mat3(u_model) * (bv[0].bitangent * w.x + bv[1].bitangent * w.y + bv[2].bitangent * w.z);
     UvGrad g = UvGrad(vec2(0.0), vec2(0.0));
     vec3 shading_n = height_normal(tex.xy, t_axis, b_axis, n, u_displace.x);
+#ifdef PR_PRISM_WALK
+    if (below) shading_n = -shading_n; // the back of the surface, seen through a tear
+#endif
     vec3 light_dir = normalize(u_light_dir.xyz);
     float visibility = 1.0;
 #ifdef PR_SHADOWS

@@ -97,6 +97,33 @@ void side(int e)
     }
 }
 
+#ifdef PR_PRISM_INSIDE
+layout(binding = PR_IMAGE_TEAR_TILES, r32ui) readonly uniform uimage2D u_tear_tiles;
+
+// Whether the bottom cap's screen box covers a tile with a marked pixel (true when unsure: a
+// corner behind the eye, or a box of more than 64 tiles).
+bool touches_marked_tile()
+{
+    vec2 lo = vec2(1e30), hi = vec2(-1e30);
+    for (int i = 0; i < 3; ++i) {
+        vec4 clip = u_view_proj * vec4(corner_world[i], 1.0);
+        if (clip.w <= 0.0) return true;
+        vec2 px = (clip.xy / clip.w * 0.5 + 0.5) * u_viewport.xy;
+        lo = min(lo, px);
+        hi = max(hi, px);
+    }
+    ivec2 tiles = imageSize(u_tear_tiles);
+    ivec2 a = clamp(ivec2(floor(lo / float(PR_TEAR_TILE))), ivec2(0), tiles - 1);
+    ivec2 b = clamp(ivec2(floor(hi / float(PR_TEAR_TILE))), ivec2(0), tiles - 1);
+    if (lo.x >= u_viewport.x || lo.y >= u_viewport.y || hi.x < 0.0 || hi.y < 0.0) return false;
+    if ((b.x - a.x + 1) * (b.y - a.y + 1) > 64) return true;
+    for (int y = a.y; y <= b.y; ++y)
+        for (int x = a.x; x <= b.x; ++x)
+            if (imageLoad(u_tear_tiles, ivec2(x, y)).r != 0u) return true;
+    return false;
+}
+#endif
+
 void main()
 {
 #ifdef PR_PRISM_WALK
@@ -112,6 +139,13 @@ void main()
     }
 #endif
 
+#ifdef PR_PRISM_INSIDE
+    // The second pass over a torn mesh (prism.frag): the bottoms the eye sees from inside the
+    // object, where rays that went in through a tear come out into the far side's shell; only
+    // those over a tile that the first pass marked.
+    if (touches_marked_tile()) triangle(0, 2, 1);
+    return;
+#endif
     triangle(3, 4, 5); // top cap, outward along +N (base triangles are counter-clockwise)
 #ifdef PR_PRISM_WALK
     // The walk (prism.frag) carries each ray from prism to prism, so only the shell's outside is

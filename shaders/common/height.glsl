@@ -20,13 +20,25 @@ int g_height_samples = 0;
 layout(binding = PR_TEX_CONE) uniform sampler2D s_cone;
 #endif
 
+#ifdef PR_PRISM_TEARS
+// 1 while the prism walk marches a ray *under* the surface (through a tear, prism.frag): heights
+// read as 1 - h and the ray's height is flipped too, so "comes out above h" is "meets 1 - h from
+// above" and one marcher serves both.
+float g_height_flip = 0.0;
+#endif
+
 float height_at(vec2 uv, UvGrad g)
 {
     ++g_height_samples;
 #ifdef PR_HEIGHT_FROM_CONE
-    return textureLod(s_cone, uv, 0.0).r;
+    float h = textureLod(s_cone, uv, 0.0).r;
 #else
-    return textureGrad(s_height, uv, g.dx, g.dy).r;
+    float h = textureGrad(s_height, uv, g.dx, g.dy).r;
+#endif
+#ifdef PR_PRISM_TEARS
+    return abs(g_height_flip - h);
+#else
+    return h;
 #endif
 }
 

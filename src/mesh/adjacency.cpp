@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace pr {
 
@@ -24,6 +25,15 @@ EdgeAdjacency edge_adjacency(const std::vector<MeshVertex>& vertices, const std:
     };
     const auto same_direction = [&](std::size_t x, std::size_t y) {
         return weld(3 * (x / 3) + x % 3) == weld(3 * (y / 3) + y % 3);
+    };
+    // Whether an edge's two sides give it the same texture coordinates up to one whole shift of
+    // the texture (heights wrap, contract): then they agree all along it, not only at its ends.
+    const auto same_uv = [&](std::size_t a0, std::size_t b0, std::size_t a1, std::size_t b1) {
+        const glm::vec2 d0 = vertices[indices[a0]].uv - vertices[indices[b0]].uv;
+        const glm::vec2 d1 = vertices[indices[a1]].uv - vertices[indices[b1]].uv;
+        const glm::vec2 whole(std::round(d0.x), std::round(d0.y));
+        const auto near = [](glm::vec2 x, glm::vec2 y) { return std::abs(x.x - y.x) <= 1e-6f && std::abs(x.y - y.y) <= 1e-6f; };
+        return near(d0, whole) && near(d1, whole);
     };
     const std::uint32_t weld_count = welded_position_count(vertices);
     std::vector<std::uint32_t> start(std::size_t(weld_count) + 1, 0);
@@ -50,6 +60,9 @@ EdgeAdjacency edge_adjacency(const std::vector<MeshVertex>& vertices, const std:
                 const std::uint32_t x = *it, y = *(it + 1);
                 out.neighbours[x] = (y / 3) << 2 | (y % 3);
                 out.neighbours[y] = (x / 3) << 2 | (x % 3);
+                // Corner e of x is corner e + 1 of y and the other way round.
+                const std::size_t tx = 3 * (x / 3), ty = 3 * (y / 3);
+                if (!same_uv(tx + x % 3, ty + (y % 3 + 1) % 3, tx + (x % 3 + 1) % 3, ty + y % 3)) ++out.seam_edges;
             }
             it = same;
         }

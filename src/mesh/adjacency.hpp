@@ -19,6 +19,9 @@ inline constexpr std::uint32_t kNoNeighbour = 0xffffffffu;
 struct EdgeAdjacency {
     std::vector<std::uint32_t> neighbours; // 3 per triangle
     std::size_t open_edges = 0;            // entries that are kNoNeighbour
+    // Paired edges whose two triangles give an end different texture coordinates (other than by
+    // whole repeats of the texture): UV seams, where the displaced surface may tear.
+    std::size_t seam_edges = 0;
 };
 
 // Throws pr::Error when the mesh has 2^30 triangles or more (the packing's limit).

@@ -200,6 +200,8 @@ void Renderer::create_target()
     glTextureStorage2D(color_target_.id(), 1, GL_RGBA8, width_, height_);
     depth_target_ = gl::Texture::create(GL_TEXTURE_2D);
     glTextureStorage2D(depth_target_.id(), 1, GL_DEPTH_COMPONENT32F, width_, height_);
+    tear_mask_ = {};
+    tear_tiles_ = {};
     fbo_ = gl::Framebuffer::create();
     glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT0, color_target_.id(), 0);
     glNamedFramebufferTexture(fbo_.id(), GL_DEPTH_ATTACHMENT, depth_target_.id(), 0);
@@ -314,9 +316,11 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
     return stats;
 }
 
-GLuint Renderer::program_for(const DrawSettings& settings)
+GLuint Renderer::program_for(const DrawSettings& settings, TearPass tears)
 {
-    const ShaderDefines defines = defines_for(settings);
+    ShaderDefines defines = defines_for(settings);
+    if (tears != TearPass::None) defines.emplace_back("PR_PRISM_TEARS", "1");
+    if (tears == TearPass::Inside) defines.emplace_back("PR_PRISM_INSIDE", "1");
     const std::string key = variant_key(defines);
     auto it = programs_.find(key);
     if (it == programs_.end()) {
@@ -376,6 +380,7 @@ void Renderer::ensure_walk_data()
         const EdgeAdjacency adjacency = edge_adjacency(vertices, indices);
         o.adjacency = gl::immutable_buffer(adjacency.neighbours);
         o.open_shell = adjacency.open_edges > 0;
+        o.tears = !o.open_shell && adjacency.seam_edges > 0;
         o.corners = make_shell_corners(vertices, indices, *o.height_field, o.transform, o.depth, o.midlevel);
     }
     if (glGetError() == GL_OUT_OF_MEMORY) throw Error("scene", "out of GPU memory while building the prism walk's buffers");
@@ -446,8 +451,35 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         const GLuint aux = aux_map == AuxMap::None ? 0 : o.aux_texture[static_cast<int>(aux_map) - 1];
         glBindTextureUnit(PR_TEX_CONE, aux ? aux : o.height_texture);
     };
-    glUseProgram(program);
+    // Torn meshes (GpuObject::tears): the walk marks the pixels whose rays went into the object
+    // through a tear; a second pass from the far side's bottoms shades those (prism.frag).
+    const bool tears = walk && std::any_of(objects_.begin(), objects_.end(), [](const GpuObject& o) { return o.tears; });
+    if (tears) {
+        if (!tear_mask_) {
+            tear_mask_ = gl::Texture::create(GL_TEXTURE_2D);
+            glTextureStorage2D(tear_mask_.id(), 1, GL_R32UI, width_, height_);
+            tear_tiles_ = gl::Texture::create(GL_TEXTURE_2D);
+            glTextureStorage2D(tear_tiles_.id(), 1, GL_R32UI, (width_ + PR_TEAR_TILE - 1) / PR_TEAR_TILE,
+                               (height_ + PR_TEAR_TILE - 1) / PR_TEAR_TILE);
+        }
+        const GLuint zero = 0;
+        glClearTexImage(tear_mask_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+        glClearTexImage(tear_tiles_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+        glBindImageTexture(PR_IMAGE_TEARS, tear_mask_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+        glBindImageTexture(PR_IMAGE_TEAR_TILES, tear_tiles_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+    }
+    const auto bind_prism_buffers = [&](const GpuObject& o) {
+        // The fragment shader rebuilds its prism from the mesh buffers (prism.frag).
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_VERTICES, o.base.vertices.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_INDICES, o.base.indices.id());
+        if (walk) {
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_ADJACENCY, o.adjacency.id());
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_CORNERS, o.corners.id());
+        }
+    };
+    const GLuint through_tears = tears ? program_for(settings, TearPass::Through) : 0;
     for (const GpuObject& o : objects_) {
+        glUseProgram(walk && o.tears ? through_tears : program);
         set_object(o);
         if (settings.technique == Technique::Reference) {
             if (o.reference.empty()) throw Error("reference", "prepare_reference() was not called");
@@ -456,15 +488,18 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
                 glDrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
             }
         } else {
-            if (prism) {
-                // The fragment shader rebuilds its prism from the mesh buffers (prism.frag).
-                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_VERTICES, o.base.vertices.id());
-                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_INDICES, o.base.indices.id());
-                if (walk) {
-                    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_ADJACENCY, o.adjacency.id());
-                    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_CORNERS, o.corners.id());
-                }
-            }
+            if (prism) bind_prism_buffers(o);
+            glBindVertexArray(o.base.vao.id());
+            glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
+        }
+    }
+    if (tears) {
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        glUseProgram(program_for(settings, TearPass::Inside));
+        for (const GpuObject& o : objects_) {
+            if (!o.tears) continue;
+            set_object(o);
+            bind_prism_buffers(o);
             glBindVertexArray(o.base.vao.id());
             glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
         }

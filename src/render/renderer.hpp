@@ -66,7 +66,10 @@ public:
     SampleCounters read_counters() const;       // after a draw with settings.count_samples
 
     // Builds (or returns the cached) program for a variant; throws pr::Error with the log.
-    GLuint program_for(const DrawSettings& settings);
+    // The prism walk over a torn mesh (GpuObject::tears) has a variant of its own that goes
+    // through the tears, and a second pass from inside the object (docs/prism.md).
+    enum class TearPass { None, Through, Inside };
+    GLuint program_for(const DrawSettings& settings, TearPass tears = TearPass::None);
 
     GLuint framebuffer() const { return fbo_.id(); }
 
@@ -94,9 +97,11 @@ private:
     struct GpuObject {
         Geometry base;
         // The prism walk's data, built on its first draw (ensure_walk_data): edge_adjacency() of
-        // the base mesh, whether it has edges without a neighbour, shell corners per vertex.
+        // the base mesh, whether it has edges without a neighbour, shell corners per vertex;
+        // `tears`: closed, with UV seams, where the surface may tear (a second pass, docs/prism.md).
         gl::Buffer adjacency;
         bool open_shell = false;
+        bool tears = false;
         gl::Buffer corners;
         std::vector<Geometry> reference; // chunks of the tessellated ground truth
         GLuint height_texture = 0; // owned by texture_cache_
@@ -118,6 +123,8 @@ private:
     gl::Framebuffer fbo_;
     gl::Texture color_target_;
     gl::Texture depth_target_;
+    gl::Texture tear_mask_;  // r32ui, the walk's pixels that went into an object (made on first need)
+    gl::Texture tear_tiles_; // r32ui, the same per tile of PR_TEAR_TILE^2 pixels
     gl::Buffer frame_ubo_;
     gl::Buffer object_ubo_;
     gl::Buffer counters_;

@@ -38,6 +38,25 @@ TEST(ShaderVariants, EveryTechniqueQualityAndInstrumentationCompiles)
                 }
 }
 
+// The prism walk's variants for torn meshes (through the tears; the second pass from inside),
+// with every marcher, self-shadowing and instrumentation.
+TEST(ShaderVariants, PrismTearPassesCompileWithEveryMarcher)
+{
+    prtest::context();
+    Renderer r(8, 8);
+    for (Marcher m : {Marcher::Linear, Marcher::Relief, Marcher::Cone, Marcher::RelaxedCone, Marcher::MaxMip})
+        for (Renderer::TearPass pass : {Renderer::TearPass::Through, Renderer::TearPass::Inside})
+            for (Shadows shadows : {Shadows::None, Shadows::Soft})
+                for (bool count : {false, true}) {
+                    DrawSettings s;
+                    s.technique = Technique::Prism;
+                    s.marcher = m;
+                    s.shadows = shadows;
+                    s.count_samples = count;
+                    EXPECT_NO_THROW(r.program_for(s, pass)) << marcher_name(m);
+                }
+}
+
 // A broken shader (through the PRISMRELIEF_SHADER_DIR override) fails with the file and the
 // line of the mistake, also inside an included file.
 TEST(ShaderVariants, CompileErrorNamesFileAndLine)

@@ -79,6 +79,36 @@ TEST(Adjacency, ClosedMeshesHaveNoOpenEdges)
     EXPECT_LT(a.open_edges, a.neighbours.size() / 4);
 }
 
+// A UV seam where the surface may tear: the two sides give an end different texture
+// coordinates, other than by whole repeats (heights wrap).
+TEST(Adjacency, SeamEdgesAreThoseWhoseUvsDifferBeyondWholeRepeats)
+{
+    Soup s = soup({0, 1, 2, 3, 0, 2}, {0, 1, 2, 4, 5, 3});
+    const glm::vec2 uv[] = {{0.1f, 0.1f}, {0.4f, 0.1f}, {0.4f, 0.4f}, {0.1f, 0.4f}};
+    for (int i = 0; i < 4; ++i) s.vertices[i].uv = uv[i];
+    s.vertices[4].uv = uv[0];
+    s.vertices[5].uv = uv[2];
+    EXPECT_EQ(pr::edge_adjacency(s.vertices, s.indices).seam_edges, 0u);
+    s.vertices[4].uv = uv[0] + glm::vec2(2.0f, -1.0f); // the edge shifted by whole repeats:
+    s.vertices[5].uv = uv[2] + glm::vec2(2.0f, -1.0f); // the same heights all along it
+    EXPECT_EQ(pr::edge_adjacency(s.vertices, s.indices).seam_edges, 0u);
+    s.vertices[5].uv = uv[2] + glm::vec2(1.0f, -1.0f); // both ends whole repeats, by different shifts:
+    EXPECT_EQ(pr::edge_adjacency(s.vertices, s.indices).seam_edges, 1u); // the points between are not
+    s.vertices[5].uv = uv[2] + glm::vec2(2.5f, -1.0f); // one end elsewhere in the texture
+    EXPECT_EQ(pr::edge_adjacency(s.vertices, s.indices).seam_edges, 1u);
+
+    const auto seams = [](const char* name) {
+        const pr::PreparedMesh m = pr::load_mesh(std::filesystem::path(PR_SOURCE_DIR) / "meshes" / name);
+        return pr::edge_adjacency(m.vertices, m.indices).seam_edges;
+    };
+    EXPECT_EQ(seams("torus.obj"), 0u);     // its seams are whole repeats of the texture
+    EXPECT_EQ(seams("plane.obj"), 0u);
+    EXPECT_EQ(seams("uv_sphere.obj"), 64u); // each pole's fan: one u per cap triangle (32 segments)
+    EXPECT_EQ(seams("cube.obj"), 6u); // six edges whose faces run their uv differently along them
+                                      // (the other six: shifted by a whole repeat)
+    EXPECT_GT(seams("rock.obj"), 100u);    // the borders of its six UV islands
+}
+
 TEST(Adjacency, NonManifoldAndFlippedEdgesHaveNoNeighbour)
 {
     // Three triangles on edge 0-1 (a fin): none of them pairs there.
