@@ -468,41 +468,40 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         glBindImageTexture(PR_IMAGE_TEARS, tear_mask_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
         glBindImageTexture(PR_IMAGE_TEAR_TILES, tear_tiles_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
     }
-    const auto bind_prism_buffers = [&](const GpuObject& o) {
-        // The fragment shader rebuilds its prism from the mesh buffers (prism.frag).
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_VERTICES, o.base.vertices.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_INDICES, o.base.indices.id());
-        if (walk) {
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_ADJACENCY, o.adjacency.id());
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_CORNERS, o.corners.id());
+    // The base mesh of `o` with the bound program; the prism rebuilds its prisms from the mesh
+    // buffers (prism.frag).
+    const auto draw_base = [&](const GpuObject& o) {
+        set_object(o);
+        if (prism) {
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_VERTICES, o.base.vertices.id());
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_INDICES, o.base.indices.id());
+            if (walk) {
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_ADJACENCY, o.adjacency.id());
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_CORNERS, o.corners.id());
+            }
         }
+        glBindVertexArray(o.base.vao.id());
+        glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
     };
     const GLuint through_tears = tears ? program_for(settings, TearPass::Through) : 0;
     for (const GpuObject& o : objects_) {
         glUseProgram(walk && o.tears ? through_tears : program);
+        if (settings.technique != Technique::Reference) {
+            draw_base(o);
+            continue;
+        }
+        if (o.reference.empty()) throw Error("reference", "prepare_reference() was not called");
         set_object(o);
-        if (settings.technique == Technique::Reference) {
-            if (o.reference.empty()) throw Error("reference", "prepare_reference() was not called");
-            for (const Geometry& g : o.reference) {
-                glBindVertexArray(g.vao.id());
-                glDrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
-            }
-        } else {
-            if (prism) bind_prism_buffers(o);
-            glBindVertexArray(o.base.vao.id());
-            glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
+        for (const Geometry& g : o.reference) {
+            glBindVertexArray(g.vao.id());
+            glDrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
         }
     }
     if (tears) {
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         glUseProgram(program_for(settings, TearPass::Inside));
-        for (const GpuObject& o : objects_) {
-            if (!o.tears) continue;
-            set_object(o);
-            bind_prism_buffers(o);
-            glBindVertexArray(o.base.vao.id());
-            glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
-        }
+        for (const GpuObject& o : objects_)
+            if (o.tears) draw_base(o);
     }
     glFinish();
     const auto end = std::chrono::steady_clock::now();
