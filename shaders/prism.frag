@@ -76,17 +76,12 @@ void load_prism(uint prim, out BaseVertex bv[3], out bool from_a[3])
 // means equal step length), and at least one sample per two texels along the uv path, so grazing
 // rays near the silhouette do not step over bumps. Returns the hit's fraction of the segment, or
 // -1 when the ray stays above the height field.
-int segment_steps(vec3 seg)
-{
-    vec2 texels = seg.xy * vec2(textureSize(s_height, 0));
-    int steps = int(ceil(max(float(u_march.x) * abs(seg.z), 0.5 * length(texels))));
-    return clamp(steps, 1, 4 * max(u_march.x, 1) + 64);
-}
-
 float march_segment(vec3 tex_in, vec3 tex_out)
 {
     vec3 seg = tex_out - tex_in;
-    int steps = segment_steps(seg);
+    vec2 texels = seg.xy * vec2(textureSize(s_height, 0));
+    int steps = int(ceil(max(float(u_march.x) * abs(seg.z), 0.5 * length(texels))));
+    steps = clamp(steps, 1, 4 * max(u_march.x, 1) + 64);
     // Geometry (the outline and the depth) uses height level 0, as the reference does
     // (contract); filtering it by mip level would move the surface, not just smooth its look.
     UvGrad g = UvGrad(vec2(0.0), vec2(0.0));
