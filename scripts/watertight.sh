@@ -18,11 +18,13 @@ for mesh in uv_sphere torus rock; do
         "$pr" render --mesh "meshes/$mesh.obj" --height builtin:bumps --size 512x512 --elevation "$el" \
             --technique reference --out "$tmp/ref.png" >/dev/null 2>&1
         for t in $techniques; do
-            # prism:MARCHER:EXIT as --marcher/--prism-exit flags (render takes one technique)
-            IFS=: read -r name marcher exit <<<"$t"
+            # prism:MARCHER:EXIT:SHELL as --marcher/--prism-exit/--prism-shell flags (render
+            # takes one technique)
+            IFS=: read -r name marcher exit shell <<<"$t"
             args=(--technique "$name")
             [ -n "${marcher:-}" ] && args+=(--marcher "$marcher")
             [ -n "${exit:-}" ] && args+=(--prism-exit "$exit")
+            [ -n "${shell:-}" ] && args+=(--prism-shell "$shell")
             "$pr" render --mesh "meshes/$mesh.obj" --height builtin:bumps --size 512x512 --elevation "$el" \
                 "${args[@]}" --out "$tmp/t.png" >/dev/null 2>&1
             python3 - "$tmp/ref.png" "$tmp/t.png" "$mesh" "$el" "$t" <<'PY'

@@ -86,8 +86,9 @@ float march_segment(vec3 tex_in, vec3 tex_out)
     // (contract); filtering it by mip level would move the surface, not just smooth its look.
     UvGrad g = UvGrad(vec2(0.0), vec2(0.0));
     MarchRay ray = MarchRay(tex_in, seg, 1.0, steps);
-#if defined(PR_PRISM_TEARS) && PR_MARCHER != PR_MARCH_LINEAR && PR_MARCHER != PR_MARCH_RELIEF
-    // Under a torn surface (g_height_flip): the cone and max maps describe h, not 1 - h.
+#if defined(PR_PRISM_TEARS) && PR_MARCHER == PR_MARCH_MAX_MIP
+    // Under a torn surface (g_height_flip): the max pyramid describes h, not 1 - h. (The cone
+    // marchers step linearly there by themselves: cone_at, march/cone.glsl.)
     if (g_height_flip != 0.0) {
         Bracket lin = march_linear(ray, g);
         return lin.hit ? refine_binary(ray, lin, u_march.y, g) : -1.0;
@@ -124,11 +125,77 @@ layout(binding = PR_IMAGE_TEAR_TILES, r32ui) uniform uimage2D u_tear_tiles;
 #ifndef PR_WALK_MAX_PRISMS
 #define PR_WALK_MAX_PRISMS 256
 #endif
+// Legs of the walk: times a ray may leave through a top cap's edge into the neighbour's top.
+#define PR_WALK_MAX_LEGS 4
 
 void load_walk_prism(uint prim, out uint index[3], out uint weld[3], out bool from_a[3])
 {
     load_walk_prism(prim, index, weld);
     for (int e = 0; e < 3; ++e) from_a[e] = diagonal_from_a(weld[e], weld[(e + 1) % 3]);
+}
+
+// The edge of the current prism's top cap that a top exit at `uv` lies on (within 1e-3 of the
+// triangle, as barycentric weight; the rasterizer's snapping is smaller), and in `lambda` its
+// place along that edge (0 at corner e, 1 at corner e + 1); -1 when it is not at an edge.
+int top_exit_edge(vec2 uv, out float lambda)
+{
+    lambda = 0.0;
+    vec2 d1 = corner_tex[1].xy - corner_tex[0].xy, d2 = corner_tex[2].xy - corner_tex[0].xy;
+    vec2 dp = uv - corner_tex[0].xy;
+    float den = d1.x * d2.y - d1.y * d2.x;
+    if (!(abs(den) > 1e-20)) return -1;
+    vec3 w;
+    w.y = (dp.x * d2.y - dp.y * d2.x) / den;
+    w.z = (d1.x * dp.y - d1.y * dp.x) / den;
+    w.x = 1.0 - w.y - w.z;
+    // Edge e runs from corner e to corner e + 1; its opposite corner (e + 2) % 3 weighs ~0.
+    const float kEdge = 1e-3;
+    int e = w.z < kEdge ? 0 : (w.x < kEdge ? 1 : (w.y < kEdge ? 2 : -1));
+    float a = e == 0 ? w.x : (e == 1 ? w.y : w.z), b = e == 0 ? w.y : (e == 1 ? w.z : w.x);
+    lambda = clamp(b / max(a + b, 1e-20), 0.0, 1.0);
+    return e;
+}
+
+// Into the neighbour `next` (adjacency entry: its prism << 2 | its edge) from the point `tex_out`
+// of the current prism, on their shared edge, `lambda` along the current prism's edge: loads the
+// neighbour and returns the same point in its texture space, at the same height and the same
+// place along the edge, which the neighbour runs the other way, in its own uv (a seam may change
+// it).
+vec3 enter_neighbour(uint next, float lambda, vec3 tex_out, out uint prim, out uint index[3], out uint weld[3],
+                     out bool from_a[3])
+{
+    prim = next >> 2u;
+    int edge = int(next & 3u);
+    load_walk_prism(prim, index, weld, from_a);
+    float along = clamp(1.0 - lambda, 0.0, 1.0);
+    // (Selects, not corner_tex[edge]: an index unknown at compile time would send the whole
+    // array to memory on some compilers, llvmpipe's among them.)
+    vec2 from = edge == 0 ? corner_tex[0].xy : (edge == 1 ? corner_tex[1].xy : corner_tex[2].xy);
+    vec2 to = edge == 0 ? corner_tex[1].xy : (edge == 1 ? corner_tex[2].xy : corner_tex[0].xy);
+    return vec3(mix(from, to, along), tex_out.z);
+}
+
+#ifdef PR_PRISM_TEARS
+// Across a seam (the uv jumps by more than whole repeats from `tex_out` to `tex_in`), above or
+// below is decided anew by the far side's height; elsewhere the surface is continuous.
+bool below_after_seam(vec3 tex_in, vec3 tex_out, bool below)
+{
+    vec2 jump = tex_in.xy - tex_out.xy;
+    jump -= round(jump);
+    if (any(greaterThan(abs(jump), vec2(1e-4))))
+        return tex_in.z < height_at(tex_in.xy, UvGrad(vec2(0.0), vec2(0.0)));
+    return below;
+}
+#endif
+
+// Whether the ray goes *in* through the current prism's top cap at t close to `t_at` (the top
+// exit of the prism before, on their shared edge).
+bool enters_top(vec3 dir, float t_at)
+{
+    float t, det;
+    vec3 w;
+    return ray_triangle(3, 4, 5, dir, 1e-3, t, w, det) && det * walk_orientation > 0.0 &&
+           abs(t - t_at) <= 1e-4 * t_at;
 }
 #endif
 
@@ -162,62 +229,68 @@ void main()
 #endif
     uint index[3], weld[3];
     load_walk_prism(prim, index, weld, from_a);
-    for (int k = 0; k < PR_WALK_MAX_PRISMS; ++k) {
-        ExitFace ex = nearest_exit(dir, t_in * (1.0 - 1e-6), from_a, 1e-5, walk_orientation);
-        // No way out: in the first prism the rasterizer's snapped edge put the fragment a little
-        // outside its face; later, the ray came in where the shell folds. Compare the planes only
-        // (shell.glsl), which on a convex prism still finds the way out.
-        if (ex.face < 0) ex = nearest_exit(dir, t_in * (1.0 - 1e-6), from_a, 1e30, walk_orientation);
-        if (ex.face < 0) {
-            t_out = t_in;
-            tex_out = tex_in;
-            break; // lost: a miss
-        }
-        t_out = ex.t;
-        tex_out = vec3(ex.tex.xy, clamp(ex.tex.z, 0.0, 1.0));
-#ifdef PR_PRISM_TEARS
-        // Below the surface: the flipped ray against the flipped heights (height.glsl).
-        g_height_flip = below ? 1.0 : 0.0;
-        s = march_segment(below ? vec3(tex_in.xy, 1.0 - tex_in.z) : tex_in,
-                          below ? vec3(tex_out.xy, 1.0 - tex_out.z) : tex_out);
-        g_height_flip = 0.0;
-#else
-        s = march_segment(tex_in, tex_out);
-#endif
-        if (s >= 0.0) break;
-        // Out through a cap, or a side without a neighbour: the ray leaves the shell.
-        uint next = ex.face >= 2 ? b_adjacency[3u * prim + uint(ex.face - 2)] : 0xffffffffu;
-        if (next == 0xffffffffu) {
-#if defined(PR_PRISM_TEARS) && !defined(PR_PRISM_INSIDE)
-            if (below && ex.face == 1) {
-                imageStore(u_tears, ivec2(gl_FragCoord.xy), uvec4(1u));
-                imageStore(u_tear_tiles, ivec2(gl_FragCoord.xy) / PR_TEAR_TILE, uvec4(1u));
+    int k = 0;
+    // The walk, in legs: a ray that leaves through a top cap at one of its edges may go straight
+    // into the neighbour's prism through the neighbour's top. The shell's top folds away from the
+    // eye there, and the rasterizer gives a pixel on the shared edge to one cap only: the one
+    // facing away, which is not drawn. (Tried after the loop, not in it: llvmpipe runs every
+    // branch of a loop's body for all its lanes.)
+    for (int leg = 0; leg < PR_WALK_MAX_LEGS; ++leg) {
+        int exit_face = -1;
+        for (; k < PR_WALK_MAX_PRISMS; ++k) {
+            ExitFace plane;
+            ExitFace ex = nearest_exit(dir, t_in * (1.0 - 1e-6), from_a, 1e-5, walk_orientation, plane);
+            // No way out: in the first prism the rasterizer's snapped edge put the fragment a
+            // little outside its face; later, the ray came in where the shell folds. Compare the
+            // planes only (shell.glsl), which on a convex prism still finds the way out.
+            if (ex.face < 0) ex = plane;
+            if (ex.face < 0) {
+                t_out = t_in;
+                tex_out = tex_in;
+                break; // lost: a miss
             }
+            t_out = ex.t;
+            tex_out = vec3(ex.tex.xy, clamp(ex.tex.z, 0.0, 1.0));
+#ifdef PR_PRISM_TEARS
+            // Below the surface: the flipped ray against the flipped heights (height.glsl).
+            g_height_flip = below ? 1.0 : 0.0;
+            s = march_segment(below ? vec3(tex_in.xy, 1.0 - tex_in.z) : tex_in,
+                              below ? vec3(tex_out.xy, 1.0 - tex_out.z) : tex_out);
+            g_height_flip = 0.0;
+#else
+            s = march_segment(tex_in, tex_out);
 #endif
-            break;
+            if (s >= 0.0) break;
+            // Out through a cap, or a side without a neighbour: the ray leaves the shell.
+            uint next = ex.face >= 2 ? b_adjacency[3u * prim + uint(ex.face - 2)] : 0xffffffffu;
+            if (next == 0xffffffffu) {
+#if defined(PR_PRISM_TEARS) && !defined(PR_PRISM_INSIDE)
+                if (below && ex.face == 1) {
+                    imageStore(u_tears, ivec2(gl_FragCoord.xy), uvec4(1u));
+                    imageStore(u_tear_tiles, ivec2(gl_FragCoord.xy) / PR_TEAR_TILE, uvec4(1u));
+                }
+#endif
+                exit_face = ex.face;
+                break;
+            }
+            tex_in = enter_neighbour(next, ex.lambda, tex_out, prim, index, weld, from_a);
+            t_in = t_out;
+#ifdef PR_PRISM_TEARS
+            below = below_after_seam(tex_in, tex_out, below);
+#endif
         }
-        // Into the neighbour: the same point, at the same height and the same place along the
-        // shared edge, which the neighbour runs the other way, in its own uv (a seam may change it).
-        prim = next >> 2u;
-        int edge = int(next & 3u);
-        load_walk_prism(prim, index, weld, from_a);
-        float along = clamp(1.0 - ex.lambda, 0.0, 1.0);
-        // (Selects, not corner_tex[edge]: an index unknown at compile time would send the whole
-        // array to memory on some compilers, llvmpipe's among them.)
-        vec2 from = edge == 0 ? corner_tex[0].xy : (edge == 1 ? corner_tex[1].xy : corner_tex[2].xy);
-        vec2 to = edge == 0 ? corner_tex[1].xy : (edge == 1 ? corner_tex[2].xy : corner_tex[0].xy);
-        tex_in = vec3(mix(from, to, along), tex_out.z);
+        if (s >= 0.0 || exit_face != 0 || k >= PR_WALK_MAX_PRISMS) break;
+        float lambda;
+        int edge = top_exit_edge(tex_out.xy, lambda);
+        uint next = edge >= 0 ? b_adjacency[3u * prim + uint(edge)] : 0xffffffffu;
+        if (next == 0xffffffffu) break;
+        tex_in = enter_neighbour(next, lambda, tex_out, prim, index, weld, from_a);
+        if (!enters_top(dir, t_out)) break; // it does not: out of the shell
         t_in = t_out;
 #ifdef PR_PRISM_TEARS
-        {
-            // Across a seam (the uv jumps by more than whole repeats), above or below is decided
-            // anew by the far side's height; elsewhere the surface is continuous.
-            vec2 jump = tex_in.xy - tex_out.xy;
-            jump -= round(jump);
-            if (any(greaterThan(abs(jump), vec2(1e-4))))
-                below = tex_in.z < height_at(tex_in.xy, UvGrad(vec2(0.0), vec2(0.0)));
-        }
+        below = below_after_seam(tex_in, tex_out, below);
 #endif
+        ++k;
     }
     for (int i = 0; i < 3; ++i) bv[i] = base_vertex(index[i]); // the frame at the hit (below)
 #else

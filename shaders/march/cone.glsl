@@ -34,6 +34,11 @@ vec3 cone_at(vec2 uv)
 {
     ++g_height_samples;
     vec3 rgb = textureLod(s_cone, uv, 0.0).rgb;
+#ifdef PR_PRISM_TEARS
+    // Under a torn surface (g_height_flip, common/height.glsl) the map's cones describe h, not
+    // 1 - h: no cone at all there, so the march takes linear steps.
+    if (g_height_flip != 0.0) return vec3(1.0 - rgb.r, 0.0, 0.0);
+#endif
 #if PR_CONE_IS_RELAXED == 1
     return vec3(rgb.r, rgb.g * rgb.g, rgb.b * rgb.b);
 #else
@@ -56,7 +61,7 @@ Bracket march_cone(MarchRay r)
     for (int i = 0; i < r.steps; ++i) {
         float c = rising ? hc.z : hc.y;
         float denom = run - c * r.dir.z;
-        float dt = denom > 1e-12 ? c * d / denom : r.t_end;
+        float dt = denom > 1e-12 ? c * d / denom : (c > 0.0 ? r.t_end : 0.0); // c = 0: no cone
         float t_next = min(t + max(dt, min_dt), r.t_end);
         vec3 p = r.origin + t_next * r.dir;
         vec3 hc_next = cone_at(p.xy);

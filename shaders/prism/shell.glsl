@@ -29,28 +29,39 @@ bool diagonal_from_a(uint weld_a, uint weld_b)
 vec3 corner_world[6];
 vec3 corner_tex[6];
 
-// Ray eye + t * dir against the prism's triangle (a, b, c) (Moller-Trumbore), grown by `slack`
-// in barycentric units: false when they do not meet; else the parameter t, the barycentric
-// weights of a, b, c, and det, whose sign tells the side: det < 0 where the ray goes out through
-// a face wound counter-clockwise seen from outside.
-bool ray_triangle(int a, int b, int c, vec3 dir, float slack, out float t, out vec3 w, out float det)
+// Ray eye + t * dir against the plane of triangle (p0, p1, p2) (Moller-Trumbore): false when they
+// are parallel; else the parameter t, the barycentric weights w of p0, p1, p2 (inside the
+// triangle when none is negative), and det, whose sign tells the side: det < 0 where the ray
+// goes out through a face wound counter-clockwise seen from outside.
+bool ray_plane(vec3 p0, vec3 p1, vec3 p2, vec3 dir, out float t, out vec3 w, out float det)
 {
     t = 0.0;
     w = vec3(0.0);
-    vec3 e1 = corner_world[b] - corner_world[a];
-    vec3 e2 = corner_world[c] - corner_world[a];
+    vec3 e1 = p1 - p0;
+    vec3 e2 = p2 - p0;
     vec3 p = cross(dir, e2);
     det = dot(e1, p);
     if (abs(det) < 1e-30) return false;
     float inv = 1.0 / det;
-    vec3 s = u_eye.xyz - corner_world[a];
+    vec3 s = u_eye.xyz - p0;
     float bu = dot(s, p) * inv;
     vec3 q = cross(s, e1);
     float bv = dot(dir, q) * inv;
-    if (bu < -slack || bv < -slack || bu + bv > 1.0 + slack) return false;
     t = dot(e2, q) * inv;
     w = vec3(1.0 - bu - bv, bu, bv);
     return true;
+}
+
+// Whether weights w from ray_plane() lie in the triangle grown by `slack` (barycentric units).
+bool in_triangle(vec3 w, float slack)
+{
+    return w.y >= -slack && w.z >= -slack && w.y + w.z <= 1.0 + slack;
+}
+
+// The same against the prism's triangle (a, b, c), grown by `slack`: false when they do not meet.
+bool ray_triangle(int a, int b, int c, vec3 dir, float slack, out float t, out vec3 w, out float det)
+{
+    return ray_plane(corner_world[a], corner_world[b], corner_world[c], dir, t, w, det) && in_triangle(w, slack);
 }
 
 // +1 when the walk's current prism (load_walk_prism) winds counter-clockwise seen from outside.
@@ -110,44 +121,49 @@ struct ExitFace {
     float lambda;
 };
 
-// `orient`: 0 counts every crossing; +1 only those the ray goes *out* through, for a prism whose
-// faces wind counter-clockwise seen from outside, -1 the same for one turned inside out by
-// normals that oppose the winding (the walk: walk_orientation), so the face of entry needs no
-// epsilon.
-void exit_candidate(int a, int b, int c, int face, vec3 dir, float t_min, float orient, float slack,
-                    inout ExitFace best)
+// A crossing of triangle (p0, p1, p2) (texture coordinates x0, x1, x2) beyond t_min: `best` keeps
+// the nearest within the triangle grown by `slack`, `plane` the nearest of the planes. `second`
+// picks the weights of the corners at the edge's second end (side faces: lambda). `orient`: 0
+// counts every crossing; +1 only those the ray goes *out* through, for a prism whose faces wind
+// counter-clockwise seen from outside, -1 the same for one turned inside out by normals that
+// oppose the winding (the walk: walk_orientation), so the face of entry needs no epsilon.
+void exit_candidate(vec3 p0, vec3 p1, vec3 p2, vec3 x0, vec3 x1, vec3 x2, int face, vec3 second, vec3 dir,
+                    float t_min, float orient, float slack, inout ExitFace best, inout ExitFace plane)
 {
     float t, det;
     vec3 w;
-    if (!ray_triangle(a, b, c, dir, slack, t, w, det) || det * orient > 0.0) return;
-    if (t > t_min && t < best.t) {
-        best.t = t;
-        best.tex = corner_tex[a] * w.x + corner_tex[b] * w.y + corner_tex[c] * w.z;
-        best.face = face;
-        // Weight of the edge's second corner (bottom or top), for the side faces.
-        int second = (face + 2) % 3;
-        best.lambda = (a % 3 == second ? w.x : 0.0) + (b % 3 == second ? w.y : 0.0) + (c % 3 == second ? w.z : 0.0);
-    }
+    if (!ray_plane(p0, p1, p2, dir, t, w, det) || det * orient > 0.0 || !(t > t_min)) return;
+    ExitFace ex = ExitFace(t, x0 * w.x + x1 * w.y + x2 * w.z, face, dot(w, second));
+    if (t < best.t && in_triangle(w, slack)) best = ex;
+    if (t < plane.t) plane = ex;
 }
 
 // `from_a[e]`: diagonal_from_a() of edge e. `slack` grows the faces (ray_triangle): 1e-5 lets an
-// exit lie exactly on an edge between two triangles; a huge one compares planes only, which on a
+// exit lie exactly on an edge between two triangles. `plane` compares the planes only, which on a
 // convex prism still finds the way out of a ray that comes in just outside it (the rasterizer
-// snaps vertices to its subpixel grid, so a fragment on an edge may lie a little outside its face).
-ExitFace nearest_exit(vec3 dir, float t_min, bool from_a[3], float slack, float orient)
+// snaps vertices to its subpixel grid, so a fragment on an edge may lie a little outside its
+// face). One pass gives both, and each side's two triangles are chosen by selects, not branches
+// (llvmpipe runs both arms of a branch): eight ray-plane tests in all.
+ExitFace nearest_exit(vec3 dir, float t_min, bool from_a[3], float slack, float orient, out ExitFace plane)
 {
     ExitFace best = ExitFace(1e30, vec3(0.0), -1, 0.0);
-    exit_candidate(3, 4, 5, 0, dir, t_min, orient, slack, best);
-    exit_candidate(0, 2, 1, 1, dir, t_min, orient, slack, best);
+    plane = best;
+    const vec3 none = vec3(0.0);
+    exit_candidate(corner_world[3], corner_world[4], corner_world[5], corner_tex[3], corner_tex[4], corner_tex[5],
+                   0, none, dir, t_min, orient, slack, best, plane);
+    exit_candidate(corner_world[0], corner_world[2], corner_world[1], corner_tex[0], corner_tex[2], corner_tex[1],
+                   1, none, dir, t_min, orient, slack, best, plane);
     for (int e = 0; e < 3; ++e) {
+        // The side quad a b b' a' (' = top), split along a-b' (from_a) or b-a'.
         int a = e, b = (e + 1) % 3;
-        if (from_a[e]) {
-            exit_candidate(a, b, b + 3, 2 + e, dir, t_min, orient, slack, best);
-            exit_candidate(a, b + 3, a + 3, 2 + e, dir, t_min, orient, slack, best);
-        } else {
-            exit_candidate(a, b, a + 3, 2 + e, dir, t_min, orient, slack, best);
-            exit_candidate(b, b + 3, a + 3, 2 + e, dir, t_min, orient, slack, best);
-        }
+        bool f = from_a[e];
+        vec3 pa = corner_world[a], pb = corner_world[b], pat = corner_world[a + 3], pbt = corner_world[b + 3];
+        vec3 xa = corner_tex[a], xb = corner_tex[b], xat = corner_tex[a + 3], xbt = corner_tex[b + 3];
+        // a b b' or a b a'; then a b' a' or b b' a'.
+        exit_candidate(pa, pb, f ? pbt : pat, xa, xb, f ? xbt : xat, 2 + e, vec3(0.0, 1.0, f ? 1.0 : 0.0), dir,
+                       t_min, orient, slack, best, plane);
+        exit_candidate(f ? pa : pb, pbt, pat, f ? xa : xb, xbt, xat, 2 + e, vec3(f ? 0.0 : 1.0, 1.0, 0.0), dir,
+                       t_min, orient, slack, best, plane);
     }
     return best;
 }
@@ -157,7 +173,8 @@ ExitFace nearest_exit(vec3 dir, float t_min, bool from_a[3], float slack, float 
 // edge); then t = 1 and tex = entry_tex.
 bool prism_exit(vec3 dir, vec3 entry_tex, bool from_a[3], out float t_exit, out vec3 tex_exit)
 {
-    ExitFace ex = nearest_exit(dir, 1.0 + 1e-5, from_a, 1e-5, 0.0);
+    ExitFace plane;
+    ExitFace ex = nearest_exit(dir, 1.0 + 1e-5, from_a, 1e-5, 0.0, plane);
     t_exit = ex.face < 0 ? 1.0 : ex.t;
     tex_exit = ex.face < 0 ? entry_tex : ex.tex;
     return ex.face >= 0;
