@@ -74,9 +74,16 @@ void load_prism(uint prim, out BaseVertex bv[3], out bool from_a[3])
 // One march from `tex_in` to `tex_out` in texture space (linear in the ray parameter between
 // them). Steps: --steps per full height range (as the base-surface techniques, so equal --steps
 // means equal step length), and at least one sample per two texels along the uv path, so grazing
-// rays near the silhouette do not step over bumps. Returns the hit's fraction of the segment, or
-// -1 when the ray stays above the height field.
-float march_segment(vec3 tex_in, vec3 tex_out)
+// rays near the silhouette do not step over bumps. March and refinement are apart: the walk
+// brackets the hit prism by prism and refines once, after its loop (llvmpipe would run the
+// refinement's loop in every prism of every lane's walk).
+struct Segment {
+    MarchRay ray;
+    Bracket br;     // br.hit: the ray meets the height field in this segment
+    bool linear;    // marched linearly (max-mip under a tear)
+};
+
+Segment march_segment(vec3 tex_in, vec3 tex_out)
 {
     vec3 seg = tex_out - tex_in;
     vec2 texels = seg.xy * vec2(textureSize(s_height, 0));
@@ -89,27 +96,34 @@ float march_segment(vec3 tex_in, vec3 tex_out)
 #if defined(PR_PRISM_TEARS) && PR_MARCHER == PR_MARCH_MAX_MIP
     // Under a torn surface (g_height_flip): the max pyramid describes h, not 1 - h. (The cone
     // marchers step linearly there by themselves: cone_at, march/cone.glsl.)
-    if (g_height_flip != 0.0) {
-        Bracket lin = march_linear(ray, g);
-        return lin.hit ? refine_binary(ray, lin, u_march.y, g) : -1.0;
-    }
+    if (g_height_flip != 0.0) return Segment(ray, march_linear(ray, g), true);
 #endif
 #if PR_MARCHER == PR_MARCH_CONE || PR_MARCHER == PR_MARCH_RELAXED_CONE
-    Bracket br = march_cone(ray);
+    return Segment(ray, march_cone(ray), false);
 #elif PR_MARCHER == PR_MARCH_MAX_MIP
-    Bracket br = march_max_mip(ray);
+    return Segment(ray, march_max_mip(ray), false);
 #else
-    Bracket br = march_linear(ray, g);
+    return Segment(ray, march_linear(ray, g), false);
 #endif
-    if (!br.hit) return -1.0;
+}
+
+// The hit's fraction of a marched segment, refined as the marcher does, or -1 when the ray stays
+// above the height field there.
+float refine_segment(Segment sg)
+{
+    if (!sg.br.hit) return -1.0;
+    UvGrad g = UvGrad(vec2(0.0), vec2(0.0));
+#if defined(PR_PRISM_TEARS) && PR_MARCHER == PR_MARCH_MAX_MIP
+    if (sg.linear) return refine_binary(sg.ray, sg.br, u_march.y, g);
+#endif
 #if PR_MARCHER == PR_MARCH_LINEAR
-    return interpolate_bracket(br);
+    return interpolate_bracket(sg.br);
 #elif PR_MARCHER == PR_MARCH_CONE || PR_MARCHER == PR_MARCH_RELAXED_CONE
-    return refine_binary_secant(ray, br, cone_refine_steps(ray, br, u_march.y), g);
+    return refine_binary_secant(sg.ray, sg.br, cone_refine_steps(sg.ray, sg.br, u_march.y), g);
 #elif PR_MARCHER == PR_MARCH_MAX_MIP
-    return br.t_below; // exact: no refinement
+    return sg.br.t_below; // exact: no refinement
 #else
-    return refine_binary(ray, br, u_march.y, g);
+    return refine_binary(sg.ray, sg.br, u_march.y, g);
 #endif
 }
 
@@ -202,10 +216,19 @@ bool enters_top(vec3 dir, float t_at)
 void main()
 {
     uint prim = uint(gl_PrimitiveID);
-    BaseVertex bv[3];
     bool from_a[3];
+    // The hit's triangle: uv, world normals, object-space tangents dP/du and dP/dv per vertex.
+    vec2 frame_uv[3];
+    vec3 frame_n[3], frame_t[3], frame_b[3];
 #ifndef PR_PRISM_WALK
+    BaseVertex bv[3];
     load_prism(prim, bv, from_a);
+    for (int i = 0; i < 3; ++i) {
+        frame_uv[i] = bv[i].uv;
+        frame_n[i] = mat3(u_normal_matrix) * bv[i].normal;
+        frame_t[i] = bv[i].tangent;
+        frame_b[i] = bv[i].bitangent;
+    }
 #endif
 
     // The ray is eye + t * dir with t = 1 at this fragment (the entry).
@@ -229,6 +252,8 @@ void main()
 #endif
     uint index[3], weld[3];
     load_walk_prism(prim, index, weld, from_a);
+    Segment hit_segment; // the last segment marched; br.hit when the walk found the surface in it
+    hit_segment.br.hit = false;
     int k = 0;
     // The walk, in legs: a ray that leaves through a top cap at one of its edges may go straight
     // into the neighbour's prism through the neighbour's top. The shell's top folds away from the
@@ -254,13 +279,13 @@ void main()
 #ifdef PR_PRISM_TEARS
             // Below the surface: the flipped ray against the flipped heights (height.glsl).
             g_height_flip = below ? 1.0 : 0.0;
-            s = march_segment(below ? vec3(tex_in.xy, 1.0 - tex_in.z) : tex_in,
-                              below ? vec3(tex_out.xy, 1.0 - tex_out.z) : tex_out);
+            hit_segment = march_segment(below ? vec3(tex_in.xy, 1.0 - tex_in.z) : tex_in,
+                                        below ? vec3(tex_out.xy, 1.0 - tex_out.z) : tex_out);
             g_height_flip = 0.0;
 #else
-            s = march_segment(tex_in, tex_out);
+            hit_segment = march_segment(tex_in, tex_out);
 #endif
-            if (s >= 0.0) break;
+            if (hit_segment.br.hit) break;
             // Out through a cap, or a side without a neighbour: the ray leaves the shell.
             uint next = ex.face >= 2 ? b_adjacency[3u * prim + uint(ex.face - 2)] : 0xffffffffu;
             if (next == 0xffffffffu) {
@@ -279,7 +304,7 @@ void main()
             below = below_after_seam(tex_in, tex_out, below);
 #endif
         }
-        if (s >= 0.0 || exit_face != 0 || k >= PR_WALK_MAX_PRISMS) break;
+        if (hit_segment.br.hit || exit_face != 0 || k >= PR_WALK_MAX_PRISMS) break;
         float lambda;
         int edge = top_exit_edge(tex_out.xy, lambda);
         uint next = edge >= 0 ? b_adjacency[3u * prim + uint(edge)] : 0xffffffffu;
@@ -292,7 +317,22 @@ void main()
 #endif
         ++k;
     }
-    for (int i = 0; i < 3; ++i) bv[i] = base_vertex(index[i]); // the frame at the hit (below)
+    // The hit, refined once, under the surface if the walk was there.
+#ifdef PR_PRISM_TEARS
+    g_height_flip = below ? 1.0 : 0.0;
+#endif
+    s = refine_segment(hit_segment);
+#ifdef PR_PRISM_TEARS
+    g_height_flip = 0.0;
+#endif
+    // The frame at the hit (below): uv and normals as the walk loaded them, tangents from the
+    // vertex buffer (two of a vertex's four vec4).
+    for (int i = 0; i < 3; ++i) {
+        frame_uv[i] = corner_tex[i].xy;
+        frame_n[i] = corner_normal[i];
+        frame_t[i] = b_vertices[4u * index[i] + 2u].xyz;
+        frame_b[i] = b_vertices[4u * index[i] + 3u].xyz;
+    }
 #else
 #ifdef PR_PRISM_EXIT_VERTEX
     // Interpolated distances to the texture-space prism's planes (prism.geom): the nearest is
@@ -304,7 +344,7 @@ void main()
 #else
     prism_exit(dir, v_tex, from_a, t_out, tex_out);
 #endif
-    s = march_segment(tex_in, tex_out);
+    s = refine_segment(march_segment(tex_in, tex_out));
 #endif
     if (s < 0.0) {
         count_fragment();
@@ -314,15 +354,15 @@ void main()
     vec3 hit = u_eye.xyz + mix(t_in, t_out, s) * dir;
 
     // Frame at the hit: barycentrics of its uv in the base triangle's uv triangle.
-    vec2 d1 = bv[1].uv - bv[0].uv, d2 = bv[2].uv - bv[0].uv, dp = tex.xy - bv[0].uv;
+    vec2 d1 = frame_uv[1] - frame_uv[0], d2 = frame_uv[2] - frame_uv[0], dp = tex.xy - frame_uv[0];
     float den = d1.x * d2.y - d1.y * d2.x;
     vec3 w = abs(den) > 1e-20
         ? vec3(0.0, (dp.x * d2.y - dp.y * d2.x) / den, (d1.x * dp.y - d1.y * dp.x) / den)
         : vec3(0.0, 1.0 / 3.0, 1.0 / 3.0);
     w.x = 1.0 - w.y - w.z;
-    vec3 n = normalize(mat3(u_normal_matrix) * (bv[0].normal * w.x + bv[1].normal * w.y + bv[2].normal * w.z));
-    vec3 t_axis = mat3(u_model) * (bv[0].tangent * w.x + bv[1].tangent * w.y + bv[2].tangent * w.z);
-    vec3 b_axis = mat3(u_model) * (bv[0].bitangent * w.x + bv[1].bitangent * w.y + bv[2].bitangent * w.z);
+    vec3 n = normalize(frame_n[0] * w.x + frame_n[1] * w.y + frame_n[2] * w.z);
+    vec3 t_axis = mat3(u_model) * (frame_t[0] * w.x + frame_t[1] * w.y + frame_t[2] * w.z);
+    vec3 b_axis = mat3(u_model) * (frame_b[0] * w.x + frame_b[1] * w.y + frame_b[2] * w.z);
     UvGrad g = UvGrad(vec2(0.0), vec2(0.0));
     vec3 shading_n = height_normal(tex.xy, t_axis, b_axis, n, u_displace.x);
 #ifdef PR_PRISM_WALK

@@ -74,10 +74,10 @@ float walk_orientation;
 layout(std430, binding = PR_SSBO_INDICES) readonly buffer Indices { uint b_indices[]; };
 #ifdef PR_PRISM_WALK
 // Per vertex (src/render/renderer.cpp, make_shell_corners): the shell's bottom corner and u,
-// depth * N and v, and the height of the top (shell_bounds.hpp) with the welded id.
+// the unit normal N and v, and the height of the top (shell_bounds.hpp) with the welded id.
 struct ShellVertex {
     vec4 bottom_u;
-    vec4 dn_v;
+    vec4 n_v;
     vec4 top_weld;
 };
 layout(std430, binding = PR_SSBO_CORNERS) readonly buffer Corners { ShellVertex b_corners[]; };
@@ -86,6 +86,9 @@ layout(std430, binding = PR_SSBO_ADJACENCY) readonly buffer Adjacency { uint b_a
 // Fills corner_world/corner_tex with prism `prim` (top at the tight height, or at 1 with
 // PR_PRISM_FULL_SHELL); returns its vertex indices and welded ids. The geometry shader and the
 // walk both build their prisms here, so they agree to the bit.
+// The unit normals (world) of the current prism's vertices (load_walk_prism): the frame at a hit.
+vec3 corner_normal[3];
+
 void load_walk_prism(uint prim, out uint index[3], out uint weld[3])
 {
     vec3 base[3], up = vec3(0.0);
@@ -97,13 +100,15 @@ void load_walk_prism(uint prim, out uint index[3], out uint weld[3])
 #else
         float top = c.top_weld.x;
 #endif
+        vec3 dn = u_displace.x * c.n_v.xyz;
         corner_world[i] = c.bottom_u.xyz;
-        corner_world[i + 3] = c.bottom_u.xyz + top * c.dn_v.xyz;
-        corner_tex[i] = vec3(c.bottom_u.w, c.dn_v.w, 0.0);
-        corner_tex[i + 3] = vec3(c.bottom_u.w, c.dn_v.w, top);
+        corner_world[i + 3] = c.bottom_u.xyz + top * dn;
+        corner_tex[i] = vec3(c.bottom_u.w, c.n_v.w, 0.0);
+        corner_tex[i + 3] = vec3(c.bottom_u.w, c.n_v.w, top);
+        corner_normal[i] = c.n_v.xyz;
         weld[i] = floatBitsToUint(c.top_weld.y);
-        base[i] = c.bottom_u.xyz + u_displace.y * c.dn_v.xyz;
-        up += c.dn_v.xyz;
+        base[i] = c.bottom_u.xyz + u_displace.y * dn;
+        up += c.n_v.xyz;
     }
     walk_orientation = dot(cross(base[1] - base[0], base[2] - base[0]), up) < 0.0 ? -1.0 : 1.0;
 }

@@ -118,9 +118,9 @@ gl::Texture make_max_pyramid_texture(const HeightField& hf)
 }
 
 // The prism walk's shell (PR_SSBO_CORNERS), per render vertex, world space, the formula of
-// shaders/prism/shell.glsl: vec4(bottom corner, u), vec4(depth * N, v), vec4(tight top height,
-// welded id as float bits, 0, 0). The corner at height h is bottom + h * depth * N; the walk reads
-// three vec4 per corner instead of a vertex and two matrix products.
+// shaders/prism/shell.glsl: vec4(bottom corner, u), vec4(unit normal N, v), vec4(tight top
+// height, welded id as float bits, 0, 0). The corner at height h is bottom + h * (depth * N); the
+// walk reads three vec4 per corner instead of a vertex and two matrix products.
 gl::Buffer make_shell_corners(const std::vector<MeshVertex>& vertices, const std::vector<std::uint32_t>& indices,
                               const HeightField& height, const glm::mat4& transform, float depth, float midlevel)
 {
@@ -131,9 +131,10 @@ gl::Buffer make_shell_corners(const std::vector<MeshVertex>& vertices, const std
     for (std::size_t i = 0; i < vertices.size(); ++i) {
         const MeshVertex& v = vertices[i];
         const glm::vec3 world = glm::vec3(transform * glm::vec4(v.position, 1.0f));
-        const glm::vec3 dn = depth * glm::normalize(normal_matrix * v.normal);
+        const glm::vec3 n = glm::normalize(normal_matrix * v.normal);
+        const glm::vec3 dn = depth * n;
         corners.emplace_back(world - midlevel * dn, v.uv.x);
-        corners.emplace_back(dn, v.uv.y);
+        corners.emplace_back(n, v.uv.y);
         corners.emplace_back(top[i], std::bit_cast<float>(v.weld_id), 0.0f, 0.0f);
     }
     return gl::immutable_buffer(corners);
