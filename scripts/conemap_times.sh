@@ -31,6 +31,12 @@ for n in sizes:
     png16(f"{out}/white{n}.png", n, lambda x, y: rnd.random())
 EOF
 
+# Compile the compute shaders once before timing (Mesa keeps them in its shader cache, as it does
+# for every later run of a user's): the first GPU row would otherwise include compiling them.
+for kind in cone relaxed; do
+    "$exe" conemap --height builtin:bumps@16 --kind "$kind" --backend gpu --no-cache --out "$work/o.png" >/dev/null
+done
+
 echo "| height map | size | cone cpu s | relaxed cpu s | cone gpu s | relaxed gpu s |"
 echo "|---|---:|---:|---:|---:|---:|"
 for n in "${sizes[@]}"; do

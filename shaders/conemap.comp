@@ -1,14 +1,14 @@
-// Cone and relaxed-cone maps, one invocation per texel (docs/cone-maps.md). This is the CPU
-// generator of src/maps/conemap.cpp (class Searcher, relaxed_constraint) line for line, in double
-// precision with `precise` (no fused multiply-add), so both give the same integer steps k: every
-// comparison is monotone, the bound of a quadtree node never exceeds the constraint of a texel
-// inside it, so pruning never changes the rounded minimum and the visiting order does not matter.
+// Cone and relaxed-cone maps, one invocation per texel (docs/cone-maps.md). This is the search of
+// the CPU generator (src/maps/conemap.cpp, class Searcher, relaxed_constraint), node for node in
+// the same order but without its stack (below), in double precision with `precise` (no fused
+// multiply-add), so both give the same integer steps k: every comparison is monotone, the bound
+// of a quadtree node never exceeds the constraint of a texel inside it, so pruning never changes
+// the rounded minimum, and where a budget stops a search early both stop at the same node.
 // PR_CONE_KIND: 0 cone (conservative at texel centres), 1 relaxed (GPU Gems 3, ch. 18).
 #ifndef PR_CONE_KIND
 #define PR_CONE_KIND 0
 #endif
 #define PR_CONE_MAX_LEVELS 16
-#define PR_CONE_STACK 72
 
 layout(local_size_x = 64) in;
 
@@ -16,6 +16,10 @@ layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Pyramid { float b_pyramid[]; };
 // Result: the ratio in format steps k (ratio = k / u_steps), one per texel.
 layout(std430, binding = 1) writeonly buffer Steps { uint b_steps[]; };
+// The same maxima grouped by parent: for each level l below the top, one vec4 per node of level
+// l + 1 with its four children's maxima (order x + 2 y; -1 for a child outside the map), so that
+// a node's children come in one load (render/conemap_gpu.cpp).
+layout(std430, binding = 2) readonly buffer Groups { vec4 b_groups[]; };
 
 layout(location = 0) uniform ivec2 u_size;  // texels
 layout(location = 1) uniform int u_levels;  // pyramid levels (the last is 1x1)
@@ -27,11 +31,14 @@ layout(location = 6) uniform int u_node_budget; // nodes per search (ConeBuildOp
 layout(location = 8) uniform int u_level_w[PR_CONE_MAX_LEVELS];
 layout(location = 24) uniform int u_level_h[PR_CONE_MAX_LEVELS];
 layout(location = 40) uniform int u_level_offset[PR_CONE_MAX_LEVELS];
+layout(location = 56) uniform int u_group_offset[PR_CONE_MAX_LEVELS]; // children of level l + 1's nodes
 
 const double kMargin = 1.0lf - 1.0lf / 1048576.0lf; // 1 - 2^-20, exact
 
 float node_max(int level, int i, int j) { return b_pyramid[u_level_offset[level] + j * u_level_w[level] + i]; }
 float height_at(int x, int y) { return b_pyramid[y * u_size.x + x]; }
+// The maxima of node (level, i, j)'s four children (level >= 1).
+vec4 children_max(int level, int i, int j) { return b_groups[u_group_offset[level - 1] + j * u_level_w[level] + i]; }
 
 // GLSL leaves % of negative operands undefined: only non-negative ones here.
 int wrap_index(int i, int n)
@@ -50,8 +57,13 @@ int ratio_steps(double c)
     if (!(c > 0.0lf)) return 0;
     precise double target = c * kMargin;
     int k = clamp(int(floor(sqrt(target) * double(u_steps))), 0, u_steps);
-    while (k < u_steps && steps_squared(k + 1) <= target) ++k;
-    while (k > 0 && steps_squared(k) > target) --k;
+    // The CPU's loops (maps::cone_ratio_steps) correct this by one step at most (double
+    // precision, k <= 65535); two fixed corrections each way, no loop (llvmpipe would run a
+    // loop's body for every lane of every search step).
+    if (k < u_steps && steps_squared(k + 1) <= target) ++k;
+    if (k < u_steps && steps_squared(k + 1) <= target) ++k;
+    if (k > 0 && steps_squared(k) > target) --k;
+    if (k > 0 && steps_squared(k) > target) --k;
     return k;
 }
 
@@ -118,19 +130,77 @@ double relaxed_constraint(int px, int py, int dx, int dy, double stop, inout int
 }
 #endif
 
-// A node packed in one uint (level: 4 bits, i and j: 14 bits each; sizes are at most 16384), so
-// the stack is two private arrays, not four: llvmpipe turns each dynamically indexed private
-// array access into a per-lane loop.
-uint s_node[PR_CONE_STACK];
-uint pack_node(int level, int i, int j) { return uint(level) << 28 | uint(i) << 14 | uint(j); }
-double s_bound[PR_CONE_STACK];
+// The search without a stack. It visits the quadtree depth first, children in the CPU's order
+// (smallest bound first; equal bounds: the later child in row order first), so the nodes left to
+// visit are, at every level below the root, the not yet visited children of the node visited
+// last at the level above: at most four, whose order and count pack into 11 bits (3 bits count,
+// then 2 bits per child, the next one lowest). The node a list belongs to is an ancestor of the
+// node visited last, so its place follows by a shift, and a child's bound is recomputed when it
+// is visited (the same operations, so the same value). Nodes are visited in the CPU's order and
+// counted as it counts them, so even a search stopped by the node budget gives the same result.
+// (llvmpipe turns each access to a private array whose index varies per lane into a loop over
+// the lanes: one list read and one write per node visited, instead of a sorted stack of
+// doubles.)
+uint s_list[PR_CONE_MAX_LEVELS];
 
-// maps::Searcher::rest_bound: min(c, the bound of every node on the stack that could still lower
-// the result), the ratio when a budget stops the search early.
-double rest_bound(double c, double threshold, int sp)
+// Lower bound of node (level, i, j), whose maximum is `nmax`, for texel p: its nearest texel's
+// distance over its rise above h_p; -1 when it has no texel above h_p.
+double node_bound(int level, int i, int j, float nmax, int px, int py, float hp, double inv_w2, double inv_h2)
 {
-    for (int r = 0; r < sp; ++r)
-        if (s_bound[r] * kMargin < threshold) c = min(c, s_bound[r]);
+    precise double dmax = double(nmax) - double(hp);
+    if (!(dmax > 0.0lf)) return -1.0lf;
+    int x0 = i << level, y0 = j << level;
+    int x1 = min((i + 1) << level, u_size.x) - 1, y1 = min((j + 1) << level, u_size.y) - 1;
+    int dx = axis_distance(px, x0, x1, u_size.x), dy = axis_distance(py, y0, y1, u_size.y);
+    precise double bound = sqrt(double(dx * dx) * inv_w2 + double(dy * dy) * inv_h2) / dmax;
+    return bound;
+}
+
+// The list of node (level, i, j)'s children (level - 1) that may lower the result, in visiting order.
+uint child_list(int level, int i, int j, int px, int py, float hp, double inv_w2, double inv_h2, double threshold)
+{
+    int cl = level - 1;
+    int cw = u_level_w[cl], ch = u_level_h[cl];
+    vec4 cmax = children_max(level, i, j);
+    double b[4];
+    bool ok[4];
+    for (int q = 0; q < 4; ++q) {
+        int ci = 2 * i + (q & 1), cj = 2 * j + (q >> 1);
+        ok[q] = ci < cw && cj < ch;
+        b[q] = ok[q] ? node_bound(cl, ci, cj, cmax[q], px, py, hp, inv_w2, inv_h2) : -1.0lf;
+        ok[q] = ok[q] && b[q] >= 0.0lf && b[q] * kMargin < threshold;
+    }
+    uint list = 0u, count = 0u;
+    for (int q = 0; q < 4; ++q) {
+        // Its place: the children that come before it.
+        uint rank = 0u;
+        for (int r = 0; r < 4; ++r)
+            if (r != q && ok[r] && (b[r] < b[q] || (b[r] == b[q] && r > q))) ++rank;
+        if (ok[q]) {
+            list |= uint(q) << (3u + 2u * rank);
+            ++count;
+        }
+    }
+    return list | count;
+}
+
+// maps::Searcher::rest_bound: min(c, the bound of every node left to visit that could still
+// lower the result), the ratio when a budget stops the search early: the lists of the levels in
+// `filled`; the node visited last is (m, li, lj), and every list belongs to one of its ancestors.
+double rest_bound(double c, double threshold, uint filled, int top, int m, int li, int lj, int px, int py, float hp,
+                  double inv_w2, double inv_h2)
+{
+    for (int level = 0; level < top; ++level) {
+        if ((filled & (1u << level)) == 0u) continue;
+        uint list = s_list[level];
+        int pi = li >> (level + 1 - m), pj = lj >> (level + 1 - m);
+        vec4 cmax = children_max(level + 1, pi, pj);
+        for (uint n = 0u; n < (list & 7u); ++n) {
+            int q = int((list >> (3u + 2u * n)) & 3u);
+            double b = node_bound(level, 2 * pi + (q & 1), 2 * pj + (q >> 1), cmax[q], px, py, hp, inv_w2, inv_h2);
+            if (b * kMargin < threshold) c = min(c, b);
+        }
+    }
     return c;
 }
 
@@ -146,30 +216,43 @@ int search(int px, int py, bool relaxed)
     double best = 1.0lf;
     double threshold = 1.0lf;
     int budget = u_budget;
-    s_node[0] = pack_node(top, 0, 0); s_bound[0] = 0.0lf;
-    int sp = 1;
-    int visits = 0;
-    while (sp > 0 && k > 0) {
+    // The root is the first node visited (bound 0), and it is not a texel (the map has more
+    // than one: a single texel is its own maximum and returned above).
+    int visits = 1;
+    int m = top, li = 0, lj = 0; // the node visited last
+    s_list[top - 1] = child_list(top, 0, 0, px, py, hp, inv_w2, inv_h2, threshold);
+    uint filled = (s_list[top - 1] & 7u) != 0u ? 1u << (top - 1) : 0u; // levels whose list is not empty
+    // Out of a budget: what is left counts by its lower bounds (after the loop, which llvmpipe
+    // runs in full for every lane: code in it costs on every pass).
+    bool out_of_nodes = false;
+    double out_of_steps = -1.0lf; // >= 0: the relaxed march budget ran out at this constraint
+    while (k > 0 && filled != 0u) {
+        int cur = findLSB(filled);
         if (++visits > u_node_budget) {
-            double rest = rest_bound(best, threshold, sp);
-            if (rest < best) k = ratio_steps(rest);
+            out_of_nodes = true;
             break;
         }
-        --sp;
-        uint node = s_node[sp];
-        int level = int(node >> 28), ni = int((node >> 14) & 0x3fffu), nj = int(node & 0x3fffu);
-        double nbound = s_bound[sp];
+        uint list = s_list[cur];
+        int q = int((list >> 3u) & 3u);
+        s_list[cur] = ((list & 7u) - 1u) | ((list >> 5u) << 3u);
+        if ((list & 7u) == 1u) filled &= ~(1u << cur);
+        int shift = cur + 1 - m;
+        int pi = li >> shift, pj = lj >> shift;
+        li = 2 * pi + (q & 1);
+        lj = 2 * pj + (q >> 1);
+        m = cur;
+        double nbound = node_bound(m, li, lj, children_max(m + 1, pi, pj)[q], px, py, hp, inv_w2, inv_h2);
         if (nbound * kMargin >= threshold) continue;
-        if (level == 0) {
+        if (m == 0) {
             double c = nbound;
 #if PR_CONE_KIND == 1
             if (relaxed) {
-                c = relaxed_constraint(px, py, signed_offset(ni - px, u_size.x), signed_offset(nj - py, u_size.y),
+                c = relaxed_constraint(px, py, signed_offset(li - px, u_size.x), signed_offset(lj - py, u_size.y),
                                        threshold / kMargin * (1.0lf + 1e-9lf), budget, nbound);
                 if (c < 0.0lf) c = 1e300lf;
                 if (budget <= 0) {
-                    c = rest_bound(c, threshold, sp);
-                    sp = 0;
+                    out_of_steps = c;
+                    break;
                 }
             }
 #endif
@@ -180,29 +263,14 @@ int search(int px, int py, bool relaxed)
             }
             continue;
         }
-        int cl = level - 1;
-        int cw = u_level_w[cl], ch = u_level_h[cl];
-        // Children, smallest bound on top of the stack (insertion into the pushed run).
-        int base = sp;
-        for (int cj = 2 * nj; cj < min(2 * nj + 2, ch); ++cj)
-            for (int ci = 2 * ni; ci < min(2 * ni + 2, cw); ++ci) {
-                precise double dmax = double(node_max(cl, ci, cj)) - double(hp);
-                if (!(dmax > 0.0lf)) continue;
-                int x0 = ci << cl, y0 = cj << cl;
-                int x1 = min((ci + 1) << cl, u_size.x) - 1, y1 = min((cj + 1) << cl, u_size.y) - 1;
-                int dx = axis_distance(px, x0, x1, u_size.x), dy = axis_distance(py, y0, y1, u_size.y);
-                precise double bound = sqrt(double(dx * dx) * inv_w2 + double(dy * dy) * inv_h2) / dmax;
-                if (bound * kMargin >= threshold) continue;
-                // Keep [base, sp) sorted by decreasing bound.
-                int at = sp;
-                while (at > base && s_bound[at - 1] < bound) {
-                    s_node[at] = s_node[at - 1];
-                    s_bound[at] = s_bound[at - 1];
-                    --at;
-                }
-                s_node[at] = pack_node(cl, ci, cj); s_bound[at] = bound;
-                ++sp;
-            }
+        uint children = child_list(m, li, lj, px, py, hp, inv_w2, inv_h2, threshold);
+        s_list[m - 1] = children;
+        if ((children & 7u) != 0u) filled |= 1u << (m - 1);
+    }
+    if (out_of_nodes || out_of_steps >= 0.0lf) {
+        double rest = rest_bound(out_of_nodes ? best : out_of_steps, threshold, filled, top, m, li, lj,
+                                 px, py, hp, inv_w2, inv_h2);
+        if (rest < best) k = ratio_steps(rest);
     }
     return k;
 }

@@ -208,8 +208,8 @@ bool enters_top(vec3 dir, float t_at)
 {
     float t, det;
     vec3 w;
-    return ray_triangle(3, 4, 5, dir, 1e-3, t, w, det) && det * walk_orientation > 0.0 &&
-           abs(t - t_at) <= 1e-4 * t_at;
+    return ray_triangle(3, 4, 5, dir, 1e-5, t, w, det) && det * walk_orientation > 0.0 &&
+           abs(t - t_at) <= 1e-5 * t_at;
 }
 #endif
 

@@ -81,8 +81,9 @@ Bracket march_max_mip(MarchRay r)
             continue;
         }
         if (level > 0) {
-            // A descending ray can first drop to the cell's maximum.
-            if (r.dir.z < 0.0 && z > h_max) t += (z - h_max) / -r.dir.z;
+            // A descending ray can first drop to the cell's maximum, but not past the cell: the
+            // next one may be higher (that jump cost a pixel of the UV sphere at 512 px).
+            if (r.dir.z < 0.0 && z > h_max) t = min(t + (z - h_max) / -r.dir.z, t_leave);
             --level;
             continue;
         }

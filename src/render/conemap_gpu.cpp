@@ -34,6 +34,22 @@ ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBu
     gl::Program program = build_program({{GL_COMPUTE_SHADER, "conemap.comp"}},
                                         {{"PR_CONE_KIND", kind == ConeKind::Relaxed ? "1" : "0"}});
     gl::Buffer data = gl::immutable_buffer(pyramid.data);
+    // The children of every node above level 0, four maxima in one vec4 (conemap.comp, Groups).
+    std::vector<float> groups;
+    int group_offset[kMaxLevels] = {};
+    for (int l = 0; l + 1 < pyramid.levels(); ++l) {
+        group_offset[l] = int(groups.size() / 4);
+        const int w = pyramid.widths[std::size_t(l)], h = pyramid.heights[std::size_t(l)];
+        const int pw = pyramid.widths[std::size_t(l + 1)], ph = pyramid.heights[std::size_t(l + 1)];
+        for (int j = 0; j < ph; ++j)
+            for (int i = 0; i < pw; ++i)
+                for (int q = 0; q < 4; ++q) {
+                    const int ci = 2 * i + (q & 1), cj = 2 * j + (q >> 1);
+                    groups.push_back(ci < w && cj < h ? pyramid.at(l, ci, cj) : -1.0f);
+                }
+    }
+    if (groups.empty()) groups.assign(4, -1.0f); // a single texel: no children anywhere
+    gl::Buffer children = gl::immutable_buffer(groups);
     gl::Buffer steps = gl::Buffer::create();
     glNamedBufferStorage(steps.id(), GLsizeiptr(n * sizeof(std::uint32_t)), nullptr, 0);
 
@@ -52,10 +68,12 @@ ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBu
     glProgramUniform1iv(p, 8, kMaxLevels, w);
     glProgramUniform1iv(p, 24, kMaxLevels, h);
     glProgramUniform1iv(p, 40, kMaxLevels, off);
+    glProgramUniform1iv(p, 56, kMaxLevels, group_offset);
 
     glUseProgram(p);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, data.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, steps.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, children.id());
     for (std::size_t first = 0; first < n; first += kChunkTexels) {
         const std::size_t count = std::min(kChunkTexels, n - first);
         glProgramUniform1ui(p, 3, GLuint(first));
@@ -69,6 +87,7 @@ ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBu
     glGetNamedBufferSubData(steps.id(), 0, GLsizeiptr(n * sizeof(std::uint32_t)), k.data());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, 0);
     glUseProgram(0);
     if (const GLenum e = glGetError(); e != GL_NO_ERROR)
         throw Error(subject, "OpenGL error " + std::to_string(e) + " while building the cone map on the GPU");
