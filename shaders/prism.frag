@@ -127,6 +127,19 @@ float refine_segment(Segment sg)
 #endif
 }
 
+// Barycentric weights of `uv` in the uv triangle (a, b, c); false (and the centre) when that
+// triangle is degenerate.
+bool uv_weights(vec2 uv, vec2 a, vec2 b, vec2 c, out vec3 w)
+{
+    vec2 d1 = b - a, d2 = c - a, dp = uv - a;
+    float den = d1.x * d2.y - d1.y * d2.x;
+    bool ok = abs(den) > 1e-20;
+    w = ok ? vec3(0.0, (dp.x * d2.y - dp.y * d2.x) / den, (d1.x * dp.y - d1.y * dp.x) / den)
+           : vec3(0.0, 1.0 / 3.0, 1.0 / 3.0);
+    w.x = 1.0 - w.y - w.z;
+    return ok;
+}
+
 #ifdef PR_PRISM_WALK
 #ifdef PR_PRISM_TEARS
 // Pixels where a walk went into the object through a tear (pass 1 writes, pass 2 reads).
@@ -154,14 +167,8 @@ void load_walk_prism(uint prim, out uint index[3], out uint weld[3], out bool fr
 int top_exit_edge(vec2 uv, out float lambda)
 {
     lambda = 0.0;
-    vec2 d1 = corner_tex[1].xy - corner_tex[0].xy, d2 = corner_tex[2].xy - corner_tex[0].xy;
-    vec2 dp = uv - corner_tex[0].xy;
-    float den = d1.x * d2.y - d1.y * d2.x;
-    if (!(abs(den) > 1e-20)) return -1;
     vec3 w;
-    w.y = (dp.x * d2.y - dp.y * d2.x) / den;
-    w.z = (d1.x * dp.y - d1.y * dp.x) / den;
-    w.x = 1.0 - w.y - w.z;
+    if (!uv_weights(uv, corner_tex[0].xy, corner_tex[1].xy, corner_tex[2].xy, w)) return -1;
     // Edge e runs from corner e to corner e + 1; its opposite corner (e + 2) % 3 weighs ~0.
     const float kEdge = 1e-3;
     int e = w.z < kEdge ? 0 : (w.x < kEdge ? 1 : (w.y < kEdge ? 2 : -1));
@@ -354,12 +361,8 @@ void main()
     vec3 hit = u_eye.xyz + mix(t_in, t_out, s) * dir;
 
     // Frame at the hit: barycentrics of its uv in the base triangle's uv triangle.
-    vec2 d1 = frame_uv[1] - frame_uv[0], d2 = frame_uv[2] - frame_uv[0], dp = tex.xy - frame_uv[0];
-    float den = d1.x * d2.y - d1.y * d2.x;
-    vec3 w = abs(den) > 1e-20
-        ? vec3(0.0, (dp.x * d2.y - dp.y * d2.x) / den, (d1.x * dp.y - d1.y * dp.x) / den)
-        : vec3(0.0, 1.0 / 3.0, 1.0 / 3.0);
-    w.x = 1.0 - w.y - w.z;
+    vec3 w;
+    uv_weights(tex.xy, frame_uv[0], frame_uv[1], frame_uv[2], w);
     vec3 n = normalize(frame_n[0] * w.x + frame_n[1] * w.y + frame_n[2] * w.z);
     vec3 t_axis = mat3(u_model) * (frame_t[0] * w.x + frame_t[1] * w.y + frame_t[2] * w.z);
     vec3 b_axis = mat3(u_model) * (frame_b[0] * w.x + frame_b[1] * w.y + frame_b[2] * w.z);
