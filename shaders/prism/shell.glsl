@@ -83,12 +83,12 @@ struct ShellVertex {
 layout(std430, binding = PR_SSBO_CORNERS) readonly buffer Corners { ShellVertex b_corners[]; };
 layout(std430, binding = PR_SSBO_ADJACENCY) readonly buffer Adjacency { uint b_adjacency[]; };
 
-// Fills corner_world/corner_tex with prism `prim` (top at the tight height, or at 1 with
-// PR_PRISM_FULL_SHELL); returns its vertex indices and welded ids. The geometry shader and the
-// walk both build their prisms here, so they agree to the bit.
 // The unit normals (world) of the current prism's vertices (load_walk_prism): the frame at a hit.
 vec3 corner_normal[3];
 
+// Fills corner_world/corner_tex/corner_normal with prism `prim` (top at the tight height, or at
+// 1 with PR_PRISM_FULL_SHELL); returns its vertex indices and welded ids. The geometry shader and
+// the walk both build their prisms here, so they agree to the bit.
 void load_walk_prism(uint prim, out uint index[3], out uint weld[3])
 {
     vec3 base[3], up = vec3(0.0);
