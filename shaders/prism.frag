@@ -83,8 +83,22 @@ struct Segment {
     bool linear;    // marched linearly (max-mip under a tear)
 };
 
-Segment march_segment(vec3 tex_in, vec3 tex_out)
+// The first sample of a segment at `uv`, as the marcher takes it: cone_at() for the cone
+// marchers (height and ratios), else height_at() in x.
+vec3 sample_first(vec2 uv)
 {
+#if PR_MARCHER == PR_MARCH_CONE || PR_MARCHER == PR_MARCH_RELAXED_CONE
+    return cone_at(uv);
+#else
+    return vec3(height_at(uv, UvGrad(vec2(0.0), vec2(0.0))), 0.0, 0.0);
+#endif
+}
+
+// `first`: sample_first(tex_in.xy); `last`: the last sample the march took (the next segment's
+// first where no UV seam lies between).
+Segment march_segment(vec3 tex_in, vec3 tex_out, vec3 first, out vec3 last)
+{
+    last = first;
     vec3 seg = tex_out - tex_in;
     vec2 texels = seg.xy * vec2(textureSize(s_height, 0));
     int steps = int(ceil(max(float(u_march.x) * abs(seg.z), 0.5 * length(texels))));
@@ -96,14 +110,22 @@ Segment march_segment(vec3 tex_in, vec3 tex_out)
 #if defined(PR_PRISM_TEARS) && PR_MARCHER == PR_MARCH_MAX_MIP
     // Under a torn surface (g_height_flip): the max pyramid describes h, not 1 - h. (The cone
     // marchers step linearly there by themselves: cone_at, march/cone.glsl.)
-    if (g_height_flip != 0.0) return Segment(ray, march_linear(ray, g), true);
+    if (g_height_flip != 0.0) {
+        float h_end;
+        Bracket br = march_linear_from(ray, g, first.x, h_end);
+        last = vec3(h_end, 0.0, 0.0);
+        return Segment(ray, br, true);
+    }
 #endif
 #if PR_MARCHER == PR_MARCH_CONE || PR_MARCHER == PR_MARCH_RELAXED_CONE
-    return Segment(ray, march_cone(ray), false);
+    return Segment(ray, march_cone_from(ray, first, last), false);
 #elif PR_MARCHER == PR_MARCH_MAX_MIP
-    return Segment(ray, march_max_mip(ray), false);
+    return Segment(ray, march_max_mip(ray), false); // its own traversal (last: unused)
 #else
-    return Segment(ray, march_linear(ray, g), false);
+    float h_end;
+    Bracket br = march_linear_from(ray, g, first.x, h_end);
+    last = vec3(h_end, 0.0, 0.0);
+    return Segment(ray, br, false);
 #endif
 }
 
@@ -196,18 +218,28 @@ vec3 enter_neighbour(uint next, float lambda, vec3 tex_out, out uint prim, out u
     return vec3(mix(from, to, along), tex_out.z);
 }
 
-#ifdef PR_PRISM_TEARS
-// Across a seam (the uv jumps by more than whole repeats from `tex_out` to `tex_in`), above or
-// below is decided anew by the far side's height; elsewhere the surface is continuous.
-bool below_after_seam(vec3 tex_in, vec3 tex_out, bool below)
+// The first sample of the segment from `tex_in`, where the last one ended at `tex_out` with the
+// sample `last`: the same point of the same surface, unless a UV seam (the uv jumps by more than
+// whole repeats) lies between; there it is sampled anew, and on a torn mesh the ray's side of the
+// surface (`below`) is decided anew by the far side's height. (Meshes without seams,
+// PR_PRISM_SEAMLESS, need no sample at all: llvmpipe would take it for every lane in every prism.)
+vec3 entry_sample(vec3 tex_in, vec3 tex_out, vec3 last, inout bool below)
 {
+#ifdef PR_PRISM_SEAMLESS
+    return last;
+#else
     vec2 jump = tex_in.xy - tex_out.xy;
     jump -= round(jump);
-    if (any(greaterThan(abs(jump), vec2(1e-4))))
-        return tex_in.z < height_at(tex_in.xy, UvGrad(vec2(0.0), vec2(0.0)));
-    return below;
-}
+    bool seam = any(greaterThan(abs(jump), vec2(1e-4)));
+    vec3 fresh = sample_first(tex_in.xy); // unflipped (g_height_flip is 0 between marches)
+#ifdef PR_PRISM_TEARS
+    if (seam) below = tex_in.z < fresh.x;
+    // Under the surface the march sees 1 - h, and cone marchers no cones (cone_at).
+    if (below) fresh = vec3(1.0 - fresh.x, 0.0, 0.0);
 #endif
+    return seam ? fresh : last;
+#endif
+}
 
 // Whether the ray goes *in* through the current prism's top cap at t close to `t_at` (the top
 // exit of the prism before, on their shared edge).
@@ -261,6 +293,13 @@ void main()
     load_walk_prism(prim, index, weld, from_a);
     Segment hit_segment; // the last segment marched; br.hit when the walk found the surface in it
     hit_segment.br.hit = false;
+#ifdef PR_PRISM_TEARS
+    g_height_flip = below ? 1.0 : 0.0;
+#endif
+    vec3 first = sample_first(tex_in.xy), last;
+#ifdef PR_PRISM_TEARS
+    g_height_flip = 0.0;
+#endif
     int k = 0;
     // The walk, in legs: a ray that leaves through a top cap at one of its edges may go straight
     // into the neighbour's prism through the neighbour's top. The shell's top folds away from the
@@ -287,10 +326,10 @@ void main()
             // Below the surface: the flipped ray against the flipped heights (height.glsl).
             g_height_flip = below ? 1.0 : 0.0;
             hit_segment = march_segment(below ? vec3(tex_in.xy, 1.0 - tex_in.z) : tex_in,
-                                        below ? vec3(tex_out.xy, 1.0 - tex_out.z) : tex_out);
+                                        below ? vec3(tex_out.xy, 1.0 - tex_out.z) : tex_out, first, last);
             g_height_flip = 0.0;
 #else
-            hit_segment = march_segment(tex_in, tex_out);
+            hit_segment = march_segment(tex_in, tex_out, first, last);
 #endif
             if (hit_segment.br.hit) break;
             // Out through a cap, or a side without a neighbour: the ray leaves the shell.
@@ -307,9 +346,7 @@ void main()
             }
             tex_in = enter_neighbour(next, ex.lambda, tex_out, prim, index, weld, from_a);
             t_in = t_out;
-#ifdef PR_PRISM_TEARS
-            below = below_after_seam(tex_in, tex_out, below);
-#endif
+            first = entry_sample(tex_in, tex_out, last, below);
         }
         if (hit_segment.br.hit || exit_face != 0 || k >= PR_WALK_MAX_PRISMS) break;
         float lambda;
@@ -319,9 +356,7 @@ void main()
         tex_in = enter_neighbour(next, lambda, tex_out, prim, index, weld, from_a);
         if (!enters_top(dir, t_out)) break; // it does not: out of the shell
         t_in = t_out;
-#ifdef PR_PRISM_TEARS
-        below = below_after_seam(tex_in, tex_out, below);
-#endif
+        first = entry_sample(tex_in, tex_out, last, below);
         ++k;
     }
     // The hit, refined once, under the surface if the walk was there.
@@ -351,7 +386,8 @@ void main()
 #else
     prism_exit(dir, v_tex, from_a, t_out, tex_out);
 #endif
-    s = refine_segment(march_segment(tex_in, tex_out));
+    vec3 last;
+    s = refine_segment(march_segment(tex_in, tex_out, sample_first(tex_in.xy), last));
 #endif
     if (s < 0.0) {
         count_fragment();

@@ -47,11 +47,14 @@ vec3 cone_at(vec2 uv)
 }
 
 
-Bracket march_cone(MarchRay r)
+// From a given sample hc0 = cone_at(origin) (the prism walk's segments start where the last one
+// ended, whose last sample it passes on), returning the last sample taken in `hc_end`.
+Bracket march_cone_from(MarchRay r, vec3 hc0, out vec3 hc_end)
 {
     float min_dt = r.t_end / float(max(r.steps, 1));
     float run = length(r.dir.xy); // UV units per unit t
-    vec3 hc = cone_at(r.origin.xy);
+    vec3 hc = hc0;
+    hc_end = hc0;
     // Rising rays use the conservative ratio (z), descending ones the map's (y).
     bool rising = r.dir.z >= 0.0;
     float d = r.origin.z - hc.x;
@@ -65,6 +68,7 @@ Bracket march_cone(MarchRay r)
         float t_next = min(t + max(dt, min_dt), r.t_end);
         vec3 p = r.origin + t_next * r.dir;
         vec3 hc_next = cone_at(p.xy);
+        hc_end = hc_next;
         float d_next = p.z - hc_next.x;
         if (d_next <= PR_HIT_EPSILON) return Bracket(true, t, t_next, d, max(-d_next, 0.0));
         t = t_next;
@@ -73,6 +77,12 @@ Bracket march_cone(MarchRay r)
         if (t >= r.t_end) break;
     }
     return Bracket(false, t, t, d, 0.0);
+}
+
+Bracket march_cone(MarchRay r)
+{
+    vec3 hc_end;
+    return march_cone_from(r, cone_at(r.origin.xy), hc_end);
 }
 
 // Binary steps that leave the bracket of a cone march as narrow as relief's (--refine halvings of

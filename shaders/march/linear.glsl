@@ -26,18 +26,22 @@ struct Bracket {
     float d_below;  // surface height minus ray height at t_below (>= 0)
 };
 
-Bracket march_linear(MarchRay r, UvGrad g)
+// The same from a given height h0 at the origin (the prism walk's segments start where the last
+// one ended, whose last sample it passes on), returning the last height sampled in `h_end`.
+Bracket march_linear_from(MarchRay r, UvGrad g, float h0, out float h_end)
 {
     Bracket b = Bracket(false, 0.0, 0.0, 0.0, 0.0);
     float dt = r.t_end / float(max(r.steps, 1));
     float t = 0.0;
     vec3 p = r.origin;
-    float d = p.z - height_at(p.xy, g);
+    h_end = h0;
+    float d = p.z - h0;
     if (d <= PR_HIT_EPSILON) return Bracket(true, 0.0, 0.0, 0.0, max(-d, 0.0));
     for (int i = 1; i <= r.steps; ++i) {
         float t_next = min(float(i) * dt, r.t_end);
         p = r.origin + t_next * r.dir;
-        float d_next = p.z - height_at(p.xy, g);
+        h_end = height_at(p.xy, g);
+        float d_next = p.z - h_end;
         if (d_next <= PR_HIT_EPSILON) return Bracket(true, t, t_next, d, max(-d_next, 0.0));
         t = t_next;
         d = d_next;
@@ -45,6 +49,12 @@ Bracket march_linear(MarchRay r, UvGrad g)
     b.t_above = t;
     b.d_above = d;
     return b;
+}
+
+Bracket march_linear(MarchRay r, UvGrad g)
+{
+    float h_end;
+    return march_linear_from(r, g, height_at(r.origin.xy, g), h_end);
 }
 
 // Parallax occlusion mapping (Tatarchuk 2006): intersect the straight line between the two

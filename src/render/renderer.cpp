@@ -317,11 +317,12 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
     return stats;
 }
 
-GLuint Renderer::program_for(const DrawSettings& settings, TearPass tears)
+GLuint Renderer::program_for(const DrawSettings& settings, WalkVariant variant)
 {
     ShaderDefines defines = defines_for(settings);
-    if (tears != TearPass::None) defines.emplace_back("PR_PRISM_TEARS", "1");
-    if (tears == TearPass::Inside) defines.emplace_back("PR_PRISM_INSIDE", "1");
+    if (variant == WalkVariant::Seamless) defines.emplace_back("PR_PRISM_SEAMLESS", "1");
+    if (variant == WalkVariant::Through || variant == WalkVariant::Inside) defines.emplace_back("PR_PRISM_TEARS", "1");
+    if (variant == WalkVariant::Inside) defines.emplace_back("PR_PRISM_INSIDE", "1");
     const std::string key = variant_key(defines);
     auto it = programs_.find(key);
     if (it == programs_.end()) {
@@ -382,6 +383,7 @@ void Renderer::ensure_walk_data()
         o.adjacency = gl::immutable_buffer(adjacency.neighbours);
         o.open_shell = adjacency.open_edges > 0;
         o.tears = !o.open_shell && adjacency.seam_edges > 0;
+        o.seamless = adjacency.seam_edges == 0;
         o.corners = make_shell_corners(vertices, indices, *o.height_field, o.transform, o.depth, o.midlevel);
     }
     if (glGetError() == GL_OUT_OF_MEMORY) throw Error("scene", "out of GPU memory while building the prism walk's buffers");
@@ -484,9 +486,11 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         glBindVertexArray(o.base.vao.id());
         glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
     };
-    const GLuint through_tears = tears ? program_for(settings, TearPass::Through) : 0;
+    const GLuint through_tears = tears ? program_for(settings, WalkVariant::Through) : 0;
+    const bool seamless = walk && std::any_of(objects_.begin(), objects_.end(), [](const GpuObject& o) { return o.seamless; });
+    const GLuint without_seams = seamless ? program_for(settings, WalkVariant::Seamless) : 0;
     for (const GpuObject& o : objects_) {
-        glUseProgram(walk && o.tears ? through_tears : program);
+        glUseProgram(walk && o.tears ? through_tears : (walk && o.seamless ? without_seams : program));
         if (settings.technique != Technique::Reference) {
             draw_base(o);
             continue;
@@ -500,7 +504,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     }
     if (tears) {
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-        glUseProgram(program_for(settings, TearPass::Inside));
+        glUseProgram(program_for(settings, WalkVariant::Inside));
         for (const GpuObject& o : objects_)
             if (o.tears) draw_base(o);
     }

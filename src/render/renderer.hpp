@@ -66,10 +66,12 @@ public:
     SampleCounters read_counters() const;       // after a draw with settings.count_samples
 
     // Builds (or returns the cached) program for a variant; throws pr::Error with the log.
-    // The prism walk over a torn mesh (GpuObject::tears) has a variant of its own that goes
-    // through the tears, and a second pass from inside the object (docs/prism.md).
-    enum class TearPass { None, Through, Inside };
-    GLuint program_for(const DrawSettings& settings, TearPass tears = TearPass::None);
+    // The prism walk has variants by the mesh's UV seams: Seamless for a mesh without any (it
+    // samples no height where it crosses from prism to prism), Through for a torn mesh
+    // (GpuObject::tears) that goes through the tears, and Inside, the second pass from inside
+    // the object (docs/prism.md); Plain for the rest and for the other techniques.
+    enum class WalkVariant { Plain, Seamless, Through, Inside };
+    GLuint program_for(const DrawSettings& settings, WalkVariant variant = WalkVariant::Plain);
 
     GLuint framebuffer() const { return fbo_.id(); }
 
@@ -102,6 +104,7 @@ private:
         gl::Buffer adjacency;
         bool open_shell = false;
         bool tears = false;
+        bool seamless = false; // no UV seam at all (WalkVariant::Seamless)
         gl::Buffer corners;
         std::vector<Geometry> reference; // chunks of the tessellated ground truth
         GLuint height_texture = 0; // owned by texture_cache_

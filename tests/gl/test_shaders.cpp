@@ -38,14 +38,15 @@ TEST(ShaderVariants, EveryTechniqueQualityAndInstrumentationCompiles)
                 }
 }
 
-// The prism walk's variants for torn meshes (through the tears; the second pass from inside),
-// with every marcher, self-shadowing and instrumentation.
-TEST(ShaderVariants, PrismTearPassesCompileWithEveryMarcher)
+// The prism walk's variants by UV seams (none at all; torn: through the tears, and the second
+// pass from inside), with every marcher, self-shadowing and instrumentation.
+TEST(ShaderVariants, PrismWalkVariantsCompileWithEveryMarcher)
 {
     prtest::context();
     Renderer r(8, 8);
     for (Marcher m : {Marcher::Linear, Marcher::Relief, Marcher::Cone, Marcher::RelaxedCone, Marcher::MaxMip})
-        for (Renderer::TearPass pass : {Renderer::TearPass::Through, Renderer::TearPass::Inside})
+        for (Renderer::WalkVariant pass :
+             {Renderer::WalkVariant::Seamless, Renderer::WalkVariant::Through, Renderer::WalkVariant::Inside})
             for (Shadows shadows : {Shadows::None, Shadows::Soft})
                 for (bool count : {false, true}) {
                     DrawSettings s;
