@@ -31,7 +31,7 @@ using mat4 = glm::mat4;
 #define PR_SSBO_VERTICES 1 // the mesh's vertex buffer (MeshVertex, 16 floats each), prism only
 #define PR_SSBO_INDICES 2  // its index buffer, prism only
 #define PR_SSBO_ADJACENCY 3 // per triangle edge: the triangle across it (src/mesh/adjacency.hpp), prism walk only
-#define PR_SSBO_CORNERS 4   // per vertex: vec4(bottom corner, u), vec4(depth * N, v), vec4(top height, weld, 0, 0); walk only
+#define PR_SSBO_CORNERS 4   // per vertex: vec4(bottom corner, u), vec4(unit N, v), vec4(top height, weld, 0, 0); walk only
 #define PR_IMAGE_TEARS 0    // r32ui, per pixel: 1 where a walk went into the object through a tear (prism walk, torn meshes)
 #define PR_IMAGE_TEAR_TILES 1 // r32ui, the same per tile of PR_TEAR_TILE^2 pixels (the second pass's culling)
 #define PR_TEAR_TILE 16

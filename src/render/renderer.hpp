@@ -142,7 +142,7 @@ private:
     void upload_frame(const Camera& camera, glm::vec3 light_dir);
     // Fills the object block for `o` drawn with `settings` (draw() and draw_overlay()).
     void upload_object(const GpuObject& o, const DrawSettings& settings, float midlevel);
-    void ensure_walk_data(); // adjacency, shell corners and open_shell of every object
+    void ensure_walk_data(); // adjacency, shell corners, open_shell, tears and seamless of every object
 };
 
 } // namespace pr
