@@ -29,9 +29,14 @@ layout(location = 0) out vec4 o_color;
 // early depth rejection against what is already drawn.
 layout(depth_greater) out float gl_FragDepth;
 
-// MeshVertex (src/mesh/mesh.hpp) is 16 floats: read as four vec4, which llvmpipe fetches in four
-// loads per lane instead of one per scalar.
-layout(std430, binding = PR_SSBO_VERTICES) readonly buffer Vertices { vec4 b_vertices[]; };
+// MeshVertex (src/mesh/mesh.hpp) is 16 floats: four texels (floats as bits).
+layout(binding = PR_TEX_VERTICES) uniform usamplerBuffer t_vertices;
+
+// Texel `k` (0..3) of vertex `index`.
+vec4 vertex_texel(uint index, int k)
+{
+    return uintBitsToFloat(texelFetch(t_vertices, int(4u * index) + k));
+}
 
 struct BaseVertex {
     vec3 position;
@@ -44,8 +49,8 @@ struct BaseVertex {
 
 BaseVertex base_vertex(uint index)
 {
-    uint o = index * 4u;
-    vec4 p_nx = b_vertices[o], ny_nz_uv = b_vertices[o + 1u], tangent = b_vertices[o + 2u], b_weld = b_vertices[o + 3u];
+    vec4 p_nx = vertex_texel(index, 0), ny_nz_uv = vertex_texel(index, 1), tangent = vertex_texel(index, 2),
+         b_weld = vertex_texel(index, 3);
     BaseVertex v;
     v.position = p_nx.xyz;
     v.normal = vec3(p_nx.w, ny_nz_uv.xy);
@@ -59,8 +64,9 @@ BaseVertex base_vertex(uint index)
 // Fills corner_world/corner_tex (shell.glsl) and `from_a` for prism `prim`; returns its vertices.
 void load_prism(uint prim, out BaseVertex bv[3], out bool from_a[3])
 {
+    uvec3 tri = triangle_indices(prim);
     for (int i = 0; i < 3; ++i) {
-        bv[i] = base_vertex(b_indices[3u * prim + uint(i)]);
+        bv[i] = base_vertex(tri[i]);
         vec3 world, n;
         shell_vertex(bv[i].position, bv[i].normal, world, n);
         corner_world[i] = shell_corner(world, n, 0.0);
@@ -174,8 +180,6 @@ layout(binding = PR_IMAGE_TEAR_TILES, r32ui) uniform uimage2D u_tear_tiles;
 #ifndef PR_WALK_MAX_PRISMS
 #define PR_WALK_MAX_PRISMS 256
 #endif
-// Legs of the walk: times a ray may leave through a top cap's edge into the neighbour's top.
-#define PR_WALK_MAX_LEGS 4
 
 void load_walk_prism(uint prim, out uint index[3], out uint weld[3], out bool from_a[3])
 {
@@ -241,15 +245,6 @@ vec3 entry_sample(vec3 tex_in, vec3 tex_out, vec3 last, inout bool below)
 #endif
 }
 
-// Whether the ray goes *in* through the current prism's top cap at t close to `t_at` (the top
-// exit of the prism before, on their shared edge).
-bool enters_top(vec3 dir, float t_at)
-{
-    float t, det;
-    vec3 w;
-    return ray_triangle(3, 4, 5, dir, 1e-5, t, w, det) && det * walk_orientation > 0.0 &&
-           abs(t - t_at) <= 1e-5 * t_at;
-}
 #endif
 
 void main()
@@ -272,8 +267,8 @@ void main()
 
     // The ray is eye + t * dir with t = 1 at this fragment (the entry).
     vec3 dir = v_world - u_eye.xyz;
-    float t_in = 1.0, t_out;
-    vec3 tex_in = v_tex, tex_out;
+    float t_in = 1.0, t_out = 1.0;
+    vec3 tex_in = v_tex, tex_out = v_tex;
     float s;
 #ifdef PR_PRISM_WALK
     // Only the shell's outside is rasterized (prism.geom); from there the ray goes from prism to
@@ -300,64 +295,54 @@ void main()
 #ifdef PR_PRISM_TEARS
     g_height_flip = 0.0;
 #endif
-    int k = 0;
-    // The walk, in legs: a ray that leaves through a top cap at one of its edges may go straight
-    // into the neighbour's prism through the neighbour's top. The shell's top folds away from the
-    // eye there, and the rasterizer gives a pixel on the shared edge to one cap only: the one
-    // facing away, which is not drawn. (Tried after the loop, not in it: llvmpipe runs every
-    // branch of a loop's body for all its lanes.)
-    for (int leg = 0; leg < PR_WALK_MAX_LEGS; ++leg) {
-        int exit_face = -1;
-        for (; k < PR_WALK_MAX_PRISMS; ++k) {
-            ExitFace plane;
-            ExitFace ex = nearest_exit(dir, t_in * (1.0 - 1e-6), from_a, 1e-5, walk_orientation, plane);
-            // No way out: in the first prism the rasterizer's snapped edge put the fragment a
-            // little outside its face; later, the ray came in where the shell folds. Compare the
-            // planes only (shell.glsl), which on a convex prism still finds the way out.
-            if (ex.face < 0) ex = plane;
-            if (ex.face < 0) {
-                t_out = t_in;
-                tex_out = tex_in;
-                break; // lost: a miss
-            }
-            t_out = ex.t;
-            tex_out = vec3(ex.tex.xy, clamp(ex.tex.z, 0.0, 1.0));
+    // A ray that leaves through a top cap at one of its edges may go straight into the
+    // neighbour's prism through the neighbour's top: the shell's top folds away from the eye
+    // there, and the rasterizer gives a pixel on the shared edge to one cap only, possibly the
+    // one facing away, which is not drawn. The walk goes on into the neighbour and keeps to it
+    // only if the ray does enter its top at that point (`via_top`, checked by the neighbour's
+    // exit pass).
+    bool via_top = false;
+    for (int k = 0; k < PR_WALK_MAX_PRISMS; ++k) {
+        bool top_entry;
+        // Where no face is crossed (in the first prism the rasterizer's snapped edge put the
+        // fragment a little outside its face; later, the ray came in where the shell folds),
+        // the nearest of the faces' planes (shell.glsl), which on a convex prism still finds the
+        // way out.
+        ExitFace ex = nearest_exit(dir, t_in * (1.0 - 1e-6), from_a, 1e-5, walk_orientation, t_in, top_entry);
+        if (via_top && !top_entry) break; // it does not go in there: out of the shell
+        if (ex.face < 0) break; // lost: a miss
+        t_out = ex.t;
+        tex_out = vec3(ex.tex.xy, clamp(ex.tex.z, 0.0, 1.0));
 #ifdef PR_PRISM_TEARS
-            // Below the surface: the flipped ray against the flipped heights (height.glsl).
-            g_height_flip = below ? 1.0 : 0.0;
-            hit_segment = march_segment(below ? vec3(tex_in.xy, 1.0 - tex_in.z) : tex_in,
-                                        below ? vec3(tex_out.xy, 1.0 - tex_out.z) : tex_out, first, last);
-            g_height_flip = 0.0;
+        // Below the surface: the flipped ray against the flipped heights (height.glsl).
+        g_height_flip = below ? 1.0 : 0.0;
+        hit_segment = march_segment(below ? vec3(tex_in.xy, 1.0 - tex_in.z) : tex_in,
+                                    below ? vec3(tex_out.xy, 1.0 - tex_out.z) : tex_out, first, last);
+        g_height_flip = 0.0;
 #else
-            hit_segment = march_segment(tex_in, tex_out, first, last);
+        hit_segment = march_segment(tex_in, tex_out, first, last);
 #endif
-            if (hit_segment.br.hit) break;
-            // Out through a cap, or a side without a neighbour: the ray leaves the shell.
-            uint next = ex.face >= 2 ? b_adjacency[3u * prim + uint(ex.face - 2)] : 0xffffffffu;
-            if (next == 0xffffffffu) {
+        if (hit_segment.br.hit) break;
+        // Out through a side into its neighbour, or through the top at one of its edges into the
+        // neighbour's top; through a cap elsewhere, or a side without a neighbour, the ray
+        // leaves the shell.
+        float lambda = ex.lambda;
+        int edge = ex.face >= 2 ? ex.face - 2 : (ex.face == 0 ? top_exit_edge(tex_out.xy, lambda) : -1);
+        uvec3 across = triangle_neighbours(prim);
+        uint next = edge == 0 ? across.x : (edge == 1 ? across.y : (edge == 2 ? across.z : 0xffffffffu));
+        if (next == 0xffffffffu) {
 #if defined(PR_PRISM_TEARS) && !defined(PR_PRISM_INSIDE)
-                if (below && ex.face == 1) {
-                    imageStore(u_tears, ivec2(gl_FragCoord.xy), uvec4(1u));
-                    imageStore(u_tear_tiles, ivec2(gl_FragCoord.xy) / PR_TEAR_TILE, uvec4(1u));
-                }
-#endif
-                exit_face = ex.face;
-                break;
+            if (below && ex.face == 1) {
+                imageStore(u_tears, ivec2(gl_FragCoord.xy), uvec4(1u));
+                imageStore(u_tear_tiles, ivec2(gl_FragCoord.xy) / PR_TEAR_TILE, uvec4(1u));
             }
-            tex_in = enter_neighbour(next, ex.lambda, tex_out, prim, index, weld, from_a);
-            t_in = t_out;
-            first = entry_sample(tex_in, tex_out, last, below);
+#endif
+            break;
         }
-        if (hit_segment.br.hit || exit_face != 0 || k >= PR_WALK_MAX_PRISMS) break;
-        float lambda;
-        int edge = top_exit_edge(tex_out.xy, lambda);
-        uint next = edge >= 0 ? b_adjacency[3u * prim + uint(edge)] : 0xffffffffu;
-        if (next == 0xffffffffu) break;
+        via_top = ex.face == 0;
         tex_in = enter_neighbour(next, lambda, tex_out, prim, index, weld, from_a);
-        if (!enters_top(dir, t_out)) break; // it does not: out of the shell
         t_in = t_out;
         first = entry_sample(tex_in, tex_out, last, below);
-        ++k;
     }
     // The hit, refined once, under the surface if the walk was there.
 #ifdef PR_PRISM_TEARS
@@ -372,8 +357,8 @@ void main()
     for (int i = 0; i < 3; ++i) {
         frame_uv[i] = corner_tex[i].xy;
         frame_n[i] = corner_normal[i];
-        frame_t[i] = b_vertices[4u * index[i] + 2u].xyz;
-        frame_b[i] = b_vertices[4u * index[i] + 3u].xyz;
+        frame_t[i] = vertex_texel(index[i], 2).xyz;
+        frame_b[i] = vertex_texel(index[i], 3).xyz;
     }
 #else
 #ifdef PR_PRISM_EXIT_VERTEX

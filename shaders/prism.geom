@@ -168,10 +168,10 @@ void main()
         side(2);
     } else if ((u_march.w & PR_FLAG_OPEN_SHELL) != 0) {
         triangle(0, 2, 1);
-        uint first = 3u * uint(gl_PrimitiveIDIn);
-        if (b_adjacency[first] == 0xffffffffu) side(0);
-        if (b_adjacency[first + 1u] == 0xffffffffu) side(1);
-        if (b_adjacency[first + 2u] == 0xffffffffu) side(2);
+        uvec3 across = triangle_neighbours(uint(gl_PrimitiveIDIn));
+        if (across.x == 0xffffffffu) side(0);
+        if (across.y == 0xffffffffu) side(1);
+        if (across.z == 0xffffffffu) side(2);
     }
 #else
     // Bottom cap, outward along -N. Needed on open meshes (seen from below), and on closed ones

@@ -27,11 +27,14 @@ using mat4 = glm::mat4;
 #define PR_TEX_HEIGHT 0
 #define PR_TEX_COLOR 1
 #define PR_TEX_CONE 2
+// The prism's mesh data, read as buffer textures (texelFetch): llvmpipe fetches a texel for all
+// lanes at once, where it loads a storage buffer one lane and one component at a time.
+#define PR_TEX_VERTICES 3  // rgba32ui: the mesh's vertex buffer (MeshVertex, four texels each), prism only
+#define PR_TEX_INDICES 4   // rgb32ui: its index buffer, one texel per triangle, prism only
+#define PR_TEX_ADJACENCY 5 // rgb32ui, per triangle: the triangles across its edges (src/mesh/adjacency.hpp), walk only
+#define PR_TEX_CORNERS 6   // rgba32ui, three texels per vertex: vec4(bottom corner, u), vec4(unit N, v),
+                           // vec4(top height, weld, 0, 0) (floats as bits); walk only
 #define PR_SSBO_COUNTERS 0
-#define PR_SSBO_VERTICES 1 // the mesh's vertex buffer (MeshVertex, 16 floats each), prism only
-#define PR_SSBO_INDICES 2  // its index buffer, prism only
-#define PR_SSBO_ADJACENCY 3 // per triangle edge: the triangle across it (src/mesh/adjacency.hpp), prism walk only
-#define PR_SSBO_CORNERS 4   // per vertex: vec4(bottom corner, u), vec4(unit N, v), vec4(top height, weld, 0, 0); walk only
 #define PR_IMAGE_TEARS 0    // r32ui, per pixel: 1 where a walk went into the object through a tear (prism walk, torn meshes)
 #define PR_IMAGE_TEAR_TILES 1 // r32ui, the same per tile of PR_TEAR_TILE^2 pixels (the second pass's culling)
 #define PR_TEAR_TILE 16

@@ -71,7 +71,17 @@ bool ray_triangle(int a, int b, int c, vec3 dir, float slack, out float t, out v
 float walk_orientation;
 
 // ---- The prism walk's buffers ------------------------------------------------------------------
-layout(std430, binding = PR_SSBO_INDICES) readonly buffer Indices { uint b_indices[]; };
+// Buffer textures (shared.h): one texelFetch brings a whole texel for every lane; llvmpipe reads
+// a storage buffer one lane and one component at a time, which made these loads the walk's
+// largest cost.
+layout(binding = PR_TEX_INDICES) uniform usamplerBuffer t_indices;
+
+// The vertex indices of triangle `prim`.
+uvec3 triangle_indices(uint prim)
+{
+    return texelFetch(t_indices, int(prim)).xyz;
+}
+
 #ifdef PR_PRISM_WALK
 // Per vertex (src/render/renderer.cpp, make_shell_corners): the shell's bottom corner and u,
 // the unit normal N and v, and the height of the top (shell_bounds.hpp) with the welded id.
@@ -80,8 +90,22 @@ struct ShellVertex {
     vec4 n_v;
     vec4 top_weld;
 };
-layout(std430, binding = PR_SSBO_CORNERS) readonly buffer Corners { ShellVertex b_corners[]; };
-layout(std430, binding = PR_SSBO_ADJACENCY) readonly buffer Adjacency { uint b_adjacency[]; };
+layout(binding = PR_TEX_CORNERS) uniform usamplerBuffer t_corners;
+layout(binding = PR_TEX_ADJACENCY) uniform usamplerBuffer t_adjacency;
+
+ShellVertex shell_corners(uint vertex)
+{
+    int o = int(3u * vertex);
+    return ShellVertex(uintBitsToFloat(texelFetch(t_corners, o)), uintBitsToFloat(texelFetch(t_corners, o + 1)),
+                       uintBitsToFloat(texelFetch(t_corners, o + 2)));
+}
+
+// The triangles across the edges of triangle `prim` (edge e from corner e to e + 1), each as
+// prism << 2 | its edge; 0xffffffff where there is none.
+uvec3 triangle_neighbours(uint prim)
+{
+    return texelFetch(t_adjacency, int(prim)).xyz;
+}
 
 // The unit normals (world) of the current prism's vertices (load_walk_prism): the frame at a hit.
 vec3 corner_normal[3];
@@ -92,9 +116,10 @@ vec3 corner_normal[3];
 void load_walk_prism(uint prim, out uint index[3], out uint weld[3])
 {
     vec3 base[3], up = vec3(0.0);
+    uvec3 tri = triangle_indices(prim);
     for (int i = 0; i < 3; ++i) {
-        index[i] = b_indices[3u * prim + uint(i)];
-        ShellVertex c = b_corners[index[i]];
+        index[i] = tri[i];
+        ShellVertex c = shell_corners(index[i]);
 #ifdef PR_PRISM_FULL_SHELL
         float top = 1.0;
 #else
@@ -118,46 +143,60 @@ void load_walk_prism(uint prim, out uint index[3], out uint weld[3])
 // The nearest of the prism's eight triangles (all eight: a twisted side can make the prism
 // non-convex) that the ray eye + t * dir crosses beyond t_min. Face: 0 top, 1 bottom, 2 + e the
 // side of edge e, with `lambda` the crossing's position along that edge (0 at corner e, 1 at
-// corner e + 1); -1: none.
+// corner e + 1); -1: none. `inside`: the crossing lies in its triangle; false where the ray
+// crosses no triangle and this is the nearest crossing of their planes (nearest_exit).
 struct ExitFace {
     float t;
     vec3 tex;
     int face;
     float lambda;
+    bool inside;
 };
 
 // A crossing of triangle (p0, p1, p2) (texture coordinates x0, x1, x2) beyond t_min: `best` keeps
-// the nearest within the triangle grown by `slack`, `plane` the nearest of the planes. `second`
-// picks the weights of the corners at the edge's second end (side faces: lambda). `orient`: 0
-// counts every crossing; +1 only those the ray goes *out* through, for a prism whose faces wind
+// the nearest within the triangle grown by `slack`, or while there is none, the nearest of the
+// planes. (One key orders both: the bits of t > 0 as an unsigned integer, bit 31 set outside the
+// triangle; one comparison and one set of selects per candidate, not two.) `second` picks the
+// weights of the corners at the edge's second end (side faces: lambda). `orient`: 0 counts every
+// crossing; +1 only those the ray goes *out* through, for a prism whose faces wind
 // counter-clockwise seen from outside, -1 the same for one turned inside out by normals that
 // oppose the winding (the walk: walk_orientation), so the face of entry needs no epsilon.
 void exit_candidate(vec3 p0, vec3 p1, vec3 p2, vec3 x0, vec3 x1, vec3 x2, int face, vec3 second, vec3 dir,
-                    float t_min, float orient, float slack, inout ExitFace best, inout ExitFace plane)
+                    float t_min, float orient, float slack, inout ExitFace best, inout uint best_key)
 {
     float t, det;
     vec3 w;
     if (!ray_plane(p0, p1, p2, dir, t, w, det) || det * orient > 0.0 || !(t > t_min)) return;
-    ExitFace ex = ExitFace(t, x0 * w.x + x1 * w.y + x2 * w.z, face, dot(w, second));
-    if (t < best.t && in_triangle(w, slack)) best = ex;
-    if (t < plane.t) plane = ex;
+    bool inside = in_triangle(w, slack);
+    uint key = floatBitsToUint(t) | (inside ? 0u : 0x80000000u);
+    if (key < best_key) {
+        best = ExitFace(t, x0 * w.x + x1 * w.y + x2 * w.z, face, dot(w, second), inside);
+        best_key = key;
+    }
 }
 
 // `from_a[e]`: diagonal_from_a() of edge e. `slack` grows the faces (ray_triangle): 1e-5 lets an
-// exit lie exactly on an edge between two triangles. `plane` compares the planes only, which on a
-// convex prism still finds the way out of a ray that comes in just outside it (the rasterizer
-// snaps vertices to its subpixel grid, so a fragment on an edge may lie a little outside its
-// face). One pass gives both, and each side's two triangles are chosen by selects, not branches
-// (llvmpipe runs both arms of a branch): eight ray-plane tests in all.
-ExitFace nearest_exit(vec3 dir, float t_min, bool from_a[3], float slack, float orient, out ExitFace plane)
+// exit lie exactly on an edge between two triangles. Where no triangle is crossed, the nearest of
+// their planes, which on a convex prism still finds the way out of a ray that comes in just
+// outside it (the rasterizer snaps vertices to its subpixel grid, so a fragment on an edge may lie
+// a little outside its face). Each side's two triangles are chosen by selects, not branches
+// (llvmpipe runs both arms of a branch): eight ray-plane tests in all. The same pass tells
+// whether the ray goes *in* through the top cap (grown by `slack`) at t_entry, within
+// 1e-5 * t_entry: `top_entry` (the walk, where it came from the top of the prism before).
+ExitFace nearest_exit(vec3 dir, float t_min, bool from_a[3], float slack, float orient, float t_entry,
+                      out bool top_entry)
 {
-    ExitFace best = ExitFace(1e30, vec3(0.0), -1, 0.0);
-    plane = best;
+    ExitFace best = ExitFace(1e30, vec3(0.0), -1, 0.0, false);
+    uint key = 0xffffffffu;
     const vec3 none = vec3(0.0);
+    float t_top, det_top;
+    vec3 w_top;
+    top_entry = ray_plane(corner_world[3], corner_world[4], corner_world[5], dir, t_top, w_top, det_top) &&
+                det_top * orient > 0.0 && in_triangle(w_top, slack) && abs(t_top - t_entry) <= 1e-5 * t_entry;
     exit_candidate(corner_world[3], corner_world[4], corner_world[5], corner_tex[3], corner_tex[4], corner_tex[5],
-                   0, none, dir, t_min, orient, slack, best, plane);
+                   0, none, dir, t_min, orient, slack, best, key);
     exit_candidate(corner_world[0], corner_world[2], corner_world[1], corner_tex[0], corner_tex[2], corner_tex[1],
-                   1, none, dir, t_min, orient, slack, best, plane);
+                   1, none, dir, t_min, orient, slack, best, key);
     for (int e = 0; e < 3; ++e) {
         // The side quad a b b' a' (' = top), split along a-b' (from_a) or b-a'.
         int a = e, b = (e + 1) % 3;
@@ -166,9 +205,9 @@ ExitFace nearest_exit(vec3 dir, float t_min, bool from_a[3], float slack, float 
         vec3 xa = corner_tex[a], xb = corner_tex[b], xat = corner_tex[a + 3], xbt = corner_tex[b + 3];
         // a b b' or a b a'; then a b' a' or b b' a'.
         exit_candidate(pa, pb, f ? pbt : pat, xa, xb, f ? xbt : xat, 2 + e, vec3(0.0, 1.0, f ? 1.0 : 0.0), dir,
-                       t_min, orient, slack, best, plane);
+                       t_min, orient, slack, best, key);
         exit_candidate(f ? pa : pb, pbt, pat, f ? xa : xb, xbt, xat, 2 + e, vec3(f ? 0.0 : 1.0, 1.0, 0.0), dir,
-                       t_min, orient, slack, best, plane);
+                       t_min, orient, slack, best, key);
     }
     return best;
 }
@@ -178,9 +217,10 @@ ExitFace nearest_exit(vec3 dir, float t_min, bool from_a[3], float slack, float 
 // edge); then t = 1 and tex = entry_tex.
 bool prism_exit(vec3 dir, vec3 entry_tex, bool from_a[3], out float t_exit, out vec3 tex_exit)
 {
-    ExitFace plane;
-    ExitFace ex = nearest_exit(dir, 1.0 + 1e-5, from_a, 1e-5, 0.0, plane);
-    t_exit = ex.face < 0 ? 1.0 : ex.t;
-    tex_exit = ex.face < 0 ? entry_tex : ex.tex;
-    return ex.face >= 0;
+    bool top_entry;
+    ExitFace ex = nearest_exit(dir, 1.0 + 1e-5, from_a, 1e-5, 0.0, 1.0, top_entry);
+    bool found = ex.inside; // the exact exit has no planes-only fallback
+    t_exit = found ? ex.t : 1.0;
+    tex_exit = found ? ex.tex : entry_tex;
+    return found;
 }

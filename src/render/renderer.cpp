@@ -365,6 +365,50 @@ void Renderer::ensure_aux_textures(AuxMap map)
     if (glGetError() == GL_OUT_OF_MEMORY) throw Error("scene", "out of GPU memory while uploading derived maps");
 }
 
+namespace {
+
+// A buffer texture over `buffer`, read by the prism's shaders with texelFetch (shared.h); throws
+// when the buffer holds more texels than this OpenGL's buffer textures can address.
+gl::Texture buffer_texture(const gl::Buffer& buffer, GLenum format, GLint64 texel_bytes)
+{
+    GLint64 bytes = 0, max_texels = 0;
+    glGetNamedBufferParameteri64v(buffer.id(), GL_BUFFER_SIZE, &bytes);
+    glGetInteger64v(GL_MAX_TEXTURE_BUFFER_SIZE, &max_texels);
+    if (bytes / texel_bytes > max_texels) {
+        throw Error("scene", "the mesh is too large for the prism technique: " + std::to_string(bytes / texel_bytes) +
+                                 " texels in one buffer texture, this OpenGL allows " + std::to_string(max_texels));
+    }
+    gl::Texture t = gl::Texture::create(GL_TEXTURE_BUFFER);
+    glTextureBuffer(t.id(), format, buffer.id());
+    return t;
+}
+
+} // namespace
+
+void Renderer::ensure_prism_data(bool walk)
+{
+    if (walk) ensure_walk_data();
+    for (GpuObject& o : objects_) {
+        if (!o.vertex_texels) {
+            static_assert(sizeof(MeshVertex) == 16 * sizeof(float), "four rgba32ui texels per vertex");
+            o.vertex_texels = buffer_texture(o.base.vertices, GL_RGBA32UI, 16);
+            o.index_texels = buffer_texture(o.base.indices, GL_RGB32UI, 12);
+        }
+        if (walk && !o.corner_texels) {
+            o.adjacency_texels = buffer_texture(o.adjacency, GL_RGB32UI, 12);
+            o.corner_texels = buffer_texture(o.corners, GL_RGBA32UI, 16);
+        }
+    }
+}
+
+void Renderer::bind_prism_data(const GpuObject& o)
+{
+    glBindTextureUnit(PR_TEX_VERTICES, o.vertex_texels.id());
+    glBindTextureUnit(PR_TEX_INDICES, o.index_texels.id());
+    glBindTextureUnit(PR_TEX_ADJACENCY, o.adjacency_texels.id());
+    glBindTextureUnit(PR_TEX_CORNERS, o.corner_texels.id());
+}
+
 void Renderer::ensure_walk_data()
 {
     // Built on the first walk draw, not at upload: other techniques need none of it (on a
@@ -423,7 +467,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     const AuxMap aux_map = settings.aux_map();
     ensure_aux_textures(aux_map);
     const bool walk = settings.prism_walk();
-    if (walk) ensure_walk_data();
+    if (settings.technique == Technique::Prism) ensure_prism_data(walk);
     upload_frame(camera, glm::normalize(light_dir));
     if (settings.count_samples) {
         const GLuint zero = 0;
@@ -475,14 +519,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     // buffers (prism.frag).
     const auto draw_base = [&](const GpuObject& o) {
         set_object(o);
-        if (prism) {
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_VERTICES, o.base.vertices.id());
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_INDICES, o.base.indices.id());
-            if (walk) {
-                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_ADJACENCY, o.adjacency.id());
-                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_CORNERS, o.corners.id());
-            }
-        }
+        if (prism) bind_prism_data(o);
         glBindVertexArray(o.base.vao.id());
         glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
     };

@@ -106,6 +106,9 @@ private:
         bool tears = false;
         bool seamless = false; // no UV seam at all (WalkVariant::Seamless)
         gl::Buffer corners;
+        // The prism's views of its data as buffer textures (shared.h, PR_TEX_VERTICES..CORNERS):
+        // vertices and indices on the first prism draw (ensure_prism_data), the walk's with it.
+        gl::Texture vertex_texels, index_texels, adjacency_texels, corner_texels;
         std::vector<Geometry> reference; // chunks of the tessellated ground truth
         GLuint height_texture = 0; // owned by texture_cache_
         GLuint color_texture = 0;  // 0: plain base colour
@@ -143,6 +146,8 @@ private:
     // Fills the object block for `o` drawn with `settings` (draw() and draw_overlay()).
     void upload_object(const GpuObject& o, const DrawSettings& settings, float midlevel);
     void ensure_walk_data(); // adjacency, shell corners, open_shell, tears and seamless of every object
+    void ensure_prism_data(bool walk); // the buffer textures of every object (and the walk's data)
+    static void bind_prism_data(const GpuObject& o); // to their texture units
 };
 
 } // namespace pr

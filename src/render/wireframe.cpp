@@ -35,7 +35,7 @@ void Renderer::draw_overlay(const Camera& camera, Overlay overlay, glm::vec4 col
         it = programs_.emplace(key, std::move(p)).first;
     }
     const GLuint program = it->second.id();
-    if (walk) ensure_walk_data();
+    if (walk) ensure_prism_data(true);
 
     upload_frame(camera, glm::vec3(0.0f, 1.0f, 0.0f)); // the frame block of draw(); no lighting
 
@@ -57,10 +57,7 @@ void Renderer::draw_overlay(const Camera& camera, Overlay overlay, glm::vec4 col
     const bool inward = t != Technique::Prism && t != Technique::Reference && t != Technique::Flat;
     for (const GpuObject& o : objects_) {
         upload_object(o, settings, inward ? 1.0f : o.midlevel);
-        if (walk) {
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_INDICES, o.base.indices.id());
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_CORNERS, o.corners.id());
-        }
+        if (walk) bind_prism_data(o);
         glBindVertexArray(o.base.vao.id());
         glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
     }
