@@ -13,13 +13,25 @@
 layout(local_size_x = 64) in;
 
 // Max pyramid (maps::MaxPyramid): all levels, level 0 = the height texels, bottom row first.
-layout(std430, binding = 0) readonly buffer Pyramid { float b_pyramid[]; };
-// Result: the ratio in format steps k (ratio = k / u_steps), one per texel.
-layout(std430, binding = 1) writeonly buffer Steps { uint b_steps[]; };
 // The same maxima grouped by parent: for each level l below the top, one vec4 per node of level
 // l + 1 with its four children's maxima (order x + 2 y; -1 for a child outside the map), so that
 // a node's children come in one load (render/conemap_gpu.cpp).
+// Both as buffer textures (r32f, rgba32f), where they fit: llvmpipe fetches a texel for all
+// lanes at once and loads a storage buffer one lane and one component at a time; as storage
+// buffers where they do not (PR_CONE_BUFFERS: more texels than GL_MAX_TEXTURE_BUFFER_SIZE).
+#ifdef PR_CONE_BUFFERS
+layout(std430, binding = 0) readonly buffer Pyramid { float b_pyramid[]; };
 layout(std430, binding = 2) readonly buffer Groups { vec4 b_groups[]; };
+float pyramid_at(int i) { return b_pyramid[i]; }
+vec4 group_at(int i) { return b_groups[i]; }
+#else
+layout(binding = 0) uniform samplerBuffer t_pyramid;
+layout(binding = 1) uniform samplerBuffer t_groups;
+float pyramid_at(int i) { return texelFetch(t_pyramid, i).r; }
+vec4 group_at(int i) { return texelFetch(t_groups, i); }
+#endif
+// Result: the ratio in format steps k (ratio = k / u_steps), one per texel.
+layout(std430, binding = 1) writeonly buffer Steps { uint b_steps[]; };
 
 layout(location = 0) uniform ivec2 u_size;  // texels
 layout(location = 1) uniform int u_levels;  // pyramid levels (the last is 1x1)
@@ -35,10 +47,10 @@ layout(location = 56) uniform int u_group_offset[PR_CONE_MAX_LEVELS]; // childre
 
 const double kMargin = 1.0lf - 1.0lf / 1048576.0lf; // 1 - 2^-20, exact
 
-float node_max(int level, int i, int j) { return b_pyramid[u_level_offset[level] + j * u_level_w[level] + i]; }
-float height_at(int x, int y) { return b_pyramid[y * u_size.x + x]; }
+float node_max(int level, int i, int j) { return pyramid_at(u_level_offset[level] + j * u_level_w[level] + i); }
+float height_at(int x, int y) { return pyramid_at(y * u_size.x + x); }
 // The maxima of node (level, i, j)'s four children (level >= 1).
-vec4 children_max(int level, int i, int j) { return b_groups[u_group_offset[level - 1] + j * u_level_w[level] + i]; }
+vec4 children_max(int level, int i, int j) { return group_at(u_group_offset[level - 1] + j * u_level_w[level] + i); }
 
 // GLSL leaves % of negative operands undefined: only non-negative ones here.
 int wrap_index(int i, int n)

@@ -7,8 +7,14 @@
 #include "common/shared.h"
 #include "prism/shell.glsl"
 
+#ifdef PR_PRISM_FOLDS
+// The walk on a closed mesh draws its top caps without this shader (prism_tops.vert); this one then
+// gets one point per prism whose shell folds, the prism's number in PR_TEX_FOLDED, and emits the
+// rest of its front faces.
+layout(points) in;
+layout(binding = PR_TEX_FOLDED) uniform usamplerBuffer t_folded;
+#else
 layout(triangles) in;
-layout(triangle_strip, max_vertices = 18) out;
 
 in vec3 g_world[];
 in vec3 g_normal[];
@@ -16,6 +22,12 @@ in vec2 g_uv[];
 flat in uint g_weld[];
 in vec3 g_tangent[];
 in vec3 g_bitangent[];
+#endif
+layout(triangle_strip, max_vertices = 18) out;
+
+// The prism being emitted: its number (the fragment shader's gl_PrimitiveID) and welded ids.
+int prism_id;
+uint prism_weld[3];
 
 out vec3 v_world; // world position on the shell face
 out vec3 v_tex;   // (u, v, height) there
@@ -69,7 +81,7 @@ void put(int i)
 #endif
 
     gl_Position = u_view_proj * vec4(corner_world[i], 1.0);
-    gl_PrimitiveID = gl_PrimitiveIDIn;
+    gl_PrimitiveID = prism_id;
     EmitVertex();
 }
 
@@ -88,7 +100,7 @@ void triangle(int a, int b, int c)
 void side(int e)
 {
     int a = e, b = (e + 1) % 3;
-    if (diagonal_from_a(g_weld[a], g_weld[b])) {
+    if (diagonal_from_a(prism_weld[a], prism_weld[b])) {
         triangle(a, b, b + 3);
         triangle(a, b + 3, a + 3);
     } else {
@@ -126,6 +138,17 @@ bool touches_marked_tile()
 
 void main()
 {
+#ifdef PR_PRISM_FOLDS
+    prism_id = int(texelFetch(t_folded, gl_PrimitiveIDIn).r);
+    uint index[3];
+    load_walk_prism(uint(prism_id), index, prism_weld);
+    triangle(0, 2, 1);
+    side(0);
+    side(1);
+    side(2);
+#else
+    prism_id = gl_PrimitiveIDIn;
+    prism_weld = uint[3](g_weld[0], g_weld[1], g_weld[2]);
 #ifdef PR_PRISM_WALK
     // The walk's own corners (tight top, shell.glsl), so that entry faces and exits agree.
     uint index[3], weld[3];
@@ -181,4 +204,5 @@ void main()
     side(1);
     side(2);
 #endif
+#endif // PR_PRISM_FOLDS
 }

@@ -100,6 +100,24 @@ ShellVertex shell_corners(uint vertex)
                        uintBitsToFloat(texelFetch(t_corners, o + 2)));
 }
 
+// The height of vertex c's top (tight, or 1 with PR_PRISM_FULL_SHELL) and its corner there. Every
+// stage that builds a top corner calls this (`precise`: no stage may fuse it differently), so
+// entry faces and exits agree to the bit.
+float shell_top_height(ShellVertex c)
+{
+#ifdef PR_PRISM_FULL_SHELL
+    return 1.0;
+#else
+    return c.top_weld.x;
+#endif
+}
+
+vec3 shell_top_corner(ShellVertex c, float top)
+{
+    precise vec3 corner = c.bottom_u.xyz + top * (u_displace.x * c.n_v.xyz);
+    return corner;
+}
+
 // The triangles across the edges of triangle `prim` (edge e from corner e to e + 1), each as
 // prism << 2 | its edge; 0xffffffff where there is none.
 uvec3 triangle_neighbours(uint prim)
@@ -120,14 +138,10 @@ void load_walk_prism(uint prim, out uint index[3], out uint weld[3])
     for (int i = 0; i < 3; ++i) {
         index[i] = tri[i];
         ShellVertex c = shell_corners(index[i]);
-#ifdef PR_PRISM_FULL_SHELL
-        float top = 1.0;
-#else
-        float top = c.top_weld.x;
-#endif
+        float top = shell_top_height(c);
         vec3 dn = u_displace.x * c.n_v.xyz;
         corner_world[i] = c.bottom_u.xyz;
-        corner_world[i + 3] = c.bottom_u.xyz + top * dn;
+        corner_world[i + 3] = shell_top_corner(c, top);
         corner_tex[i] = vec3(c.bottom_u.w, c.n_v.w, 0.0);
         corner_tex[i + 3] = vec3(c.bottom_u.w, c.n_v.w, top);
         corner_normal[i] = c.n_v.xyz;

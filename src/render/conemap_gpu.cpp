@@ -31,8 +31,6 @@ ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBu
     if (pyramid.data.size() > std::size_t(1) << 30) throw Error(subject, "height map too large for the GPU generator");
 
     while (glGetError() != GL_NO_ERROR) {} // errors of earlier work are not ours
-    gl::Program program = build_program({{GL_COMPUTE_SHADER, "conemap.comp"}},
-                                        {{"PR_CONE_KIND", kind == ConeKind::Relaxed ? "1" : "0"}});
     gl::Buffer data = gl::immutable_buffer(pyramid.data);
     // The children of every node above level 0, four maxima in one vec4 (conemap.comp, Groups).
     std::vector<float> groups;
@@ -50,6 +48,20 @@ ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBu
     }
     if (groups.empty()) groups.assign(4, -1.0f); // a single texel: no children anywhere
     gl::Buffer children = gl::immutable_buffer(groups);
+    // Read as buffer textures where they fit (conemap.comp), else as storage buffers.
+    GLint64 max_texels = 0;
+    glGetInteger64v(GL_MAX_TEXTURE_BUFFER_SIZE, &max_texels);
+    const bool texels = GLint64(pyramid.data.size()) <= max_texels && GLint64(groups.size() / 4) <= max_texels;
+    ShaderDefines defines{{"PR_CONE_KIND", kind == ConeKind::Relaxed ? "1" : "0"}};
+    if (!texels) defines.emplace_back("PR_CONE_BUFFERS", "1");
+    gl::Program program = build_program({{GL_COMPUTE_SHADER, "conemap.comp"}}, defines);
+    gl::Texture data_texels, children_texels;
+    if (texels) {
+        data_texels = gl::Texture::create(GL_TEXTURE_BUFFER);
+        glTextureBuffer(data_texels.id(), GL_R32F, data.id());
+        children_texels = gl::Texture::create(GL_TEXTURE_BUFFER);
+        glTextureBuffer(children_texels.id(), GL_RGBA32F, children.id());
+    }
     gl::Buffer steps = gl::Buffer::create();
     glNamedBufferStorage(steps.id(), GLsizeiptr(n * sizeof(std::uint32_t)), nullptr, 0);
 
@@ -71,9 +83,14 @@ ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBu
     glProgramUniform1iv(p, 56, kMaxLevels, group_offset);
 
     glUseProgram(p);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, data.id());
+    if (texels) {
+        glBindTextureUnit(0, data_texels.id());
+        glBindTextureUnit(1, children_texels.id());
+    } else {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, data.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, children.id());
+    }
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, steps.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, children.id());
     for (std::size_t first = 0; first < n; first += kChunkTexels) {
         const std::size_t count = std::min(kChunkTexels, n - first);
         glProgramUniform1ui(p, 3, GLuint(first));
@@ -88,6 +105,8 @@ ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBu
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, 0);
+    glBindTextureUnit(0, 0);
+    glBindTextureUnit(1, 0);
     glUseProgram(0);
     if (const GLenum e = glGetError(); e != GL_NO_ERROR)
         throw Error(subject, "OpenGL error " + std::to_string(e) + " while building the cone map on the GPU");

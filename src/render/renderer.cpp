@@ -121,8 +121,9 @@ gl::Texture make_max_pyramid_texture(const HeightField& hf)
 // shaders/prism/shell.glsl: vec4(bottom corner, u), vec4(unit normal N, v), vec4(tight top
 // height, welded id as float bits, 0, 0). The corner at height h is bottom + h * (depth * N); the
 // walk reads three vec4 per corner instead of a vertex and two matrix products.
-gl::Buffer make_shell_corners(const std::vector<MeshVertex>& vertices, const std::vector<std::uint32_t>& indices,
-                              const HeightField& height, const glm::mat4& transform, float depth, float midlevel)
+std::vector<glm::vec4> make_shell_corners(const std::vector<MeshVertex>& vertices,
+                                          const std::vector<std::uint32_t>& indices, const HeightField& height,
+                                          const glm::mat4& transform, float depth, float midlevel)
 {
     const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(transform)));
     const std::vector<float> top = shell_top_heights(vertices, indices, height);
@@ -137,7 +138,34 @@ gl::Buffer make_shell_corners(const std::vector<MeshVertex>& vertices, const std
         corners.emplace_back(n, v.uv.y);
         corners.emplace_back(top[i], std::bit_cast<float>(v.weld_id), 0.0f, 0.0f);
     }
-    return gl::immutable_buffer(corners);
+    return corners;
+}
+
+// The prisms whose shell folds, by prism.geom's test: a cap turned more than 60 degrees from its
+// base triangle (`full`: top caps at height 1, else at the tight tops in `corners`).
+std::vector<std::uint32_t> folded_prisms(const std::vector<MeshVertex>& vertices, const std::vector<std::uint32_t>& indices,
+                                         const std::vector<glm::vec4>& corners, const glm::mat4& transform, float depth,
+                                         bool full)
+{
+    std::vector<std::uint32_t> folded;
+    const auto normal = [](glm::vec3 a, glm::vec3 b, glm::vec3 c) { return glm::cross(b - a, c - a); };
+    const auto turned = [](glm::vec3 n, glm::vec3 n_base) {
+        return glm::dot(n, n_base) < 0.5f * glm::length(n) * glm::length(n_base);
+    };
+    for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
+        glm::vec3 base[3], bottom[3], top[3];
+        for (int i = 0; i < 3; ++i) {
+            const std::uint32_t v = indices[t + std::size_t(i)];
+            base[i] = glm::vec3(transform * glm::vec4(vertices[v].position, 1.0f));
+            bottom[i] = glm::vec3(corners[3 * v]);
+            const float h = full ? 1.0f : corners[3 * v + 2].x;
+            top[i] = bottom[i] + h * (depth * glm::vec3(corners[3 * v + 1]));
+        }
+        const glm::vec3 n_base = normal(base[0], base[1], base[2]);
+        if (turned(normal(bottom[0], bottom[1], bottom[2]), n_base) || turned(normal(top[0], top[1], top[2]), n_base))
+            folded.push_back(std::uint32_t(t / 3));
+    }
+    return folded;
 }
 
 std::string variant_key(const ShaderDefines& defines)
@@ -317,22 +345,28 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
     return stats;
 }
 
-GLuint Renderer::program_for(const DrawSettings& settings, WalkVariant variant)
+GLuint Renderer::program_for(const DrawSettings& settings, WalkVariant variant, ShellDraw shell)
 {
     ShaderDefines defines = defines_for(settings);
     if (variant == WalkVariant::Seamless) defines.emplace_back("PR_PRISM_SEAMLESS", "1");
     if (variant == WalkVariant::Through || variant == WalkVariant::Inside) defines.emplace_back("PR_PRISM_TEARS", "1");
     if (variant == WalkVariant::Inside) defines.emplace_back("PR_PRISM_INSIDE", "1");
+    if (shell == ShellDraw::Tops) defines.emplace_back("PR_PRISM_TOPS", "1");
+    if (shell == ShellDraw::Folds) defines.emplace_back("PR_PRISM_FOLDS", "1");
     const std::string key = variant_key(defines);
     auto it = programs_.find(key);
     if (it == programs_.end()) {
-        gl::Program p = settings.technique == Technique::Prism
-                            ? build_program({{GL_VERTEX_SHADER, "prism.vert"},
-                                             {GL_GEOMETRY_SHADER, "prism.geom"},
+        gl::Program p = settings.technique != Technique::Prism
+                            ? build_program({{GL_VERTEX_SHADER, "surface.vert"},
+                                             {GL_FRAGMENT_SHADER, "surface.frag"}},
+                                            defines)
+                        : shell == ShellDraw::Tops
+                            ? build_program({{GL_VERTEX_SHADER, "prism_tops.vert"},
                                              {GL_FRAGMENT_SHADER, "prism.frag"}},
                                             defines)
-                            : build_program({{GL_VERTEX_SHADER, "surface.vert"},
-                                             {GL_FRAGMENT_SHADER, "surface.frag"}},
+                            : build_program({{GL_VERTEX_SHADER, shell == ShellDraw::Folds ? "prism_tops.vert" : "prism.vert"},
+                                             {GL_GEOMETRY_SHADER, "prism.geom"},
+                                             {GL_FRAGMENT_SHADER, "prism.frag"}},
                                             defines);
         it = programs_.emplace(key, std::move(p)).first;
     }
@@ -397,6 +431,8 @@ void Renderer::ensure_prism_data(bool walk)
         if (walk && !o.corner_texels) {
             o.adjacency_texels = buffer_texture(o.adjacency, GL_RGB32UI, 12);
             o.corner_texels = buffer_texture(o.corners, GL_RGBA32UI, 16);
+            if (!o.open_shell)
+                for (int full = 0; full < 2; ++full) o.folded_texels[full] = buffer_texture(o.folded[full], GL_R32UI, 4);
         }
     }
 }
@@ -428,7 +464,17 @@ void Renderer::ensure_walk_data()
         o.open_shell = adjacency.open_edges > 0;
         o.tears = !o.open_shell && adjacency.seam_edges > 0;
         o.seamless = adjacency.seam_edges == 0;
-        o.corners = make_shell_corners(vertices, indices, *o.height_field, o.transform, o.depth, o.midlevel);
+        const std::vector<glm::vec4> corners =
+            make_shell_corners(vertices, indices, *o.height_field, o.transform, o.depth, o.midlevel);
+        o.corners = gl::immutable_buffer(corners);
+        if (!o.open_shell) {
+            for (int full = 0; full < 2; ++full) {
+                const std::vector<std::uint32_t> folded =
+                    folded_prisms(vertices, indices, corners, o.transform, o.depth, full == 1);
+                o.folded[full] = gl::immutable_buffer(folded);
+                o.folded_count[full] = GLsizei(folded.size());
+            }
+        }
     }
     if (glGetError() == GL_OUT_OF_MEMORY) throw Error("scene", "out of GPU memory while building the prism walk's buffers");
 }
@@ -523,10 +569,34 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         glBindVertexArray(o.base.vao.id());
         glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
     };
+    // The walk on a closed mesh: its top caps by the vertex shader, culled by the rasterizer, then
+    // the other front faces of the prisms whose shell folds (ShellDraw).
+    const auto draw_walk_shell = [&](const GpuObject& o, WalkVariant variant) {
+        set_object(o);
+        bind_prism_data(o);
+        glUseProgram(program_for(settings, variant, ShellDraw::Tops));
+        glBindVertexArray(o.base.vao.id());
+        glEnable(GL_CULL_FACE);
+        glCullFace(GL_BACK);
+        glFrontFace(GL_CCW);
+        glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
+        glDisable(GL_CULL_FACE);
+        const int full = settings.full_shell ? 1 : 0;
+        if (o.folded_count[full] > 0) {
+            glUseProgram(program_for(settings, variant, ShellDraw::Folds));
+            glBindTextureUnit(PR_TEX_FOLDED, o.folded_texels[full].id());
+            glDrawArrays(GL_POINTS, 0, o.folded_count[full]);
+        }
+    };
     const GLuint through_tears = tears ? program_for(settings, WalkVariant::Through) : 0;
     const bool seamless = walk && std::any_of(objects_.begin(), objects_.end(), [](const GpuObject& o) { return o.seamless; });
     const GLuint without_seams = seamless ? program_for(settings, WalkVariant::Seamless) : 0;
     for (const GpuObject& o : objects_) {
+        const WalkVariant variant = o.tears ? WalkVariant::Through : (o.seamless ? WalkVariant::Seamless : WalkVariant::Plain);
+        if (walk && !o.open_shell) {
+            draw_walk_shell(o, variant);
+            continue;
+        }
         glUseProgram(walk && o.tears ? through_tears : (walk && o.seamless ? without_seams : program));
         if (settings.technique != Technique::Reference) {
             draw_base(o);

@@ -71,7 +71,12 @@ public:
     // (GpuObject::tears) that goes through the tears, and Inside, the second pass from inside
     // the object (docs/prism.md); Plain for the rest and for the other techniques.
     enum class WalkVariant { Plain, Seamless, Through, Inside };
-    GLuint program_for(const DrawSettings& settings, WalkVariant variant = WalkVariant::Plain);
+    // How the prism's shell is drawn: Faces, by the geometry shader from each triangle; for the
+    // walk on a closed mesh, Tops (the top caps, by the vertex shader alone) and Folds (the other
+    // faces of the prisms whose shell folds, by the geometry shader from one point per prism).
+    enum class ShellDraw { Faces, Tops, Folds };
+    GLuint program_for(const DrawSettings& settings, WalkVariant variant = WalkVariant::Plain,
+                       ShellDraw shell = ShellDraw::Faces);
 
     GLuint framebuffer() const { return fbo_.id(); }
 
@@ -109,6 +114,11 @@ private:
         // The prism's views of its data as buffer textures (shared.h, PR_TEX_VERTICES..CORNERS):
         // vertices and indices on the first prism draw (ensure_prism_data), the walk's with it.
         gl::Texture vertex_texels, index_texels, adjacency_texels, corner_texels;
+        // Closed meshes: the prisms whose shell folds (prism.geom's test on the CPU), with the
+        // tight tops and with full ones (r32ui buffer textures, PR_TEX_FOLDED).
+        gl::Buffer folded[2];
+        gl::Texture folded_texels[2];
+        GLsizei folded_count[2] = {0, 0};
         std::vector<Geometry> reference; // chunks of the tessellated ground truth
         GLuint height_texture = 0; // owned by texture_cache_
         GLuint color_texture = 0;  // 0: plain base colour

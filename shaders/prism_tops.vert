@@ -1,0 +1,25 @@
+// Prism silhouettes, stage 1 of the walk on a closed mesh, without a geometry shader: there the
+// walk rasterizes only the top caps (docs/prism.md), and a top corner belongs to its vertex (the
+// tight top is shared by the triangles around it), so each vertex goes to its top here and the
+// rasterizer culls the caps that face away. (llvmpipe's geometry shader costs more than the rest
+// of drawing the shell.) With PR_PRISM_FOLDS it feeds prism.geom one point per folded prism.
+#include "common/shared.h"
+#include "prism/shell.glsl"
+
+out vec3 v_world; // world position on the top cap
+out vec3 v_tex;   // (u, v, height) there
+
+void main()
+{
+#ifdef PR_PRISM_FOLDS
+    v_world = vec3(0.0);
+    v_tex = vec3(0.0);
+    gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
+#else
+    ShellVertex c = shell_corners(uint(gl_VertexID));
+    float top = shell_top_height(c);
+    v_world = shell_top_corner(c, top);
+    v_tex = vec3(c.bottom_u.w, c.n_v.w, top);
+    gl_Position = u_view_proj * vec4(v_world, 1.0);
+#endif
+}
