@@ -280,6 +280,7 @@ void main()
     // it; if it leaves through the bottom into the object, its pixel is marked, and a second pass
     // (PR_PRISM_INSIDE) starts at the far side's bottoms, from inside, where marked.
     bool below = false;
+    bool went_in = false; // into the object through a tear (marked after the walk, not in its loop)
 #ifdef PR_PRISM_INSIDE
     if (imageLoad(u_tears, ivec2(gl_FragCoord.xy)).r == 0u) discard;
     below = true;
@@ -331,12 +332,7 @@ void main()
         uvec3 across = triangle_neighbours(prim);
         uint next = edge == 0 ? across.x : (edge == 1 ? across.y : (edge == 2 ? across.z : 0xffffffffu));
         if (next == 0xffffffffu) {
-#if defined(PR_PRISM_TEARS) && !defined(PR_PRISM_INSIDE)
-            if (below && ex.face == 1) {
-                imageStore(u_tears, ivec2(gl_FragCoord.xy), uvec4(1u));
-                imageStore(u_tear_tiles, ivec2(gl_FragCoord.xy) / PR_TEAR_TILE, uvec4(1u));
-            }
-#endif
+            went_in = below && ex.face == 1; // out through a bottom from under the surface
             break;
         }
         via_top = ex.face == 0;
@@ -344,6 +340,12 @@ void main()
         t_in = t_out;
         first = entry_sample(tex_in, tex_out, last, below);
     }
+#if defined(PR_PRISM_TEARS) && !defined(PR_PRISM_INSIDE)
+    if (went_in) {
+        imageStore(u_tears, ivec2(gl_FragCoord.xy), uvec4(1u));
+        imageStore(u_tear_tiles, ivec2(gl_FragCoord.xy) / PR_TEAR_TILE, uvec4(1u));
+    }
+#endif
     // The hit, refined once, under the surface if the walk was there.
 #ifdef PR_PRISM_TEARS
     g_height_flip = below ? 1.0 : 0.0;

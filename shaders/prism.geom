@@ -7,12 +7,13 @@
 #include "common/shared.h"
 #include "prism/shell.glsl"
 
-#ifdef PR_PRISM_FOLDS
-// The walk on a closed mesh draws its top caps without this shader (prism_tops.vert); this one then
-// gets one point per prism whose shell folds, the prism's number in PR_TEX_FOLDED, and emits the
-// rest of its front faces.
+#ifdef PR_PRISM_LISTED
+// The walk on a closed mesh draws its top caps without this shader (prism_tops.vert). This one then
+// gets one point per listed prism, the prism's number in PR_TEX_PRISM_LIST: a prism whose shell
+// folds, whose other front faces it emits, or in the second pass over a torn mesh, a prism whose
+// bottom may cover a marked tile (picked on the CPU; the test below decides).
 layout(points) in;
-layout(binding = PR_TEX_FOLDED) uniform usamplerBuffer t_folded;
+layout(binding = PR_TEX_PRISM_LIST) uniform usamplerBuffer t_prism_list;
 #else
 layout(triangles) in;
 
@@ -138,14 +139,18 @@ bool touches_marked_tile()
 
 void main()
 {
-#ifdef PR_PRISM_FOLDS
-    prism_id = int(texelFetch(t_folded, gl_PrimitiveIDIn).r);
+#ifdef PR_PRISM_LISTED
+    prism_id = int(texelFetch(t_prism_list, gl_PrimitiveIDIn).r);
     uint index[3];
     load_walk_prism(uint(prism_id), index, prism_weld);
+#ifdef PR_PRISM_INSIDE
+    if (touches_marked_tile()) triangle(0, 2, 1);
+#else
     triangle(0, 2, 1);
     side(0);
     side(1);
     side(2);
+#endif
 #else
     prism_id = gl_PrimitiveIDIn;
     prism_weld = uint[3](g_weld[0], g_weld[1], g_weld[2]);
@@ -204,5 +209,5 @@ void main()
     side(1);
     side(2);
 #endif
-#endif // PR_PRISM_FOLDS
+#endif // PR_PRISM_LISTED
 }

@@ -2,7 +2,7 @@
 // walk rasterizes only the top caps (docs/prism.md), and a top corner belongs to its vertex (the
 // tight top is shared by the triangles around it), so each vertex goes to its top here and the
 // rasterizer culls the caps that face away. (llvmpipe's geometry shader costs more than the rest
-// of drawing the shell.) With PR_PRISM_FOLDS it feeds prism.geom one point per folded prism.
+// of drawing the shell.) With PR_PRISM_LISTED it feeds prism.geom one point per listed prism.
 #include "common/shared.h"
 #include "prism/shell.glsl"
 
@@ -11,7 +11,7 @@ out vec3 v_tex;   // (u, v, height) there
 
 void main()
 {
-#ifdef PR_PRISM_FOLDS
+#ifdef PR_PRISM_LISTED
     v_world = vec3(0.0);
     v_tex = vec3(0.0);
     gl_Position = vec4(0.0, 0.0, 0.0, 1.0);

@@ -34,7 +34,7 @@ using mat4 = glm::mat4;
 #define PR_TEX_ADJACENCY 5 // rgb32ui, per triangle: the triangles across its edges (src/mesh/adjacency.hpp), walk only
 #define PR_TEX_CORNERS 6   // rgba32ui, three texels per vertex: vec4(bottom corner, u), vec4(unit N, v),
                            // vec4(top height, weld, 0, 0) (floats as bits); walk only
-#define PR_TEX_FOLDED 7     // r32ui: the prisms whose shell folds (a closed mesh's walk draws their other faces)
+#define PR_TEX_PRISM_LIST 7 // r32ui: prisms drawn one point each (the folded ones; the second pass's, prism.geom)
 #define PR_SSBO_COUNTERS 0
 #define PR_IMAGE_TEARS 0    // r32ui, per pixel: 1 where a walk went into the object through a tear (prism walk, torn meshes)
 #define PR_IMAGE_TEAR_TILES 1 // r32ui, the same per tile of PR_TEAR_TILE^2 pixels (the second pass's culling)

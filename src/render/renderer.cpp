@@ -168,6 +168,43 @@ std::vector<std::uint32_t> folded_prisms(const std::vector<MeshVertex>& vertices
     return folded;
 }
 
+// The second pass's prisms (prism.geom, touches_marked_tile, which decides): those whose bottom
+// cap's screen box covers a tile the first pass marked in `tiles` (tw x th), and those it is
+// unsure of (a corner behind the eye, a box of more than 64 tiles).
+std::vector<std::uint32_t> prisms_over_marked_tiles(const std::vector<glm::vec3>& bottoms,
+                                                    const std::vector<std::uint32_t>& triangles,
+                                                    const glm::mat4& view_proj, glm::vec2 viewport,
+                                                    const std::vector<GLuint>& tiles, int tw, int th)
+{
+    std::vector<std::uint32_t> list;
+    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+        glm::vec2 lo(1e30f), hi(-1e30f);
+        bool unsure = false;
+        for (int i = 0; i < 3; ++i) {
+            const glm::vec4 clip = view_proj * glm::vec4(bottoms[triangles[t + std::size_t(i)]], 1.0f);
+            if (clip.w <= 0.0f) {
+                unsure = true;
+                break;
+            }
+            const glm::vec2 px = (glm::vec2(clip) / clip.w * 0.5f + 0.5f) * viewport;
+            lo = glm::min(lo, px);
+            hi = glm::max(hi, px);
+        }
+        bool marked = unsure;
+        if (!unsure && lo.x < viewport.x && lo.y < viewport.y && hi.x >= 0.0f && hi.y >= 0.0f) {
+            const glm::ivec2 a = glm::clamp(glm::ivec2(glm::floor(lo / float(PR_TEAR_TILE))), glm::ivec2(0),
+                                            glm::ivec2(tw - 1, th - 1));
+            const glm::ivec2 b = glm::clamp(glm::ivec2(glm::floor(hi / float(PR_TEAR_TILE))), glm::ivec2(0),
+                                            glm::ivec2(tw - 1, th - 1));
+            marked = (b.x - a.x + 1) * (b.y - a.y + 1) > 64;
+            for (int y = a.y; y <= b.y && !marked; ++y)
+                for (int x = a.x; x <= b.x && !marked; ++x) marked = tiles[std::size_t(y) * std::size_t(tw) + std::size_t(x)] != 0;
+        }
+        if (marked) list.push_back(std::uint32_t(t / 3));
+    }
+    return list;
+}
+
 std::string variant_key(const ShaderDefines& defines)
 {
     std::string key;
@@ -352,7 +389,7 @@ GLuint Renderer::program_for(const DrawSettings& settings, WalkVariant variant, 
     if (variant == WalkVariant::Through || variant == WalkVariant::Inside) defines.emplace_back("PR_PRISM_TEARS", "1");
     if (variant == WalkVariant::Inside) defines.emplace_back("PR_PRISM_INSIDE", "1");
     if (shell == ShellDraw::Tops) defines.emplace_back("PR_PRISM_TOPS", "1");
-    if (shell == ShellDraw::Folds) defines.emplace_back("PR_PRISM_FOLDS", "1");
+    if (shell == ShellDraw::Listed) defines.emplace_back("PR_PRISM_LISTED", "1");
     const std::string key = variant_key(defines);
     auto it = programs_.find(key);
     if (it == programs_.end()) {
@@ -364,7 +401,7 @@ GLuint Renderer::program_for(const DrawSettings& settings, WalkVariant variant, 
                             ? build_program({{GL_VERTEX_SHADER, "prism_tops.vert"},
                                              {GL_FRAGMENT_SHADER, "prism.frag"}},
                                             defines)
-                            : build_program({{GL_VERTEX_SHADER, shell == ShellDraw::Folds ? "prism_tops.vert" : "prism.vert"},
+                            : build_program({{GL_VERTEX_SHADER, shell == ShellDraw::Listed ? "prism_tops.vert" : "prism.vert"},
                                              {GL_GEOMETRY_SHADER, "prism.geom"},
                                              {GL_FRAGMENT_SHADER, "prism.frag"}},
                                             defines);
@@ -475,6 +512,11 @@ void Renderer::ensure_walk_data()
                 o.folded_count[full] = GLsizei(folded.size());
             }
         }
+        if (o.tears) {
+            o.bottoms.resize(vertices.size());
+            for (std::size_t v = 0; v < vertices.size(); ++v) o.bottoms[v] = glm::vec3(corners[3 * v]);
+            o.triangles = indices;
+        }
     }
     if (glGetError() == GL_OUT_OF_MEMORY) throw Error("scene", "out of GPU memory while building the prism walk's buffers");
 }
@@ -583,8 +625,8 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         glDisable(GL_CULL_FACE);
         const int full = settings.full_shell ? 1 : 0;
         if (o.folded_count[full] > 0) {
-            glUseProgram(program_for(settings, variant, ShellDraw::Folds));
-            glBindTextureUnit(PR_TEX_FOLDED, o.folded_texels[full].id());
+            glUseProgram(program_for(settings, variant, ShellDraw::Listed));
+            glBindTextureUnit(PR_TEX_PRISM_LIST, o.folded_texels[full].id());
             glDrawArrays(GL_POINTS, 0, o.folded_count[full]);
         }
     };
@@ -609,11 +651,38 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
             glDrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
         }
     }
+    // The second pass only where the first marked a tile (often nowhere: it then costs one small
+    // read-back instead of a geometry-shader pass over every triangle).
     if (tears) {
-        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-        glUseProgram(program_for(settings, WalkVariant::Inside));
-        for (const GpuObject& o : objects_)
-            if (o.tears) draw_base(o);
+        // The marked tiles come back (a small read-back), and the CPU picks the prisms whose
+        // bottoms may cover one: a geometry-shader pass over every triangle cost more.
+        glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        const int tw = (width_ + PR_TEAR_TILE - 1) / PR_TEAR_TILE, th = (height_ + PR_TEAR_TILE - 1) / PR_TEAR_TILE;
+        std::vector<GLuint> tiles(std::size_t(tw) * std::size_t(th));
+        glGetTextureImage(tear_tiles_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(tiles.size() * sizeof(GLuint)),
+                          tiles.data());
+        if (std::any_of(tiles.begin(), tiles.end(), [](GLuint t) { return t != 0; })) {
+            const glm::mat4 view_proj = camera.projection(float(width_) / float(height_)) * camera.view();
+            for (const GpuObject& o : objects_) {
+                if (!o.tears) continue;
+                const std::vector<std::uint32_t> list = prisms_over_marked_tiles(
+                    o.bottoms, o.triangles, view_proj, glm::vec2(width_, height_), tiles, tw, th);
+                if (list.empty()) continue;
+                if (!pass_list_) {
+                    pass_list_ = gl::Buffer::create();
+                    pass_list_texels_ = gl::Texture::create(GL_TEXTURE_BUFFER);
+                }
+                glNamedBufferData(pass_list_.id(), GLsizeiptr(list.size() * sizeof(std::uint32_t)), list.data(),
+                                  GL_STREAM_DRAW);
+                glTextureBuffer(pass_list_texels_.id(), GL_R32UI, pass_list_.id());
+                set_object(o);
+                bind_prism_data(o);
+                glUseProgram(program_for(settings, WalkVariant::Inside, ShellDraw::Listed));
+                glBindTextureUnit(PR_TEX_PRISM_LIST, pass_list_texels_.id());
+                glBindVertexArray(o.base.vao.id());
+                glDrawArrays(GL_POINTS, 0, GLsizei(list.size()));
+            }
+        }
     }
     glFinish();
     const auto end = std::chrono::steady_clock::now();

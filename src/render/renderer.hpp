@@ -72,9 +72,10 @@ public:
     // the object (docs/prism.md); Plain for the rest and for the other techniques.
     enum class WalkVariant { Plain, Seamless, Through, Inside };
     // How the prism's shell is drawn: Faces, by the geometry shader from each triangle; for the
-    // walk on a closed mesh, Tops (the top caps, by the vertex shader alone) and Folds (the other
-    // faces of the prisms whose shell folds, by the geometry shader from one point per prism).
-    enum class ShellDraw { Faces, Tops, Folds };
+    // walk on a closed mesh, Tops (the top caps, by the vertex shader alone) and Listed (by the
+    // geometry shader from one point per listed prism: the other faces of the prisms whose shell
+    // folds; in the second pass over a torn mesh, the bottoms over marked tiles).
+    enum class ShellDraw { Faces, Tops, Listed };
     GLuint program_for(const DrawSettings& settings, WalkVariant variant = WalkVariant::Plain,
                        ShellDraw shell = ShellDraw::Faces);
 
@@ -115,10 +116,14 @@ private:
         // vertices and indices on the first prism draw (ensure_prism_data), the walk's with it.
         gl::Texture vertex_texels, index_texels, adjacency_texels, corner_texels;
         // Closed meshes: the prisms whose shell folds (prism.geom's test on the CPU), with the
-        // tight tops and with full ones (r32ui buffer textures, PR_TEX_FOLDED).
+        // tight tops and with full ones (r32ui buffer textures, PR_TEX_PRISM_LIST).
         gl::Buffer folded[2];
         gl::Texture folded_texels[2];
         GLsizei folded_count[2] = {0, 0};
+        // Torn meshes: the bottom corners (world) and the triangles, to pick the second pass's
+        // prisms on the CPU (prisms_over_marked_tiles).
+        std::vector<glm::vec3> bottoms;
+        std::vector<std::uint32_t> triangles;
         std::vector<Geometry> reference; // chunks of the tessellated ground truth
         GLuint height_texture = 0; // owned by texture_cache_
         GLuint color_texture = 0;  // 0: plain base colour
@@ -141,6 +146,8 @@ private:
     gl::Texture depth_target_;
     gl::Texture tear_mask_;  // r32ui, the walk's pixels that went into an object (made on first need)
     gl::Texture tear_tiles_; // r32ui, the same per tile of PR_TEAR_TILE^2 pixels
+    gl::Buffer pass_list_;          // the second pass's prisms (r32ui), rewritten per draw
+    gl::Texture pass_list_texels_;  // its buffer texture (PR_TEX_PRISM_LIST)
     gl::Buffer frame_ubo_;
     gl::Buffer object_ubo_;
     gl::Buffer counters_;
