@@ -175,18 +175,26 @@ struct ExitFace {
 // crossing; +1 only those the ray goes *out* through, for a prism whose faces wind
 // counter-clockwise seen from outside, -1 the same for one turned inside out by normals that
 // oppose the winding (the walk: walk_orientation), so the face of entry needs no epsilon.
-void exit_candidate(vec3 p0, vec3 p1, vec3 p2, vec3 x0, vec3 x1, vec3 x2, int face, vec3 second, vec3 dir,
-                    float t_min, float orient, float slack, inout ExitFace best, inout uint best_key)
+// (From ray_plane()'s results: `crossed`, t, w, det.)
+void keep_exit(bool crossed, float t, vec3 w, float det, vec3 x0, vec3 x1, vec3 x2, int face, vec3 second,
+               float t_min, float orient, float slack, inout ExitFace best, inout uint best_key)
 {
-    float t, det;
-    vec3 w;
-    if (!ray_plane(p0, p1, p2, dir, t, w, det) || det * orient > 0.0 || !(t > t_min)) return;
+    if (!crossed || det * orient > 0.0 || !(t > t_min)) return;
     bool inside = in_triangle(w, slack);
     uint key = floatBitsToUint(t) | (inside ? 0u : 0x80000000u);
     if (key < best_key) {
         best = ExitFace(t, x0 * w.x + x1 * w.y + x2 * w.z, face, dot(w, second), inside);
         best_key = key;
     }
+}
+
+void exit_candidate(vec3 p0, vec3 p1, vec3 p2, vec3 x0, vec3 x1, vec3 x2, int face, vec3 second, vec3 dir,
+                    float t_min, float orient, float slack, inout ExitFace best, inout uint best_key)
+{
+    float t, det;
+    vec3 w;
+    bool crossed = ray_plane(p0, p1, p2, dir, t, w, det);
+    keep_exit(crossed, t, w, det, x0, x1, x2, face, second, t_min, orient, slack, best, best_key);
 }
 
 // `from_a[e]`: diagonal_from_a() of edge e. `slack` grows the faces (ray_triangle): 1e-5 lets an
@@ -203,12 +211,13 @@ ExitFace nearest_exit(vec3 dir, float t_min, bool from_a[3], float slack, float 
     ExitFace best = ExitFace(1e30, vec3(0.0), -1, 0.0, false);
     uint key = 0xffffffffu;
     const vec3 none = vec3(0.0);
+    // The top: in (the walk's check) or out.
     float t_top, det_top;
     vec3 w_top;
-    top_entry = ray_plane(corner_world[3], corner_world[4], corner_world[5], dir, t_top, w_top, det_top) &&
-                det_top * orient > 0.0 && in_triangle(w_top, slack) && abs(t_top - t_entry) <= 1e-5 * t_entry;
-    exit_candidate(corner_world[3], corner_world[4], corner_world[5], corner_tex[3], corner_tex[4], corner_tex[5],
-                   0, none, dir, t_min, orient, slack, best, key);
+    bool top = ray_plane(corner_world[3], corner_world[4], corner_world[5], dir, t_top, w_top, det_top);
+    top_entry = top && det_top * orient > 0.0 && in_triangle(w_top, slack) && abs(t_top - t_entry) <= 1e-5 * t_entry;
+    keep_exit(top, t_top, w_top, det_top, corner_tex[3], corner_tex[4], corner_tex[5], 0, none, t_min, orient, slack,
+              best, key);
     exit_candidate(corner_world[0], corner_world[2], corner_world[1], corner_tex[0], corner_tex[2], corner_tex[1],
                    1, none, dir, t_min, orient, slack, best, key);
     for (int e = 0; e < 3; ++e) {
