@@ -187,14 +187,12 @@ void load_walk_prism(uint prim, out uint index[3], out uint weld[3], out bool fr
     for (int e = 0; e < 3; ++e) from_a[e] = diagonal_from_a(weld[e], weld[(e + 1) % 3]);
 }
 
-// The edge of the current prism's top cap that a top exit at `uv` lies on (within 1e-3 of the
-// triangle, as barycentric weight; the rasterizer's snapping is smaller), and in `lambda` its
-// place along that edge (0 at corner e, 1 at corner e + 1); -1 when it is not at an edge.
-int top_exit_edge(vec2 uv, out float lambda)
+// The edge of the current prism's top cap that a top exit with barycentric weights `w` lies on
+// (within 1e-3 of the triangle, as barycentric weight; the rasterizer's snapping is smaller), and
+// in `lambda` its place along that edge (0 at corner e, 1 at corner e + 1); -1 when it is not at
+// an edge.
+int top_exit_edge(vec3 w, out float lambda)
 {
-    lambda = 0.0;
-    vec3 w;
-    if (!uv_weights(uv, corner_tex[0].xy, corner_tex[1].xy, corner_tex[2].xy, w)) return -1;
     // Edge e runs from corner e to corner e + 1; its opposite corner (e + 2) % 3 weighs ~0.
     const float kEdge = 1e-3;
     int e = w.z < kEdge ? 0 : (w.x < kEdge ? 1 : (w.y < kEdge ? 2 : -1));
@@ -305,11 +303,12 @@ void main()
     bool via_top = false;
     for (int k = 0; k < PR_WALK_MAX_PRISMS; ++k) {
         bool top_entry;
+        vec3 w_top;
         // Where no face is crossed (in the first prism the rasterizer's snapped edge put the
         // fragment a little outside its face; later, the ray came in where the shell folds),
         // the nearest of the faces' planes (shell.glsl), which on a convex prism still finds the
         // way out.
-        ExitFace ex = nearest_exit(dir, t_in * (1.0 - 1e-6), from_a, 1e-5, walk_orientation, t_in, top_entry);
+        ExitFace ex = nearest_exit(dir, t_in * (1.0 - 1e-6), from_a, 1e-5, walk_orientation, t_in, top_entry, w_top);
         if (via_top && !top_entry) break; // it does not go in there: out of the shell
         if (ex.face < 0) break; // lost: a miss
         t_out = ex.t;
@@ -328,7 +327,7 @@ void main()
         // neighbour's top; through a cap elsewhere, or a side without a neighbour, the ray
         // leaves the shell.
         float lambda = ex.lambda;
-        int edge = ex.face >= 2 ? ex.face - 2 : (ex.face == 0 ? top_exit_edge(tex_out.xy, lambda) : -1);
+        int edge = ex.face >= 2 ? ex.face - 2 : (ex.face == 0 ? top_exit_edge(w_top, lambda) : -1);
         uvec3 across = triangle_neighbours(prim);
         uint next = edge == 0 ? across.x : (edge == 1 ? across.y : (edge == 2 ? across.z : 0xffffffffu));
         if (next == 0xffffffffu) {

@@ -204,16 +204,16 @@ void exit_candidate(vec3 p0, vec3 p1, vec3 p2, vec3 x0, vec3 x1, vec3 x2, int fa
 // a little outside its face). Each side's two triangles are chosen by selects, not branches
 // (llvmpipe runs both arms of a branch): eight ray-plane tests in all. The same pass tells
 // whether the ray goes *in* through the top cap (grown by `slack`) at t_entry, within
-// 1e-5 * t_entry: `top_entry` (the walk, where it came from the top of the prism before).
+// 1e-5 * t_entry: `top_entry` (the walk, where it came from the top of the prism before), and
+// gives the barycentric weights of the top's plane crossing, `w_top` (corners 3, 4, 5).
 ExitFace nearest_exit(vec3 dir, float t_min, bool from_a[3], float slack, float orient, float t_entry,
-                      out bool top_entry)
+                      out bool top_entry, out vec3 w_top)
 {
     ExitFace best = ExitFace(1e30, vec3(0.0), -1, 0.0, false);
     uint key = 0xffffffffu;
     const vec3 none = vec3(0.0);
     // The top: in (the walk's check) or out.
     float t_top, det_top;
-    vec3 w_top;
     bool top = ray_plane(corner_world[3], corner_world[4], corner_world[5], dir, t_top, w_top, det_top);
     top_entry = top && det_top * orient > 0.0 && in_triangle(w_top, slack) && abs(t_top - t_entry) <= 1e-5 * t_entry;
     keep_exit(top, t_top, w_top, det_top, corner_tex[3], corner_tex[4], corner_tex[5], 0, none, t_min, orient, slack,
@@ -241,7 +241,8 @@ ExitFace nearest_exit(vec3 dir, float t_min, bool from_a[3], float slack, float 
 bool prism_exit(vec3 dir, vec3 entry_tex, bool from_a[3], out float t_exit, out vec3 tex_exit)
 {
     bool top_entry;
-    ExitFace ex = nearest_exit(dir, 1.0 + 1e-5, from_a, 1e-5, 0.0, 1.0, top_entry);
+    vec3 w_top;
+    ExitFace ex = nearest_exit(dir, 1.0 + 1e-5, from_a, 1e-5, 0.0, 1.0, top_entry, w_top);
     bool found = ex.inside; // the exact exit has no planes-only fallback
     t_exit = found ? ex.t : 1.0;
     tex_exit = found ? ex.tex : entry_tex;
