@@ -106,7 +106,7 @@ Segment march_segment(vec3 tex_in, vec3 tex_out, vec3 first, out vec3 last)
 {
     last = first;
     vec3 seg = tex_out - tex_in;
-    vec2 texels = seg.xy * vec2(textureSize(s_height, 0));
+    vec2 texels = seg.xy * u_displace.zw; // the height map's size in texels
     int steps = int(ceil(max(float(u_march.x) * abs(seg.z), 0.5 * length(texels))));
     steps = clamp(steps, 1, 4 * max(u_march.x, 1) + 64);
     // Geometry (the outline and the depth) uses height level 0, as the reference does
