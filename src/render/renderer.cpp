@@ -117,7 +117,7 @@ gl::Texture make_max_pyramid_texture(const HeightField& hf)
     return t;
 }
 
-// The prism walk's shell (PR_SSBO_CORNERS), per render vertex, world space, the formula of
+// The prism walk's shell (PR_TEX_CORNERS), per render vertex, world space, the formula of
 // shaders/prism/shell.glsl: vec4(bottom corner, u), vec4(unit normal N, v), vec4(tight top
 // height, welded id as float bits, 0, 0). The corner at height h is bottom + h * (depth * N); the
 // walk reads three vec4 per corner instead of a vertex and two matrix products.
@@ -630,16 +630,13 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
             glDrawArrays(GL_POINTS, 0, o.folded_count[full]);
         }
     };
-    const GLuint through_tears = tears ? program_for(settings, WalkVariant::Through) : 0;
-    const bool seamless = walk && std::any_of(objects_.begin(), objects_.end(), [](const GpuObject& o) { return o.seamless; });
-    const GLuint without_seams = seamless ? program_for(settings, WalkVariant::Seamless) : 0;
     for (const GpuObject& o : objects_) {
         const WalkVariant variant = o.tears ? WalkVariant::Through : (o.seamless ? WalkVariant::Seamless : WalkVariant::Plain);
         if (walk && !o.open_shell) {
             draw_walk_shell(o, variant);
             continue;
         }
-        glUseProgram(walk && o.tears ? through_tears : (walk && o.seamless ? without_seams : program));
+        glUseProgram(walk ? program_for(settings, variant) : program);
         if (settings.technique != Technique::Reference) {
             draw_base(o);
             continue;
@@ -651,11 +648,10 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
             glDrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
         }
     }
-    // The second pass only where the first marked a tile (often nowhere: it then costs one small
-    // read-back instead of a geometry-shader pass over every triangle).
+    // The second pass only where the first marked a tile: the marked tiles come back (a small
+    // read-back), and the CPU lists the prisms whose bottoms may cover one (none when nothing is
+    // marked); a geometry-shader pass over every triangle cost more.
     if (tears) {
-        // The marked tiles come back (a small read-back), and the CPU picks the prisms whose
-        // bottoms may cover one: a geometry-shader pass over every triangle cost more.
         glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         const int tw = (width_ + PR_TEAR_TILE - 1) / PR_TEAR_TILE, th = (height_ + PR_TEAR_TILE - 1) / PR_TEAR_TILE;
         std::vector<GLuint> tiles(std::size_t(tw) * std::size_t(th));
