@@ -201,23 +201,16 @@ int top_exit_edge(vec3 w, out float lambda)
     return e;
 }
 
-// Into the neighbour `next` (adjacency entry: its prism << 2 | its edge) from the point `tex_out`
-// of the current prism, on their shared edge, `lambda` along the current prism's edge: loads the
-// neighbour and returns the same point in its texture space, at the same height and the same
-// place along the edge, which the neighbour runs the other way, in its own uv (a seam may change
-// it).
-vec3 enter_neighbour(uint next, float lambda, vec3 tex_out, out uint prim, out uint index[3], out uint weld[3],
-                     out bool from_a[3])
+// The point where the walk enters the current prism (just loaded) across its edge `edge`, at
+// `along` from the edge's first corner (the prism before ran that edge the other way) and at
+// height `z`: the same point in this prism's own uv (a seam may change it).
+vec3 entry_point(int edge, float along, float z)
 {
-    prim = next >> 2u;
-    int edge = int(next & 3u);
-    load_walk_prism(prim, index, weld, from_a);
-    float along = clamp(1.0 - lambda, 0.0, 1.0);
     // (Selects, not corner_tex[edge]: an index unknown at compile time would send the whole
     // array to memory on some compilers, llvmpipe's among them.)
     vec2 from = edge == 0 ? corner_tex[0].xy : (edge == 1 ? corner_tex[1].xy : corner_tex[2].xy);
     vec2 to = edge == 0 ? corner_tex[1].xy : (edge == 1 ? corner_tex[2].xy : corner_tex[0].xy);
-    return vec3(mix(from, to, along), tex_out.z);
+    return vec3(mix(from, to, along), z);
 }
 
 // The first sample of the segment from `tex_in`, where the last one ended at `tex_out` with the
@@ -284,7 +277,6 @@ void main()
     below = true;
 #endif
     uint index[3], weld[3];
-    load_walk_prism(prim, index, weld, from_a);
     Segment hit_segment; // the last segment marched; br.hit when the walk found the surface in it
     hit_segment.br.hit = false;
 #ifdef PR_PRISM_TEARS
@@ -301,7 +293,19 @@ void main()
     // only if the ray does enter its top at that point (`via_top`, checked by the neighbour's
     // exit pass).
     bool via_top = false;
+    // Each pass loads its prism first: what goes from one pass to the next is the prism's number
+    // and where the ray comes in (`entry_edge`, `entry_along`, at height tex_out.z), not the
+    // prism's corners — llvmpipe keeps every value that crosses the loop's back edge for all
+    // lanes, and the prism's 45 values there cost more than loading it again. (The hit prism is
+    // loaded once more after the walk, for the frame.)
+    int entry_edge = -1;
+    float entry_along = 0.0;
     for (int k = 0; k < PR_WALK_MAX_PRISMS; ++k) {
+        load_walk_prism(prim, index, weld, from_a);
+        if (entry_edge >= 0) {
+            tex_in = entry_point(entry_edge, entry_along, tex_out.z);
+            first = entry_sample(tex_in, tex_out, last, below);
+        }
         bool top_entry;
         vec3 w_top;
         // Where no face is crossed (in the first prism the rasterizer's snapped edge put the
@@ -335,10 +339,13 @@ void main()
             break;
         }
         via_top = ex.face == 0;
-        tex_in = enter_neighbour(next, lambda, tex_out, prim, index, weld, from_a);
+        prim = next >> 2u;
+        entry_edge = int(next & 3u);
+        entry_along = clamp(1.0 - lambda, 0.0, 1.0); // the neighbour runs the edge the other way
         t_in = t_out;
-        first = entry_sample(tex_in, tex_out, last, below);
     }
+    // The hit prism again (corners, uv and normals for the frame below).
+    load_walk_prism(prim, index, weld, from_a);
 #if defined(PR_PRISM_TEARS) && !defined(PR_PRISM_INSIDE)
     if (went_in) {
         imageStore(u_tears, ivec2(gl_FragCoord.xy), uvec4(1u));
@@ -353,8 +360,8 @@ void main()
 #ifdef PR_PRISM_TEARS
     g_height_flip = 0.0;
 #endif
-    // The frame at the hit (below): uv and normals as the walk loaded them, tangents from the
-    // vertex buffer (two of a vertex's four vec4).
+    // The frame at the hit (below): uv and normals of the hit prism, tangents from the vertex
+    // buffer (two of a vertex's four texels).
     for (int i = 0; i < 3; ++i) {
         frame_uv[i] = corner_tex[i].xy;
         frame_n[i] = corner_normal[i];
