@@ -83,11 +83,23 @@ void load_prism(uint prim, out BaseVertex bv[3], out bool from_a[3])
 // rays near the silhouette do not step over bumps. March and refinement are apart: the walk
 // brackets the hit prism by prism and refines once, after its loop (llvmpipe would run the
 // refinement's loop in every prism of every lane's walk).
+// The segment's ray is not kept in it: the walk carries a segment from pass to pass (for the lanes
+// that hit, llvmpipe keeps it while the others walk on), and segment_ray() builds the ray again.
 struct Segment {
-    MarchRay ray;
     Bracket br;     // br.hit: the ray meets the height field in this segment
     bool linear;    // marched linearly (max-mip under a tear)
 };
+
+// The march ray from `tex_in` to `tex_out` in texture space (linear in the ray parameter between
+// them).
+MarchRay segment_ray(vec3 tex_in, vec3 tex_out)
+{
+    vec3 seg = tex_out - tex_in;
+    vec2 texels = seg.xy * u_displace.zw; // the height map's size in texels
+    int steps = int(ceil(max(float(u_march.x) * abs(seg.z), 0.5 * length(texels))));
+    steps = clamp(steps, 1, 4 * max(u_march.x, 1) + 64);
+    return MarchRay(tex_in, seg, 1.0, steps);
+}
 
 // The first sample of a segment at `uv`, as the marcher takes it: cone_at() for the cone
 // marchers (height and ratios), else height_at() in x.
@@ -105,14 +117,10 @@ vec3 sample_first(vec2 uv)
 Segment march_segment(vec3 tex_in, vec3 tex_out, vec3 first, out vec3 last)
 {
     last = first;
-    vec3 seg = tex_out - tex_in;
-    vec2 texels = seg.xy * u_displace.zw; // the height map's size in texels
-    int steps = int(ceil(max(float(u_march.x) * abs(seg.z), 0.5 * length(texels))));
-    steps = clamp(steps, 1, 4 * max(u_march.x, 1) + 64);
     // Geometry (the outline and the depth) uses height level 0, as the reference does
     // (contract); filtering it by mip level would move the surface, not just smooth its look.
     UvGrad g = UvGrad(vec2(0.0), vec2(0.0));
-    MarchRay ray = MarchRay(tex_in, seg, 1.0, steps);
+    MarchRay ray = segment_ray(tex_in, tex_out);
 #if defined(PR_PRISM_TEARS) && PR_MARCHER == PR_MARCH_MAX_MIP
     // Under a torn surface (g_height_flip): the max pyramid describes h, not 1 - h. (The cone
     // marchers step linearly there by themselves: cone_at, march/cone.glsl.)
@@ -120,38 +128,38 @@ Segment march_segment(vec3 tex_in, vec3 tex_out, vec3 first, out vec3 last)
         float h_end;
         Bracket br = march_linear_from(ray, g, first.x, h_end);
         last = vec3(h_end, 0.0, 0.0);
-        return Segment(ray, br, true);
+        return Segment(br, true);
     }
 #endif
 #if PR_MARCHER == PR_MARCH_CONE || PR_MARCHER == PR_MARCH_RELAXED_CONE
-    return Segment(ray, march_cone_from(ray, first, last), false);
+    return Segment(march_cone_from(ray, first, last), false);
 #elif PR_MARCHER == PR_MARCH_MAX_MIP
-    return Segment(ray, march_max_mip(ray), false); // its own traversal (last: unused)
+    return Segment(march_max_mip(ray), false); // its own traversal (last: unused)
 #else
     float h_end;
     Bracket br = march_linear_from(ray, g, first.x, h_end);
     last = vec3(h_end, 0.0, 0.0);
-    return Segment(ray, br, false);
+    return Segment(br, false);
 #endif
 }
 
-// The hit's fraction of a marched segment, refined as the marcher does, or -1 when the ray stays
-// above the height field there.
-float refine_segment(Segment sg)
+// The hit's fraction of a marched segment (its ray: segment_ray()), refined as the marcher does,
+// or -1 when the ray stays above the height field there.
+float refine_segment(Segment sg, MarchRay ray)
 {
     if (!sg.br.hit) return -1.0;
     UvGrad g = UvGrad(vec2(0.0), vec2(0.0));
 #if defined(PR_PRISM_TEARS) && PR_MARCHER == PR_MARCH_MAX_MIP
-    if (sg.linear) return refine_binary(sg.ray, sg.br, u_march.y, g);
+    if (sg.linear) return refine_binary(ray, sg.br, u_march.y, g);
 #endif
 #if PR_MARCHER == PR_MARCH_LINEAR
     return interpolate_bracket(sg.br);
 #elif PR_MARCHER == PR_MARCH_CONE || PR_MARCHER == PR_MARCH_RELAXED_CONE
-    return refine_binary_secant(sg.ray, sg.br, cone_refine_steps(sg.ray, sg.br, u_march.y), g);
+    return refine_binary_secant(ray, sg.br, cone_refine_steps(ray, sg.br, u_march.y), g);
 #elif PR_MARCHER == PR_MARCH_MAX_MIP
     return sg.br.t_below; // exact: no refinement
 #else
-    return refine_binary(sg.ray, sg.br, u_march.y, g);
+    return refine_binary(ray, sg.br, u_march.y, g);
 #endif
 }
 
@@ -355,10 +363,11 @@ void main()
     // The hit, refined once, under the surface if the walk was there.
 #ifdef PR_PRISM_TEARS
     g_height_flip = below ? 1.0 : 0.0;
-#endif
-    s = refine_segment(hit_segment);
-#ifdef PR_PRISM_TEARS
+    s = refine_segment(hit_segment, segment_ray(below ? vec3(tex_in.xy, 1.0 - tex_in.z) : tex_in,
+                                                below ? vec3(tex_out.xy, 1.0 - tex_out.z) : tex_out));
     g_height_flip = 0.0;
+#else
+    s = refine_segment(hit_segment, segment_ray(tex_in, tex_out));
 #endif
     // The frame at the hit (below): uv and normals of the hit prism, tangents from the vertex
     // buffer (two of a vertex's four texels).
@@ -380,7 +389,7 @@ void main()
     prism_exit(dir, v_tex, from_a, t_out, tex_out);
 #endif
     vec3 last;
-    s = refine_segment(march_segment(tex_in, tex_out, sample_first(tex_in.xy), last));
+    s = refine_segment(march_segment(tex_in, tex_out, sample_first(tex_in.xy), last), segment_ray(tex_in, tex_out));
 #endif
     if (s < 0.0) {
         count_fragment();
