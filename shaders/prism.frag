@@ -287,10 +287,11 @@ void main()
     uint index[3], weld[3];
     Segment hit_segment; // the last segment marched; br.hit when the walk found the surface in it
     hit_segment.br.hit = false;
+    // The last sample the march took: the first of the next segment (entry_sample).
 #ifdef PR_PRISM_TEARS
     g_height_flip = below ? 1.0 : 0.0;
 #endif
-    vec3 first = sample_first(tex_in.xy), last;
+    vec3 last = sample_first(tex_in.xy);
 #ifdef PR_PRISM_TEARS
     g_height_flip = 0.0;
 #endif
@@ -310,6 +311,7 @@ void main()
     float entry_along = 0.0;
     for (int k = 0; k < PR_WALK_MAX_PRISMS; ++k) {
         load_walk_prism(prim, index, weld, from_a);
+        vec3 first = last;
         if (entry_edge >= 0) {
             tex_in = entry_point(entry_edge, entry_along, tex_out.z);
             first = entry_sample(tex_in, tex_out, last, below);
