@@ -13,6 +13,7 @@
 // folds, whose other front faces it emits, or in the second pass over a torn mesh, a prism whose
 // bottom may cover a marked tile (picked on the CPU; the test below decides).
 layout(points) in;
+flat in int g_list_index[]; // prism_tops.vert: gl_VertexID, so a draw may start anywhere in the list
 layout(binding = PR_TEX_PRISM_LIST) uniform usamplerBuffer t_prism_list;
 #else
 layout(triangles) in;
@@ -140,7 +141,7 @@ bool touches_marked_tile()
 void main()
 {
 #ifdef PR_PRISM_LISTED
-    prism_id = int(texelFetch(t_prism_list, gl_PrimitiveIDIn).r);
+    prism_id = int(texelFetch(t_prism_list, g_list_index[0]).r);
     uint index[3];
     load_walk_prism(uint(prism_id), index, prism_weld);
 #ifdef PR_PRISM_INSIDE

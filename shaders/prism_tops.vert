@@ -8,10 +8,14 @@
 
 out vec3 v_world; // world position on the top cap
 out vec3 v_tex;   // (u, v, height) there
+#ifdef PR_PRISM_LISTED
+flat out int g_list_index; // the point's place in the list (the draw's first point counts from its offset)
+#endif
 
 void main()
 {
 #ifdef PR_PRISM_LISTED
+    g_list_index = gl_VertexID;
     v_world = vec3(0.0);
     v_tex = vec3(0.0);
     gl_Position = vec4(0.0, 0.0, 0.0, 1.0);

@@ -168,16 +168,29 @@ std::vector<std::uint32_t> folded_prisms(const std::vector<MeshVertex>& vertices
     return folded;
 }
 
-// The second pass's prisms (prism.geom, touches_marked_tile, which decides): those whose bottom
-// cap's screen box covers a tile the first pass marked in `tiles` (tw x th), and those it is
-// unsure of (a corner behind the eye, a box of more than 64 tiles).
-std::vector<std::uint32_t> prisms_over_marked_tiles(const std::vector<glm::vec3>& bottoms,
-                                                    const std::vector<std::uint32_t>& triangles,
-                                                    const glm::mat4& view_proj, glm::vec2 viewport,
-                                                    const std::vector<GLuint>& tiles, int tw, int th)
+// The second pass's work, tile by tile: for each tile the first pass marked in `tiles` (tw x th),
+// the prisms whose bottom cap's screen box covers it (prism.geom's touches_marked_tile looks
+// again), those it is unsure of (a corner behind the eye, a box of more than 64 tiles) in every
+// marked tile. The lists one after the other in `prisms`, tile t's from offsets[t] to
+// offsets[t + 1]; `marked` the tiles (y * tw + x) in that order.
+struct TileLists {
+    std::vector<std::uint32_t> prisms, offsets, marked;
+};
+
+TileLists prisms_over_marked_tiles(const std::vector<glm::vec3>& bottoms, const std::vector<std::uint32_t>& triangles,
+                                   const glm::mat4& view_proj, glm::vec2 viewport, const std::vector<GLuint>& tiles,
+                                   int tw, int th)
 {
-    std::vector<std::uint32_t> list;
+    TileLists out;
+    std::vector<int> slot(tiles.size(), -1);
+    for (std::size_t i = 0; i < tiles.size(); ++i) {
+        if (tiles[i] == 0) continue;
+        slot[i] = int(out.marked.size());
+        out.marked.push_back(std::uint32_t(i));
+    }
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs; // (slot, prism)
     for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+        const auto prism = std::uint32_t(t / 3);
         glm::vec2 lo(1e30f), hi(-1e30f);
         bool unsure = false;
         for (int i = 0; i < 3; ++i) {
@@ -190,19 +203,30 @@ std::vector<std::uint32_t> prisms_over_marked_tiles(const std::vector<glm::vec3>
             lo = glm::min(lo, px);
             hi = glm::max(hi, px);
         }
-        bool marked = unsure;
-        if (!unsure && lo.x < viewport.x && lo.y < viewport.y && hi.x >= 0.0f && hi.y >= 0.0f) {
-            const glm::ivec2 a = glm::clamp(glm::ivec2(glm::floor(lo / float(PR_TEAR_TILE))), glm::ivec2(0),
-                                            glm::ivec2(tw - 1, th - 1));
-            const glm::ivec2 b = glm::clamp(glm::ivec2(glm::floor(hi / float(PR_TEAR_TILE))), glm::ivec2(0),
-                                            glm::ivec2(tw - 1, th - 1));
-            marked = (b.x - a.x + 1) * (b.y - a.y + 1) > 64;
-            for (int y = a.y; y <= b.y && !marked; ++y)
-                for (int x = a.x; x <= b.x && !marked; ++x) marked = tiles[std::size_t(y) * std::size_t(tw) + std::size_t(x)] != 0;
+        if (!unsure && !(lo.x < viewport.x && lo.y < viewport.y && hi.x >= 0.0f && hi.y >= 0.0f)) continue;
+        const glm::ivec2 a = unsure ? glm::ivec2(0)
+                                    : glm::clamp(glm::ivec2(glm::floor(lo / float(PR_TEAR_TILE))), glm::ivec2(0),
+                                                 glm::ivec2(tw - 1, th - 1));
+        const glm::ivec2 b = unsure ? glm::ivec2(-1)
+                                    : glm::clamp(glm::ivec2(glm::floor(hi / float(PR_TEAR_TILE))), glm::ivec2(0),
+                                                 glm::ivec2(tw - 1, th - 1));
+        if (unsure || (b.x - a.x + 1) * (b.y - a.y + 1) > 64) {
+            for (std::size_t m = 0; m < out.marked.size(); ++m) pairs.emplace_back(std::uint32_t(m), prism);
+            continue;
         }
-        if (marked) list.push_back(std::uint32_t(t / 3));
+        for (int y = a.y; y <= b.y; ++y)
+            for (int x = a.x; x <= b.x; ++x)
+                if (const int s = slot[std::size_t(y) * std::size_t(tw) + std::size_t(x)]; s >= 0)
+                    pairs.emplace_back(std::uint32_t(s), prism);
     }
-    return list;
+    std::sort(pairs.begin(), pairs.end());
+    out.offsets.assign(out.marked.size() + 1, 0);
+    for (const auto& [s, p] : pairs) {
+        ++out.offsets[s + 1];
+        out.prisms.push_back(p);
+    }
+    for (std::size_t m = 0; m < out.marked.size(); ++m) out.offsets[m + 1] += out.offsets[m];
+    return out;
 }
 
 std::string variant_key(const ShaderDefines& defines)
@@ -661,22 +685,32 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
             const glm::mat4 view_proj = camera.projection(float(width_) / float(height_)) * camera.view();
             for (const GpuObject& o : objects_) {
                 if (!o.tears) continue;
-                const std::vector<std::uint32_t> list = prisms_over_marked_tiles(
-                    o.bottoms, o.triangles, view_proj, glm::vec2(width_, height_), tiles, tw, th);
-                if (list.empty()) continue;
+                const TileLists lists = prisms_over_marked_tiles(o.bottoms, o.triangles, view_proj,
+                                                                 glm::vec2(width_, height_), tiles, tw, th);
+                if (lists.prisms.empty()) continue;
                 if (!pass_list_) {
                     pass_list_ = gl::Buffer::create();
                     pass_list_texels_ = gl::Texture::create(GL_TEXTURE_BUFFER);
                 }
-                glNamedBufferData(pass_list_.id(), GLsizeiptr(list.size() * sizeof(std::uint32_t)), list.data(),
-                                  GL_STREAM_DRAW);
+                glNamedBufferData(pass_list_.id(), GLsizeiptr(lists.prisms.size() * sizeof(std::uint32_t)),
+                                  lists.prisms.data(), GL_STREAM_DRAW);
                 glTextureBuffer(pass_list_texels_.id(), GL_R32UI, pass_list_.id());
                 set_object(o);
                 bind_prism_data(o);
                 glUseProgram(program_for(settings, WalkVariant::Inside, ShellDraw::Listed));
                 glBindTextureUnit(PR_TEX_PRISM_LIST, pass_list_texels_.id());
                 glBindVertexArray(o.base.vao.id());
-                glDrawArrays(GL_POINTS, 0, GLsizei(list.size()));
+                // Each marked tile's prisms with the tile as scissor: only its pixels are shaded
+                // (llvmpipe runs the whole shader even for fragments that discard at once).
+                glEnable(GL_SCISSOR_TEST);
+                for (std::size_t m = 0; m < lists.marked.size(); ++m) {
+                    const GLsizei count = GLsizei(lists.offsets[m + 1] - lists.offsets[m]);
+                    if (count == 0) continue;
+                    const int x = int(lists.marked[m] % std::uint32_t(tw)), y = int(lists.marked[m] / std::uint32_t(tw));
+                    glScissor(x * PR_TEAR_TILE, y * PR_TEAR_TILE, PR_TEAR_TILE, PR_TEAR_TILE);
+                    glDrawArrays(GL_POINTS, GLint(lists.offsets[m]), count);
+                }
+                glDisable(GL_SCISSOR_TEST);
             }
         }
     }
