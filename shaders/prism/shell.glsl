@@ -188,6 +188,7 @@ void keep_exit(bool crossed, float t, vec3 w, float det, vec3 x0, vec3 x1, vec3 
     }
 }
 
+// keep_exit() of the ray's crossing of triangle (p0, p1, p2).
 void exit_candidate(vec3 p0, vec3 p1, vec3 p2, vec3 x0, vec3 x1, vec3 x2, int face, vec3 second, vec3 dir,
                     float t_min, float orient, float slack, inout ExitFace best, inout uint best_key)
 {
