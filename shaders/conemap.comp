@@ -52,10 +52,17 @@ float height_at(int x, int y) { return pyramid_at(y * u_size.x + x); }
 // The maxima of node (level, i, j)'s four children (level >= 1).
 vec4 children_max(int level, int i, int j) { return group_at(u_group_offset[level - 1] + j * u_level_w[level] + i); }
 
-// GLSL leaves % of negative operands undefined: only non-negative ones here.
+// i modulo n in [0, n) (n > 0, any i). Without %: x86 has no vector integer division, so llvmpipe
+// divides lane by lane, and the relaxed march wraps two coordinates per step. The quotient from
+// a double product, corrected by one either way (|i| < 2^31, so the product is off by far less
+// than one), gives the exact remainder.
 int wrap_index(int i, int n)
 {
-    return i >= 0 ? i % n : n - 1 - (-1 - i) % n;
+    int q = int(floor(double(i) / double(n)));
+    int r = i - q * n;
+    r += r < 0 ? n : 0;
+    r -= r >= n ? n : 0;
+    return r;
 }
 
 double steps_squared(int k)
