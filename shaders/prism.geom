@@ -11,7 +11,7 @@
 // The walk on a closed mesh draws its top caps without this shader (prism_tops.vert). This one then
 // gets one point per listed prism, the prism's number in PR_TEX_PRISM_LIST: a prism whose shell
 // folds, whose other front faces it emits, or in the second pass over a torn mesh, a prism whose
-// bottom may cover a marked tile (picked on the CPU; the test below decides).
+// bottom may cover a marked tile (picked on the CPU, src/render/renderer.cpp).
 layout(points) in;
 flat in int g_list_index[]; // prism_tops.vert: gl_VertexID, so a draw may start anywhere in the list
 layout(binding = PR_TEX_PRISM_LIST) uniform usamplerBuffer t_prism_list;
@@ -111,33 +111,6 @@ void side(int e)
     }
 }
 
-#ifdef PR_PRISM_INSIDE
-layout(binding = PR_IMAGE_TEAR_TILES, r32ui) readonly uniform uimage2D u_tear_tiles;
-
-// Whether the bottom cap's screen box covers a tile with a marked pixel (true when unsure: a
-// corner behind the eye, or a box of more than 64 tiles).
-bool touches_marked_tile()
-{
-    vec2 lo = vec2(1e30), hi = vec2(-1e30);
-    for (int i = 0; i < 3; ++i) {
-        vec4 clip = u_view_proj * vec4(corner_world[i], 1.0);
-        if (clip.w <= 0.0) return true;
-        vec2 px = (clip.xy / clip.w * 0.5 + 0.5) * u_viewport.xy;
-        lo = min(lo, px);
-        hi = max(hi, px);
-    }
-    ivec2 tiles = imageSize(u_tear_tiles);
-    ivec2 a = clamp(ivec2(floor(lo / float(PR_TEAR_TILE))), ivec2(0), tiles - 1);
-    ivec2 b = clamp(ivec2(floor(hi / float(PR_TEAR_TILE))), ivec2(0), tiles - 1);
-    if (lo.x >= u_viewport.x || lo.y >= u_viewport.y || hi.x < 0.0 || hi.y < 0.0) return false;
-    if ((b.x - a.x + 1) * (b.y - a.y + 1) > 64) return true;
-    for (int y = a.y; y <= b.y; ++y)
-        for (int x = a.x; x <= b.x; ++x)
-            if (imageLoad(u_tear_tiles, ivec2(x, y)).r != 0u) return true;
-    return false;
-}
-#endif
-
 void main()
 {
 #ifdef PR_PRISM_LISTED
@@ -145,7 +118,10 @@ void main()
     uint index[3];
     load_walk_prism(uint(prism_id), index, prism_weld);
 #ifdef PR_PRISM_INSIDE
-    if (touches_marked_tile()) triangle(0, 2, 1);
+    // The second pass over a torn mesh (prism.frag): the bottom the eye sees from inside the
+    // object, where rays that went in through a tear come out into the far side's shell. The CPU
+    // listed the prism for a marked tile and draws it with that tile as scissor.
+    triangle(0, 2, 1);
 #else
     triangle(0, 2, 1);
     side(0);
@@ -168,13 +144,6 @@ void main()
     }
 #endif
 
-#ifdef PR_PRISM_INSIDE
-    // The second pass over a torn mesh (prism.frag): the bottoms the eye sees from inside the
-    // object, where rays that went in through a tear come out into the far side's shell; only
-    // those over a tile that the first pass marked.
-    if (touches_marked_tile()) triangle(0, 2, 1);
-    return;
-#endif
     triangle(3, 4, 5); // top cap, outward along +N (base triangles are counter-clockwise)
 #ifdef PR_PRISM_WALK
     // The walk (prism.frag) carries each ray from prism to prism, so only the shell's outside is

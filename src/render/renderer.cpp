@@ -169,9 +169,9 @@ std::vector<std::uint32_t> folded_prisms(const std::vector<MeshVertex>& vertices
 }
 
 // The second pass's work, tile by tile: for each tile the first pass marked in `tiles` (tw x th),
-// the prisms whose bottom cap's screen box covers it (prism.geom's touches_marked_tile looks
-// again), those it is unsure of (a corner behind the eye, a box of more than 64 tiles) in every
-// marked tile. The lists one after the other in `prisms`, tile t's from offsets[t] to
+// the prisms whose bottom cap's screen box covers it, and those it is unsure of (a corner behind
+// the eye, a box of more than 64 tiles) in every marked tile; each tile's list is drawn with the
+// tile as scissor. The lists one after the other in `prisms`, tile t's from offsets[t] to
 // offsets[t + 1]; `marked` the tiles (y * tw + x) in that order.
 struct TileLists {
     std::vector<std::uint32_t> prisms, offsets, marked;
@@ -412,7 +412,7 @@ GLuint Renderer::program_for(const DrawSettings& settings, WalkVariant variant, 
     if (variant == WalkVariant::Seamless) defines.emplace_back("PR_PRISM_SEAMLESS", "1");
     if (variant == WalkVariant::Through || variant == WalkVariant::Inside) defines.emplace_back("PR_PRISM_TEARS", "1");
     if (variant == WalkVariant::Inside) defines.emplace_back("PR_PRISM_INSIDE", "1");
-    if (shell == ShellDraw::Tops) defines.emplace_back("PR_PRISM_TOPS", "1");
+    if (shell == ShellDraw::Tops) defines.emplace_back("PR_PRISM_TOPS", "1"); // no shader reads it: it keys the program, whose stages differ
     if (shell == ShellDraw::Listed) defines.emplace_back("PR_PRISM_LISTED", "1");
     const std::string key = variant_key(defines);
     auto it = programs_.find(key);
