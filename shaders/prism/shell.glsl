@@ -58,12 +58,6 @@ bool in_triangle(vec3 w, float slack)
     return w.y >= -slack && w.z >= -slack && w.y + w.z <= 1.0 + slack;
 }
 
-// The same against the prism's triangle (a, b, c), grown by `slack`: false when they do not meet.
-bool ray_triangle(int a, int b, int c, vec3 dir, float slack, out float t, out vec3 w, out float det)
-{
-    return ray_plane(corner_world[a], corner_world[b], corner_world[c], dir, t, w, det) && in_triangle(w, slack);
-}
-
 // +1 when the walk's current prism (load_walk_prism) winds counter-clockwise seen from outside.
 // Judged on the base triangle (height `midlevel`), which is never folded: a bottom or top cap
 // offset by more than the surface's radius of curvature may be (inward shells at sharp convex
@@ -198,7 +192,7 @@ void exit_candidate(vec3 p0, vec3 p1, vec3 p2, vec3 x0, vec3 x1, vec3 x2, int fa
     keep_exit(crossed, t, w, det, x0, x1, x2, face, second, t_min, orient, slack, best, best_key);
 }
 
-// `from_a[e]`: diagonal_from_a() of edge e. `slack` grows the faces (ray_triangle): 1e-5 lets an
+// `from_a[e]`: diagonal_from_a() of edge e. `slack` grows the faces (in_triangle): 1e-5 lets an
 // exit lie exactly on an edge between two triangles. Where no triangle is crossed, the nearest of
 // their planes, which on a convex prism still finds the way out of a ray that comes in just
 // outside it (the rasterizer snaps vertices to its subpixel grid, so a fragment on an edge may lie
