@@ -45,6 +45,10 @@ struct ConeBuildOptions {
     // by their lower bounds: a narrower cone, still conservative. No built-in map comes near it.
     // 0: unbounded (the exact rounded minimum everywhere).
     int node_budget = 1024;
+    // GPU generator only: read the max pyramid from storage buffers, as it does by itself where the
+    // pyramid has more texels than GL_MAX_TEXTURE_BUFFER_SIZE, instead of from buffer textures
+    // (faster on llvmpipe). The same map either way; tests use it to cover that path.
+    bool gpu_storage_buffers = false;
 };
 
 // Multi-threaded CPU generator.

@@ -51,7 +51,8 @@ ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBu
     // Read as buffer textures where they fit (conemap.comp), else as storage buffers.
     GLint64 max_texels = 0;
     glGetInteger64v(GL_MAX_TEXTURE_BUFFER_SIZE, &max_texels);
-    const bool texels = GLint64(pyramid.data.size()) <= max_texels && GLint64(groups.size() / 4) <= max_texels;
+    const bool texels = !options.gpu_storage_buffers && GLint64(pyramid.data.size()) <= max_texels &&
+                        GLint64(groups.size() / 4) <= max_texels;
     ShaderDefines defines{{"PR_CONE_KIND", kind == ConeKind::Relaxed ? "1" : "0"}};
     if (!texels) defines.emplace_back("PR_CONE_BUFFERS", "1");
     gl::Program program = build_program({{GL_COMPUTE_SHADER, "conemap.comp"}}, defines);

@@ -107,3 +107,16 @@ TEST(ConeMapGpu, SpikeAndLargerThanOneChunk)
     expect_same(build_cone_map_gpu(f, ConeKind::Cone, {}), build_cone_map_cpu(f, ConeKind::Cone, {}),
                 ConeFormat::Rg16, "spike");
 }
+
+// Maps with more pyramid texels than GL_MAX_TEXTURE_BUFFER_SIZE are read from storage buffers
+// (conemap.comp, PR_CONE_BUFFERS): the same maps as the CPU's, both kinds.
+TEST(ConeMapGpu, StorageBufferPathEqualsCpu)
+{
+    prtest::context();
+    const HeightField f = field_of(40, 36, 9u, true);
+    ConeBuildOptions o;
+    o.gpu_storage_buffers = true;
+    for (ConeKind kind : {ConeKind::Cone, ConeKind::Relaxed})
+        expect_same(build_cone_map_gpu(f, kind, o), build_cone_map_cpu(f, kind, {}), ConeFormat::Rg16,
+                    kind == ConeKind::Cone ? "cone, storage buffers" : "relaxed, storage buffers");
+}
