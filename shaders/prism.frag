@@ -322,7 +322,9 @@ void main()
         // fragment a little outside its face; later, the ray came in where the shell folds),
         // the nearest of the faces' planes (shell.glsl), which on a convex prism still finds the
         // way out.
-        ExitFace ex = nearest_exit(dir, t_in * (1.0 - 1e-6), from_a, 1e-5, walk_orientation, t_in, top_entry, w_top);
+        int entry_face = entry_edge < 0 ? -1 : (via_top ? 0 : 2 + entry_edge);
+        ExitFace ex = nearest_exit(dir, t_in * (1.0 - 1e-6), from_a, 1e-5, walk_orientation, t_in, entry_face, top_entry,
+                                   w_top);
         if (via_top && !top_entry) break; // it does not go in there: out of the shell
         if (ex.face < 0) break; // lost: a miss
         t_out = ex.t;

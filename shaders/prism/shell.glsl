@@ -29,30 +29,7 @@ bool diagonal_from_a(uint weld_a, uint weld_b)
 vec3 corner_world[6];
 vec3 corner_tex[6];
 
-// Ray eye + t * dir against the plane of triangle (p0, p1, p2) (Moller-Trumbore): false when they
-// are parallel; else the parameter t, the barycentric weights w of p0, p1, p2 (inside the
-// triangle when none is negative), and det, whose sign tells the side: det < 0 where the ray
-// goes out through a face wound counter-clockwise seen from outside.
-bool ray_plane(vec3 p0, vec3 p1, vec3 p2, vec3 dir, out float t, out vec3 w, out float det)
-{
-    t = 0.0;
-    w = vec3(0.0);
-    vec3 e1 = p1 - p0;
-    vec3 e2 = p2 - p0;
-    vec3 p = cross(dir, e2);
-    det = dot(e1, p);
-    if (abs(det) < 1e-30) return false;
-    float inv = 1.0 / det;
-    vec3 s = u_eye.xyz - p0;
-    float bu = dot(s, p) * inv;
-    vec3 q = cross(s, e1);
-    float bv = dot(dir, q) * inv;
-    t = dot(e2, q) * inv;
-    w = vec3(1.0 - bu - bv, bu, bv);
-    return true;
-}
-
-// Whether weights w from ray_plane() lie in the triangle grown by `slack` (barycentric units).
+// Whether barycentric weights w lie in the triangle grown by `slack` (barycentric units).
 bool in_triangle(vec3 w, float slack)
 {
     return w.y >= -slack && w.z >= -slack && w.y + w.z <= 1.0 + slack;
@@ -161,19 +138,27 @@ struct ExitFace {
     bool inside;
 };
 
-// A crossing of triangle (p0, p1, p2) (texture coordinates x0, x1, x2) beyond t_min: `best` keeps
-// the nearest within the triangle grown by `slack`, or while there is none, the nearest of the
-// planes. (One key orders both: the bits of t > 0 as an unsigned integer, bit 31 set outside the
+// The crossing of a triangle (corners i0, i1, i2 of the prism) by the ray, from edge products
+// (nearest_exit): e0, e1, e2 = edge(i1, i2), edge(i2, i0), edge(i0, i1), whose sum is
+// dot(dir, the triangle's normal) and whose ratios to it are the barycentric weights of the
+// plane's crossing; a0..a2 = dot(corner - eye, dir). `best` keeps the nearest crossing beyond
+// t_min within the triangle grown by `slack`, or while there is none, the nearest of the planes.
+// (One key orders both: the bits of t > 0 as an unsigned integer, bit 31 set outside the
 // triangle; one comparison and one set of selects per candidate, not two.) `second` picks the
 // weights of the corners at the edge's second end (side faces: lambda). `orient`: 0 counts every
 // crossing; +1 only those the ray goes *out* through, for a prism whose faces wind
 // counter-clockwise seen from outside, -1 the same for one turned inside out by normals that
-// oppose the winding (the walk: walk_orientation), so the face of entry needs no epsilon.
-// (From ray_plane()'s results: `crossed`, t, w, det.)
-void keep_exit(bool crossed, float t, vec3 w, float det, vec3 x0, vec3 x1, vec3 x2, int face, vec3 second,
-               float t_min, float orient, float slack, inout ExitFace best, inout uint best_key)
+// oppose the winding (the walk: walk_orientation), so the face of entry needs no epsilon; and
+// a crossing of `back_face` up to t_back is not one (nearest_exit).
+void keep_exit(float e0, float e1, float e2, float a0, float a1, float a2, float inv_dd, vec3 x0, vec3 x1, vec3 x2,
+               int face, vec3 second, float t_min, int back_face, float t_back, float orient, float slack,
+               inout ExitFace best, inout uint best_key)
 {
-    if (!crossed || det * orient > 0.0 || !(t > t_min)) return;
+    float den = e0 + e1 + e2; // dot(dir, normal): > 0 going out through a counter-clockwise face
+    if (abs(den) < 1e-30 || den * orient < 0.0) return;
+    vec3 w = vec3(e0, e1, e2) / den;
+    float t = (a0 * w.x + a1 * w.y + a2 * w.z) * inv_dd;
+    if (!(t > t_min) || (face == back_face && t <= t_back)) return;
     bool inside = in_triangle(w, slack);
     uint key = floatBitsToUint(t) | (inside ? 0u : 0x80000000u);
     if (key < best_key) {
@@ -182,50 +167,74 @@ void keep_exit(bool crossed, float t, vec3 w, float det, vec3 x0, vec3 x1, vec3 
     }
 }
 
-// keep_exit() of the ray's crossing of triangle (p0, p1, p2).
-void exit_candidate(vec3 p0, vec3 p1, vec3 p2, vec3 x0, vec3 x1, vec3 x2, int face, vec3 second, vec3 dir,
-                    float t_min, float orient, float slack, inout ExitFace best, inout uint best_key)
-{
-    float t, det;
-    vec3 w;
-    bool crossed = ray_plane(p0, p1, p2, dir, t, w, det);
-    keep_exit(crossed, t, w, det, x0, x1, x2, face, second, t_min, orient, slack, best, best_key);
-}
-
 // `from_a[e]`: diagonal_from_a() of edge e. `slack` grows the faces (in_triangle): 1e-5 lets an
 // exit lie exactly on an edge between two triangles. Where no triangle is crossed, the nearest of
 // their planes, which on a convex prism still finds the way out of a ray that comes in just
 // outside it (the rasterizer snaps vertices to its subpixel grid, so a fragment on an edge may lie
 // a little outside its face). Each side's two triangles are chosen by selects, not branches
-// (llvmpipe runs both arms of a branch): eight ray-plane tests in all. The same pass tells
-// whether the ray goes *in* through the top cap (grown by `slack`) at t_entry, within
-// 1e-5 * t_entry: `top_entry` (the walk, where it came from the top of the prism before), and
-// gives the barycentric weights of the top's plane crossing, `w_top` (corners 3, 4, 5).
-ExitFace nearest_exit(vec3 dir, float t_min, bool from_a[3], float slack, float orient, float t_entry,
+// (llvmpipe runs both arms of a branch): eight triangles in all, from the twelve edges of the
+// prism: with the corners relative to the eye (P), edge(i, j) = dot(dir, cross(P_i, P_j)) is the
+// signed volume that the barycentric weights of every triangle on that edge come from, so two
+// triangles sharing an edge share its value (with opposite signs): a ray crosses exactly one of
+// them (Plücker-style tests, about half the arithmetic of one Möller-Trumbore test per
+// triangle). The same pass tells whether the ray goes *in* through the top cap (grown by
+// `slack`) at t_entry, within 1e-5 * t_entry: `top_entry` (the walk, where it came from the top
+// of the prism before), and gives the barycentric weights of the top's plane crossing, `w_top`
+// (corners 3, 4, 5). `entry_face` (or -1): the face the walk came in by, which is no exit up to
+// 1e-5 * t_entry past the entry — the prism before computed that face's products from its own
+// corner order, so where the ray grazes the face's plane both prisms could find it an exit, and
+// the walk would go back and forth between them to its prism limit (a hole).
+ExitFace nearest_exit(vec3 dir, float t_min, bool from_a[3], float slack, float orient, float t_entry, int entry_face,
                       out bool top_entry, out vec3 w_top)
 {
+    float t_back = t_entry * (1.0 + 1e-5);
     ExitFace best = ExitFace(1e30, vec3(0.0), -1, 0.0, false);
     uint key = 0xffffffffu;
     const vec3 none = vec3(0.0);
-    // The top: in (the walk's check) or out.
-    float t_top, det_top;
-    bool top = ray_plane(corner_world[3], corner_world[4], corner_world[5], dir, t_top, w_top, det_top);
-    top_entry = top && det_top * orient > 0.0 && in_triangle(w_top, slack) && abs(t_top - t_entry) <= 1e-5 * t_entry;
-    keep_exit(top, t_top, w_top, det_top, corner_tex[3], corner_tex[4], corner_tex[5], 0, none, t_min, orient, slack,
-              best, key);
-    exit_candidate(corner_world[0], corner_world[2], corner_world[1], corner_tex[0], corner_tex[2], corner_tex[1],
-                   1, none, dir, t_min, orient, slack, best, key);
+    float inv_dd = 1.0 / dot(dir, dir);
+    vec3 p[6], c[6];
+    float a[6];
+    for (int i = 0; i < 6; ++i) {
+        p[i] = corner_world[i] - u_eye.xyz;
+        c[i] = cross(dir, p[i]);
+        a[i] = dot(p[i], dir);
+    }
+    // edge(i, j) = dot(c_i, p_j); the bottom's (0-1, 1-2, 2-0), the top's, the verticals (i, i+3).
+    float eb0 = dot(c[0], p[1]), eb1 = dot(c[1], p[2]), eb2 = dot(c[2], p[0]);
+    float et0 = dot(c[3], p[4]), et1 = dot(c[4], p[5]), et2 = dot(c[5], p[3]);
+    float ev0 = dot(c[0], p[3]), ev1 = dot(c[1], p[4]), ev2 = dot(c[2], p[5]);
+    // The top (3, 4, 5): in (the walk's check) or out.
+    float den_top = et0 + et1 + et2;
+    bool top = abs(den_top) >= 1e-30;
+    w_top = top ? vec3(et1, et2, et0) / den_top : vec3(0.0);
+    float t_top = (a[3] * w_top.x + a[4] * w_top.y + a[5] * w_top.z) * inv_dd;
+    top_entry = top && den_top * orient < 0.0 && in_triangle(w_top, slack) && abs(t_top - t_entry) <= 1e-5 * t_entry;
+    keep_exit(et1, et2, et0, a[3], a[4], a[5], inv_dd, corner_tex[3], corner_tex[4], corner_tex[5], 0, none, t_min,
+              entry_face, t_back, orient, slack, best, key);
+    // The bottom (0, 2, 1): edges 2-1, 1-0, 0-2.
+    keep_exit(-eb1, -eb0, -eb2, a[0], a[2], a[1], inv_dd, corner_tex[0], corner_tex[2], corner_tex[1], 1, none, t_min,
+              entry_face, t_back, orient, slack, best, key);
     for (int e = 0; e < 3; ++e) {
         // The side quad a b b' a' (' = top), split along a-b' (from_a) or b-a'.
-        int a = e, b = (e + 1) % 3;
+        int a_ = e, b_ = (e + 1) % 3;
         bool f = from_a[e];
-        vec3 pa = corner_world[a], pb = corner_world[b], pat = corner_world[a + 3], pbt = corner_world[b + 3];
-        vec3 xa = corner_tex[a], xb = corner_tex[b], xat = corner_tex[a + 3], xbt = corner_tex[b + 3];
-        // a b b' or a b a'; then a b' a' or b b' a'.
-        exit_candidate(pa, pb, f ? pbt : pat, xa, xb, f ? xbt : xat, 2 + e, vec3(0.0, 1.0, f ? 1.0 : 0.0), dir,
-                       t_min, orient, slack, best, key);
-        exit_candidate(f ? pa : pb, pbt, pat, f ? xa : xb, xbt, xat, 2 + e, vec3(f ? 0.0 : 1.0, 1.0, 0.0), dir,
-                       t_min, orient, slack, best, key);
+        float e_ab = e == 0 ? eb0 : (e == 1 ? eb1 : eb2);           // edge(a, b)
+        float e_tt = -(e == 0 ? et0 : (e == 1 ? et1 : et2));        // edge(b', a')
+        float v_a = e == 0 ? ev0 : (e == 1 ? ev1 : ev2);            // edge(a, a')
+        float v_b = e == 0 ? ev1 : (e == 1 ? ev2 : ev0);            // edge(b, b')
+        // The diagonal: edge(a, b') (from_a) or edge(b, a').
+        float diag = dot(f ? c[a_] : c[b_], f ? p[b_ + 3] : p[a_ + 3]);
+        vec3 xa = corner_tex[a_], xb = corner_tex[b_], xat = corner_tex[a_ + 3], xbt = corner_tex[b_ + 3];
+        float aa = a[a_], ab = a[b_], aat = a[a_ + 3], abt = a[b_ + 3];
+        // from_a: (a, b, b') and (a, b', a'); else (a, b, a') and (b, b', a').
+        // (a, b, b'): edge(b, b'), edge(b', a) = -diag, edge(a, b); (a, b, a'): edge(b, a') = diag,
+        // edge(a', a) = -v_a, edge(a, b).
+        keep_exit(f ? v_b : diag, f ? -diag : -v_a, e_ab, aa, ab, f ? abt : aat, inv_dd, xa, xb, f ? xbt : xat,
+                  2 + e, vec3(0.0, 1.0, f ? 1.0 : 0.0), t_min, entry_face, t_back, orient, slack, best, key);
+        // (a, b', a'): edge(b', a'), edge(a', a) = -v_a, edge(a, b') = diag;
+        // (b, b', a'): edge(b', a'), edge(a', b) = -diag, edge(b, b') = v_b.
+        keep_exit(e_tt, f ? -v_a : -diag, f ? diag : v_b, f ? aa : ab, abt, aat, inv_dd, f ? xa : xb, xbt, xat,
+                  2 + e, vec3(f ? 0.0 : 1.0, 1.0, 0.0), t_min, entry_face, t_back, orient, slack, best, key);
     }
     return best;
 }
@@ -237,7 +246,7 @@ bool prism_exit(vec3 dir, vec3 entry_tex, bool from_a[3], out float t_exit, out 
 {
     bool top_entry;
     vec3 w_top;
-    ExitFace ex = nearest_exit(dir, 1.0 + 1e-5, from_a, 1e-5, 0.0, 1.0, top_entry, w_top);
+    ExitFace ex = nearest_exit(dir, 1.0 + 1e-5, from_a, 1e-5, 0.0, 1.0, -1, top_entry, w_top);
     bool found = ex.inside; // the exact exit has no planes-only fallback
     t_exit = found ? ex.t : 1.0;
     tex_exit = found ? ex.tex : entry_tex;
