@@ -1,19 +1,21 @@
 // Prism silhouettes, stage 2: extrude each triangle into its shell prism and emit only the
 // faces that face the eye. Each face is planar (sides are split into two triangles), and a ray
-// enters each prism through exactly one front face, so nothing is shaded twice. With the walk
-// (PR_PRISM_WALK) only the faces on the shell's outside are emitted.
+// enters each prism through exactly one front face, so nothing is shaded twice. The walk
+// (PR_PRISM_WALK) draws its caps by prism_caps.vert and the rest of the shell's outside here, from
+// listed prisms (PR_PRISM_LISTED).
 // Output per vertex: 4 (position) + 3 (world) + 3 (texture coordinate) scalars (+ 8 for the
 // per-vertex exit variant); at most 18 vertices (top 3 + bottom 3 + three sides of 4) — geometry-shader cost grows with both.
 #include "common/shared.h"
 #include "prism/shell.glsl"
 
 #ifdef PR_PRISM_LISTED
-// The walk on a closed mesh draws its top caps without this shader (prism_tops.vert). This one then
-// gets one point per listed prism, the prism's number in PR_TEX_PRISM_LIST: a prism whose shell
-// folds, whose other front faces it emits, or in the second pass over a torn mesh, a prism whose
-// bottom may cover a marked tile (picked on the CPU, src/render/renderer.cpp).
+// The walk draws its caps without this shader (prism_caps.vert). This one then gets one point per
+// listed prism, its entry in PR_TEX_PRISM_LIST (picked on the CPU, src/render/renderer.cpp,
+// shell_list): the prism's number, with bit 31 set where its shell folds, whose other front
+// faces it emits, else a prism with an edge without a neighbour (open meshes), whose wall there
+// it emits; in the second pass over a torn mesh, a prism whose bottom may cover a marked tile.
 layout(points) in;
-flat in int g_list_index[]; // prism_tops.vert: gl_VertexID, so a draw may start anywhere in the list
+flat in int g_list_index[]; // prism_caps.vert: gl_VertexID, so a draw may start anywhere in the list
 layout(binding = PR_TEX_PRISM_LIST) uniform usamplerBuffer t_prism_list;
 #else
 layout(triangles) in;
@@ -114,7 +116,8 @@ void side(int e)
 void main()
 {
 #ifdef PR_PRISM_LISTED
-    prism_id = int(texelFetch(t_prism_list, g_list_index[0]).r);
+    uint entry = texelFetch(t_prism_list, g_list_index[0]).r;
+    prism_id = int(entry & 0x7fffffffu);
     uint index[3];
     load_walk_prism(uint(prism_id), index, prism_weld);
 #ifdef PR_PRISM_INSIDE
@@ -123,61 +126,33 @@ void main()
     // listed the prism for a marked tile and draws it with that tile as scissor.
     triangle(0, 2, 1);
 #else
-    triangle(0, 2, 1);
-    side(0);
-    side(1);
-    side(2);
+    // Where the shell folds (a cap offset past the surface's centre of curvature turns over:
+    // inward shells at sharp convex edges, outward ones in tight creases), its outside is not
+    // just the caps, and a walk through the folded prisms can lose its way: such prisms emit all
+    // their front faces, as with the exact exit, and each of those fragments walks too. (Open
+    // meshes have every bottom drawn by prism_caps.vert already.)
+    bool folded = (entry & 0x80000000u) != 0u;
+    if (folded && (u_march.w & PR_FLAG_OPEN_SHELL) == 0) triangle(0, 2, 1);
+    uvec3 across = triangle_neighbours(uint(prism_id));
+    if (folded || across.x == 0xffffffffu) side(0);
+    if (folded || across.y == 0xffffffffu) side(1);
+    if (folded || across.z == 0xffffffffu) side(2);
 #endif
 #else
     prism_id = gl_PrimitiveIDIn;
     prism_weld = uint[3](g_weld[0], g_weld[1], g_weld[2]);
-#ifdef PR_PRISM_WALK
-    // The walk's own corners (tight top, shell.glsl), so that entry faces and exits agree.
-    uint index[3], weld[3];
-    load_walk_prism(uint(gl_PrimitiveIDIn), index, weld);
-#else
     for (int i = 0; i < 3; ++i) {
         corner_world[i] = shell_corner(g_world[i], g_normal[i], 0.0);
         corner_world[i + 3] = shell_corner(g_world[i], g_normal[i], 1.0);
         corner_tex[i] = vec3(g_uv[i], 0.0);
         corner_tex[i + 3] = vec3(g_uv[i], 1.0);
     }
-#endif
-
     triangle(3, 4, 5); // top cap, outward along +N (base triangles are counter-clockwise)
-#ifdef PR_PRISM_WALK
-    // The walk (prism.frag) carries each ray from prism to prism, so only the shell's outside is
-    // drawn: the tops, and on open meshes the bottoms and the walls along edges without a
-    // neighbour. On a closed mesh that is 3 vertices per triangle instead of up to 18.
-    // Where the shell folds (a cap offset past the surface's centre of curvature turns over:
-    // inward shells at sharp convex edges, outward ones in tight creases), its outside is not
-    // just the tops, and a walk through the folded prisms can lose its way: such prisms emit all
-    // their front faces, as with the exact exit, and each of those fragments walks too.
-    vec3 n_base = cross(g_world[1] - g_world[0], g_world[2] - g_world[0]);
-    vec3 n_bottom = cross(corner_world[1] - corner_world[0], corner_world[2] - corner_world[0]);
-    vec3 n_top = cross(corner_world[4] - corner_world[3], corner_world[5] - corner_world[3]);
-    const float kFoldCos = 0.5; // a cap turned more than 60 degrees from its base triangle
-    bool folded = dot(n_bottom, n_base) < kFoldCos * length(n_bottom) * length(n_base) ||
-                  dot(n_top, n_base) < kFoldCos * length(n_top) * length(n_base);
-    if (folded) {
-        triangle(0, 2, 1);
-        side(0);
-        side(1);
-        side(2);
-    } else if ((u_march.w & PR_FLAG_OPEN_SHELL) != 0) {
-        triangle(0, 2, 1);
-        uvec3 across = triangle_neighbours(uint(gl_PrimitiveIDIn));
-        if (across.x == 0xffffffffu) side(0);
-        if (across.y == 0xffffffffu) side(1);
-        if (across.z == 0xffffffffu) side(2);
-    }
-#else
     // Bottom cap, outward along -N. Needed on open meshes (seen from below), and on closed ones
     // it also catches grazing rays whose exit falls numerically on an edge of the neighbour.
     triangle(0, 2, 1);
     side(0);
     side(1);
     side(2);
-#endif
 #endif // PR_PRISM_LISTED
 }

@@ -141,13 +141,16 @@ std::vector<glm::vec4> make_shell_corners(const std::vector<MeshVertex>& vertice
     return corners;
 }
 
-// The prisms whose shell folds, by prism.geom's test: a cap turned more than 60 degrees from its
-// base triangle (`full`: top caps at height 1, else at the tight tops in `corners`).
-std::vector<std::uint32_t> folded_prisms(const std::vector<MeshVertex>& vertices, const std::vector<std::uint32_t>& indices,
-                                         const std::vector<glm::vec4>& corners, const glm::mat4& transform, float depth,
-                                         bool full)
+// The prisms whose faces other than the caps the walk draws (prism.geom, PR_PRISM_LISTED), in
+// ascending order: those whose shell folds (a cap turned more than 60 degrees from its base
+// triangle; `full`: top caps at height 1, else at the tight tops in `corners`), with bit 31 set,
+// and those with an edge without a neighbour (`neighbours`, edge_adjacency), whose wall there is
+// part of the shell's outside.
+std::vector<std::uint32_t> shell_list(const std::vector<MeshVertex>& vertices, const std::vector<std::uint32_t>& indices,
+                                      const std::vector<glm::vec4>& corners, const std::vector<std::uint32_t>& neighbours,
+                                      const glm::mat4& transform, float depth, bool full)
 {
-    std::vector<std::uint32_t> folded;
+    std::vector<std::uint32_t> list;
     const auto normal = [](glm::vec3 a, glm::vec3 b, glm::vec3 c) { return glm::cross(b - a, c - a); };
     const auto turned = [](glm::vec3 n, glm::vec3 n_base) {
         return glm::dot(n, n_base) < 0.5f * glm::length(n) * glm::length(n_base);
@@ -162,10 +165,14 @@ std::vector<std::uint32_t> folded_prisms(const std::vector<MeshVertex>& vertices
             top[i] = bottom[i] + h * (depth * glm::vec3(corners[3 * v + 1]));
         }
         const glm::vec3 n_base = normal(base[0], base[1], base[2]);
+        const auto prism = std::uint32_t(t / 3);
         if (turned(normal(bottom[0], bottom[1], bottom[2]), n_base) || turned(normal(top[0], top[1], top[2]), n_base))
-            folded.push_back(std::uint32_t(t / 3));
+            list.push_back(prism | 0x80000000u);
+        else if (std::any_of(neighbours.begin() + std::ptrdiff_t(t), neighbours.begin() + std::ptrdiff_t(t + 3),
+                             [](std::uint32_t n) { return n == kNoNeighbour; }))
+            list.push_back(prism);
     }
-    return folded;
+    return list;
 }
 
 // The second pass's work, tile by tile: for each tile the first pass marked in `tiles` (tw x th),
@@ -413,6 +420,7 @@ GLuint Renderer::program_for(const DrawSettings& settings, WalkVariant variant, 
     if (variant == WalkVariant::Through || variant == WalkVariant::Inside) defines.emplace_back("PR_PRISM_TEARS", "1");
     if (variant == WalkVariant::Inside) defines.emplace_back("PR_PRISM_INSIDE", "1");
     if (shell == ShellDraw::Tops) defines.emplace_back("PR_PRISM_TOPS", "1"); // no shader reads it: it keys the program, whose stages differ
+    if (shell == ShellDraw::Bottoms) defines.emplace_back("PR_PRISM_BOTTOMS", "1");
     if (shell == ShellDraw::Listed) defines.emplace_back("PR_PRISM_LISTED", "1");
     const std::string key = variant_key(defines);
     auto it = programs_.find(key);
@@ -421,11 +429,11 @@ GLuint Renderer::program_for(const DrawSettings& settings, WalkVariant variant, 
                             ? build_program({{GL_VERTEX_SHADER, "surface.vert"},
                                              {GL_FRAGMENT_SHADER, "surface.frag"}},
                                             defines)
-                        : shell == ShellDraw::Tops
-                            ? build_program({{GL_VERTEX_SHADER, "prism_tops.vert"},
+                        : shell == ShellDraw::Tops || shell == ShellDraw::Bottoms
+                            ? build_program({{GL_VERTEX_SHADER, "prism_caps.vert"},
                                              {GL_FRAGMENT_SHADER, "prism.frag"}},
                                             defines)
-                            : build_program({{GL_VERTEX_SHADER, shell == ShellDraw::Listed ? "prism_tops.vert" : "prism.vert"},
+                            : build_program({{GL_VERTEX_SHADER, shell == ShellDraw::Listed ? "prism_caps.vert" : "prism.vert"},
                                              {GL_GEOMETRY_SHADER, "prism.geom"},
                                              {GL_FRAGMENT_SHADER, "prism.frag"}},
                                             defines);
@@ -492,8 +500,7 @@ void Renderer::ensure_prism_data(bool walk)
         if (walk && !o.corner_texels) {
             o.adjacency_texels = buffer_texture(o.adjacency, GL_RGB32UI, 12);
             o.corner_texels = buffer_texture(o.corners, GL_RGBA32UI, 16);
-            if (!o.open_shell)
-                for (int full = 0; full < 2; ++full) o.folded_texels[full] = buffer_texture(o.folded[full], GL_R32UI, 4);
+            for (int full = 0; full < 2; ++full) o.listed_texels[full] = buffer_texture(o.listed[full], GL_R32UI, 4);
         }
     }
 }
@@ -528,13 +535,11 @@ void Renderer::ensure_walk_data()
         const std::vector<glm::vec4> corners =
             make_shell_corners(vertices, indices, *o.height_field, o.transform, o.depth, o.midlevel);
         o.corners = gl::immutable_buffer(corners);
-        if (!o.open_shell) {
-            for (int full = 0; full < 2; ++full) {
-                const std::vector<std::uint32_t> folded =
-                    folded_prisms(vertices, indices, corners, o.transform, o.depth, full == 1);
-                o.folded[full] = gl::immutable_buffer(folded);
-                o.folded_count[full] = GLsizei(folded.size());
-            }
+        for (int full = 0; full < 2; ++full) {
+            const std::vector<std::uint32_t> list =
+                shell_list(vertices, indices, corners, adjacency.neighbours, o.transform, o.depth, full == 1);
+            o.listed[full] = gl::immutable_buffer(list);
+            o.listed_count[full] = GLsizei(list.size());
         }
         if (o.tears) {
             o.bottoms.resize(vertices.size());
@@ -575,10 +580,10 @@ void Renderer::upload_frame(const Camera& camera, glm::vec3 light_dir)
 
 double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSettings& settings)
 {
-    const GLuint program = program_for(settings);
+    const bool walk = settings.prism_walk();
+    const GLuint program = walk ? 0 : program_for(settings); // the walk's: draw_walk_shell
     const AuxMap aux_map = settings.aux_map();
     ensure_aux_textures(aux_map);
-    const bool walk = settings.prism_walk();
     if (settings.technique == Technique::Prism) ensure_prism_data(walk);
     upload_frame(camera, glm::normalize(light_dir));
     if (settings.count_samples) {
@@ -635,32 +640,38 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         glBindVertexArray(o.base.vao.id());
         glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
     };
-    // The walk on a closed mesh: its top caps by the vertex shader, culled by the rasterizer, then
-    // the other front faces of the prisms whose shell folds (ShellDraw).
+    // The walk: the shell's top caps by the vertex shader, culled by the rasterizer (base
+    // triangles wind counter-clockwise seen along +N), on open meshes the bottom caps too (seen
+    // from below: the same triangles' back faces), then the other front faces of the listed
+    // prisms (ShellDraw).
     const auto draw_walk_shell = [&](const GpuObject& o, WalkVariant variant) {
         set_object(o);
         bind_prism_data(o);
-        glUseProgram(program_for(settings, variant, ShellDraw::Tops));
         glBindVertexArray(o.base.vao.id());
         glEnable(GL_CULL_FACE);
-        glCullFace(GL_BACK);
         glFrontFace(GL_CCW);
+        glCullFace(GL_BACK);
+        glUseProgram(program_for(settings, variant, ShellDraw::Tops));
         glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
+        if (o.open_shell) {
+            glCullFace(GL_FRONT);
+            glUseProgram(program_for(settings, variant, ShellDraw::Bottoms));
+            glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
+        }
         glDisable(GL_CULL_FACE);
         const int full = settings.full_shell ? 1 : 0;
-        if (o.folded_count[full] > 0) {
+        if (o.listed_count[full] > 0) {
             glUseProgram(program_for(settings, variant, ShellDraw::Listed));
-            glBindTextureUnit(PR_TEX_PRISM_LIST, o.folded_texels[full].id());
-            glDrawArrays(GL_POINTS, 0, o.folded_count[full]);
+            glBindTextureUnit(PR_TEX_PRISM_LIST, o.listed_texels[full].id());
+            glDrawArrays(GL_POINTS, 0, o.listed_count[full]);
         }
     };
     for (const GpuObject& o : objects_) {
-        const WalkVariant variant = o.tears ? WalkVariant::Through : (o.seamless ? WalkVariant::Seamless : WalkVariant::Plain);
-        if (walk && !o.open_shell) {
-            draw_walk_shell(o, variant);
+        if (walk) {
+            draw_walk_shell(o, o.tears ? WalkVariant::Through : (o.seamless ? WalkVariant::Seamless : WalkVariant::Plain));
             continue;
         }
-        glUseProgram(walk ? program_for(settings, variant) : program);
+        glUseProgram(program);
         if (settings.technique != Technique::Reference) {
             draw_base(o);
             continue;

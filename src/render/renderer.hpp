@@ -71,11 +71,12 @@ public:
     // (GpuObject::tears) that goes through the tears, and Inside, the second pass from inside
     // the object (docs/prism.md); Plain for the rest and for the other techniques.
     enum class WalkVariant { Plain, Seamless, Through, Inside };
-    // How the prism's shell is drawn: Faces, by the geometry shader from each triangle; for the
-    // walk on a closed mesh, Tops (the top caps, by the vertex shader alone) and Listed (by the
-    // geometry shader from one point per listed prism: the other faces of the prisms whose shell
-    // folds; in the second pass over a torn mesh, the bottoms over marked tiles).
-    enum class ShellDraw { Faces, Tops, Listed };
+    // How the prism's shell is drawn: Faces, by the geometry shader from each triangle (the exact
+    // and per-vertex exits); for the walk, Tops and on open meshes Bottoms (the caps, by the
+    // vertex shader alone), and Listed (by the geometry shader from one point per listed prism:
+    // the other faces of the prisms whose shell folds, the walls along open edges; in the second
+    // pass over a torn mesh, the bottoms over marked tiles).
+    enum class ShellDraw { Faces, Tops, Bottoms, Listed };
     GLuint program_for(const DrawSettings& settings, WalkVariant variant = WalkVariant::Plain,
                        ShellDraw shell = ShellDraw::Faces);
 
@@ -115,11 +116,12 @@ private:
         // The prism's views of its data as buffer textures (shared.h, PR_TEX_VERTICES..CORNERS):
         // vertices and indices on the first prism draw (ensure_prism_data), the walk's with it.
         gl::Texture vertex_texels, index_texels, adjacency_texels, corner_texels;
-        // Closed meshes: the prisms whose shell folds (prism.geom's test on the CPU), with the
-        // tight tops and with full ones (r32ui buffer textures, PR_TEX_PRISM_LIST).
-        gl::Buffer folded[2];
-        gl::Texture folded_texels[2];
-        GLsizei folded_count[2] = {0, 0};
+        // The prisms whose faces other than the caps the walk draws (shell_list: folded ones,
+        // bit 31 set, and those with an open edge), with the tight tops and with full ones (r32ui
+        // buffer textures, PR_TEX_PRISM_LIST).
+        gl::Buffer listed[2];
+        gl::Texture listed_texels[2];
+        GLsizei listed_count[2] = {0, 0};
         // Torn meshes: the bottom corners (world) and the triangles, to pick the second pass's
         // prisms on the CPU (prisms_over_marked_tiles).
         std::vector<glm::vec3> bottoms;

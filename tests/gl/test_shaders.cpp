@@ -40,8 +40,8 @@ TEST(ShaderVariants, EveryTechniqueQualityAndInstrumentationCompiles)
 
 // The prism walk's variants by UV seams (none at all; torn: through the tears, and the second
 // pass from inside), with every marcher, self-shadowing and instrumentation, in the programs
-// draw() builds: the shell by the geometry shader (open meshes), the top caps by the vertex
-// shader and the listed prisms (closed ones; the second pass only listed).
+// draw() builds: the caps by the vertex shader (bottoms: open meshes) and the listed prisms by
+// the geometry shader (the second pass only listed).
 TEST(ShaderVariants, PrismWalkVariantsCompileWithEveryMarcher)
 {
     prtest::context();
@@ -57,7 +57,7 @@ TEST(ShaderVariants, PrismWalkVariantsCompileWithEveryMarcher)
                     s.shadows = shadows;
                     s.count_samples = count;
                     using Draw = Renderer::ShellDraw;
-                    for (Draw draw : {Draw::Faces, Draw::Tops, Draw::Listed})
+                    for (Draw draw : {Draw::Tops, Draw::Bottoms, Draw::Listed})
                         if (pass != Renderer::WalkVariant::Inside || draw == Draw::Listed)
                             EXPECT_NO_THROW(r.program_for(s, pass, draw)) << marcher_name(m);
                 }
