@@ -101,20 +101,13 @@ MarchRay segment_ray(vec3 tex_in, vec3 tex_out)
     return MarchRay(tex_in, seg, 1.0, steps);
 }
 
-// The first sample of a segment at `uv`, as the marcher takes it: cone_at() for the cone
-// marchers (height and ratios), else height_at() in x.
-vec3 sample_first(vec2 uv)
-{
-#if PR_MARCHER == PR_MARCH_CONE || PR_MARCHER == PR_MARCH_RELAXED_CONE
-    return cone_at(uv);
-#else
-    return vec3(height_at(uv, UvGrad(vec2(0.0), vec2(0.0))), 0.0, 0.0);
-#endif
-}
-
-// `first`: sample_first(tex_in.xy); `last`: the last sample the march took (the next segment's
-// first where no UV seam lies between).
-Segment march_segment(vec3 tex_in, vec3 tex_out, vec3 first, out vec3 last)
+// `first`: the sample at tex_in, as the marcher takes it (cone_at() for the cone marchers, else
+// the height in x), which is the last one of the segment before; with `pending` there is none
+// (the first segment, or a UV seam lies between), and the march takes it as its first. `below`,
+// `decide`: the walk under a torn surface (march_linear_from, march/linear.glsl). `last`: the
+// last sample the march took.
+Segment march_segment(vec3 tex_in, vec3 tex_out, vec3 first, bool pending, bool decide, inout bool below,
+                      out vec3 last)
 {
     last = first;
     // Geometry (the outline and the depth) uses height level 0, as the reference does
@@ -122,22 +115,28 @@ Segment march_segment(vec3 tex_in, vec3 tex_out, vec3 first, out vec3 last)
     UvGrad g = UvGrad(vec2(0.0), vec2(0.0));
     MarchRay ray = segment_ray(tex_in, tex_out);
 #if defined(PR_PRISM_TEARS) && PR_MARCHER == PR_MARCH_MAX_MIP
-    // Under a torn surface (g_height_flip): the max pyramid describes h, not 1 - h. (The cone
-    // marchers step linearly there by themselves: cone_at, march/cone.glsl.)
-    if (g_height_flip != 0.0) {
+    // Under a torn surface the max pyramid (of h, seen from above) does not hold: a linear march.
+    // (Max-mip only: a sample of its own at a seam.)
+    float h0 = first.x;
+    if (decide) {
+        h0 = height_at(tex_in.xy, g);
+        below = tex_in.z < h0;
+        pending = false;
+    }
+    if (below) {
         float h_end;
-        Bracket br = march_linear_from(ray, g, first.x, h_end);
+        Bracket br = march_linear_from(ray, g, h0, pending, false, below, h_end);
         last = vec3(h_end, 0.0, 0.0);
         return Segment(br, true);
     }
 #endif
 #if PR_MARCHER == PR_MARCH_CONE || PR_MARCHER == PR_MARCH_RELAXED_CONE
-    return Segment(march_cone_from(ray, first, last), false);
+    return Segment(march_cone_from(ray, first, pending, decide, below, last), false);
 #elif PR_MARCHER == PR_MARCH_MAX_MIP
     return Segment(march_max_mip(ray), false); // its own traversal (last: unused)
 #else
     float h_end;
-    Bracket br = march_linear_from(ray, g, first.x, h_end);
+    Bracket br = march_linear_from(ray, g, first.x, pending, decide, below, h_end);
     last = vec3(h_end, 0.0, 0.0);
     return Segment(br, false);
 #endif
@@ -221,26 +220,19 @@ vec3 entry_point(int edge, float along, float z)
     return vec3(mix(from, to, along), z);
 }
 
-// The first sample of the segment from `tex_in`, where the last one ended at `tex_out` with the
-// sample `last`: the same point of the same surface, unless a UV seam (the uv jumps by more than
-// whole repeats) lies between; there it is sampled anew, and on a torn mesh the ray's side of the
-// surface (`below`) is decided anew by the far side's height. (Meshes without seams,
-// PR_PRISM_SEAMLESS, need no sample at all: llvmpipe would take it for every lane in every prism.)
-vec3 entry_sample(vec3 tex_in, vec3 tex_out, vec3 last, inout bool below)
+// Whether a UV seam lies between the end of the last segment, `tex_out`, and the start of the
+// next, `tex_in` (the uv jumps by more than whole repeats): the last sample is then not the next
+// segment's first (march_segment: `pending`), and on a torn mesh the ray's side of the surface
+// (`below`) is decided anew by the far side's height (`decide`). Meshes without seams
+// (PR_PRISM_SEAMLESS) have none.
+bool at_seam(vec3 tex_in, vec3 tex_out)
 {
 #ifdef PR_PRISM_SEAMLESS
-    return last;
+    return false;
 #else
     vec2 jump = tex_in.xy - tex_out.xy;
     jump -= round(jump);
-    bool seam = any(greaterThan(abs(jump), vec2(1e-4)));
-    vec3 fresh = sample_first(tex_in.xy); // unflipped (g_height_flip is 0 between marches)
-#ifdef PR_PRISM_TEARS
-    if (seam) below = tex_in.z < fresh.x;
-    // Under the surface the march sees 1 - h, and cone marchers no cones (cone_at).
-    if (below) fresh = vec3(1.0 - fresh.x, 0.0, 0.0);
-#endif
-    return seam ? fresh : last;
+    return any(greaterThan(abs(jump), vec2(1e-4)));
 #endif
 }
 
@@ -287,14 +279,10 @@ void main()
     uint index[3], weld[3];
     Segment hit_segment; // the last segment marched; br.hit when the walk found the surface in it
     hit_segment.br.hit = false;
-    // The last sample the march took: the first of the next segment (entry_sample).
-#ifdef PR_PRISM_TEARS
-    g_height_flip = below ? 1.0 : 0.0;
-#endif
-    vec3 last = sample_first(tex_in.xy);
-#ifdef PR_PRISM_TEARS
-    g_height_flip = 0.0;
-#endif
+    // The last sample the march took: the first of the next segment, unless `pending` (the
+    // first segment, whose first sample the march takes itself, or one after a UV seam).
+    vec3 last = vec3(0.0);
+    bool pending = true;
     // A ray that leaves through a top cap at one of its edges may go straight into the
     // neighbour's prism through the neighbour's top: the shell's top folds away from the eye
     // there, and the rasterizer gives a pixel on the shared edge to one cap only, possibly the
@@ -311,10 +299,9 @@ void main()
     float entry_along = 0.0;
     for (int k = 0; k < PR_WALK_MAX_PRISMS; ++k) {
         load_walk_prism(prim, index, weld, from_a);
-        vec3 first = last;
         if (entry_edge >= 0) {
             tex_in = entry_point(entry_edge, entry_along, tex_out.z);
-            first = entry_sample(tex_in, tex_out, last, below);
+            pending = at_seam(tex_in, tex_out);
         }
         bool top_entry;
         vec3 w_top;
@@ -329,15 +316,8 @@ void main()
         if (ex.face < 0) break; // lost: a miss
         t_out = ex.t;
         tex_out = vec3(ex.tex.xy, clamp(ex.tex.z, 0.0, 1.0));
-#ifdef PR_PRISM_TEARS
-        // Below the surface: the flipped ray against the flipped heights (height.glsl).
-        g_height_flip = below ? 1.0 : 0.0;
-        hit_segment = march_segment(below ? vec3(tex_in.xy, 1.0 - tex_in.z) : tex_in,
-                                    below ? vec3(tex_out.xy, 1.0 - tex_out.z) : tex_out, first, last);
-        g_height_flip = 0.0;
-#else
-        hit_segment = march_segment(tex_in, tex_out, first, last);
-#endif
+        // (At a seam on a torn mesh the march decides `below`: it takes the sample there.)
+        hit_segment = march_segment(tex_in, tex_out, last, pending, pending && entry_edge >= 0, below, last);
         if (hit_segment.br.hit) break;
         // Out through a side into its neighbour, or through the top at one of its edges into the
         // neighbour's top; through a cap elsewhere, or a side without a neighbour, the ray
@@ -393,7 +373,9 @@ void main()
     prism_exit(dir, v_tex, from_a, t_out, tex_out);
 #endif
     vec3 last;
-    s = refine_segment(march_segment(tex_in, tex_out, sample_first(tex_in.xy), last), segment_ray(tex_in, tex_out));
+    bool below = false;
+    s = refine_segment(march_segment(tex_in, tex_out, vec3(0.0), true, false, below, last),
+                       segment_ray(tex_in, tex_out));
 #endif
     if (s < 0.0) {
         count_fragment();

@@ -34,11 +34,6 @@ vec3 cone_at(vec2 uv)
 {
     ++g_height_samples;
     vec3 rgb = textureLod(s_cone, uv, 0.0).rgb;
-#ifdef PR_PRISM_TEARS
-    // Under a torn surface (g_height_flip, common/height.glsl) the map's cones describe h, not
-    // 1 - h: no cone at all there, so the march takes linear steps.
-    if (g_height_flip != 0.0) return vec3(1.0 - rgb.r, 0.0, 0.0);
-#endif
 #if PR_CONE_IS_RELAXED == 1
     return vec3(rgb.r, rgb.g * rgb.g, rgb.b * rgb.b);
 #else
@@ -47,9 +42,11 @@ vec3 cone_at(vec2 uv)
 }
 
 
-// From a given sample hc0 = cone_at(origin) (the prism walk's segments start where the last one
-// ended, whose last sample it passes on), returning the last sample taken in `hc_end`.
-Bracket march_cone_from(MarchRay r, vec3 hc0, out vec3 hc_end)
+// From a given sample hc0 = cone_at(origin), or with `pending` from one taken as the loop's first;
+// `below`, `decide`: as march_linear_from() (march/linear.glsl), whose prism-walk form this is.
+// Under the surface the cones (which describe the heights from above) do not hold: the march
+// takes linear steps there. Returns the last sample taken in `hc_end`.
+Bracket march_cone_from(MarchRay r, vec3 hc0, bool pending, bool decide, inout bool below, out vec3 hc_end)
 {
     float min_dt = r.t_end / float(max(r.steps, 1));
     float run = length(r.dir.xy); // UV units per unit t
@@ -57,20 +54,28 @@ Bracket march_cone_from(MarchRay r, vec3 hc0, out vec3 hc_end)
     hc_end = hc0;
     // Rising rays use the conservative ratio (z), descending ones the map's (y).
     bool rising = r.dir.z >= 0.0;
-    float d = r.origin.z - hc.x;
-    if (d <= PR_HIT_EPSILON) return Bracket(true, 0.0, 0.0, 0.0, max(-d, 0.0));
+    float side = below ? -1.0 : 1.0;
+    float d = pending ? 0.0 : side * (r.origin.z - hc.x);
+    if (!pending && d <= PR_HIT_EPSILON) return Bracket(true, 0.0, 0.0, 0.0, max(-d, 0.0));
     float t = 0.0;
-    // Each iteration advances at least min_dt, so at most `steps` of them.
-    for (int i = 0; i < r.steps; ++i) {
-        float c = rising ? hc.z : hc.y;
+    // Each iteration advances at least min_dt, so at most `steps` of them, after the pending one.
+    for (int i = 0; i <= r.steps; ++i) {
+        float c = below ? 0.0 : (rising ? hc.z : hc.y);
         float denom = run - c * r.dir.z;
         float dt = denom > 1e-12 ? c * d / denom : (c > 0.0 ? r.t_end : 0.0); // c = 0: no cone
-        float t_next = min(t + max(dt, min_dt), r.t_end);
+        float t_next = pending ? 0.0 : min(t + max(dt, min_dt), r.t_end);
         vec3 p = r.origin + t_next * r.dir;
         vec3 hc_next = cone_at(p.xy);
         hc_end = hc_next;
-        float d_next = p.z - hc_next.x;
+#ifdef PR_PRISM_TEARS
+        if (decide && pending) {
+            below = p.z < hc_next.x;
+            side = below ? -1.0 : 1.0;
+        }
+#endif
+        float d_next = side * (p.z - hc_next.x);
         if (d_next <= PR_HIT_EPSILON) return Bracket(true, t, t_next, d, max(-d_next, 0.0));
+        pending = false;
         t = t_next;
         d = d_next;
         hc = hc_next;
@@ -82,7 +87,8 @@ Bracket march_cone_from(MarchRay r, vec3 hc0, out vec3 hc_end)
 Bracket march_cone(MarchRay r)
 {
     vec3 hc_end;
-    return march_cone_from(r, cone_at(r.origin.xy), hc_end);
+    bool below = false;
+    return march_cone_from(r, cone_at(r.origin.xy), false, false, below, hc_end);
 }
 
 // Binary steps that leave the bracket of a cone march as narrow as relief's (--refine halvings of

@@ -26,35 +26,44 @@ struct Bracket {
     float d_below;  // surface height minus ray height at t_below (>= 0)
 };
 
-// The same from a given height h0 at the origin (the prism walk's segments start where the last
-// one ended, whose last sample it passes on), returning the last height sampled in `h_end`.
-Bracket march_linear_from(MarchRay r, UvGrad g, float h0, out float h_end)
+// The prism walk's form (march/cone.glsl has the same): from the height h0 at the origin (the
+// walk's segments start where the last one ended, whose last sample it passes on), or with
+// `pending`, from a sample at the origin taken as the loop's first (one sampling site: llvmpipe
+// expands each into a long stretch of code, and a second one, outside the loop, cost the walk 7 %
+// of the rock's frame); returns the last height sampled in `h_end`. `below` (the walk under a
+// torn surface, prism.frag): the ray comes out *under* the heights, so every distance to the
+// surface counts with its sign turned; with `decide`, the sample at the origin decides it.
+Bracket march_linear_from(MarchRay r, UvGrad g, float h0, bool pending, bool decide, inout bool below, out float h_end)
 {
-    Bracket b = Bracket(false, 0.0, 0.0, 0.0, 0.0);
     float dt = r.t_end / float(max(r.steps, 1));
     float t = 0.0;
-    vec3 p = r.origin;
+    float side = below ? -1.0 : 1.0;
     h_end = h0;
-    float d = p.z - h0;
-    if (d <= PR_HIT_EPSILON) return Bracket(true, 0.0, 0.0, 0.0, max(-d, 0.0));
-    for (int i = 1; i <= r.steps; ++i) {
+    float d = pending ? 0.0 : side * (r.origin.z - h0);
+    if (!pending && d <= PR_HIT_EPSILON) return Bracket(true, 0.0, 0.0, 0.0, max(-d, 0.0));
+    for (int i = pending ? 0 : 1; i <= r.steps; ++i) {
         float t_next = min(float(i) * dt, r.t_end);
-        p = r.origin + t_next * r.dir;
+        vec3 p = r.origin + t_next * r.dir;
         h_end = height_at(p.xy, g);
-        float d_next = p.z - h_end;
+#ifdef PR_PRISM_TEARS
+        if (decide && i == 0) {
+            below = p.z < h_end;
+            side = below ? -1.0 : 1.0;
+        }
+#endif
+        float d_next = side * (p.z - h_end);
         if (d_next <= PR_HIT_EPSILON) return Bracket(true, t, t_next, d, max(-d_next, 0.0));
         t = t_next;
         d = d_next;
     }
-    b.t_above = t;
-    b.d_above = d;
-    return b;
+    return Bracket(false, t, t, d, 0.0);
 }
 
 Bracket march_linear(MarchRay r, UvGrad g)
 {
     float h_end;
-    return march_linear_from(r, g, height_at(r.origin.xy, g), h_end);
+    bool below = false;
+    return march_linear_from(r, g, height_at(r.origin.xy, g), false, false, below, h_end);
 }
 
 // Parallax occlusion mapping (Tatarchuk 2006): intersect the straight line between the two
