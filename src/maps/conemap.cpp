@@ -198,14 +198,21 @@ public:
         stack_.reserve(std::size_t(4 * pyr.levels() + 8));
     }
 
-    // The ratio of texel (px, py) in format steps: kind relaxed is never below kind cone.
+    // The ratio of texel (px, py) in format steps: kind relaxed is never below kind cone. A
+    // relaxed search that runs to its end needs no cone search for that: a texel's relaxed
+    // constraint is never below its cone constraint, so the minimum over all texels is not either.
+    // Only where a budget stops it early, and what is left counts by the nodes' lower bounds
+    // (which may lie below every constraint in the node), does the cone search set the floor.
     int search(int px, int py)
     {
-        const int cone = search(px, py, false);
-        return kind_ == ConeKind::Relaxed ? std::max(cone, search(px, py, true)) : cone;
+        bool cut = false;
+        if (kind_ == ConeKind::Cone) return search(px, py, false, cut);
+        const int relaxed = search(px, py, true, cut);
+        return cut ? std::max(relaxed, search(px, py, false, cut)) : relaxed;
     }
 
-    int search(int px, int py, bool relaxed)
+    // `cut`: set when a budget stopped the search early.
+    int search(int px, int py, bool relaxed, bool& cut)
     {
         const float hp = f_.texels[std::size_t(py) * std::size_t(f_.width) + std::size_t(px)];
         if (!(hp < global_max_)) return steps_; // nothing is higher: the cap
@@ -219,6 +226,7 @@ public:
         while (!stack_.empty()) {
             if (++visits > node_budget_) {
                 // Out of nodes: what is left counts by its lower bounds (conservative).
+                cut = true;
                 const double rest = rest_bound(best, threshold);
                 if (rest < best) k = cone_ratio_steps(rest, format_);
                 break;
@@ -234,6 +242,7 @@ public:
                     c = relaxed_constraint(f_, px, py, sx, sy, threshold / kMargin * (1.0 + 1e-9), budget, n.bound);
                     if (budget <= 0) {
                         // Out of budget: what is left counts by its lower bounds.
+                        cut = true;
                         c = rest_bound(c, threshold);
                         stack_.clear();
                     }
