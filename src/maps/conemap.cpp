@@ -85,6 +85,7 @@ MaxPyramid build_max_pyramid(const HeightField& field)
     p.widths.push_back(w);
     p.heights.push_back(h);
     p.offsets.push_back(0);
+    p.data.reserve(field.texels.size() + field.texels.size() / 2 + std::size_t(2 * (w + h)) + 64); // all levels
     p.data = field.texels;
     while (w > 1 || h > 1) {
         const int nw = (w + 1) / 2, nh = (h + 1) / 2;

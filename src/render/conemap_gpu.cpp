@@ -7,6 +7,7 @@
 #include "render/shader_program.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <string>
 
 namespace pr {
@@ -15,9 +16,13 @@ namespace {
 
 constexpr int kMaxLevels = 16;     // PR_CONE_MAX_LEVELS in conemap.comp
 constexpr GLuint kGroupSize = 64;  // local_size_x in conemap.comp
-// Texels per dispatch: small enough that llvmpipe finishes each in well under a second even on
-// pathological maps, large enough that the dispatch overhead does not show.
-constexpr std::size_t kChunkTexels = 16384;
+// Texels per dispatch: the first few small (pathological maps take long per texel), the next
+// sized from the time of the one before to take about kChunkSeconds. Each dispatch ends with a
+// wait while its last groups finish on one core, so fewer, longer ones are faster (16384 texels
+// at a time cost llvmpipe 8 % on a 1024² map); but none runs for long, and the progress moves.
+constexpr std::size_t kFirstChunkTexels = 16384;
+constexpr std::size_t kMaxChunkTexels = std::size_t(1) << 20;
+constexpr double kChunkSeconds = 0.25;
 
 } // namespace
 
@@ -33,20 +38,25 @@ ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBu
     while (glGetError() != GL_NO_ERROR) {} // errors of earlier work are not ours
     gl::Buffer data = gl::immutable_buffer(pyramid.data);
     // The children of every node above level 0, four maxima in one vec4 (conemap.comp, Groups).
-    std::vector<float> groups;
     int group_offset[kMaxLevels] = {};
+    std::size_t nodes = 0; // above level 0
     for (int l = 0; l + 1 < pyramid.levels(); ++l) {
-        group_offset[l] = int(groups.size() / 4);
+        group_offset[l] = int(nodes);
+        nodes += std::size_t(pyramid.widths[std::size_t(l + 1)]) * std::size_t(pyramid.heights[std::size_t(l + 1)]);
+    }
+    std::vector<float> groups(4 * std::max<std::size_t>(nodes, 1), -1.0f); // a single texel: no children anywhere
+    for (int l = 0; l + 1 < pyramid.levels(); ++l) {
         const int w = pyramid.widths[std::size_t(l)], h = pyramid.heights[std::size_t(l)];
         const int pw = pyramid.widths[std::size_t(l + 1)], ph = pyramid.heights[std::size_t(l + 1)];
+        const float* level = pyramid.data.data() + pyramid.offsets[std::size_t(l)];
+        float* out = groups.data() + 4 * std::size_t(group_offset[l]);
         for (int j = 0; j < ph; ++j)
-            for (int i = 0; i < pw; ++i)
+            for (int i = 0; i < pw; ++i, out += 4)
                 for (int q = 0; q < 4; ++q) {
                     const int ci = 2 * i + (q & 1), cj = 2 * j + (q >> 1);
-                    groups.push_back(ci < w && cj < h ? pyramid.at(l, ci, cj) : -1.0f);
+                    if (ci < w && cj < h) out[q] = level[std::size_t(cj) * std::size_t(w) + std::size_t(ci)];
                 }
     }
-    if (groups.empty()) groups.assign(4, -1.0f); // a single texel: no children anywhere
     gl::Buffer children = gl::immutable_buffer(groups);
     // Read as buffer textures where they fit (conemap.comp), else as storage buffers.
     GLint64 max_texels = 0;
@@ -92,13 +102,21 @@ ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBu
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, children.id());
     }
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, steps.id());
-    for (std::size_t first = 0; first < n; first += kChunkTexels) {
-        const std::size_t count = std::min(kChunkTexels, n - first);
+    std::size_t chunk = kFirstChunkTexels;
+    for (std::size_t first = 0; first < n;) {
+        const std::size_t count = std::min(chunk, n - first);
+        const auto start = std::chrono::steady_clock::now();
         glProgramUniform1ui(p, 3, GLuint(first));
         glProgramUniform1ui(p, 4, GLuint(count));
         glDispatchCompute(GLuint((count + kGroupSize - 1) / kGroupSize), 1, 1);
         glFinish(); // one chunk at a time: no long-running dispatch
-        if (options.progress) options.progress(double(first + count) / double(n));
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        first += count;
+        if (options.progress) options.progress(double(first) / double(n));
+        // The next one: to take kChunkSeconds at this one's pace, growing at most fourfold.
+        const double scale = seconds > 0.0 ? std::clamp(kChunkSeconds / seconds, 0.25, 4.0) : 4.0;
+        chunk = std::clamp(std::size_t(double(count) * scale) / kGroupSize * kGroupSize, std::size_t(kGroupSize),
+                           kMaxChunkTexels);
     }
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     std::vector<std::uint32_t> k(n);
