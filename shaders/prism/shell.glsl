@@ -141,7 +141,8 @@ struct ExitFace {
 // The crossing of a triangle (corners i0, i1, i2 of the prism) by the ray, from edge products
 // (nearest_exit): e0, e1, e2 = edge(i1, i2), edge(i2, i0), edge(i0, i1), whose sum is
 // dot(dir, the triangle's normal) and whose ratios to it are the barycentric weights of the
-// plane's crossing; a0..a2 = dot(corner - eye, dir). `best` keeps the nearest crossing beyond
+// plane's crossing; a0..a2 = dot(corner - origin, dir), the origin being the ray's point at
+// t_origin (nearest_exit). `best` keeps the nearest crossing beyond
 // t_min within the triangle grown by `slack`, or while there is none, the nearest of the planes.
 // (One key orders both: the bits of t > 0 as an unsigned integer, bit 31 set outside the
 // triangle; one comparison and one set of selects per candidate, not two.) `second` picks the
@@ -151,13 +152,13 @@ struct ExitFace {
 // oppose the winding (the walk: walk_orientation), so the face of entry needs no epsilon; and
 // a crossing of `back_face` up to t_back is not one (nearest_exit).
 void keep_exit(float e0, float e1, float e2, float a0, float a1, float a2, float inv_dd, vec3 x0, vec3 x1, vec3 x2,
-               int face, vec3 second, float t_min, int back_face, float t_back, float orient, float slack,
-               inout ExitFace best, inout uint best_key)
+               float t_origin, int face, vec3 second, float t_min, int back_face, float t_back, float orient,
+               float slack, inout ExitFace best, inout uint best_key)
 {
     float den = e0 + e1 + e2; // dot(dir, normal): > 0 going out through a counter-clockwise face
     if (abs(den) < 1e-30 || den * orient < 0.0) return;
     vec3 w = vec3(e0, e1, e2) / den;
-    float t = (a0 * w.x + a1 * w.y + a2 * w.z) * inv_dd;
+    float t = t_origin + (a0 * w.x + a1 * w.y + a2 * w.z) * inv_dd;
     if (!(t > t_min) || (face == back_face && t <= t_back)) return;
     bool inside = in_triangle(w, slack);
     uint key = floatBitsToUint(t) | (inside ? 0u : 0x80000000u);
@@ -173,11 +174,11 @@ void keep_exit(float e0, float e1, float e2, float a0, float a1, float a2, float
 // outside it (the rasterizer snaps vertices to its subpixel grid, so a fragment on an edge may lie
 // a little outside its face). Each side's two triangles are chosen by selects, not branches
 // (llvmpipe runs both arms of a branch): eight triangles in all, from the twelve edges of the
-// prism: with the corners relative to the eye (P), edge(i, j) = dot(dir, cross(P_i, P_j)) is the
-// signed volume that the barycentric weights of every triangle on that edge come from, so two
-// triangles sharing an edge share its value (with opposite signs): a ray crosses exactly one of
-// them (Plücker-style tests, about half the arithmetic of one Möller-Trumbore test per
-// triangle). The same pass tells whether the ray goes *in* through the top cap (grown by
+// prism: with the corners relative to the ray (P, from its point at t_entry), edge(i, j) =
+// dot(dir, cross(P_i, P_j)) is the signed volume that the barycentric weights of every triangle
+// on that edge come from, so two triangles sharing an edge share its value (with opposite
+// signs): a ray crosses exactly one of them (Plücker-style tests, about half the arithmetic of
+// one Möller-Trumbore test per triangle). The same pass tells whether the ray goes *in* through the top cap (grown by
 // `slack`) at t_entry, within 1e-5 * t_entry: `top_entry` (the walk, where it came from the top
 // of the prism before), and gives the barycentric weights of the top's plane crossing, `w_top`
 // (corners 3, 4, 5). `entry_face` (or -1): the face the walk came in by, which is no exit up to
@@ -192,10 +193,15 @@ ExitFace nearest_exit(vec3 dir, float t_min, bool from_a[3], float slack, float 
     uint key = 0xffffffffu;
     const vec3 none = vec3(0.0);
     float inv_dd = 1.0 / dot(dir, dir);
+    // The corners relative to the ray's point at t_entry, next to the prism, not to the eye: the
+    // edge values are then of the prism's size, and their sums (dot(dir, normal)) keep their
+    // precision (relative to the eye, terms of the eye's distance squared cancelled to a size
+    // squared, and barycentric weights erred by 1e-4 at 3 units).
+    vec3 origin = u_eye.xyz + t_entry * dir;
     vec3 p[6], c[6];
     float a[6];
     for (int i = 0; i < 6; ++i) {
-        p[i] = corner_world[i] - u_eye.xyz;
+        p[i] = corner_world[i] - origin;
         c[i] = cross(dir, p[i]);
         a[i] = dot(p[i], dir);
     }
@@ -207,12 +213,12 @@ ExitFace nearest_exit(vec3 dir, float t_min, bool from_a[3], float slack, float 
     float den_top = et0 + et1 + et2;
     bool top = abs(den_top) >= 1e-30;
     w_top = top ? vec3(et1, et2, et0) / den_top : vec3(0.0);
-    float t_top = (a[3] * w_top.x + a[4] * w_top.y + a[5] * w_top.z) * inv_dd;
+    float t_top = t_entry + (a[3] * w_top.x + a[4] * w_top.y + a[5] * w_top.z) * inv_dd;
     top_entry = top && den_top * orient < 0.0 && in_triangle(w_top, slack) && abs(t_top - t_entry) <= 1e-5 * t_entry;
-    keep_exit(et1, et2, et0, a[3], a[4], a[5], inv_dd, corner_tex[3], corner_tex[4], corner_tex[5], 0, none, t_min,
+    keep_exit(et1, et2, et0, a[3], a[4], a[5], inv_dd, corner_tex[3], corner_tex[4], corner_tex[5], t_entry, 0, none, t_min,
               entry_face, t_back, orient, slack, best, key);
     // The bottom (0, 2, 1): edges 2-1, 1-0, 0-2.
-    keep_exit(-eb1, -eb0, -eb2, a[0], a[2], a[1], inv_dd, corner_tex[0], corner_tex[2], corner_tex[1], 1, none, t_min,
+    keep_exit(-eb1, -eb0, -eb2, a[0], a[2], a[1], inv_dd, corner_tex[0], corner_tex[2], corner_tex[1], t_entry, 1, none, t_min,
               entry_face, t_back, orient, slack, best, key);
     for (int e = 0; e < 3; ++e) {
         // The side quad a b b' a' (' = top), split along a-b' (from_a) or b-a'.
@@ -230,11 +236,11 @@ ExitFace nearest_exit(vec3 dir, float t_min, bool from_a[3], float slack, float 
         // (a, b, b'): edge(b, b'), edge(b', a) = -diag, edge(a, b); (a, b, a'): edge(b, a') = diag,
         // edge(a', a) = -v_a, edge(a, b).
         keep_exit(f ? v_b : diag, f ? -diag : -v_a, e_ab, aa, ab, f ? abt : aat, inv_dd, xa, xb, f ? xbt : xat,
-                  2 + e, vec3(0.0, 1.0, f ? 1.0 : 0.0), t_min, entry_face, t_back, orient, slack, best, key);
+                  t_entry, 2 + e, vec3(0.0, 1.0, f ? 1.0 : 0.0), t_min, entry_face, t_back, orient, slack, best, key);
         // (a, b', a'): edge(b', a'), edge(a', a) = -v_a, edge(a, b') = diag;
         // (b, b', a'): edge(b', a'), edge(a', b) = -diag, edge(b, b') = v_b.
         keep_exit(e_tt, f ? -v_a : -diag, f ? diag : v_b, f ? aa : ab, abt, aat, inv_dd, f ? xa : xb, xbt, xat,
-                  2 + e, vec3(f ? 0.0 : 1.0, 1.0, 0.0), t_min, entry_face, t_back, orient, slack, best, key);
+                  t_entry, 2 + e, vec3(f ? 0.0 : 1.0, 1.0, 0.0), t_min, entry_face, t_back, orient, slack, best, key);
     }
     return best;
 }
