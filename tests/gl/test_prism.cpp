@@ -167,6 +167,16 @@ TEST(Prism, OutlineMatchesTheReferenceOnCurvedMeshes)
             const CompareMetrics exact =
                 compare_frames(capture(r, c, Technique::Prism, Marcher::Relief, PrismExit::Exact), ref);
             EXPECT_GT(exact.iou, 0.98) << name << " elevation " << elevation << " (exact)";
+            // Its mean depth error too, where it draws no wall at a tear (the rock seen from the
+            // side: about 10 %). On the rock at 35 degrees an exit test that lost precision far
+            // from the eye lost its way in grazing pixels: 3.8 % of depth here, 0.9 % now (at most
+            // 1.1 % on the rock, 3.1 % on the sphere and torus, whose poles and inner rim the
+            // exact exit steps at).
+            if (std::string(name) != "rock.obj" || elevation != 0.0f) {
+                ASSERT_TRUE(exact.depth_error_mean.has_value());
+                EXPECT_LT(*exact.depth_error_mean, (std::string(name) == "rock.obj" ? 0.02 : 0.04) * depth)
+                    << name << " elevation " << elevation << " (exact)";
+            }
             const CompareMetrics pom = compare_frames(capture(r, c, Technique::Pom), ref);
             EXPECT_LT(pom.iou, 0.95) << name << " elevation " << elevation;
         }
