@@ -472,11 +472,12 @@ namespace {
 
 // A buffer texture over `buffer`, read by the prism's shaders with texelFetch (shared.h); throws
 // when the buffer holds more texels than this OpenGL's buffer textures can address.
-gl::Texture buffer_texture(const gl::Buffer& buffer, GLenum format, GLint64 texel_bytes)
+gl::Texture buffer_texture(const gl::Buffer& buffer, GLenum format, GLint64 texel_bytes, GLint64 limit)
 {
     GLint64 bytes = 0, max_texels = 0;
     glGetNamedBufferParameteri64v(buffer.id(), GL_BUFFER_SIZE, &bytes);
     glGetInteger64v(GL_MAX_TEXTURE_BUFFER_SIZE, &max_texels);
+    if (limit > 0) max_texels = std::min(max_texels, limit);
     if (bytes / texel_bytes > max_texels) {
         throw Error("scene", "the mesh is too large for the prism technique: " + std::to_string(bytes / texel_bytes) +
                                  " texels in one buffer texture, this OpenGL allows " + std::to_string(max_texels));
@@ -492,15 +493,18 @@ void Renderer::ensure_prism_data(bool walk)
 {
     if (walk) ensure_walk_data();
     for (GpuObject& o : objects_) {
+        // (Each set is kept only when all of it was made: a mesh too large leaves nothing half done.)
         if (!o.vertex_texels) {
             static_assert(sizeof(MeshVertex) == 16 * sizeof(float), "four rgba32ui texels per vertex");
-            o.vertex_texels = buffer_texture(o.base.vertices, GL_RGBA32UI, 16);
-            o.index_texels = buffer_texture(o.base.indices, GL_RGB32UI, 12);
+            gl::Texture vertices = buffer_texture(o.base.vertices, GL_RGBA32UI, 16, texture_buffer_limit_);
+            o.index_texels = buffer_texture(o.base.indices, GL_RGB32UI, 12, texture_buffer_limit_);
+            o.vertex_texels = std::move(vertices);
         }
         if (walk && !o.corner_texels) {
-            o.adjacency_texels = buffer_texture(o.adjacency, GL_RGB32UI, 12);
-            o.corner_texels = buffer_texture(o.corners, GL_RGBA32UI, 16);
-            for (int full = 0; full < 2; ++full) o.listed_texels[full] = buffer_texture(o.listed[full], GL_R32UI, 4);
+            o.adjacency_texels = buffer_texture(o.adjacency, GL_RGB32UI, 12, texture_buffer_limit_);
+            for (int full = 0; full < 2; ++full)
+                o.listed_texels[full] = buffer_texture(o.listed[full], GL_R32UI, 4, texture_buffer_limit_);
+            o.corner_texels = buffer_texture(o.corners, GL_RGBA32UI, 16, texture_buffer_limit_);
         }
     }
 }

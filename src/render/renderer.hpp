@@ -41,6 +41,11 @@ public:
     // (or read from the cache) on the first draw that needs them, before its timing starts.
     void set_cache_dir(std::filesystem::path dir) { cache_dir_ = std::move(dir); }
 
+    // The prism reads its mesh as buffer textures, of at most GL_MAX_TEXTURE_BUFFER_SIZE texels
+    // (2^27 on llvmpipe: a mesh of about 33 million vertices); a larger mesh fails with one
+    // clear error. Tests lower the limit (0: OpenGL's own) to reach that error with a small mesh.
+    void set_texture_buffer_limit(GLint64 texels) { texture_buffer_limit_ = texels; }
+
     // Uploads meshes and textures (mip-mapped, repeat wrap; R16 for 16-bit heights). The scene
     // may be dropped afterwards: the renderer keeps copies of what it draws with.
     void upload(const Scene& scene);
@@ -158,6 +163,7 @@ private:
     std::map<const void*, gl::Texture> texture_cache_; // heights/colours shared by objects
     std::map<std::pair<const void*, int>, gl::Texture> aux_cache_; // (height field, AuxMap - 1)
     std::filesystem::path cache_dir_;
+    GLint64 texture_buffer_limit_ = 0;
     // Builds (or reads from the cache) and uploads the derived map each object needs.
     void ensure_aux_textures(AuxMap map);
     // Fills and binds the frame block (camera, light, viewport) and binds the object block.

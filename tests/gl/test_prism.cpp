@@ -2,6 +2,7 @@
 // with the walk (the default) and with every front face drawn (--prism-exit exact).
 #include "gl_fixture.hpp"
 
+#include "core/error.hpp"
 #include "eval/metrics.hpp"
 #include "mesh/mesh.hpp"
 
@@ -450,4 +451,29 @@ TEST(Prism, TightShellMatchesTheFullShellWithFewerSamples)
         EXPECT_NEAR(iou[0], iou[1], 0.003) << name;
         EXPECT_LT(samples[0], samples[1] * 9 / 10) << name;
     }
+}
+
+// A mesh too large for the prism's buffer textures fails with one clear error (on llvmpipe that
+// takes about 33 million vertices: the limit is lowered here), and the renderer stays usable.
+TEST(Prism, MeshTooLargeForBufferTexturesFailsClearly)
+{
+    prtest::context();
+    Renderer r(64, 64);
+    Scene scene = mesh_scene("torus.obj", prtest::height_from(8, [](float, float) { return 0.5f; }), 0.04f);
+    r.upload(scene);
+    const Camera c = framed(scene, 35.0f);
+    r.set_texture_buffer_limit(1000); // the torus has 2,304 triangles
+    std::string what;
+    try {
+        capture(r, c, Technique::Prism);
+    } catch (const Error& e) {
+        what = e.what();
+    }
+    EXPECT_NE(what.find("the mesh is too large for the prism technique"), std::string::npos) << what;
+    EXPECT_NE(what.find("this OpenGL allows 1000"), std::string::npos) << what;
+    r.set_texture_buffer_limit(0);
+    const FrameCapture f = capture(r, c, Technique::Prism);
+    std::size_t covered = 0;
+    for (std::size_t p = 0; p < std::size_t(64) * 64; ++p) covered += f.color.pixels[4 * p + 3] > 0;
+    EXPECT_GT(covered, 400u);
 }
