@@ -29,8 +29,8 @@ struct Bracket {
 // The prism walk's form (march/cone.glsl has the same): from the height h0 at the origin (the
 // walk's segments start where the last one ended, whose last sample it passes on), or with
 // `pending`, from a sample at the origin taken as the loop's first (one sampling site: llvmpipe
-// expands each into a long stretch of code, and a second one, outside the loop, cost the walk 7 %
-// of the rock's frame); returns the last height sampled in `h_end`. `below` (the walk under a
+// expands each into a long stretch of code, and a second one, outside the loop, cost the walk
+// 3-4 % of the rock's frame); returns the last height sampled in `h_end`. `below` (the walk under a
 // torn surface, prism.frag): the ray comes out *under* the heights, so every distance to the
 // surface counts with its sign turned; with `decide`, the sample at the origin decides it.
 Bracket march_linear_from(MarchRay r, UvGrad g, float h0, bool pending, bool decide, inout bool below, out float h_end)
