@@ -223,12 +223,9 @@ double rest_bound(double c, double threshold, uint filled, int top, int m, int l
     return c;
 }
 
-// maps::Searcher::search: the ratio of texel (px, py) in format steps, for cones or relaxed cones
-// (texels count by their relaxed constraints until the march budget is spent, then by their cone
-// constraints); `cut`: the node budget stopped the search early.
-int search(int px, int py, bool relaxed, out bool cut)
+// maps::Searcher::search: the ratio of texel (px, py) in format steps, for cones or relaxed cones.
+int search(int px, int py, bool relaxed)
 {
-    cut = false;
     float hp = height_at(px, py);
     int top = u_levels - 1;
     if (!(hp < node_max(top, 0, 0))) return u_steps;
@@ -244,9 +241,10 @@ int search(int px, int py, bool relaxed, out bool cut)
     int m = top, li = 0, lj = 0; // the node visited last
     s_list[top - 1] = child_list(top, 0, 0, px, py, hp, inv_w2, inv_h2, threshold);
     uint filled = (s_list[top - 1] & 7u) != 0u ? 1u << (top - 1) : 0u; // levels whose list is not empty
-    // Out of nodes: what is left counts by its lower bounds (after the loop, which llvmpipe runs in
-    // full for every lane: code in it costs on every pass).
+    // Out of a budget: what is left counts by its lower bounds (after the loop, which llvmpipe
+    // runs in full for every lane: code in it costs on every pass).
     bool out_of_nodes = false;
+    double out_of_steps = -1.0lf; // >= 0: the relaxed march budget ran out at this constraint
     while (k > 0 && filled != 0u) {
         int cur = findLSB(filled);
         if (++visits > u_node_budget) {
@@ -271,7 +269,10 @@ int search(int px, int py, bool relaxed, out bool cut)
                 c = relaxed_constraint(px, py, signed_offset(li - px, u_size.x), signed_offset(lj - py, u_size.y),
                                        threshold / kMargin * (1.0lf + 1e-9lf), budget, nbound);
                 if (c < 0.0lf) c = 1e300lf;
-                if (budget <= 0) relaxed = false; // the rest by their cone constraints
+                if (budget <= 0) {
+                    out_of_steps = c;
+                    break;
+                }
             }
 #endif
             if (c < best) {
@@ -285,9 +286,9 @@ int search(int px, int py, bool relaxed, out bool cut)
         s_list[m - 1] = children;
         if ((children & 7u) != 0u) filled |= 1u << (m - 1);
     }
-    if (out_of_nodes) {
-        cut = true;
-        double rest = rest_bound(best, threshold, filled, top, m, li, lj, px, py, hp, inv_w2, inv_h2);
+    if (out_of_nodes || out_of_steps >= 0.0lf) {
+        double rest = rest_bound(out_of_nodes ? best : out_of_steps, threshold, filled, top, m, li, lj,
+                                 px, py, hp, inv_w2, inv_h2);
         if (rest < best) k = ratio_steps(rest);
     }
     return k;
@@ -299,12 +300,9 @@ void main()
     if (index >= u_count) return;
     uint texel = u_first + index;
     int px = int(texel % uint(u_size.x)), py = int(texel / uint(u_size.x));
-    bool cut;
-    int k = search(px, py, PR_CONE_KIND == 1, cut);
+    int k = search(px, py, false);
 #if PR_CONE_KIND == 1
-    // Kind relaxed is never below kind cone: by itself, unless the node budget cut it short
-    // (src/maps/conemap.cpp, Searcher::search).
-    if (cut) k = max(k, search(px, py, false, cut));
+    k = max(k, search(px, py, true));
 #endif
     b_steps[texel] = uint(k);
 }

@@ -200,11 +200,10 @@ public:
     }
 
     // The ratio of texel (px, py) in format steps: kind relaxed is never below kind cone. A
-    // relaxed search needs no cone search for that: every texel counts by its relaxed constraint
-    // or, once the march budget is spent, by its cone constraint (a lower bound of the relaxed
-    // one, never below the cone's minimum). Only where the node budget stops it, and what is left
-    // counts by the nodes' lower bounds (which may lie below every constraint in the node), does
-    // the cone search set the floor.
+    // relaxed search that runs to its end needs no cone search for that: a texel's relaxed
+    // constraint is never below its cone constraint, so the minimum over all texels is not either.
+    // Only where a budget stops it early, and what is left counts by the nodes' lower bounds
+    // (which may lie below every constraint in the node), does the cone search set the floor.
     int search(int px, int py)
     {
         bool cut = false;
@@ -213,8 +212,7 @@ public:
         return cut ? std::max(relaxed, search(px, py, false, cut)) : relaxed;
     }
 
-    // `cut`: set when the node budget stopped the search early. With `relaxed`, texels count by
-    // their relaxed constraints until the march budget is spent, then by their cone constraints.
+    // `cut`: set when a budget stopped the search early.
     int search(int px, int py, bool relaxed, bool& cut)
     {
         const float hp = f_.texels[std::size_t(py) * std::size_t(f_.width) + std::size_t(px)];
@@ -242,10 +240,13 @@ public:
                 if (relaxed) {
                     const int sx = signed_offset(n.i - px, f_.width);
                     const int sy = signed_offset(n.j - py, f_.height);
-                    // (Out of budget, a lower bound: the value at the march's last step, or the
-                    // cone constraint; the texels after it count by their cone constraints.)
                     c = relaxed_constraint(f_, px, py, sx, sy, threshold / kMargin * (1.0 + 1e-9), budget, n.bound);
-                    if (budget <= 0) relaxed = false;
+                    if (budget <= 0) {
+                        // Out of budget: what is left counts by its lower bounds.
+                        cut = true;
+                        c = rest_bound(c, threshold);
+                        stack_.clear();
+                    }
                 }
                 if (c < best) {
                     best = c;
@@ -255,34 +256,28 @@ public:
                 }
                 continue;
             }
-            push_children(n, px, py, hp, threshold);
+            // Children, smallest bound popped first.
+            Node kids[4];
+            int count = 0;
+            const int cl = n.level - 1;
+            const int cw = pyr_.widths[std::size_t(cl)], ch = pyr_.heights[std::size_t(cl)];
+            for (int cj = 2 * n.j; cj < std::min(2 * n.j + 2, ch); ++cj)
+                for (int ci = 2 * n.i; ci < std::min(2 * n.i + 2, cw); ++ci) {
+                    const double dmax = double(pyr_.at(cl, ci, cj)) - double(hp);
+                    if (!(dmax > 0.0)) continue;
+                    const double bound = node_distance(cl, ci, cj, px, py) / dmax;
+                    if (bound * kMargin >= threshold) continue;
+                    kids[count++] = {cl, ci, cj, bound};
+                }
+            // Push in decreasing bound (at most 4: insertion order by hand).
+            for (int c = 1; c < count; ++c)
+                for (int d = c; d > 0 && kids[d - 1].bound < kids[d].bound; --d) std::swap(kids[d - 1], kids[d]);
+            for (int c = 0; c < count; ++c) stack_.push_back(kids[c]);
         }
         return k;
     }
 
 private:
-    // The children of node n that may lower the result below `threshold`, pushed so that the
-    // smallest bound is popped first.
-    void push_children(const Node& n, int px, int py, float hp, double threshold)
-    {
-        Node kids[4];
-        int count = 0;
-        const int cl = n.level - 1;
-        const int cw = pyr_.widths[std::size_t(cl)], ch = pyr_.heights[std::size_t(cl)];
-        for (int cj = 2 * n.j; cj < std::min(2 * n.j + 2, ch); ++cj)
-            for (int ci = 2 * n.i; ci < std::min(2 * n.i + 2, cw); ++ci) {
-                const double dmax = double(pyr_.at(cl, ci, cj)) - double(hp);
-                if (!(dmax > 0.0)) continue;
-                const double bound = node_distance(cl, ci, cj, px, py) / dmax;
-                if (bound * kMargin >= threshold) continue;
-                kids[count++] = {cl, ci, cj, bound};
-            }
-        // Push in decreasing bound (at most 4: insertion order by hand).
-        for (int c = 1; c < count; ++c)
-            for (int d = c; d > 0 && kids[d - 1].bound < kids[d].bound; --d) std::swap(kids[d - 1], kids[d]);
-        for (int c = 0; c < count; ++c) stack_.push_back(kids[c]);
-    }
-
     // min(c, the lower bound of every node still on the stack that could lower the result): the
     // ratio when a budget stops the search early.
     double rest_bound(double c, double threshold) const

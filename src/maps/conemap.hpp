@@ -62,7 +62,7 @@ ConeMap read_cone_png(const std::filesystem::path& path, ConeKind kind);
 // ---- generator details shared by the CPU and GPU paths (docs/cone-maps.md) ----
 
 // Bumped whenever the generator's output changes: part of every cache key.
-inline constexpr std::uint32_t kConeGeneratorVersion = 3;
+inline constexpr std::uint32_t kConeGeneratorVersion = 2;
 
 // 255 (rg8) or 65535 (rg16): the ratio is stored as k / steps, k an integer.
 int cone_format_steps(ConeFormat format);
