@@ -71,6 +71,12 @@ std::shared_ptr<HeightField> bumps_map(int size)
     return std::make_shared<HeightField>(load_height("builtin:bumps@" + std::to_string(size)));
 }
 
+// `mesh` at constant height h, shell depth 4 % of its diagonal.
+Scene constant_height(const char* mesh, float h)
+{
+    return mesh_scene(mesh, prtest::height_from(8, [h](float, float) { return h; }), 0.04f);
+}
+
 // Auto-framed at azimuth 30 degrees, as every view here.
 Camera framed(const Scene& scene, float elevation_deg)
 {
@@ -98,7 +104,7 @@ TEST(Prism, ClosedSphereAtConstantHeightOneIsWatertight)
 {
     prtest::context();
     Renderer r(192, 192);
-    Scene scene = mesh_scene("uv_sphere.obj", prtest::height_from(8, [](float, float) { return 1.0f; }), 0.04f);
+    Scene scene = constant_height("uv_sphere.obj", 1.0f);
     r.upload(scene);
     for (float elevation : {0.0f, 35.0f, 75.0f}) {
         const Camera c = framed(scene, elevation);
@@ -121,7 +127,7 @@ TEST(Prism, BottomCapIsHit)
 {
     prtest::context();
     Renderer r(128, 128);
-    Scene scene = mesh_scene("torus.obj", prtest::height_from(8, [](float, float) { return 0.0f; }), 0.04f);
+    Scene scene = constant_height("torus.obj", 0.0f);
     r.upload(scene);
     const Camera c = framed(scene, 35.0f);
     r.prepare_reference(scene, c, ReferenceOptions{});
@@ -459,10 +465,10 @@ TEST(Prism, MeshTooLargeForBufferTexturesFailsClearly)
 {
     prtest::context();
     Renderer r(64, 64);
-    Scene scene = mesh_scene("torus.obj", prtest::height_from(8, [](float, float) { return 0.5f; }), 0.04f);
+    r.set_texture_buffer_limit(1000); // the torus has 2,304 triangles
+    Scene scene = constant_height("torus.obj", 0.5f);
     r.upload(scene);
     const Camera c = framed(scene, 35.0f);
-    r.set_texture_buffer_limit(1000); // the torus has 2,304 triangles
     std::string what;
     try {
         capture(r, c, Technique::Prism);
