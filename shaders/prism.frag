@@ -324,7 +324,7 @@ void main()
         // leaves the shell.
         float lambda = ex.lambda;
         int edge = ex.face >= 2 ? ex.face - 2 : (ex.face == 0 ? top_exit_edge(w_top, lambda) : -1);
-        uvec3 across = triangle_neighbours(prim);
+        uvec3 across = prism_across;
         uint next = edge == 0 ? across.x : (edge == 1 ? across.y : (edge == 2 ? across.z : 0xffffffffu));
         if (next == 0xffffffffu) {
             went_in = below && ex.face == 1; // out through a bottom from under the surface

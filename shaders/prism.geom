@@ -133,7 +133,7 @@ void main()
     // meshes have every bottom drawn by prism_caps.vert already.)
     bool folded = (entry & 0x80000000u) != 0u;
     if (folded && (u_march.w & PR_FLAG_OPEN_SHELL) == 0) triangle(0, 2, 1);
-    uvec3 across = triangle_neighbours(uint(prism_id));
+    uvec3 across = prism_across;
     if (folded || across.x == 0xffffffffu) side(0);
     if (folded || across.y == 0xffffffffu) side(1);
     if (folded || across.z == 0xffffffffu) side(2);

@@ -38,7 +38,8 @@ bool in_triangle(vec3 w, float slack)
 // +1 when the walk's current prism (load_walk_prism) winds counter-clockwise seen from outside.
 // Judged on the base triangle (height `midlevel`), which is never folded: a bottom or top cap
 // offset by more than the surface's radius of curvature may be (inward shells at sharp convex
-// edges, outward ones in tight creases).
+// edges, outward ones in tight creases). Judged once per triangle on the CPU (renderer.cpp,
+// walk_adjacency): here it cost 2 % of the rock's frame.
 float walk_orientation;
 
 // ---- The prism walk's buffers ------------------------------------------------------------------
@@ -89,38 +90,34 @@ vec3 shell_top_corner(ShellVertex c, float top)
     return corner;
 }
 
-// The triangles across the edges of triangle `prim` (edge e from corner e to e + 1), each as
-// prism << 2 | its edge; 0xffffffff where there is none.
-uvec3 triangle_neighbours(uint prim)
-{
-    return texelFetch(t_adjacency, int(prim)).xyz;
-}
-
 // The unit normals (world) of the current prism's vertices (load_walk_prism): the frame at a hit.
 vec3 corner_normal[3];
+// The triangles across the current prism's edges (edge e from corner e to e + 1), each as
+// prism << 2 | its edge; 0xffffffff where there is none (load_walk_prism).
+uvec3 prism_across;
 
 // Fills corner_world/corner_tex/corner_normal with prism `prim` (top at the tight height, or at
 // 1 with PR_PRISM_FULL_SHELL); returns its vertex indices and welded ids. The geometry shader and
 // the walk both build their prisms here, so they agree to the bit.
 void load_walk_prism(uint prim, out uint index[3], out uint weld[3])
 {
-    vec3 base[3], up = vec3(0.0);
     uvec3 tri = triangle_indices(prim);
     for (int i = 0; i < 3; ++i) {
         index[i] = tri[i];
         ShellVertex c = shell_corners(index[i]);
         float top = shell_top_height(c);
-        vec3 dn = u_displace.x * c.n_v.xyz;
         corner_world[i] = c.bottom_u.xyz;
         corner_world[i + 3] = shell_top_corner(c, top);
         corner_tex[i] = vec3(c.bottom_u.w, c.n_v.w, 0.0);
         corner_tex[i + 3] = vec3(c.bottom_u.w, c.n_v.w, top);
         corner_normal[i] = c.n_v.xyz;
         weld[i] = floatBitsToUint(c.top_weld.y);
-        base[i] = c.bottom_u.xyz + u_displace.y * dn;
-        up += c.n_v.xyz;
     }
-    walk_orientation = dot(cross(base[1] - base[0], base[2] - base[0]), up) < 0.0 ? -1.0 : 1.0;
+    // The adjacency texel (renderer.cpp, walk_adjacency): the neighbours, and in w bit 0 the
+    // winding (set where the base triangle winds clockwise about its vertices' summed normals).
+    uvec4 adjacency = texelFetch(t_adjacency, int(prim));
+    prism_across = adjacency.xyz;
+    walk_orientation = (adjacency.w & 1u) != 0u ? -1.0 : 1.0;
 }
 #endif
 

@@ -141,6 +141,29 @@ std::vector<glm::vec4> make_shell_corners(const std::vector<MeshVertex>& vertice
     return corners;
 }
 
+// The walk's adjacency (PR_TEX_ADJACENCY), four per triangle: edge_adjacency()'s three neighbours,
+// and in bit 0 of the fourth the prism's winding, as shell.glsl's walk_orientation reads it: set
+// where the base triangle (world space) winds clockwise about the sum of its vertices' normals.
+std::vector<std::uint32_t> walk_adjacency(const std::vector<MeshVertex>& vertices,
+                                          const std::vector<std::uint32_t>& indices,
+                                          const std::vector<std::uint32_t>& neighbours, const glm::mat4& transform)
+{
+    const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(transform)));
+    std::vector<std::uint32_t> out;
+    out.reserve(indices.size() / 3 * 4);
+    for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
+        glm::vec3 base[3], up(0.0f);
+        for (std::size_t i = 0; i < 3; ++i) {
+            const MeshVertex& v = vertices[indices[t + i]];
+            base[i] = glm::vec3(transform * glm::vec4(v.position, 1.0f));
+            up += glm::normalize(normal_matrix * v.normal);
+        }
+        const bool clockwise = glm::dot(glm::cross(base[1] - base[0], base[2] - base[0]), up) < 0.0f;
+        out.insert(out.end(), {neighbours[t], neighbours[t + 1], neighbours[t + 2], clockwise ? 1u : 0u});
+    }
+    return out;
+}
+
 // The prisms whose faces other than the caps the walk draws (prism.geom, PR_PRISM_LISTED), in
 // ascending order: those whose shell folds (a cap turned more than 60 degrees from its base
 // triangle; `full`: top caps at height 1, else at the tight tops in `corners`), with bit 31 set,
@@ -501,7 +524,7 @@ void Renderer::ensure_prism_data(bool walk)
             o.vertex_texels = std::move(vertices);
         }
         if (walk && !o.corner_texels) {
-            o.adjacency_texels = buffer_texture(o.adjacency, GL_RGB32UI, 12, texture_buffer_limit_);
+            o.adjacency_texels = buffer_texture(o.adjacency, GL_RGBA32UI, 16, texture_buffer_limit_);
             for (int full = 0; full < 2; ++full)
                 o.listed_texels[full] = buffer_texture(o.listed[full], GL_R32UI, 4, texture_buffer_limit_);
             o.corner_texels = buffer_texture(o.corners, GL_RGBA32UI, 16, texture_buffer_limit_);
@@ -532,7 +555,7 @@ void Renderer::ensure_walk_data()
         glGetNamedBufferSubData(o.base.indices.id(), 0, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)),
                                 indices.data());
         const EdgeAdjacency adjacency = edge_adjacency(vertices, indices);
-        o.adjacency = gl::immutable_buffer(adjacency.neighbours);
+        o.adjacency = gl::immutable_buffer(walk_adjacency(vertices, indices, adjacency.neighbours, o.transform));
         o.open_shell = adjacency.open_edges > 0;
         o.tears = !o.open_shell && adjacency.seam_edges > 0;
         o.seamless = adjacency.seam_edges == 0;
