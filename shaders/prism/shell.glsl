@@ -96,9 +96,10 @@ vec3 corner_normal[3];
 // prism << 2 | its edge; 0xffffffff where there is none (load_walk_prism).
 uvec3 prism_across;
 
-// Fills corner_world/corner_tex/corner_normal with prism `prim` (top at the tight height, or at
-// 1 with PR_PRISM_FULL_SHELL); returns its vertex indices and welded ids. The geometry shader and
-// the walk both build their prisms here, so they agree to the bit.
+// Fills corner_world/corner_tex/corner_normal, prism_across and walk_orientation with prism
+// `prim` (top at the tight height, or at 1 with PR_PRISM_FULL_SHELL); returns its vertex indices
+// and welded ids. The geometry shader and the walk both build their prisms here, so they agree to
+// the bit.
 void load_walk_prism(uint prim, out uint index[3], out uint weld[3])
 {
     uvec3 tri = triangle_indices(prim);
