@@ -11,7 +11,7 @@
 #ifdef PR_PRISM_LISTED
 // The walk draws its caps without this shader (prism_caps.vert). This one then gets one point per
 // listed prism, its entry in PR_TEX_PRISM_LIST (picked on the CPU, src/render/renderer.cpp,
-// shell_list): the prism's number, with bit 31 set where its shell folds, whose other front
+// walk_triangles): the prism's number, with bit 31 set where its shell folds, whose other front
 // faces it emits, else a prism with an edge without a neighbour (open meshes), whose wall there
 // it emits; in the second pass over a torn mesh, a prism whose bottom may cover a marked tile.
 layout(points) in;

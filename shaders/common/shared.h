@@ -32,7 +32,7 @@ using mat4 = glm::mat4;
 #define PR_TEX_VERTICES 3  // rgba32ui: the mesh's vertex buffer (MeshVertex, four texels each), prism only
 #define PR_TEX_INDICES 4   // rgb32ui: its index buffer, one texel per triangle, prism only
 #define PR_TEX_ADJACENCY 5 // rgba32ui, per triangle: the triangles across its edges (src/mesh/adjacency.hpp)
-                           // and its winding (renderer.cpp, walk_adjacency); walk only
+                           // and its winding (renderer.cpp, walk_triangles); walk only
 #define PR_TEX_CORNERS 6   // rgba32ui, three texels per vertex: vec4(bottom corner, u), vec4(unit N, v),
                            // vec4(top height, weld, 0, 0) (floats as bits); walk only
 #define PR_TEX_PRISM_LIST 7 // r32ui: prisms drawn one point each (the folded ones; the second pass's, prism.geom)

@@ -39,7 +39,7 @@ bool in_triangle(vec3 w, float slack)
 // Judged on the base triangle (height `midlevel`), which is never folded: a bottom or top cap
 // offset by more than the surface's radius of curvature may be (inward shells at sharp convex
 // edges, outward ones in tight creases). Judged once per triangle on the CPU (renderer.cpp,
-// walk_adjacency): here it cost 2 % of the rock's frame.
+// walk_triangles): here it cost 2 % of the rock's frame.
 float walk_orientation;
 
 // ---- The prism walk's buffers ------------------------------------------------------------------
@@ -114,7 +114,7 @@ void load_walk_prism(uint prim, out uint index[3], out uint weld[3])
         corner_normal[i] = c.n_v.xyz;
         weld[i] = floatBitsToUint(c.top_weld.y);
     }
-    // The adjacency texel (renderer.cpp, walk_adjacency): the neighbours, and in w bit 0 the
+    // The adjacency texel (renderer.cpp, walk_triangles): the neighbours, and in w bit 0 the
     // winding (set where the base triangle winds clockwise about its vertices' summed normals).
     uvec4 adjacency = texelFetch(t_adjacency, int(prim));
     prism_across = adjacency.xyz;

@@ -141,61 +141,56 @@ std::vector<glm::vec4> make_shell_corners(const std::vector<MeshVertex>& vertice
     return corners;
 }
 
-// The walk's adjacency (PR_TEX_ADJACENCY), four per triangle: edge_adjacency()'s three neighbours,
-// and in bit 0 of the fourth the prism's winding, as shell.glsl's walk_orientation reads it: set
-// where the base triangle (world space) winds clockwise about the sum of its vertices' normals.
-std::vector<std::uint32_t> walk_adjacency(const std::vector<MeshVertex>& vertices,
-                                          const std::vector<std::uint32_t>& indices,
-                                          const std::vector<std::uint32_t>& neighbours, const glm::mat4& transform)
-{
-    const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(transform)));
-    std::vector<std::uint32_t> out;
-    out.reserve(indices.size() / 3 * 4);
-    for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
-        glm::vec3 base[3], up(0.0f);
-        for (std::size_t i = 0; i < 3; ++i) {
-            const MeshVertex& v = vertices[indices[t + i]];
-            base[i] = glm::vec3(transform * glm::vec4(v.position, 1.0f));
-            up += glm::normalize(normal_matrix * v.normal);
-        }
-        const bool clockwise = glm::dot(glm::cross(base[1] - base[0], base[2] - base[0]), up) < 0.0f;
-        out.insert(out.end(), {neighbours[t], neighbours[t + 1], neighbours[t + 2], clockwise ? 1u : 0u});
-    }
-    return out;
-}
+// What the walk needs per triangle beyond its corners, from one pass over the triangles:
+// - `adjacency` (PR_TEX_ADJACENCY), four per triangle: edge_adjacency()'s three neighbours, and in
+//   bit 0 of the fourth the prism's winding, as shell.glsl's walk_orientation reads it: set where
+//   the base triangle (world space) winds clockwise about the sum of its vertices' normals;
+// - `listed` (PR_TEX_PRISM_LIST, prism.geom's PR_PRISM_LISTED), with the tight tops in `corners`
+//   and with full ones: the prisms whose faces other than the caps the walk draws, in ascending
+//   order — those whose shell folds (a cap turned more than 60 degrees from its base triangle),
+//   with bit 31 set, and those with an edge without a neighbour, whose wall there is part of the
+//   shell's outside.
+struct WalkTriangles {
+    std::vector<std::uint32_t> adjacency;
+    std::vector<std::uint32_t> listed[2]; // tight tops, full ones
+};
 
-// The prisms whose faces other than the caps the walk draws (prism.geom, PR_PRISM_LISTED), in
-// ascending order: those whose shell folds (a cap turned more than 60 degrees from its base
-// triangle; `full`: top caps at height 1, else at the tight tops in `corners`), with bit 31 set,
-// and those with an edge without a neighbour (`neighbours`, edge_adjacency), whose wall there is
-// part of the shell's outside.
-std::vector<std::uint32_t> shell_list(const std::vector<MeshVertex>& vertices, const std::vector<std::uint32_t>& indices,
-                                      const std::vector<glm::vec4>& corners, const std::vector<std::uint32_t>& neighbours,
-                                      const glm::mat4& transform, float depth, bool full)
+WalkTriangles walk_triangles(const std::vector<MeshVertex>& vertices, const std::vector<std::uint32_t>& indices,
+                             const std::vector<glm::vec4>& corners, const std::vector<std::uint32_t>& neighbours,
+                             const glm::mat4& transform, float depth)
 {
-    std::vector<std::uint32_t> list;
+    WalkTriangles w;
+    w.adjacency.reserve(indices.size() / 3 * 4);
     const auto normal = [](glm::vec3 a, glm::vec3 b, glm::vec3 c) { return glm::cross(b - a, c - a); };
     const auto turned = [](glm::vec3 n, glm::vec3 n_base) {
         return glm::dot(n, n_base) < 0.5f * glm::length(n) * glm::length(n_base);
     };
     for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
-        glm::vec3 base[3], bottom[3], top[3];
+        glm::vec3 base[3], bottom[3], top[2][3], up(0.0f);
         for (int i = 0; i < 3; ++i) {
             const std::uint32_t v = indices[t + std::size_t(i)];
+            const glm::vec3 n = glm::vec3(corners[3 * v + 1]);
             base[i] = glm::vec3(transform * glm::vec4(vertices[v].position, 1.0f));
             bottom[i] = glm::vec3(corners[3 * v]);
-            const float h = full ? 1.0f : corners[3 * v + 2].x;
-            top[i] = bottom[i] + h * (depth * glm::vec3(corners[3 * v + 1]));
+            top[0][i] = bottom[i] + corners[3 * v + 2].x * (depth * n);
+            top[1][i] = bottom[i] + depth * n;
+            up += n;
         }
         const glm::vec3 n_base = normal(base[0], base[1], base[2]);
+        const bool clockwise = glm::dot(n_base, up) < 0.0f;
+        w.adjacency.insert(w.adjacency.end(), {neighbours[t], neighbours[t + 1], neighbours[t + 2], clockwise ? 1u : 0u});
+        const bool open = std::any_of(neighbours.begin() + std::ptrdiff_t(t), neighbours.begin() + std::ptrdiff_t(t + 3),
+                                      [](std::uint32_t n) { return n == kNoNeighbour; });
+        const bool bottom_turned = turned(normal(bottom[0], bottom[1], bottom[2]), n_base);
         const auto prism = std::uint32_t(t / 3);
-        if (turned(normal(bottom[0], bottom[1], bottom[2]), n_base) || turned(normal(top[0], top[1], top[2]), n_base))
-            list.push_back(prism | 0x80000000u);
-        else if (std::any_of(neighbours.begin() + std::ptrdiff_t(t), neighbours.begin() + std::ptrdiff_t(t + 3),
-                             [](std::uint32_t n) { return n == kNoNeighbour; }))
-            list.push_back(prism);
+        for (int full = 0; full < 2; ++full) {
+            if (bottom_turned || turned(normal(top[full][0], top[full][1], top[full][2]), n_base))
+                w.listed[full].push_back(prism | 0x80000000u);
+            else if (open)
+                w.listed[full].push_back(prism);
+        }
     }
-    return list;
+    return w;
 }
 
 // The second pass's work, tile by tile: for each tile the first pass marked in `tiles` (tw x th),
@@ -555,18 +550,17 @@ void Renderer::ensure_walk_data()
         glGetNamedBufferSubData(o.base.indices.id(), 0, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)),
                                 indices.data());
         const EdgeAdjacency adjacency = edge_adjacency(vertices, indices);
-        o.adjacency = gl::immutable_buffer(walk_adjacency(vertices, indices, adjacency.neighbours, o.transform));
         o.open_shell = adjacency.open_edges > 0;
         o.tears = !o.open_shell && adjacency.seam_edges > 0;
         o.seamless = adjacency.seam_edges == 0;
         const std::vector<glm::vec4> corners =
             make_shell_corners(vertices, indices, *o.height_field, o.transform, o.depth, o.midlevel);
         o.corners = gl::immutable_buffer(corners);
+        const WalkTriangles triangles = walk_triangles(vertices, indices, corners, adjacency.neighbours, o.transform, o.depth);
+        o.adjacency = gl::immutable_buffer(triangles.adjacency);
         for (int full = 0; full < 2; ++full) {
-            const std::vector<std::uint32_t> list =
-                shell_list(vertices, indices, corners, adjacency.neighbours, o.transform, o.depth, full == 1);
-            o.listed[full] = gl::immutable_buffer(list);
-            o.listed_count[full] = GLsizei(list.size());
+            o.listed[full] = gl::immutable_buffer(triangles.listed[full]);
+            o.listed_count[full] = GLsizei(triangles.listed[full].size());
         }
         if (o.tears) {
             o.bottoms.resize(vertices.size());

@@ -121,7 +121,7 @@ private:
         // The prism's views of its data as buffer textures (shared.h, PR_TEX_VERTICES..CORNERS):
         // vertices and indices on the first prism draw (ensure_prism_data), the walk's with it.
         gl::Texture vertex_texels, index_texels, adjacency_texels, corner_texels;
-        // The prisms whose faces other than the caps the walk draws (shell_list: folded ones,
+        // The prisms whose faces other than the caps the walk draws (walk_triangles: folded ones,
         // bit 31 set, and those with an open edge), with the tight tops and with full ones (r32ui
         // buffer textures, PR_TEX_PRISM_LIST).
         gl::Buffer listed[2];
