@@ -20,6 +20,7 @@
 #include <condition_variable>
 #include <limits>
 #include <mutex>
+#include <stdexcept>
 #include <system_error>
 #include <thread>
 
@@ -76,6 +77,24 @@ float cone_steps_to_ratio(int k, ConeFormat format)
     float r = float(exact);
     if (double(r) > exact) r = std::nextafter(r, 0.0f);
     return r;
+}
+
+std::vector<float> ratios_for_bilinear(const std::vector<float>& ratios, int width, int height)
+{
+    if (width <= 0 || height <= 0 || ratios.size() != std::size_t(width) * std::size_t(height))
+        throw std::invalid_argument("ratios_for_bilinear: size mismatch");
+    const std::size_t w = std::size_t(width), h = std::size_t(height);
+    // Separable: the minimum over 3 texels along x (wrapping), then along y.
+    std::vector<float> rows(ratios.size()), out(ratios.size());
+    for (std::size_t y = 0; y < h; ++y)
+        for (std::size_t x = 0; x < w; ++x) {
+            const float* row = &ratios[y * w];
+            rows[y * w + x] = std::min({row[(x + w - 1) % w], row[x], row[(x + 1) % w]});
+        }
+    for (std::size_t y = 0; y < h; ++y)
+        for (std::size_t x = 0; x < w; ++x)
+            out[y * w + x] = std::min({rows[((y + h - 1) % h) * w + x], rows[y * w + x], rows[((y + 1) % h) * w + x]});
+    return out;
 }
 
 MaxPyramid build_max_pyramid(const HeightField& field)

@@ -73,6 +73,14 @@ int cone_ratio_steps(double c, ConeFormat format);
 // k / steps as the largest float not above the exact quotient.
 float cone_steps_to_ratio(int k, ConeFormat format);
 
+// The ratios a marcher samples with bilinear filtering: each texel's ratio narrowed to the
+// smallest in its 3x3 neighbourhood (wrapping), so that the filtered ratio anywhere in a bilinear
+// patch is no wider than the narrowest of the patch's four corners. A map's ratio holds at its
+// texel centre; interpolated between a low texel beside a wall (narrow) and the wall's top (wide),
+// it let grazing rays jump over the corners of boxes (docs/cone-maps.md, "The marchers").
+// `ratios` is row-major, width x height.
+std::vector<float> ratios_for_bilinear(const std::vector<float>& ratios, int width, int height);
+
 // A quadtree of maxima over the height texels: level 0 is the texels, level l+1 node (i, j) is the
 // maximum of level l nodes (2i..2i+1, 2j..2j+1) that exist; the last level is 1x1. Node (i, j) of
 // level l covers texels [i*2^l, min((i+1)*2^l, n)) on each axis.

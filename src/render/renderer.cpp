@@ -57,16 +57,20 @@ gl::Texture make_color_texture(const RgbaImage& img)
 // Cone map: R = height, G = sqrt(cone ratio), level 0 only (cone ratios of a coarser level would
 // mean nothing), bilinear, repeat. RG16 keeps the 16-bit heights and the rounded-down ratios exact.
 // R = height, G = the map's ratio, and for a relaxed map B = the conservative cone's ratio of the
-// same heights (shaders/march/cone.glsl steps rising rays with it).
+// same heights (shaders/march/cone.glsl steps rising rays with it). The ratios are narrowed for
+// bilinear filtering (ratios_for_bilinear: each the smallest of its 3x3 neighbourhood).
 gl::Texture make_cone_texture(const ConeMap& map, const ConeMap* conservative = nullptr)
 {
     const std::size_t n = map.heights.size();
     const std::size_t channels = conservative ? 3 : 2;
+    const std::vector<float> ratios = ratios_for_bilinear(map.ratios, map.width, map.height);
+    const std::vector<float> narrow =
+        conservative ? ratios_for_bilinear(conservative->ratios, map.width, map.height) : std::vector<float>{};
     std::vector<float> texels(n * channels);
     for (std::size_t i = 0; i < n; ++i) {
         texels[channels * i] = map.heights[i];
-        texels[channels * i + 1] = map.ratios[i];
-        if (conservative) texels[channels * i + 2] = conservative->ratios[i];
+        texels[channels * i + 1] = ratios[i];
+        if (conservative) texels[channels * i + 2] = narrow[i];
     }
     gl::Texture t = gl::Texture::create(GL_TEXTURE_2D);
     glTextureStorage2D(t.id(), 1, conservative ? GL_RGB16 : GL_RG16, map.width, map.height);

@@ -162,9 +162,14 @@ TEST(Prism, OutlineMatchesTheReferenceOnCurvedMeshes)
                 const std::string what = std::string(name) + " elevation " + std::to_string(elevation) +
                                          " marcher " + marcher_name(marcher);
                 EXPECT_GT(prism.iou, 0.98) << what;
-                // The fast marchers keep relief's outline (a relaxed step through a bump tip would not).
+                // The fast marchers keep relief's outline (a relaxed step through a bump tip would
+                // not). A bump tip thinner along the ray than a linear step is caught or not by
+                // where the samples fall, and the cone marchers' minimum steps start elsewhere than
+                // relief's: a few pixels either way (torus at 75 degrees: relaxed-cone 40, relief 36,
+                // since the renderer narrows the ratios for filtering; the nine 512x512 views of
+                // scripts/accuracy.sh: within 3 of relief either way).
                 if (marcher == Marcher::Relief) relief_wrong = prism.silhouette_wrong_px;
-                EXPECT_LE(prism.silhouette_wrong_px, relief_wrong + 2 + relief_wrong / 20) << what;
+                EXPECT_LE(prism.silhouette_wrong_px, relief_wrong + 2 + relief_wrong / 10) << what;
                 ASSERT_TRUE(prism.depth_error_median.has_value());
                 EXPECT_LT(*prism.depth_error_median, 0.02 * depth) << what;
                 // The mean too (the target): it counts the pixels where the reference sees
@@ -186,6 +191,32 @@ TEST(Prism, OutlineMatchesTheReferenceOnCurvedMeshes)
             }
             const CompareMetrics pom = compare_frames(capture(r, c, Technique::Pom), ref);
             EXPECT_LT(pom.iou, 0.95) << name << " elevation " << elevation;
+        }
+    }
+}
+
+// Sharp-edged boxes: the cone marchers keep the box corners on the outline that relief keeps.
+// A cone map's ratio holds at its texel centre; filtered bilinearly between a texel beside a box
+// (narrow) and the box's top (wide), it let grazing rays jump over the boxes' corners: 2-3 times
+// relief's missing outline pixels here (18-38 against 8-14, IoU 0.002 lower) until the renderer
+// narrowed the ratios for filtering (maps::ratios_for_bilinear).
+TEST(Prism, ConeMarchersKeepBoxCornersOnTheOutline)
+{
+    prtest::context();
+    Renderer r(192, 192);
+    r.set_cache_dir(prtest::cache_dir());
+    Scene scene = mesh_scene("torus.obj", std::make_shared<HeightField>(load_height("builtin:boxes@256")), 0.04f);
+    r.upload(scene);
+    for (float elevation : {0.0f, 35.0f}) {
+        const Camera c = framed(scene, elevation);
+        r.prepare_reference(scene, c, ReferenceOptions{});
+        const FrameCapture ref = capture(r, c, Technique::Reference);
+        const CompareMetrics relief = compare_frames(capture(r, c, Technique::Prism, Marcher::Relief), ref);
+        for (Marcher marcher : {Marcher::Cone, Marcher::RelaxedCone}) {
+            const CompareMetrics m = compare_frames(capture(r, c, Technique::Prism, marcher), ref);
+            const std::string what = "elevation " + std::to_string(elevation) + " marcher " + marcher_name(marcher);
+            EXPECT_LE(m.only_in_reference, relief.only_in_reference + 3 + relief.only_in_reference / 5) << what;
+            EXPECT_GE(m.iou, relief.iou - 0.001) << what;
         }
     }
 }

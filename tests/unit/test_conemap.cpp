@@ -6,12 +6,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <functional>
 #include <limits>
 #include <random>
+#include <stdexcept>
 
 using namespace pr;
 namespace fs = std::filesystem;
@@ -329,6 +331,41 @@ TEST(ConeMap, RelaxedIsWiderSomewhereOnBoxes)
     double sr = 0, sc = 0;
     for (std::size_t i = 0; i < cone.ratios.size(); ++i) sr += relaxed.ratios[i], sc += cone.ratios[i];
     EXPECT_GT(sr, sc * 1.05);
+}
+
+// What the renderer uploads: bilinear filtering of the narrowed ratios, anywhere in a patch
+// (wrapping at the borders), is never wider than the narrowest of the patch's four corners in the
+// map, and each texel only narrows.
+TEST(ConeMap, RatiosForBilinearAreNoWiderThanAPatchsCorners)
+{
+    const int w = 13, h = 9;
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<float> ratios(std::size_t(w) * h);
+    for (float& r : ratios) r = u(rng) < 0.2f ? 1.0f : u(rng); // wide texels among narrow ones
+    const std::vector<float> narrow = ratios_for_bilinear(ratios, w, h);
+    ASSERT_EQ(narrow.size(), ratios.size());
+    auto at = [w, h](const std::vector<float>& v, int x, int y) {
+        return v[std::size_t((y % h + h) % h) * std::size_t(w) + std::size_t((x % w + w) % w)];
+    };
+    for (std::size_t i = 0; i < ratios.size(); ++i) EXPECT_LE(narrow[i], ratios[i]);
+    int wider_than_corners_unnarrowed = 0;
+    for (int y = -1; y < h; ++y)
+        for (int x = -1; x < w; ++x) {
+            const float corners = std::min({at(ratios, x, y), at(ratios, x + 1, y), at(ratios, x, y + 1), at(ratios, x + 1, y + 1)});
+            for (float fy : {0.0f, 0.25f, 0.5f, 0.9f})
+                for (float fx : {0.0f, 0.3f, 0.5f, 1.0f}) {
+                    auto bilinear = [&](const std::vector<float>& v) {
+                        const float a = at(v, x, y) + (at(v, x + 1, y) - at(v, x, y)) * fx;
+                        const float b = at(v, x, y + 1) + (at(v, x + 1, y + 1) - at(v, x, y + 1)) * fx;
+                        return a + (b - a) * fy;
+                    };
+                    EXPECT_LE(bilinear(narrow), corners + 1e-6f) << x << "," << y << " at " << fx << "," << fy;
+                    wider_than_corners_unnarrowed += bilinear(ratios) > corners + 1e-6f;
+                }
+        }
+    EXPECT_GT(wider_than_corners_unnarrowed, 100); // the map itself is (the test can fail)
+    EXPECT_THROW(ratios_for_bilinear(ratios, w + 1, h), std::invalid_argument);
 }
 
 TEST(ConeMap, ThreadCountDoesNotChangeTheMap)
