@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Times `prismrelief conemap` on every built-in height map and on pathological ones, at 512² and
 # 1024², cone and relaxed, CPU (all cores) and GPU (compute shader; llvmpipe unless --gl-backend
-# egl finds a GPU). Prints a Markdown table for docs/benchmarks.md. Nothing is cached.
+# egl finds a GPU), and the GPU's dispatches alone. Prints a Markdown table for docs/cone-maps.md.
+# Nothing is cached.
 #
 #   scripts/conemap_times.sh [build/src/prismrelief] [sizes...]      e.g. ... build/src/prismrelief 512
 set -euo pipefail
@@ -37,8 +38,8 @@ for kind in cone relaxed; do
     "$exe" conemap --height builtin:bumps@16 --kind "$kind" --backend gpu --no-cache --out "$work/o.png" >/dev/null
 done
 
-echo "| height map | size | cone cpu s | relaxed cpu s | cone gpu s | relaxed gpu s |"
-echo "|---|---:|---:|---:|---:|---:|"
+echo "| height map | size | cone cpu s | relaxed cpu s | cone gpu s | relaxed gpu s | cone gpu search s | relaxed gpu search s |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|"
 for n in "${sizes[@]}"; do
     for map in bumps bricks noise pyramids boxes const:0.5 spike step ramp white; do
         case $map in
@@ -46,15 +47,19 @@ for n in "${sizes[@]}"; do
             *) height=builtin:$map@$n; label=$map;;
         esac
         row="| $label | $n"
+        search=""
         for backend in cpu gpu; do
             for kind in cone relaxed; do
                 "$exe" conemap --height "$height" --kind "$kind" --backend "$backend" --no-cache \
                     --out "$work/o.png" --json "$work/o.json" >/dev/null
-                ms=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['ms'])" "$work/o.json")
-                row+=" | $(python3 -c "print(f'{$ms/1000:.2f}')")"
+                row+=" | $(python3 -c "import json,sys; print(f\"{json.load(open(sys.argv[1]))['ms'] / 1000:.2f}\")" "$work/o.json")"
+                # the GPU's dispatches alone, without the context, upload and compiling
+                if [ "$backend" = gpu ]; then
+                    search+=" | $(python3 -c "import json,sys; print(f\"{json.load(open(sys.argv[1]))['search_ms'] / 1000:.2f}\")" "$work/o.json")"
+                fi
             done
         done
         # columns were produced cpu-cone, cpu-relaxed, gpu-cone, gpu-relaxed: the header's order
-        echo "$row |"
+        echo "$row$search |"
     done
 done

@@ -55,7 +55,7 @@ CommandAction add_conemap_command(CLI::App& app)
     cmd->add_option("--cache-dir", s->cache_dir,
                     "Derived-map cache (default $XDG_CACHE_HOME/prismrelief, else ~/.cache/prismrelief)");
     cmd->add_flag("--no-cache", s->no_cache, "Neither read nor write the cache");
-    cmd->add_option("--json", s->json, "JSON report: size, kind, format, backend, ms, from_cache, ratio statistics");
+    cmd->add_option("--json", s->json, "JSON report: size, kind, format, backend, ms (search_ms: the GPU's dispatches alone), from_cache, ratio statistics");
     cmd->footer("Example:\n  prismrelief conemap --height builtin:bricks --kind relaxed --out out/bricks_relaxed.png");
 
     return [s]() {
@@ -75,6 +75,7 @@ CommandAction add_conemap_command(CLI::App& app)
         ProgressBar bar("conemap");
         options.progress = [&bar](double f) { bar(f); };
         std::string device = gpu ? "gpu" : "cpu";
+        double search_ms = -1.0; // the GPU's dispatches and read-back alone (below)
         const ConeBuilder build = [&](const HeightField& f, ConeKind k, const ConeBuildOptions& o) {
             if (!gpu) {
                 const unsigned n = o.threads > 0 ? unsigned(o.threads) : std::max(1u, std::thread::hardware_concurrency());
@@ -83,7 +84,7 @@ CommandAction add_conemap_command(CLI::App& app)
             }
             const std::unique_ptr<Context> context = create_headless_context(gl_backend);
             device = "gpu, " + context->description();
-            return build_cone_map_gpu(f, k, o);
+            return build_cone_map_gpu(f, k, o, &search_ms);
         };
         const auto start = std::chrono::steady_clock::now();
         ConeCacheResult result;
@@ -114,6 +115,9 @@ CommandAction add_conemap_command(CLI::App& app)
                                            {"from_cache", result.from_cache},
                                            {"cache_entry", s->no_cache ? std::string() : result.entry.string()},
                                            {"ms", ms},
+                                           // GPU only: the dispatches and read-back, without creating
+                                           // the context, uploading and compiling; null otherwise.
+                                           {"search_ms", search_ms >= 0.0 ? nlohmann::json(search_ms) : nlohmann::json()},
                                            {"ratio_min", lo},
                                            {"ratio_mean", mean},
                                            {"ratio_max", hi}};

@@ -26,7 +26,8 @@ constexpr double kChunkSeconds = 0.25;
 
 } // namespace
 
-ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBuildOptions& options)
+ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBuildOptions& options,
+                           double* search_ms)
 {
     const std::string subject = field.name.empty() ? "height map" : field.name; // for error lines
     const std::size_t n = std::size_t(std::max(field.width, 0)) * std::size_t(std::max(field.height, 0));
@@ -102,6 +103,7 @@ ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBu
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, children.id());
     }
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, steps.id());
+    const auto search_start = std::chrono::steady_clock::now();
     std::size_t chunk = kFirstChunkTexels;
     for (std::size_t first = 0; first < n;) {
         const std::size_t count = std::min(chunk, n - first);
@@ -121,6 +123,8 @@ ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBu
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     std::vector<std::uint32_t> k(n);
     glGetNamedBufferSubData(steps.id(), 0, GLsizeiptr(n * sizeof(std::uint32_t)), k.data());
+    if (search_ms)
+        *search_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - search_start).count();
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, 0);

@@ -9,6 +9,9 @@ namespace pr {
 // Splits the work into dispatches of a few thousand texels, each finished before the next, so a
 // software rasterizer (llvmpipe) never runs one long dispatch; options.progress is called
 // between them. options.threads is not used. Throws pr::Error("conemap", …) on GL failure.
-ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBuildOptions& options = {});
+// With `search_ms`, the time of the dispatches and the read-back alone, without uploading and
+// compiling (prismrelief conemap --json reports both).
+ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBuildOptions& options = {},
+                           double* search_ms = nullptr);
 
 } // namespace pr

@@ -7,7 +7,8 @@ pr_cli(conemap_cone EXIT 0 EXPECT_FILE c.png STDOUT "c.png: 64x64 cone rg16, bui
 pr_cli(conemap_relaxed_rg8 EXIT 0 EXPECT_FILE r.png STDOUT "r.png: 48x48 relaxed rg8"
        ARGS conemap --height builtin:boxes@48 --kind relaxed --format rg8 --threads 1 --out r.png --cache-dir cache)
 pr_cli(conemap_gpu EXIT 0 EXPECT_FILE g.png STDOUT "g.png: 48x48 cone rg16, built \\(gpu"
-       ARGS conemap --height builtin:noise@48 --backend gpu --out g.png --no-cache)
+       JSON g.json CHECKS "backend:STREQUAL:gpu|search_ms:GREATER:0|ms:GREATER:0"
+       ARGS conemap --height builtin:noise@48 --backend gpu --out g.png --no-cache --json g.json)
 # The cache: the first run of each pair builds (fresh work folder), the second reads it.
 pr_cli(conemap_cache_miss EXIT 0 EXPECT_FILE m.png STDOUT "m.png: 40x40 cone rg16, built"
        ARGS conemap --height builtin:pyramids@40 --out m.png --cache-dir ${PR_CLI_WORK}/conemap_cache/c)
