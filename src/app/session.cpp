@@ -11,6 +11,7 @@ Session open_session(const SceneOptions& options, const ContextFactory& make_con
     Session s;
     s.spec = make_scene_spec(options);
     const Backend backend = parse_backend(options.backend);
+    if (!make_context) preload_backend(backend); // loads Mesa while the scene is read
     s.scene = load_scene(s.spec);
     s.context = make_context ? make_context(s.spec) : create_headless_context(backend);
     s.renderer = std::make_unique<Renderer>(s.spec.width, s.spec.height);

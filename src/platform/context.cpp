@@ -47,6 +47,11 @@ std::unique_ptr<Context> create_headless_context(Backend backend)
     return backend == Backend::OSMesa ? create_osmesa_context() : create_egl_context();
 }
 
+void preload_backend(Backend backend)
+{
+    if (backend == Backend::OSMesa) preload_osmesa();
+}
+
 #ifndef PRISMRELIEF_HAVE_EGL
 std::unique_ptr<Context> create_egl_context()
 {

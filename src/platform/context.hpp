@@ -41,8 +41,15 @@ private:
 // library is missing or no 4.5 core context can be created.
 std::unique_ptr<Context> create_headless_context(Backend backend);
 
+// Starts loading the backend's library on a thread of its own, so that a command can read its
+// mesh and maps meanwhile; create_headless_context() then waits for it. Loading libOSMesa (Mesa
+// and LLVM) takes about 75 ms on the 2-core machine, most of what a context costs. Errors are
+// reported by create_headless_context(), not here. No-op for EGL.
+void preload_backend(Backend backend);
+
 // Backend factories (defined in their own files).
 std::unique_ptr<Context> create_osmesa_context();
+void preload_osmesa();
 std::unique_ptr<Context> create_egl_context(); // throws when built without EGL headers
 
 } // namespace pr

@@ -9,6 +9,8 @@
 #include <dlfcn.h>
 
 #include <cstdlib>
+#include <future>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -21,11 +23,58 @@ struct OSMesaApi {
     GLboolean (*make_current)(OSMesaContext, void*, GLenum, GLsizei, GLsizei) = nullptr;
     void (*destroy)(OSMesaContext) = nullptr;
     OSMESAproc (*get_proc)(const char*) = nullptr;
+    std::string error; // why it could not be loaded (then nothing above is set)
 };
 
-OSMesaApi& api()
+// Opens libOSMesa and looks up its entry points; never throws (the error is kept for api()).
+// Loading it is most of the cost of a context (Mesa and LLVM: about 75 ms on the 2-core machine).
+OSMesaApi load_osmesa()
 {
-    static OSMesaApi a;
+    OSMesaApi a;
+    // PRISMRELIEF_OSMESA_LIBRARY names another build of libOSMesa (a newer Mesa, say).
+    if (const char* lib = std::getenv("PRISMRELIEF_OSMESA_LIBRARY"); lib && *lib) {
+        a.lib = dlopen(lib, RTLD_NOW | RTLD_LOCAL);
+        if (!a.lib) return {.error = std::string("osmesa: cannot load ") + lib};
+    }
+    for (const char* name : {"libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so"}) {
+        if (a.lib) break;
+        a.lib = dlopen(name, RTLD_NOW | RTLD_LOCAL);
+    }
+    if (!a.lib) return {.error = "osmesa: libOSMesa is not installed (run scripts/setup.sh)"};
+    a.create_attribs = reinterpret_cast<decltype(a.create_attribs)>(dlsym(a.lib, "OSMesaCreateContextAttribs"));
+    a.make_current = reinterpret_cast<decltype(a.make_current)>(dlsym(a.lib, "OSMesaMakeCurrent"));
+    a.destroy = reinterpret_cast<decltype(a.destroy)>(dlsym(a.lib, "OSMesaDestroyContext"));
+    a.get_proc = reinterpret_cast<decltype(a.get_proc)>(dlsym(a.lib, "OSMesaGetProcAddress"));
+    if (!a.create_attribs || !a.make_current || !a.destroy || !a.get_proc)
+        return {.error = "osmesa: libOSMesa lacks OSMesaCreateContextAttribs (Mesa too old)"};
+    return a;
+}
+
+// The library is loaded once per process, on a thread of its own when preload_backend() asked
+// for it early (the caller reads its mesh and height map meanwhile), else on first use.
+std::shared_future<OSMesaApi>& loading()
+{
+    static std::shared_future<OSMesaApi> f;
+    return f;
+}
+
+std::mutex& loading_mutex()
+{
+    static std::mutex m;
+    return m;
+}
+
+void start_loading(std::launch how)
+{
+    const std::lock_guard<std::mutex> lock(loading_mutex());
+    if (!loading().valid()) loading() = std::async(how, load_osmesa).share();
+}
+
+const OSMesaApi& api()
+{
+    start_loading(std::launch::deferred); // runs here, unless a preload already runs or ran
+    const OSMesaApi& a = loading().get();
+    if (!a.error.empty()) throw Error("--backend", a.error);
     return a;
 }
 
@@ -38,27 +87,7 @@ class OSMesaContextImpl final : public Context {
 public:
     OSMesaContextImpl()
     {
-        OSMesaApi& a = api();
-        if (!a.lib) {
-            // PRISMRELIEF_OSMESA_LIBRARY names another build of libOSMesa (a newer Mesa, say).
-            if (const char* lib = std::getenv("PRISMRELIEF_OSMESA_LIBRARY"); lib && *lib) {
-                a.lib = dlopen(lib, RTLD_NOW | RTLD_LOCAL);
-                if (!a.lib) throw Error("--backend", std::string("osmesa: cannot load ") + lib);
-            }
-            for (const char* name : {"libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so"}) {
-                if (a.lib) break;
-                a.lib = dlopen(name, RTLD_NOW | RTLD_LOCAL);
-            }
-            if (!a.lib) throw Error("--backend", "osmesa: libOSMesa is not installed (run scripts/setup.sh)");
-            a.create_attribs = reinterpret_cast<decltype(a.create_attribs)>(dlsym(a.lib, "OSMesaCreateContextAttribs"));
-            a.make_current = reinterpret_cast<decltype(a.make_current)>(dlsym(a.lib, "OSMesaMakeCurrent"));
-            a.destroy = reinterpret_cast<decltype(a.destroy)>(dlsym(a.lib, "OSMesaDestroyContext"));
-            a.get_proc = reinterpret_cast<decltype(a.get_proc)>(dlsym(a.lib, "OSMesaGetProcAddress"));
-            if (!a.create_attribs || !a.make_current || !a.destroy || !a.get_proc) {
-                a.lib = nullptr;
-                throw Error("--backend", "osmesa: libOSMesa lacks OSMesaCreateContextAttribs (Mesa too old)");
-            }
-        }
+        const OSMesaApi& a = api();
         const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24,
                                OSMESA_PROFILE, OSMESA_CORE_PROFILE,
                                OSMESA_CONTEXT_MAJOR_VERSION, 4, OSMESA_CONTEXT_MINOR_VERSION, 5, 0};
@@ -89,6 +118,11 @@ private:
 std::unique_ptr<Context> create_osmesa_context()
 {
     return std::make_unique<OSMesaContextImpl>();
+}
+
+void preload_osmesa()
+{
+    start_loading(std::launch::async);
 }
 
 } // namespace pr

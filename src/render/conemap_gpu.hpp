@@ -10,8 +10,10 @@ namespace pr {
 // software rasterizer (llvmpipe) never runs one long dispatch; options.progress is called
 // between them. options.threads is not used. Throws pr::Error("conemap", …) on GL failure.
 // With `search_ms`, the time of the dispatches and the read-back alone, without uploading and
-// compiling (prismrelief conemap --json reports both).
+// compiling (prismrelief conemap --json reports both). With `make_current`, the context is made
+// by that call, after the CPU's share of the work (the max pyramid) and before the first GL call:
+// `prismrelief conemap` loads Mesa on another thread meanwhile (preload_backend).
 ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBuildOptions& options = {},
-                           double* search_ms = nullptr);
+                           double* search_ms = nullptr, const std::function<void()>& make_current = {});
 
 } // namespace pr
