@@ -1,7 +1,7 @@
 #pragma once
 // Cone-map generation on the GPU (shaders/conemap.comp): the CPU generator's algorithm
 // (maps/conemap.cpp) in a compute shader, one invocation per texel, so the maps are the same (see
-// docs/cone-maps.md for the tolerance). Needs a current OpenGL 4.5 context.
+// docs/cone-maps.md for the tolerance). Needs a current OpenGL 4.5 context, or `make_current`.
 #include "maps/conemap.hpp"
 
 namespace pr {
