@@ -1,6 +1,12 @@
 #include "app/cli.hpp"
+#include "platform/context.hpp"
 
 int main(int argc, char** argv)
 {
-    return pr::run_cli(argc, argv);
+    const int status = pr::run_cli(argc, argv);
+    // A command that failed before it made its context may have left Mesa loading on another
+    // thread (preload_backend): exiting under it would run the destructors that the library's
+    // static constructors are registering (LLVM's, found by AddressSanitizer). Wait for it first.
+    pr::finish_preload();
+    return status;
 }

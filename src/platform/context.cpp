@@ -52,6 +52,11 @@ void preload_backend(Backend backend)
     if (backend == Backend::OSMesa) preload_osmesa();
 }
 
+void finish_preload()
+{
+    finish_osmesa_preload();
+}
+
 #ifndef PRISMRELIEF_HAVE_EGL
 std::unique_ptr<Context> create_egl_context()
 {

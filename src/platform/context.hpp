@@ -46,10 +46,14 @@ std::unique_ptr<Context> create_headless_context(Backend backend);
 // and LLVM) takes about 75 ms on the 2-core machine, most of what a context costs. Errors are
 // reported by create_headless_context(), not here. No-op for EGL.
 void preload_backend(Backend backend);
+// Waits until a preload has finished (if one was started). The process must not exit while the
+// library loads: main() calls it before returning.
+void finish_preload();
 
 // Backend factories (defined in their own files).
 std::unique_ptr<Context> create_osmesa_context();
 void preload_osmesa();
+void finish_osmesa_preload();
 std::unique_ptr<Context> create_egl_context(); // throws when built without EGL headers
 
 } // namespace pr

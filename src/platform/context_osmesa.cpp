@@ -125,4 +125,10 @@ void preload_osmesa()
     start_loading(std::launch::async);
 }
 
+void finish_osmesa_preload()
+{
+    const std::lock_guard<std::mutex> lock(loading_mutex());
+    if (loading().valid()) loading().wait(); // (a deferred load has run: api() made it to get it)
+}
+
 } // namespace pr
