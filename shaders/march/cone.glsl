@@ -12,8 +12,10 @@
 //
 // Every step is at least the linear step t_end / steps (contract: equal --steps means equal
 // step length), so cone stepping never does more work than the linear search and converges
-// where cones shrink to nothing near the surface; between texel centres the bilinear cone is
-// an approximation, which the minimum step and the refinement bound to a fraction of a step.
+// where cones shrink to nothing near the surface. A map's ratio holds at its texel centre; the
+// renderer uploads each ratio narrowed to the smallest of its 3x3 neighbourhood
+// (maps::ratios_for_bilinear), so the filtered ratio between texel centres is no wider than the
+// narrowest of the four around it (unnarrowed, rays jumped over the corners of boxes).
 #include "march/relief.glsl"
 
 #ifdef PR_HEIGHT_FROM_CONE // (common/height.glsl declares s_cone then)
