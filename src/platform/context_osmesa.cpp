@@ -12,6 +12,7 @@
 #include <future>
 #include <mutex>
 #include <string>
+#include <system_error>
 #include <vector>
 
 namespace pr {
@@ -122,7 +123,11 @@ std::unique_ptr<Context> create_osmesa_context()
 
 void preload_osmesa()
 {
-    start_loading(std::launch::async);
+    try {
+        start_loading(std::launch::async);
+    } catch (const std::system_error&) {
+        // No thread to spare: the library loads on first use instead.
+    }
 }
 
 void finish_osmesa_preload()
