@@ -118,6 +118,16 @@ std::string deserialize(const std::vector<std::uint8_t>& bytes, const HeightFiel
     return {};
 }
 
+std::filesystem::path entry_for_key(const HeightField& field, ConeKind kind, ConeFormat format,
+                                    const std::filesystem::path& cache_dir, std::uint64_t key)
+{
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(key));
+    return cache_dir / "cone" /
+           (cone_kind_name(kind) + "-" + cone_format_name(format) + "-" + std::to_string(field.width) + "x" +
+            std::to_string(field.height) + "-" + hex + ".bin");
+}
+
 } // namespace
 
 std::filesystem::path default_cache_dir()
@@ -132,19 +142,15 @@ std::filesystem::path default_cache_dir()
 std::filesystem::path cone_cache_entry(const HeightField& field, ConeKind kind, ConeFormat format,
                                        const std::filesystem::path& cache_dir)
 {
-    char hex[17];
-    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(cache_key(field, kind, format)));
-    return cache_dir / "cone" /
-           (cone_kind_name(kind) + "-" + cone_format_name(format) + "-" + std::to_string(field.width) + "x" +
-            std::to_string(field.height) + "-" + hex + ".bin");
+    return entry_for_key(field, kind, format, cache_dir, cache_key(field, kind, format));
 }
 
 ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const std::filesystem::path& cache_dir,
                                 const ConeBuildOptions& options, const ConeBuilder& build)
 {
     ConeCacheResult result;
-    const std::uint64_t key = cache_key(field, kind, options.format);
-    result.entry = cone_cache_entry(field, kind, options.format, cache_dir);
+    const std::uint64_t key = cache_key(field, kind, options.format); // hashes every texel: once
+    result.entry = entry_for_key(field, kind, options.format, cache_dir, key);
     std::error_code ec;
     if (std::filesystem::is_regular_file(result.entry, ec)) {
         std::ifstream in(result.entry, std::ios::binary);
