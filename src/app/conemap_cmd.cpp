@@ -70,17 +70,12 @@ CommandAction add_conemap_command(CLI::App& app)
         options.threads = s->threads;
         check_output_folder(s->out);
         if (!s->json.empty()) check_output_folder(s->json);
-        // A GPU build that will happen loads Mesa on another thread while the height map is read
-        // and the max pyramid built (about 75 ms of the GPU's fixed cost on the 2-core machine);
-        // not when the map will come from the cache (the process would wait for it at exit).
+        // A GPU build loads Mesa on another thread (about 75 ms of its fixed cost on the 2-core
+        // machine) while the CPU does its share: with --no-cache, from before the height map is
+        // read; else once the cache has missed (build, below), while the max pyramid is built. Not
+        // before a cache hit: the process would only wait for it at exit.
         if (gpu && s->no_cache) preload_backend(gl_backend);
         const HeightField field = load_height(s->height);
-        const std::filesystem::path cache_dir = s->no_cache          ? std::filesystem::path()
-                                                : s->cache_dir.empty() ? default_cache_dir()
-                                                                       : std::filesystem::path(s->cache_dir);
-        std::error_code ec;
-        if (gpu && !s->no_cache && !std::filesystem::exists(cone_cache_entry(field, kind, options.format, cache_dir), ec))
-            preload_backend(gl_backend);
 
         ProgressBar bar("conemap");
         options.progress = [&bar](double f) { bar(f); };
@@ -92,6 +87,7 @@ CommandAction add_conemap_command(CLI::App& app)
                 device = "cpu, " + std::to_string(n) + (n == 1 ? " thread" : " threads");
                 return build_cone_map_cpu(f, k, o);
             }
+            preload_backend(gl_backend); // (started already with --no-cache)
             std::unique_ptr<Context> context;
             return build_cone_map_gpu(f, k, o, &search_ms, [&] {
                 context = create_headless_context(gl_backend);
@@ -103,7 +99,8 @@ CommandAction add_conemap_command(CLI::App& app)
         if (s->no_cache) {
             result.map = build(field, kind, options);
         } else {
-            result = cached_cone_map(field, kind, cache_dir, options, build);
+            const std::filesystem::path dir = s->cache_dir.empty() ? default_cache_dir() : std::filesystem::path(s->cache_dir);
+            result = cached_cone_map(field, kind, dir, options, build);
         }
         const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         bar.clear();
