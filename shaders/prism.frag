@@ -154,7 +154,7 @@ float refine_segment(Segment sg, MarchRay ray)
 #if PR_MARCHER == PR_MARCH_LINEAR
     return interpolate_bracket(sg.br);
 #elif PR_MARCHER == PR_MARCH_CONE || PR_MARCHER == PR_MARCH_RELAXED_CONE
-    return refine_binary_secant(ray, sg.br, cone_refine_steps(ray, sg.br, u_march.y), g);
+    return refine_cone(ray, sg.br, g);
 #elif PR_MARCHER == PR_MARCH_MAX_MIP
     return sg.br.t_below; // exact: no refinement
 #else

@@ -69,7 +69,7 @@ void main()
 #elif PR_TECHNIQUE == PR_TECH_RELIEF
         if (b.hit) s_t = refine_binary(ray, b, u_march.y, g);
 #elif PR_TECHNIQUE == PR_TECH_CONE || PR_TECHNIQUE == PR_TECH_RELAXED_CONE
-        if (b.hit) s_t = refine_binary_secant(ray, b, cone_refine_steps(ray, b, u_march.y), g);
+        if (b.hit) s_t = refine_cone(ray, b, g);
 #endif
         uv += s_t * slope;
         t_hit = s_t / descent;

@@ -28,12 +28,3 @@ float refine_binary(MarchRay r, Bracket b, int steps, UvGrad g)
     Bracket h = halve_bracket(r, b, steps, g);
     return 0.5 * (h.t_above + h.t_below);
 }
-
-// The same halvings, then one secant (the POM interpolation, interpolate_bracket) inside the last
-// bracket instead of its midpoint: no extra sample. On a smooth surface the secant's error
-// shrinks with the square of the bracket, so fewer halvings reach the same accuracy (cone
-// marchers use it).
-float refine_binary_secant(MarchRay r, Bracket b, int steps, UvGrad g)
-{
-    return interpolate_bracket(halve_bracket(r, b, steps, g));
-}
