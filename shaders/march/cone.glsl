@@ -7,17 +7,11 @@
 // (a rising ray whose slope is steeper than the cone's never leaves it: it goes to the end).
 // With a conservative map the cone is empty, so the ray never passes the surface; with a relaxed
 // map it crosses the surface at most once inside the cone, so the first sample below the
-// surface brackets the first crossing. Either way refine_cone() finishes (false position,
-// safeguarded by bisection, to relief's precision).
+// surface brackets the first crossing. Either way refine_cone() finishes.
 //
 // Every step is at least the linear step t_end / steps (contract: equal --steps means equal
 // step length), so cone stepping never does more work than the linear search and converges
-// where cones shrink to nothing near the surface; except for up to PR_CONE_LANDINGS "landings"
-// per march: where the cone allows less than a linear step, the ray is closing on the surface,
-// and the secant through the last two samples predicts where it gets there, the next sample is
-// taken just past that point instead of a linear step on (shorter, so nothing is stepped over
-// that the linear step would not). On a surface that is straight there the sample is just under
-// it, and the secant between it and the sample before is the hit: no refinement at all. A map's ratio holds at its texel centre; the
+// where cones shrink to nothing near the surface. A map's ratio holds at its texel centre; the
 // renderer uploads each ratio narrowed to the smallest of its 3x3 neighbourhood
 // (maps::ratios_for_bilinear), so the filtered ratio between texel centres is no wider than the
 // narrowest of the four around it (unnarrowed, rays jumped over the corners of boxes).
@@ -48,26 +42,19 @@ vec3 cone_at(vec2 uv)
 #endif
 }
 
-
 // The march's precision, as relief's: a linear step over 2^(--refine + 1) (half its last bracket).
 float cone_tolerance(MarchRay r)
 {
     return r.t_end / float(max(r.steps, 1)) / exp2(float(u_march.y + 1));
 }
 
-#ifndef PR_CONE_LANDINGS
-#define PR_CONE_LANDINGS 2
-#endif
-
 // From a given sample hc0 = cone_at(origin), or with `pending` from one taken as the loop's first;
 // `below`, `decide`: as march_linear_from() (march/linear.glsl), whose prism-walk form this is.
 // Under the surface the cones (which describe the heights from above) do not hold: the march
-// takes linear steps there. Returns the last sample taken in `hc_end`. A landing that finds the
-// hit returns it as a bracket of width 0.
+// takes linear steps there. Returns the last sample taken in `hc_end`.
 Bracket march_cone_from(MarchRay r, vec3 hc0, bool pending, bool decide, inout bool below, out vec3 hc_end)
 {
     float min_dt = r.t_end / float(max(r.steps, 1));
-    float tol = cone_tolerance(r);
     float run = length(r.dir.xy); // UV units per unit t
     vec3 hc = hc0;
     hc_end = hc0;
@@ -77,25 +64,12 @@ Bracket march_cone_from(MarchRay r, vec3 hc0, bool pending, bool decide, inout b
     float d = pending ? 0.0 : side * (r.origin.z - hc.x);
     if (!pending && d <= PR_HIT_EPSILON) return Bracket(true, 0.0, 0.0, 0.0, max(-d, 0.0));
     float t = 0.0;
-    float t_prev = -1.0, d_prev = 0.0; // the sample before (t, d); t_prev < 0: none
-    int landings = 0;
-    // Each iteration but the pending one and the landings advances at least min_dt, so
-    // steps + PR_CONE_LANDINGS + 1 of them reach t_end; one more for rounding.
-    for (int i = 0; i <= r.steps + PR_CONE_LANDINGS + 1; ++i) {
+    // Each iteration advances at least min_dt, so at most `steps` of them, after the pending one.
+    for (int i = 0; i <= r.steps; ++i) {
         float c = below ? 0.0 : (rising ? hc.z : hc.y);
         float denom = run - c * r.dir.z;
         float dt = denom > 1e-12 ? c * d / denom : (c > 0.0 ? r.t_end : 0.0); // c = 0: no cone
-        float step = max(dt, min_dt);
-        bool landing = false;
-        if (dt < min_dt && t_prev >= 0.0 && landings < PR_CONE_LANDINGS) {
-            float closing = (d_prev - d) / (t - t_prev); // height gained on the surface per unit t
-            if (closing > 0.0 && d < closing * min_dt) {
-                step = max(min(d / closing + tol, min_dt), dt);
-                landing = true;
-                ++landings;
-            }
-        }
-        float t_next = pending ? 0.0 : min(t + step, r.t_end);
+        float t_next = pending ? 0.0 : min(t + max(dt, min_dt), r.t_end);
         vec3 p = r.origin + t_next * r.dir;
         vec3 hc_next = cone_at(p.xy);
         hc_end = hc_next;
@@ -106,15 +80,7 @@ Bracket march_cone_from(MarchRay r, vec3 hc0, bool pending, bool decide, inout b
         }
 #endif
         float d_next = side * (p.z - hc_next.x);
-        if (landing && d_next < 0.0) {
-            // Under the surface just past the predicted point: where the secant between the
-            // two samples meets the surface within the precision of it, that is the hit.
-            float t_hit = mix(t, t_next, d / (d - d_next));
-            if (t_next - t_hit <= 2.0 * tol) return Bracket(true, t_hit, t_hit, 0.0, 0.0);
-        }
         if (d_next <= PR_HIT_EPSILON) return Bracket(true, t, t_next, d, max(-d_next, 0.0));
-        t_prev = pending ? -1.0 : t;
-        d_prev = d;
         pending = false;
         t = t_next;
         d = d_next;
@@ -131,51 +97,52 @@ Bracket march_cone(MarchRay r)
     return march_cone_from(r, cone_at(r.origin.xy), false, false, below, hc_end);
 }
 
-// The hit inside a cone march's bracket, to relief's precision (cone_tolerance(); a bracket of
-// width 0 is a hit already). False position with the Illinois modification (the end kept twice
-// running has its distance halved, so neither end sticks), and a bisection after any step that
-// left more than half the bracket, so the bracket at least halves every two samples; at most as
-// many samples as relief's halvings of the same bracket. A sample stops the search when the
-// distance it leaves to the surface, over the slope of the secants through it, is within the
-// precision: on a surface that is straight there, the first sample does. The slope is the
-// smaller of the bracket's and of the secant to the bracket's end on the sample's side, so a
-// sample just above a floor with a wall ahead (the bracket steep, the floor flat) does not stop.
+// The hit inside a cone march's bracket (a cone step may leave one several linear steps long).
+// False position with the Illinois modification (an end kept twice running has its distance
+// halved, so neither end sticks), and a bisection after any step that kept more than half the
+// bracket. It stops at relief's precision (cone_tolerance()): a sample under the surface where
+// the secant from the upper end meets the surface within it of the sample; a sample above where
+// the bracket's secant slope says the same, unless the sample gained less than half that slope on
+// the upper end (a kink between: a floor before a wall, where the steep secant would stop it
+// short of the wall). On a straight stretch of surface the first sample stops it. At most as many
+// samples as the halvings it replaced (--refine less 4, plus one per doubling of the bracket beyond
+// a linear step; at least one), then the secant of what is left.
 float refine_cone(MarchRay r, Bracket b, UvGrad g)
 {
     float tol = cone_tolerance(r);
     float ta = b.t_above, tb = b.t_below;
     float fa = b.d_above, fb = -b.d_below; // the ray's height over the surface: > 0 at ta, <= 0 at tb
-    float wa = fa, wb = fb;                // the same, as false position weighs them
-    int moved = 0;                         // +1: ta moved last, -1: tb
+    float wa = fa, wb = fb;                // the same as false position weighs them
+    float moved = 0.0;                     // +1: ta moved last, -1: tb
     bool bisect = false;
-    float ratio = (tb - ta) * float(max(r.steps, 1)) / r.t_end;
-    int n = u_march.y + (ratio > 1.0 ? int(ceil(log2(ratio))) : 0);
-    for (int i = 0; i < n && tb - ta > 2.0 * tol; ++i) {
+    float ratio = (tb - ta) * float(max(r.steps, 1)) / r.t_end; // in linear steps
+    int n = max(u_march.y + (ratio > 1.0 ? int(ceil(log2(ratio))) : 0) - 4, min(u_march.y, 1));
+    bool done = false;
+    float hit = 0.0;
+    for (int i = 0; i < n; ++i) {
         float width = tb - ta;
+        if (width <= 2.0 * tol) break;
         float slope = (fa - fb) / width;
         float t = bisect ? 0.5 * (ta + tb) : mix(ta, tb, wa / max(wa - wb, 1e-30));
         vec3 p = r.origin + t * r.dir;
         float f = p.z - height_at(p.xy, g);
-        if (f > 0.0) {
-            // Above: trusted only where the secant from the bracket's upper end is about as
-            // steep as the bracket (no kink between, like a floor before a wall).
-            bool straight = (fa - f) >= 0.5 * slope * (t - ta);
-            ta = t;
-            fa = wa = f;
-            if (moved > 0) wb *= 0.5;
-            moved = 1;
-            if (straight && f <= tol * slope) return min(t + f / slope, tb);
-        } else {
-            tb = t;
-            fb = wb = f;
-            if (moved < 0) wa *= 0.5;
-            moved = -1;
-            // Under: the secant from the upper end meets the surface within the precision.
-            float t_hit = mix(ta, tb, fa / max(fa - fb, 1e-30));
-            if (tb - t_hit <= tol) return t_hit;
-        }
+        bool above = f > 0.0;
+        bool straight = fa - f >= 0.5 * slope * (t - ta);
+        float t_under = mix(ta, t, fa / max(fa - f, 1e-30));
+        done = above ? straight && f <= tol * slope : t - t_under <= tol;
+        hit = above ? min(t + f / slope, tb) : t_under;
+        wb *= above && moved > 0.0 ? 0.5 : 1.0;
+        wa *= !above && moved < 0.0 ? 0.5 : 1.0;
+        ta = above ? t : ta;
+        fa = above ? f : fa;
+        wa = above ? f : wa;
+        tb = above ? tb : t;
+        fb = above ? fb : f;
+        wb = above ? wb : f;
+        moved = above ? 1.0 : -1.0;
+        if (done) break;
         bisect = tb - ta > 0.5 * width;
     }
-    return mix(ta, tb, fa / max(fa - fb, 1e-30));
+    return done ? hit : mix(ta, tb, fa / max(fa - fb, 1e-30));
 }
 #endif // PR_HEIGHT_FROM_CONE

@@ -150,11 +150,10 @@ TEST(ConeMarch, TakesFewerSamplesThanRelief)
 }
 
 // Where the surface is straight (a ramp, which bilinear filtering keeps exact), the cone marchers'
-// landing (march/cone.glsl) puts a sample just past the predicted hit and takes the secant as the
-// hit: 3.8-4.4 samples per fragment (relief 17.6-23.4; the cone marchers took 6.0-6.4 before the
-// landing: a linear step through the surface and two halvings), and the hits of a dense linear
-// search to an eighth of a texel.
-TEST(ConeMarch, LandsOnAStraightSlopeWithoutRefining)
+// refinement (false position, march/cone.glsl) takes one sample: it lands on the surface and
+// stops there. The halvings it replaced took two (and a secant), relief's take --refine. The hits
+// agree with a dense linear search to an eighth of a texel.
+TEST(ConeMarch, RefinesAStraightSlopeWithOneSample)
 {
     prtest::context();
     constexpr int kTexels = 64;
@@ -175,17 +174,18 @@ TEST(ConeMarch, LandsOnAStraightSlopeWithoutRefining)
         return std::make_pair(distances(r, c), double(k.samples) / double(std::max<std::uint64_t>(k.fragments, 1)));
     };
     for (bool prism : {false, true}) {
-        const Technique dense_technique = prism ? Technique::Prism : Technique::Relief;
-        const std::vector<float> truth = draw(dense_technique, Marcher::Relief, 1024, 8).first;
-        const double relief = draw(dense_technique, Marcher::Relief, 32, 6).second;
+        const std::vector<float> truth = draw(prism ? Technique::Prism : Technique::Relief, Marcher::Relief, 1024, 8).first;
         for (Marcher m : {Marcher::Cone, Marcher::RelaxedCone}) {
             const Technique t = prism ? Technique::Prism : (m == Marcher::Cone ? Technique::Cone : Technique::RelaxedCone);
             const auto [d, samples] = draw(t, m, 32, 6);
+            const double refinement = samples - draw(t, m, 32, 0).second; // --refine 0: none
             const Agreement g = agree(d, truth, texel / 8.0f);
             const std::string what = technique_name(t) + " " + marcher_name(m);
-            std::printf("%s: %.2f samples per fragment (relief %.2f), %.4f within 1/8 texel\n", what.c_str(), samples, relief, g.within);
+            std::printf("%s: %.2f samples per fragment, %.2f of them refining; %.4f within 1/8 texel\n", what.c_str(),
+                        samples, refinement, g.within);
             EXPECT_GT(g.within, 0.99) << what;
-            EXPECT_LT(samples, 5.0) << what;
+            EXPECT_GT(refinement, 0.5) << what; // it does refine
+            EXPECT_LT(refinement, 1.25) << what;
         }
     }
 }
