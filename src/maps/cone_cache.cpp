@@ -104,16 +104,16 @@ std::string deserialize(const std::vector<std::uint8_t>& bytes, const HeightFiel
     if (get<std::uint64_t>(bytes, 36) != sum.h) return "checksum mismatch";
     if (std::memcmp(bytes.data() + kHeaderBytes, field.texels.data(), n * sizeof(float)) != 0)
         return "heights differ from the height map";
-    const int steps = cone_format_steps(format);
+    const std::vector<float>& ratio_of = cone_ratio_table(format);
     map.width = field.width;
     map.height = field.height;
     map.kind = kind;
     map.heights = field.texels;
     map.ratios.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-        const int k = get<std::uint16_t>(bytes, kHeaderBytes + 4 * n + 2 * i);
-        if (k > steps) return "ratio out of range";
-        map.ratios[i] = cone_steps_to_ratio(k, format);
+        const std::size_t k = get<std::uint16_t>(bytes, kHeaderBytes + 4 * n + 2 * i);
+        if (k >= ratio_of.size()) return "ratio out of range";
+        map.ratios[i] = ratio_of[k];
     }
     return {};
 }

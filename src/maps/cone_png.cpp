@@ -186,6 +186,7 @@ ConeMap read_cone_png(const std::filesystem::path& path, ConeKind kind)
     map.heights.resize(std::size_t(w) * std::size_t(h));
     map.ratios.resize(map.heights.size());
     int n = 0;
+    const std::vector<float>& ratio_of = cone_ratio_table(format);
     const auto fill = [&](auto* data) {
         if (!data) throw Error(name, std::string("truncated or corrupt PNG (") + stbi_failure_reason() + ")");
         for (int y = 0; y < h; ++y)
@@ -193,7 +194,7 @@ ConeMap read_cone_png(const std::filesystem::path& path, ConeKind kind)
                 const auto* px = data + (std::size_t(h - 1 - y) * std::size_t(w) + std::size_t(x)) * 3;
                 const std::size_t i = std::size_t(y) * std::size_t(w) + std::size_t(x);
                 map.heights[i] = float(px[0]) / float(steps);
-                map.ratios[i] = cone_steps_to_ratio(int(px[1]), format);
+                map.ratios[i] = ratio_of[px[1]]; // px[1] <= steps: 8 bits for rg8, 16 for rg16
             }
         stbi_image_free(data);
     };

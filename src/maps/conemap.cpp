@@ -79,6 +79,18 @@ float cone_steps_to_ratio(int k, ConeFormat format)
     return r;
 }
 
+const std::vector<float>& cone_ratio_table(ConeFormat format)
+{
+    const auto make = [](ConeFormat f) {
+        std::vector<float> table(std::size_t(cone_format_steps(f)) + 1);
+        for (std::size_t k = 0; k < table.size(); ++k) table[k] = cone_steps_to_ratio(int(k), f);
+        return table;
+    };
+    static const std::vector<float> rg8 = make(ConeFormat::Rg8);
+    static const std::vector<float> rg16 = make(ConeFormat::Rg16);
+    return format == ConeFormat::Rg8 ? rg8 : rg16;
+}
+
 std::vector<float> ratios_for_bilinear(const std::vector<float>& ratios, int width, int height)
 {
     if (width <= 0 || height <= 0 || ratios.size() != std::size_t(width) * std::size_t(height))

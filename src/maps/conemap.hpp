@@ -72,6 +72,10 @@ int cone_format_steps(ConeFormat format);
 int cone_ratio_steps(double c, ConeFormat format);
 // k / steps as the largest float not above the exact quotient.
 float cone_steps_to_ratio(int k, ConeFormat format);
+// cone_steps_to_ratio(k, format) for every k in [0, steps], built once per process: whole maps
+// (the GPU builder's steps, a cache entry, a PNG) convert through it, a lookup per texel instead
+// of a division and a check (a 1024² cache read: 89 -> 85 ms).
+const std::vector<float>& cone_ratio_table(ConeFormat format);
 
 // The ratios a marcher samples with bilinear filtering: each texel's ratio narrowed to the
 // smallest in its 3x3 neighbourhood (wrapping), so that the filtered ratio anywhere in a bilinear

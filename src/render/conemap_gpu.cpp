@@ -141,18 +141,9 @@ ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBu
     map.kind = kind;
     map.heights = field.texels;
     map.ratios.resize(n);
-    const int max_steps = cone_format_steps(options.format);
-    // Every step's ratio once (65536 for rg16) where the map has more texels than that: the
-    // conversion took 31 ms of a 1024² map.
-    std::vector<float> ratio_of;
-    if (n > std::size_t(max_steps) + 1) {
-        ratio_of.resize(std::size_t(max_steps) + 1);
-        for (int s = 0; s <= max_steps; ++s) ratio_of[std::size_t(s)] = cone_steps_to_ratio(s, options.format);
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-        const int s = std::min(int(k[i]), max_steps);
-        map.ratios[i] = ratio_of.empty() ? cone_steps_to_ratio(s, options.format) : ratio_of[std::size_t(s)];
-    }
+    const std::vector<float>& ratio_of = cone_ratio_table(options.format);
+    const std::uint32_t max_steps = std::uint32_t(ratio_of.size() - 1);
+    for (std::size_t i = 0; i < n; ++i) map.ratios[i] = ratio_of[std::min(k[i], max_steps)];
     return map;
 }
 

@@ -177,6 +177,17 @@ TEST(ConeMap, RoundingIsDown)
     }
 }
 
+// The table that whole maps convert through holds every step's ratio, as cone_steps_to_ratio.
+TEST(ConeMap, RatioTableHoldsEveryStep)
+{
+    for (ConeFormat f : {ConeFormat::Rg8, ConeFormat::Rg16}) {
+        const std::vector<float>& table = cone_ratio_table(f);
+        ASSERT_EQ(table.size(), std::size_t(cone_format_steps(f)) + 1);
+        for (int k = 0; k <= cone_format_steps(f); ++k) ASSERT_EQ(table[std::size_t(k)], cone_steps_to_ratio(k, f)) << k;
+        EXPECT_EQ(&table, &cone_ratio_table(f)); // built once
+    }
+}
+
 TEST(ConeMap, ConeEqualsBruteForceAndIsConservative)
 {
     for (const Case& c : cases())
