@@ -45,7 +45,7 @@ vec3 cone_at(vec2 uv)
 // The march's precision, as relief's: a linear step over 2^(--refine + 1) (half its last bracket).
 float cone_tolerance(MarchRay r)
 {
-    return r.t_end / float(max(r.steps, 1)) / exp2(float(u_march.y + 1));
+    return linear_step(r) / exp2(float(u_march.y + 1));
 }
 
 // From a given sample hc0 = cone_at(origin), or with `pending` from one taken as the loop's first;
@@ -54,7 +54,7 @@ float cone_tolerance(MarchRay r)
 // takes linear steps there. Returns the last sample taken in `hc_end`.
 Bracket march_cone_from(MarchRay r, vec3 hc0, bool pending, bool decide, inout bool below, out vec3 hc_end)
 {
-    float min_dt = r.t_end / float(max(r.steps, 1));
+    float min_dt = linear_step(r);
     float run = length(r.dir.xy); // UV units per unit t
     vec3 hc = hc0;
     hc_end = hc0;
@@ -115,7 +115,7 @@ float refine_cone(MarchRay r, Bracket b, UvGrad g)
     float wa = fa, wb = fb;                // the same as false position weighs them
     float moved = 0.0;                     // +1: ta moved last, -1: tb
     bool bisect = false;
-    float ratio = (tb - ta) * float(max(r.steps, 1)) / r.t_end; // in linear steps
+    float ratio = (tb - ta) / linear_step(r); // in linear steps
     int n = max(u_march.y + (ratio > 1.0 ? int(ceil(log2(ratio))) : 0) - 4, min(u_march.y, 1));
     bool done = false;
     float hit = 0.0;

@@ -26,6 +26,12 @@ struct Bracket {
     float d_below;  // surface height minus ray height at t_below (>= 0)
 };
 
+// The linear step: the segment over `steps` (contract: equal --steps means equal step length).
+float linear_step(MarchRay r)
+{
+    return r.t_end / float(max(r.steps, 1));
+}
+
 // The prism walk's form (march/cone.glsl has the same): from the height h0 at the origin (the
 // walk's segments start where the last one ended, whose last sample it passes on), or with
 // `pending`, from a sample at the origin taken as the loop's first (one sampling site: llvmpipe
@@ -35,7 +41,7 @@ struct Bracket {
 // surface counts with its sign turned; with `decide`, the sample at the origin decides it.
 Bracket march_linear_from(MarchRay r, UvGrad g, float h0, bool pending, bool decide, inout bool below, out float h_end)
 {
-    float dt = r.t_end / float(max(r.steps, 1));
+    float dt = linear_step(r);
     float t = 0.0;
     float side = below ? -1.0 : 1.0;
     h_end = h0;

@@ -71,6 +71,17 @@ DrawSettings settings(Technique t, Marcher m = Marcher::Relief)
     return s;
 }
 
+// Draws `s` with the sample counters on: height samples per fragment, expecting more than
+// `min_fragments` fragments. The depth of the draw can be read afterwards (distances()).
+double counted_draw(Renderer& r, const Camera& c, DrawSettings s, std::uint64_t min_fragments)
+{
+    s.count_samples = true;
+    r.draw(c, kLight, s);
+    const SampleCounters k = r.read_counters();
+    EXPECT_GT(k.fragments, min_fragments);
+    return double(k.samples) / double(std::max<std::uint64_t>(k.fragments, 1));
+}
+
 } // namespace
 
 // The contract's test: on a flat shell, cone and relaxed-cone (and max-mip inside the prism) find
@@ -131,14 +142,7 @@ TEST(ConeMarch, TakesFewerSamplesThanRelief)
     r.set_cache_dir(prtest::cache_dir());
     r.upload(prtest::one_object(prtest::square(), h, 0.15f));
     const Camera c = oblique_camera();
-    const auto samples = [&](Technique t, Marcher m) {
-        DrawSettings s = settings(t, m);
-        s.count_samples = true;
-        r.draw(c, kLight, s);
-        const SampleCounters k = r.read_counters();
-        EXPECT_GT(k.fragments, 1000u);
-        return double(k.samples) / double(std::max<std::uint64_t>(k.fragments, 1));
-    };
+    const auto samples = [&](Technique t, Marcher m) { return counted_draw(r, c, settings(t, m), 1000u); };
     const double relief = samples(Technique::Relief, Marcher::Relief);
     const double cone = samples(Technique::Cone, Marcher::Cone);
     const double relaxed = samples(Technique::RelaxedCone, Marcher::RelaxedCone);
@@ -167,11 +171,8 @@ TEST(ConeMarch, RefinesAStraightSlopeWithOneSample)
         DrawSettings s = settings(t, m);
         s.steps = steps;
         s.refine = refine;
-        s.count_samples = true;
-        r.draw(c, kLight, s);
-        const SampleCounters k = r.read_counters();
-        EXPECT_GT(k.fragments, 5000u);
-        return std::make_pair(distances(r, c), double(k.samples) / double(std::max<std::uint64_t>(k.fragments, 1)));
+        const double samples = counted_draw(r, c, s, 5000u);
+        return std::make_pair(distances(r, c), samples);
     };
     for (bool prism : {false, true}) {
         const std::vector<float> truth = draw(prism ? Technique::Prism : Technique::Relief, Marcher::Relief, 1024, 8).first;
