@@ -4,6 +4,12 @@
 // clearance angle seen along the way (height above the surface over distance travelled), the
 // usual penumbra estimate; blocked samples give 0. Samples count as height samples (contract).
 // `l_tex` is the light direction in texture space (the same frame the view ray is solved in).
+//
+// The cone marchers (PR_HEIGHT_FROM_CONE) step the light ray through their cone map: from a
+// point above the surface the ray may go on as far as it stays inside the empty cone standing on
+// the surface below it (march/cone.glsl; a rising ray, so the conservative ratio: a relaxed cone
+// promises nothing to it), and a ray steeper than that cone never leaves it, so nothing further
+// on can block it. Each step is at least the linear march's, so it never takes more samples.
 #ifndef PR_SHADOW_SOFTNESS
 #define PR_SHADOW_SOFTNESS 6.0 // clearance slope (height/run) of full light is 1/this
 #endif
@@ -22,16 +28,29 @@ float light_visibility(vec3 tex, vec3 l_tex, UvGrad g)
     float dt = t_end / float(steps);
     const float bias = 2e-3;
     float visibility = 1.0;
+    float run = length(l_tex.xy); // UV units per unit t
+#ifdef PR_HEIGHT_FROM_CONE
+    float t = dt;
+    for (int i = 1; i <= steps && t < t_end; ++i) {
+        vec3 p = tex + t * l_tex;
+        vec3 hc = cone_at(p.xy);
+        float clearance = p.z + bias - hc.x;
+#else
     for (int i = 1; i <= steps; ++i) {
         float t = float(i) * dt;
         vec3 p = tex + t * l_tex;
         float clearance = p.z + bias - height_at(p.xy, g);
+#endif
 #if PR_SHADOWS == PR_SHADOWS_HARD
         if (clearance < 0.0) return 0.0;
 #else
-        float run = t * length(l_tex.xy) + 1e-6;
-        visibility = min(visibility, clamp(PR_SHADOW_SOFTNESS * clearance / run, 0.0, 1.0));
+        visibility = min(visibility, clamp(PR_SHADOW_SOFTNESS * clearance / (t * run + 1e-6), 0.0, 1.0));
         if (visibility <= 0.0) return 0.0;
+#endif
+#ifdef PR_HEIGHT_FROM_CONE
+        float denom = run - hc.z * l_tex.z;
+        if (denom <= 0.0) break; // steeper than the cone: it stays inside
+        t += max(hc.z * (p.z - hc.x) / denom, dt);
 #endif
     }
     return visibility;

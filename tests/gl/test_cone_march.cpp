@@ -73,10 +73,10 @@ DrawSettings settings(Technique t, Marcher m = Marcher::Relief)
 
 // Draws `s` with the sample counters on: height samples per fragment, expecting more than
 // `min_fragments` fragments. The depth of the draw can be read afterwards (distances()).
-double counted_draw(Renderer& r, const Camera& c, DrawSettings s, std::uint64_t min_fragments)
+double counted_draw(Renderer& r, const Camera& c, DrawSettings s, std::uint64_t min_fragments, glm::vec3 light = kLight)
 {
     s.count_samples = true;
-    r.draw(c, kLight, s);
+    r.draw(c, light, s);
     const SampleCounters k = r.read_counters();
     EXPECT_GT(k.fragments, min_fragments);
     return double(k.samples) / double(std::max<std::uint64_t>(k.fragments, 1));
@@ -233,6 +233,67 @@ TEST(Shadows, ATallBoxShadowsTheSideAwayFromTheLight)
             EXPECT_LT(brightness(shadowed, behind), brightness(lit, behind) / 2) << what;
             EXPECT_NEAR(brightness(shadowed, in_front), brightness(lit, in_front), 2) << what;
             EXPECT_NEAR(brightness(shadowed, aside), brightness(lit, aside), 2) << what;
+        }
+    }
+}
+
+// The cone marchers step the light ray through their cone map too (common/shadow.glsl): on a
+// field of boxes lit from low down, far fewer samples than the linear light march, and the same
+// shadows (a pixel is shadowed where it is darker than unshadowed by a third).
+TEST(Shadows, ConeMarchersStepTheLightRayThroughTheCones)
+{
+    prtest::context();
+    auto h = std::make_shared<HeightField>(load_height("builtin:boxes@128"));
+    // Straight down, the map magnified: relief reads level 0 of the height map's mip levels, as
+    // the cone marchers do, so the hits agree and only the light march differs.
+    Renderer r(192, 192);
+    r.set_cache_dir(prtest::cache_dir());
+    r.upload(prtest::one_object(prtest::square(), h, 0.15f));
+    Camera c;
+    c.eye = {0.0f, 0.0f, 3.0f};
+    c.up = {0.0f, 1.0f, 0.0f};
+    c.fovy_deg = 40.0f;
+    c.near_plane = 1.0f;
+    c.far_plane = 8.0f;
+    const glm::vec3 light = glm::normalize(glm::vec3(-1.0f, 0.5f, 0.5f));
+    // Per pixel: true where the shadowed image is darker than the unshadowed one by a third.
+    const auto shadow_mask = [](const RgbaImage& lit, const RgbaImage& shadowed) {
+        std::vector<char> m(lit.pixels.size() / 4);
+        for (std::size_t i = 0; i < m.size(); ++i) {
+            const int a = lit.pixels[4 * i] + lit.pixels[4 * i + 1] + lit.pixels[4 * i + 2];
+            const int b = shadowed.pixels[4 * i] + shadowed.pixels[4 * i + 1] + shadowed.pixels[4 * i + 2];
+            m[i] = 3 * b < 2 * a;
+        }
+        return m;
+    };
+    struct Result {
+        double light_samples; // per fragment, the light march's alone
+        std::vector<char> mask;
+    };
+    const auto run = [&](Technique t, Marcher m, Shadows mode) {
+        DrawSettings s = settings(t, m);
+        const double plain = counted_draw(r, c, s, 5000u, light);
+        const RgbaImage lit = r.read_color();
+        s.shadows = mode;
+        const double shadowed = counted_draw(r, c, s, 5000u, light);
+        return Result{shadowed - plain, shadow_mask(lit, r.read_color())};
+    };
+    for (Shadows mode : {Shadows::Hard, Shadows::Soft}) {
+        for (bool prism : {false, true}) {
+            const Result linear = run(prism ? Technique::Prism : Technique::Relief, Marcher::Relief, mode);
+            const auto shadowed = std::count(linear.mask.begin(), linear.mask.end(), 1);
+            EXPECT_GT(shadowed, 2000) << "no shadows in view: the test shows nothing";
+            for (Marcher m : {Marcher::Cone, Marcher::RelaxedCone}) {
+                const Technique t = prism ? Technique::Prism : (m == Marcher::Cone ? Technique::Cone : Technique::RelaxedCone);
+                const Result cone = run(t, m, mode);
+                std::size_t differ = 0;
+                for (std::size_t i = 0; i < cone.mask.size(); ++i) differ += cone.mask[i] != linear.mask[i];
+                const std::string what = technique_name(t) + " " + marcher_name(m) + " " + shadows_name(mode);
+                std::printf("%s: light march %.2f samples per fragment (linear %.2f); %zu of %ld shadowed pixels differ\n",
+                            what.c_str(), cone.light_samples, linear.light_samples, differ, long(shadowed));
+                EXPECT_LT(cone.light_samples, 0.5 * linear.light_samples) << what;
+                EXPECT_LT(double(differ), 0.03 * double(shadowed)) << what;
+            }
         }
     }
 }
