@@ -28,6 +28,18 @@ Camera oblique_camera()
     return c;
 }
 
+// Straight down onto the square from `height` above it.
+Camera top_down_camera(float height, float fovy_deg)
+{
+    Camera c;
+    c.eye = {0.0f, 0.0f, height};
+    c.up = {0.0f, 1.0f, 0.0f};
+    c.fovy_deg = fovy_deg;
+    c.near_plane = 1.0f;
+    c.far_plane = 8.0f;
+    return c;
+}
+
 // Distance from the eye per pixel (NaN where nothing was drawn).
 std::vector<float> distances(const Renderer& r, const Camera& c)
 {
@@ -202,12 +214,7 @@ TEST(Shadows, ATallBoxShadowsTheSideAwayFromTheLight)
     Renderer r(128, 128);
     r.set_cache_dir(prtest::cache_dir());
     r.upload(prtest::one_object(prtest::square(), h, 0.4f));
-    Camera c; // straight down onto the square
-    c.eye = {0.0f, 0.0f, 4.0f};
-    c.up = {0.0f, 1.0f, 0.0f};
-    c.fovy_deg = 35.0f;
-    c.near_plane = 1.0f;
-    c.far_plane = 8.0f;
+    const Camera c = top_down_camera(4.0f, 35.0f);
     const glm::vec3 light = glm::normalize(glm::vec3(1.0f, 0.0f, 0.6f)); // low, from +X
 
     // Brightness at a point of the square (the floor, height 0), by projecting it.
@@ -249,12 +256,7 @@ TEST(Shadows, ConeMarchersStepTheLightRayThroughTheCones)
     Renderer r(192, 192);
     r.set_cache_dir(prtest::cache_dir());
     r.upload(prtest::one_object(prtest::square(), h, 0.15f));
-    Camera c;
-    c.eye = {0.0f, 0.0f, 3.0f};
-    c.up = {0.0f, 1.0f, 0.0f};
-    c.fovy_deg = 40.0f;
-    c.near_plane = 1.0f;
-    c.far_plane = 8.0f;
+    const Camera c = top_down_camera(3.0f, 40.0f);
     const glm::vec3 light = glm::normalize(glm::vec3(-1.0f, 0.5f, 0.5f));
     // Per pixel: true where the shadowed image is darker than the unshadowed one by a third.
     const auto shadow_mask = [](const RgbaImage& lit, const RgbaImage& shadowed) {
