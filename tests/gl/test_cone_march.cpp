@@ -83,6 +83,13 @@ DrawSettings settings(Technique t, Marcher m = Marcher::Relief)
     return s;
 }
 
+// The technique that marches with cone marcher `m` (cone or relaxed-cone): the prism's, or the
+// base-surface one of the same name.
+Technique cone_technique(bool prism, Marcher m)
+{
+    return prism ? Technique::Prism : (m == Marcher::Cone ? Technique::Cone : Technique::RelaxedCone);
+}
+
 // Draws `s` with the sample counters on: height samples per fragment, expecting more than
 // `min_fragments` fragments. The depth of the draw can be read afterwards (distances()).
 double counted_draw(Renderer& r, const Camera& c, DrawSettings s, std::uint64_t min_fragments, glm::vec3 light = kLight)
@@ -129,9 +136,8 @@ TEST(ConeMarch, SameHitsAsADenseLinearSearchOnAFlatShell)
         r.draw(c, kLight, dense);
         const std::vector<float> truth = distances(r, c);
         const bool prism = dense_case.technique == Technique::Prism;
-        std::vector<std::pair<Technique, Marcher>> fast = {
-            {prism ? Technique::Prism : Technique::Cone, Marcher::Cone},
-            {prism ? Technique::Prism : Technique::RelaxedCone, Marcher::RelaxedCone}};
+        std::vector<std::pair<Technique, Marcher>> fast = {{cone_technique(prism, Marcher::Cone), Marcher::Cone},
+                                                           {cone_technique(prism, Marcher::RelaxedCone), Marcher::RelaxedCone}};
         if (prism) fast.emplace_back(Technique::Prism, Marcher::MaxMip);
         for (const auto& [t, m] : fast) {
             r.draw(c, kLight, settings(t, m));
@@ -189,7 +195,7 @@ TEST(ConeMarch, RefinesAStraightSlopeWithOneSample)
     for (bool prism : {false, true}) {
         const std::vector<float> truth = draw(prism ? Technique::Prism : Technique::Relief, Marcher::Relief, 1024, 8).first;
         for (Marcher m : {Marcher::Cone, Marcher::RelaxedCone}) {
-            const Technique t = prism ? Technique::Prism : (m == Marcher::Cone ? Technique::Cone : Technique::RelaxedCone);
+            const Technique t = cone_technique(prism, m);
             const auto [d, samples] = draw(t, m, 32, 6);
             const double refinement = samples - draw(t, m, 32, 0).second; // --refine 0: none
             const Agreement g = agree(d, truth, texel / 8.0f);
@@ -286,7 +292,7 @@ TEST(Shadows, ConeMarchersStepTheLightRayThroughTheCones)
             const auto shadowed = std::count(linear.mask.begin(), linear.mask.end(), 1);
             EXPECT_GT(shadowed, 2000) << "no shadows in view: the test shows nothing";
             for (Marcher m : {Marcher::Cone, Marcher::RelaxedCone}) {
-                const Technique t = prism ? Technique::Prism : (m == Marcher::Cone ? Technique::Cone : Technique::RelaxedCone);
+                const Technique t = cone_technique(prism, m);
                 const Result cone = run(t, m, mode);
                 std::size_t differ = 0;
                 for (std::size_t i = 0; i < cone.mask.size(); ++i) differ += cone.mask[i] != linear.mask[i];
