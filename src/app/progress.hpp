@@ -3,6 +3,7 @@
 // when done (or destroyed), so piped output and logs never see it.
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <unistd.h>
 
@@ -10,7 +11,9 @@ namespace pr {
 
 class ProgressBar {
 public:
-    explicit ProgressBar(std::string label) : label_(std::move(label)), enabled_(isatty(fileno(stderr)) != 0) {}
+    explicit ProgressBar(std::string label) : ProgressBar(std::move(label), stderr, isatty(fileno(stderr)) != 0) {}
+    // Drawn on `out` if `enabled` (tests).
+    ProgressBar(std::string label, std::FILE* out, bool enabled) : label_(std::move(label)), out_(out), enabled_(enabled) {}
     ~ProgressBar() { clear(); }
     ProgressBar(const ProgressBar&) = delete;
     ProgressBar& operator=(const ProgressBar&) = delete;
@@ -19,21 +22,49 @@ public:
     {
         if (!enabled_) return;
         const int width = 30, filled = std::clamp(int(fraction * width + 0.5), 0, width);
-        std::fprintf(stderr, "\r%s: [%s%s] %3d%%", label_.c_str(), std::string(std::size_t(filled), '#').c_str(),
+        std::fprintf(out_, "\r%s: [%s%s] %3d%%", label_.c_str(), std::string(std::size_t(filled), '#').c_str(),
                      std::string(std::size_t(width - filled), '.').c_str(), int(fraction * 100.0 + 0.5));
-        std::fflush(stderr);
+        std::fflush(out_);
         shown_ = true;
     }
     void clear()
     {
-        if (shown_) std::fprintf(stderr, "\r%*s\r", int(label_.size()) + 40, "");
+        if (shown_) std::fprintf(out_, "\r%*s\r", int(label_.size()) + 40, "");
         shown_ = false;
     }
 
 private:
     std::string label_;
+    std::FILE* out_;
     bool enabled_;
     bool shown_ = false;
+};
+
+// Progress of several tasks one after the other, by name (the renderer's cone-map builds:
+// Renderer::ConeProgress): a bar per task, labelled "building <what>", cleared when it reaches 1.
+// A task that is done at its first report (a map read from the cache) shows nothing.
+class TaskProgress {
+public:
+    TaskProgress() : TaskProgress(stderr, isatty(fileno(stderr)) != 0) {}
+    TaskProgress(std::FILE* out, bool enabled) : out_(out), enabled_(enabled) {}
+
+    void operator()(const std::string& what, double fraction)
+    {
+        if (!bar_ || what != what_) {
+            bar_.reset();
+            if (fraction >= 1.0) return;
+            bar_.emplace("building " + what, out_, enabled_);
+            what_ = what;
+        }
+        (*bar_)(fraction);
+        if (fraction >= 1.0) bar_.reset();
+    }
+
+private:
+    std::FILE* out_;
+    bool enabled_;
+    std::optional<ProgressBar> bar_;
+    std::string what_;
 };
 
 } // namespace pr

@@ -1,7 +1,9 @@
 #include "app/session.hpp"
 
+#include "app/progress.hpp"
 #include "core/error.hpp"
 
+#include <memory>
 #include <sstream>
 
 namespace pr {
@@ -16,6 +18,10 @@ Session open_session(const SceneOptions& options, const ContextFactory& make_con
     s.context = make_context ? make_context(s.spec) : create_headless_context(backend);
     s.renderer = std::make_unique<Renderer>(s.spec.width, s.spec.height);
     if (!options.cache_dir.empty()) s.renderer->set_cache_dir(options.cache_dir);
+    // A cone map built on first use can take seconds (a relaxed map of 1024²: about 8 s on two
+    // cores): a bar on a terminal says what the wait is for.
+    auto progress = std::make_shared<TaskProgress>();
+    s.renderer->set_cone_progress([progress](const std::string& what, double f) { (*progress)(what, f); });
     s.renderer->upload(s.scene);
     s.camera = scene_camera(s.spec, s.scene);
     s.light = scene_light(s.spec, s.camera);

@@ -375,11 +375,13 @@ ConeMap build_cone_map_cpu(const HeightField& field, ConeKind kind, const ConeBu
     std::condition_variable finished;
     unsigned running = threads;
     std::exception_ptr failure;
+    const auto cancelled = [&] { return options.cancel && options.cancel->load(std::memory_order_relaxed); };
 
     const auto work = [&]() {
         try {
             Searcher searcher(field, pyramid, kind, options.format, options.relaxed_budget, options.node_budget);
             for (int y = next_row++; y < field.height; y = next_row++) {
+                if (cancelled()) break;
                 for (int x = 0; x < field.width; ++x)
                     map.ratios[std::size_t(y) * std::size_t(field.width) + std::size_t(x)] =
                         cone_steps_to_ratio(searcher.search(x, y), options.format);
@@ -418,6 +420,7 @@ ConeMap build_cone_map_cpu(const HeightField& field, ConeKind kind, const ConeBu
     }
     for (auto& t : pool) t.join();
     if (failure) std::rethrow_exception(failure);
+    if (cancelled()) throw ConeBuildCancelled();
     if (options.progress) options.progress(1.0);
     return map;
 }

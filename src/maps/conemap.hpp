@@ -6,9 +6,11 @@
 // over height rise, capped at 1, distances wrapping (maps tile).
 #include "core/image.hpp"
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -36,6 +38,10 @@ struct ConeBuildOptions {
     ConeFormat format = ConeFormat::Rg16; // ratios are rounded down to this format's steps
     // Called now and then with the fraction done (0..1), from the calling thread.
     std::function<void(double)> progress;
+    // CPU generator only: when set and it turns true, the threads stop at their next row and the
+    // build throws ConeBuildCancelled (the viewer's background builds, when the scene changes or
+    // the window closes). Nothing is cached then.
+    const std::atomic<bool>* cancel = nullptr;
     // Kind relaxed: march steps per texel (see docs/cone-maps.md). Where the search needs more, the
     // rest of it is replaced by lower bounds, giving a narrower (still valid) relaxed cone, never
     // narrower than the conservative cone. 0: unbounded (exact relaxed cones; slow on large maps).
@@ -49,6 +55,12 @@ struct ConeBuildOptions {
     // pyramid has more texels than GL_MAX_TEXTURE_BUFFER_SIZE, instead of from buffer textures
     // (faster on llvmpipe). The same map either way; tests use it to cover that path.
     bool gpu_storage_buffers = false;
+};
+
+// Thrown by build_cone_map_cpu() when ConeBuildOptions::cancel turned true.
+class ConeBuildCancelled : public std::runtime_error {
+public:
+    ConeBuildCancelled() : std::runtime_error("cone-map build cancelled") {}
 };
 
 // Multi-threaded CPU generator.

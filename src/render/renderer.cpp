@@ -342,6 +342,12 @@ void Renderer::upload(const Scene& scene)
     objects_.clear();
     texture_cache_.clear();
     aux_cache_.clear();
+    // Cone maps stay for the height fields the new scene still draws with.
+    for (auto it = cone_maps_.begin(); it != cone_maps_.end();) {
+        const bool kept = std::any_of(scene.objects.begin(), scene.objects.end(),
+                                      [&](const SceneObject& so) { return so.height == it->second.field; });
+        it = kept ? std::next(it) : cone_maps_.erase(it);
+    }
     for (const SceneObject& so : scene.objects) {
         GpuObject o;
         o.depth = so.depth;
@@ -464,11 +470,71 @@ GLuint Renderer::program_for(const DrawSettings& settings, WalkVariant variant, 
     return it->second.id();
 }
 
+const std::filesystem::path& Renderer::cache_dir()
+{
+    if (cache_dir_.empty()) cache_dir_ = default_cache_dir();
+    return cache_dir_;
+}
+
+namespace {
+
+std::vector<ConeKind> cone_kinds_for(AuxMap map)
+{
+    if (map == AuxMap::Cone) return {ConeKind::Cone};
+    if (map == AuxMap::Relaxed) return {ConeKind::Cone, ConeKind::Relaxed};
+    return {};
+}
+
+} // namespace
+
+std::vector<Renderer::ConeMapNeed> Renderer::missing_cone_maps(AuxMap map)
+{
+    std::vector<ConeMapNeed> needs;
+    const int k = static_cast<int>(map) - 1;
+    for (const GpuObject& o : objects_) {
+        if (o.aux_texture[k] || aux_cache_.count({o.height_field.get(), k})) continue;
+        for (ConeKind kind : cone_kinds_for(map)) {
+            const bool listed = std::any_of(needs.begin(), needs.end(), [&](const ConeMapNeed& n) {
+                return n.field == o.height_field && n.kind == kind;
+            });
+            if (listed || cone_maps_.count({o.height_field.get(), kind})) continue;
+            // (A cache entry is read by the draw: a corrupt one is rebuilt there, which is rare.)
+            std::error_code ec;
+            if (std::filesystem::is_regular_file(cone_cache_entry(*o.height_field, kind, ConeFormat::Rg16, cache_dir()), ec))
+                continue;
+            needs.push_back({o.height_field, kind});
+        }
+    }
+    return needs;
+}
+
+void Renderer::provide_cone_map(const std::shared_ptr<const HeightField>& field, ConeMap map)
+{
+    const bool drawn = std::any_of(objects_.begin(), objects_.end(),
+                                   [&](const GpuObject& o) { return o.height_field == field; });
+    if (!drawn || !field || map.width != field->width || map.height != field->height) return;
+    const ConeKind kind = map.kind;
+    cone_maps_[{field.get(), kind}] = HeldConeMap{field, std::move(map)};
+}
+
+const ConeMap& Renderer::cone_map(const std::shared_ptr<const HeightField>& field, ConeKind kind)
+{
+    auto it = cone_maps_.find({field.get(), kind});
+    if (it != cone_maps_.end()) return it->second.map;
+    ConeBuildOptions options;
+    if (cone_progress_) {
+        const std::string what = (kind == ConeKind::Relaxed ? "relaxed cone map of " : "cone map of ") +
+                                 (field->name.empty() ? std::string("the height map") : field->name);
+        options.progress = [this, what](double f) { cone_progress_(what, f); };
+    }
+    ConeMap map = cached_cone_map(*field, kind, cache_dir(), options).map;
+    return cone_maps_.insert_or_assign({field.get(), kind}, HeldConeMap{field, std::move(map)}).first->second.map;
+}
+
 void Renderer::ensure_aux_textures(AuxMap map)
 {
     if (map == AuxMap::None) return;
     const int k = static_cast<int>(map) - 1;
-    if (map != AuxMap::MaxMip && cache_dir_.empty()) cache_dir_ = default_cache_dir();
     for (GpuObject& o : objects_) {
         if (o.aux_texture[k]) continue;
         auto& t = aux_cache_[{o.height_field.get(), k}];
@@ -476,13 +542,9 @@ void Renderer::ensure_aux_textures(AuxMap map)
             if (map == AuxMap::MaxMip) {
                 t = make_max_pyramid_texture(*o.height_field);
             } else {
-                const ConeMap cone = cached_cone_map(*o.height_field, ConeKind::Cone, cache_dir_).map;
-                if (map == AuxMap::Cone) {
-                    t = make_cone_texture(cone);
-                } else {
-                    const ConeMap relaxed = cached_cone_map(*o.height_field, ConeKind::Relaxed, cache_dir_).map;
-                    t = make_cone_texture(relaxed, &cone);
-                }
+                const ConeMap& cone = cone_map(o.height_field, ConeKind::Cone);
+                t = map == AuxMap::Cone ? make_cone_texture(cone)
+                                        : make_cone_texture(cone_map(o.height_field, ConeKind::Relaxed), &cone);
             }
         }
         o.aux_texture[k] = t.id();

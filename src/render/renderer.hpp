@@ -5,10 +5,12 @@
 #include "core/camera.hpp"
 #include "core/image.hpp"
 #include "gl/objects.hpp"
+#include "maps/conemap.hpp"
 #include "render/scene.hpp"
 #include "render/technique.hpp"
 
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -40,6 +42,25 @@ public:
     // Where derived maps (cone maps) are cached; default default_cache_dir(). Cone maps are built
     // (or read from the cache) on the first draw that needs them, before its timing starts.
     void set_cache_dir(std::filesystem::path dir) { cache_dir_ = std::move(dir); }
+    const std::filesystem::path& cache_dir(); // the one set, else default_cache_dir()
+
+    // Called while a draw builds a cone map that is not in the cache (render, compare and bench
+    // show a progress bar on a terminal): what is built ("relaxed cone map of builtin:noise@1024")
+    // and the fraction done, ending at 1. Cache hits call it with 1 only.
+    using ConeProgress = std::function<void(const std::string& what, double fraction)>;
+    void set_cone_progress(ConeProgress progress) { cone_progress_ = std::move(progress); }
+
+    // Cone maps built elsewhere (the viewer builds them on a thread while it goes on drawing):
+    // what a draw with `map` would have to build first, neither in memory nor in the cache
+    // directory (for AuxMap::Relaxed the relaxed map and the cone map both), each once; and the
+    // hand-over of one such map, which the draws then use instead of building it (a map for a
+    // height field that no object draws with any more is dropped).
+    struct ConeMapNeed {
+        std::shared_ptr<const HeightField> field;
+        ConeKind kind;
+    };
+    std::vector<ConeMapNeed> missing_cone_maps(AuxMap map);
+    void provide_cone_map(const std::shared_ptr<const HeightField>& field, ConeMap map);
 
     // The prism reads its mesh as buffer textures, of at most GL_MAX_TEXTURE_BUFFER_SIZE texels
     // (2^27 on llvmpipe: a mesh of about 33 million vertices); a larger mesh fails with one
@@ -162,6 +183,16 @@ private:
     std::map<std::string, gl::Program> programs_;
     std::map<const void*, gl::Texture> texture_cache_; // heights/colours shared by objects
     std::map<std::pair<const void*, int>, gl::Texture> aux_cache_; // (height field, AuxMap - 1)
+    // Cone maps in memory, by height field and kind: built by a draw or handed over; kept across
+    // uploads for the height fields still drawn (the viewer's depth slider uploads again).
+    struct HeldConeMap {
+        std::shared_ptr<const HeightField> field; // keeps the key's address from being reused
+        ConeMap map;
+    };
+    std::map<std::pair<const void*, ConeKind>, HeldConeMap> cone_maps_;
+    ConeProgress cone_progress_;
+    // The cone map of `kind` for `field`: from memory, else the cache directory, else built.
+    const ConeMap& cone_map(const std::shared_ptr<const HeightField>& field, ConeKind kind);
     std::filesystem::path cache_dir_;
     GLint64 texture_buffer_limit_ = 0;
     // Builds (or reads from the cache) and uploads the derived map each object needs.

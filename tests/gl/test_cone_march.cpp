@@ -7,6 +7,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <string>
+#include <unistd.h>
+#include <utility>
 #include <vector>
 
 using namespace pr;
@@ -304,4 +308,68 @@ TEST(Shadows, ConeMarchersStepTheLightRayThroughTheCones)
             }
         }
     }
+}
+
+// The viewer's background builds: a renderer lists the cone maps a draw would have to build
+// (neither in memory nor in its cache directory), takes them handed over, and draws with them
+// without building or caching anything; a renderer that builds them on first use reports its
+// progress (render, compare and bench show it on a terminal) and draws the same image.
+TEST(ConeMarch, RendererTakesConeMapsBuiltElsewhere)
+{
+    namespace fs = std::filesystem;
+    prtest::context();
+    const fs::path dir = fs::temp_directory_path() / ("pr_gl_cone_handover_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    const auto bumps = [](float u, float v) {
+        return 0.5f + 0.4f * std::sin(6.2831853f * 2.0f * u) * std::sin(6.2831853f * 3.0f * v);
+    };
+    auto h = prtest::height_from(32, bumps);
+    const Camera c = oblique_camera();
+    const DrawSettings relaxed = settings(Technique::RelaxedCone);
+    std::vector<std::pair<std::string, double>> reports;
+    const auto record = [&reports](const std::string& what, double f) { reports.emplace_back(what, f); };
+
+    Renderer given(96, 72);
+    given.set_cache_dir(dir / "given");
+    given.set_cone_progress(record);
+    given.upload(prtest::one_object(prtest::square(), h, 0.2f));
+    const std::vector<Renderer::ConeMapNeed> needs = given.missing_cone_maps(AuxMap::Relaxed);
+    ASSERT_EQ(needs.size(), 2u);
+    EXPECT_EQ(needs[0].field, h);
+    EXPECT_EQ(needs[0].kind, ConeKind::Cone);
+    EXPECT_EQ(needs[1].kind, ConeKind::Relaxed);
+    EXPECT_EQ(given.missing_cone_maps(AuxMap::Cone).size(), 1u);
+    EXPECT_TRUE(given.missing_cone_maps(AuxMap::MaxMip).empty()); // built by the draw, no cone map
+    for (const Renderer::ConeMapNeed& n : needs) given.provide_cone_map(n.field, build_cone_map_cpu(*n.field, n.kind));
+    // A map of a height field that nothing draws with is dropped.
+    auto other = prtest::height_from(32, [](float, float) { return 0.5f; });
+    given.provide_cone_map(other, build_cone_map_cpu(*other, ConeKind::Cone));
+    EXPECT_TRUE(given.missing_cone_maps(AuxMap::Relaxed).empty());
+    given.draw(c, kLight, relaxed);
+    const RgbaImage from_given = given.read_color();
+    EXPECT_GT(prtest::coverage(from_given), 1000u);
+    EXPECT_TRUE(reports.empty()); // nothing built, nothing read
+    EXPECT_FALSE(fs::exists(dir / "given")); // nothing cached
+
+    Renderer built(96, 72);
+    built.set_cache_dir(dir / "built");
+    built.set_cone_progress(record);
+    built.upload(prtest::one_object(prtest::square(), h, 0.2f));
+    built.draw(c, kLight, relaxed);
+    EXPECT_EQ(built.read_color().pixels, from_given.pixels);
+    ASSERT_FALSE(reports.empty());
+    const auto reported = [&](const std::string& what) {
+        return std::any_of(reports.begin(), reports.end(), [&](const auto& r) { return r.first == what && r.second == 1.0; });
+    };
+    EXPECT_TRUE(reported("cone map of test"));
+    EXPECT_TRUE(reported("relaxed cone map of test"));
+    // Now in the cache: nothing is missing for a renderer that reads it.
+    Renderer reads(96, 72);
+    reads.set_cache_dir(dir / "built");
+    reads.upload(prtest::one_object(prtest::square(), h, 0.2f));
+    EXPECT_TRUE(reads.missing_cone_maps(AuxMap::Relaxed).empty());
+    // Another height field: the maps held in memory are dropped with the old one.
+    given.upload(prtest::one_object(prtest::square(), other, 0.2f));
+    EXPECT_EQ(given.missing_cone_maps(AuxMap::Cone).size(), 1u);
+    fs::remove_all(dir);
 }

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -390,6 +391,31 @@ TEST(ConeMap, ThreadCountDoesNotChangeTheMap)
         two.progress = [&](double) { ++calls; };
         EXPECT_EQ(build_cone_map_cpu(f, kind, one).ratios, build_cone_map_cpu(f, kind, two).ratios);
         EXPECT_GE(calls, 1);
+    }
+}
+
+// A cancelled build (the viewer's, when the scene changes or the window closes) stops and
+// throws, with every thread, and leaves no cache entry; a flag that stays false changes nothing.
+TEST(ConeMap, CancelledBuildThrowsAndCachesNothing)
+{
+    prtest::TempDir dir;
+    const HeightField f = smooth_map(48, 40, 5);
+    for (ConeKind kind : {ConeKind::Cone, ConeKind::Relaxed}) {
+        std::atomic<bool> cancel{true};
+        for (int threads : {1, 2}) {
+            ConeBuildOptions o;
+            o.threads = threads;
+            o.cancel = &cancel;
+            EXPECT_THROW(build_cone_map_cpu(f, kind, o), ConeBuildCancelled) << threads;
+        }
+        ConeBuildOptions o;
+        o.cancel = &cancel;
+        EXPECT_THROW(cached_cone_map(f, kind, dir.path(), o), ConeBuildCancelled);
+        EXPECT_FALSE(fs::exists(cone_cache_entry(f, kind, o.format, dir.path())));
+        cancel = false;
+        EXPECT_EQ(build_cone_map_cpu(f, kind, o).ratios, build_cone_map_cpu(f, kind).ratios);
+        EXPECT_FALSE(cached_cone_map(f, kind, dir.path(), o).from_cache);
+        EXPECT_TRUE(fs::exists(cone_cache_entry(f, kind, o.format, dir.path())));
     }
 }
 

@@ -1,0 +1,56 @@
+// The command line's progress display (app/progress.hpp): what a terminal sees while the
+// renderer builds cone maps on first use.
+#include "app/progress.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+
+namespace {
+
+// Everything written to a temporary file.
+std::string contents(std::FILE* f)
+{
+    std::fflush(f);
+    std::rewind(f);
+    std::string s;
+    for (int c = std::fgetc(f); c != EOF; c = std::fgetc(f)) s += char(c);
+    return s;
+}
+
+} // namespace
+
+TEST(Progress, TaskProgressDrawsABarPerBuildAndNothingForCacheHits)
+{
+    std::FILE* out = std::tmpfile();
+    ASSERT_NE(out, nullptr);
+    {
+        pr::TaskProgress p(out, true);
+        p("cone map of builtin:noise@64", 1.0); // read from the cache: done at its first report
+        EXPECT_EQ(contents(out), "");
+        p("relaxed cone map of a.png", 0.25);
+        p("relaxed cone map of a.png", 0.5);
+        std::string s = contents(out);
+        EXPECT_NE(s.find("building relaxed cone map of a.png: [########"), std::string::npos) << s;
+        EXPECT_NE(s.find(" 50%"), std::string::npos) << s;
+        p("relaxed cone map of a.png", 1.0); // done: the bar is drawn full, then cleared
+        s = contents(out);
+        EXPECT_NE(s.find("100%"), std::string::npos) << s;
+        EXPECT_EQ(s.back(), '\r') << s; // the line is blank again for what follows
+        p("cone map of b.png", 0.5); // the next build has a bar of its own
+        EXPECT_NE(contents(out).find("building cone map of b.png: "), std::string::npos);
+    }
+    std::fclose(out);
+
+    // Not a terminal: nothing at all.
+    std::FILE* quiet = std::tmpfile();
+    ASSERT_NE(quiet, nullptr);
+    {
+        pr::TaskProgress p(quiet, false);
+        p("cone map of a.png", 0.5);
+        p("cone map of a.png", 1.0);
+    }
+    EXPECT_EQ(contents(quiet), "");
+    std::fclose(quiet);
+}
