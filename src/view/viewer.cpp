@@ -6,6 +6,7 @@
 #include "core/error.hpp"
 #include "core/stats.hpp"
 #include "gl/gl.hpp"
+#include "maps/conemap.hpp"
 #include "view/compositor.hpp"
 #include "view/glfw_window.hpp"
 #include "view/orbit.hpp"
@@ -17,12 +18,16 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <deque>
 #include <filesystem>
+#include <future>
+#include <memory>
+#include <utility>
 
 namespace pr::view {
 
@@ -86,6 +91,28 @@ struct HalfStats {
     std::uint64_t fragments = 0;
 };
 
+// The technique drawn while the cone maps of `d` are built: relief, the marcher the cone
+// marchers refine like and the default inside the prism.
+DrawSettings while_cone_maps_build(DrawSettings d)
+{
+    if (d.technique == Technique::Cone || d.technique == Technique::RelaxedCone) d.technique = Technique::Relief;
+    if (d.technique == Technique::Prism) d.marcher = Marcher::Relief;
+    return d;
+}
+
+// Cone maps the viewer builds on a thread while it goes on drawing (a relaxed map of 1024² takes
+// seconds): what for (`map`), how far (`done`, 0..1 over all of them), and the maps.
+struct ConeJob {
+    using Maps = std::vector<std::pair<std::shared_ptr<const HeightField>, ConeMap>>;
+    AuxMap map = AuxMap::None;
+    std::string what; // "relaxed cone map of builtin:noise@1024"
+    Clock::time_point start = Clock::now();
+    std::shared_ptr<std::atomic<double>> done = std::make_shared<std::atomic<double>>(0.0);
+    std::shared_ptr<std::atomic<bool>> cancel = std::make_shared<std::atomic<bool>>(false);
+    std::future<Maps> maps;
+    int frames_meanwhile = 0; // frames drawn with while_cone_maps_build()
+};
+
 class Viewer {
 public:
     Viewer(Session& session, GlfwWindow& window, const ViewerOptions& options)
@@ -107,9 +134,19 @@ public:
         pending_drops_ = o_.drops;
     }
 
+    ~Viewer() { cancel_cone_job(); }
+    Viewer(const Viewer&) = delete;
+    Viewer& operator=(const Viewer&) = delete;
+
     int run();
 
 private:
+    // `d`, or while its cone maps are built on a thread (started here when neither the renderer
+    // nor the cache has them) what is drawn meanwhile. With --frames the last frame waits for
+    // them, so that the screenshot and the times are the technique's own.
+    DrawSettings drawable(const DrawSettings& d, bool last_frame);
+    void poll_cone_job(bool wait); // hands finished maps to the renderer
+    void cancel_cone_job();
     void remember_scene();
     void init_imgui();
     void shutdown_imgui();
@@ -134,6 +171,8 @@ private:
     Session& s_;
     GlfwWindow& window_;
     const ViewerOptions& o_;
+    std::optional<ConeJob> cone_job_;
+    bool cone_builds_inline_ = false; // after a background build failed: in the draw, as render does
     std::optional<Compositor> compositor_;
     std::optional<ShaderWatch> watch_;
     Clock::time_point last_watch_ = Clock::now();
@@ -234,6 +273,7 @@ void Viewer::apply_displacement()
 void Viewer::reload_scene(SceneSpec spec, bool reset_camera)
 {
     Scene scene = load_scene(spec); // throws pr::Error naming the file: the old scene stays
+    cancel_cone_job(); // for the old height maps
     try {
         s_.renderer->upload(scene);
     } catch (const Error&) {
@@ -288,6 +328,69 @@ bool Viewer::half_needs_reference() const
     return half_[0].technique == Technique::Reference || (split_ && half_[1].technique == Technique::Reference);
 }
 
+DrawSettings Viewer::drawable(const DrawSettings& d, bool last_frame)
+{
+    const AuxMap map = d.aux_map();
+    if (cone_builds_inline_ || (map != AuxMap::Cone && map != AuxMap::Relaxed)) return d;
+    if (last_frame) { // what is still missing then is built by the draw itself
+        poll_cone_job(true);
+        return d;
+    }
+    if (cone_job_ && cone_job_->map == map) return while_cone_maps_build(d);
+    std::vector<Renderer::ConeMapNeed> needs = s_.renderer->missing_cone_maps(map);
+    if (needs.empty()) return d;
+    if (!cone_job_) { // one build at a time: the other half's maps follow
+        ConeJob& job = cone_job_.emplace();
+        job.map = map;
+        const std::string& name = needs.front().field->name;
+        job.what = std::string(map == AuxMap::Relaxed ? "relaxed cone map" : "cone map") + " of " +
+                   (name.empty() ? std::string("the height map") : name);
+        job.maps = std::async(std::launch::async, [needs = std::move(needs), dir = s_.renderer->cache_dir(),
+                                                   done = job.done, cancel = job.cancel]() {
+            ConeJob::Maps maps;
+            for (std::size_t i = 0; i < needs.size(); ++i) {
+                ConeBuildOptions options;
+                options.cancel = cancel.get();
+                options.progress = [&done, i, n = needs.size()](double f) { *done = (double(i) + f) / double(n); };
+                maps.emplace_back(needs[i].field, cached_cone_map(*needs[i].field, needs[i].kind, dir, options).map);
+            }
+            return maps;
+        });
+    }
+    return while_cone_maps_build(d);
+}
+
+void Viewer::poll_cone_job(bool wait)
+{
+    if (!cone_job_ || (!wait && cone_job_->maps.wait_for(std::chrono::seconds(0)) != std::future_status::ready))
+        return;
+    ConeJob job = std::move(*cone_job_);
+    cone_job_.reset();
+    dirty_ = true;
+    try {
+        ConeJob::Maps maps = job.maps.get();
+        for (auto& [field, map] : maps) s_.renderer->provide_cone_map(field, std::move(map));
+        char line[256];
+        std::snprintf(line, sizeof line, "built the %s in %.1f s (%d frames drawn with relief meanwhile)",
+                      job.what.c_str(), seconds_since(job.start), job.frames_meanwhile);
+        note(line);
+        if (o_.frames > 0) std::printf("view: %s\n", line);
+    } catch (const ConeBuildCancelled&) {
+    } catch (const std::exception& e) {
+        // Reported once; from now on the draws build what they need themselves (and report it).
+        error(job.what + ": " + e.what());
+        cone_builds_inline_ = true;
+    }
+}
+
+void Viewer::cancel_cone_job()
+{
+    if (!cone_job_) return;
+    *cone_job_->cancel = true;
+    cone_job_->maps.wait(); // the generator stops at its next row
+    cone_job_.reset();
+}
+
 std::string Viewer::settings_key() const
 {
     std::string key;
@@ -317,6 +420,8 @@ void Viewer::render_scene()
         // Count samples on the first frame and every 10th after (the instrumented variant is
         // slower; its frames are left out of the times).
         const bool count = count_samples_ && rendered_ % 10 == 0;
+        const bool last_frame = o_.frames > 0 && frame_ + 1 >= o_.frames;
+        bool meanwhile_frame = false;
         for (int k = 0; k < halves; ++k) {
             const int x0 = split_ ? (k == 0 ? 0 : divider_px) : 0;
             const int x1 = split_ ? (k == 0 ? divider_px : w) : w;
@@ -326,11 +431,15 @@ void Viewer::render_scene()
                 glEnable(GL_SCISSOR_TEST);
                 glScissor(x0, 0, x1 - x0, h);
             }
-            DrawSettings d = half_[k];
-            d.count_samples = count;
+            DrawSettings d = drawable(half_[k], last_frame);
+            const bool meanwhile = d.technique != half_[k].technique || d.marcher != half_[k].marcher;
+            meanwhile_frame |= meanwhile;
+            d.count_samples = count && !meanwhile;
             const double ms = r.draw(s_.camera, s_.light, d);
             HalfStats& st = stats_[k];
-            if (count) {
+            if (meanwhile) {
+                // Not this technique's figures: its line says what is being built instead.
+            } else if (count) {
                 const SampleCounters c = r.read_counters();
                 st.fragments = c.fragments;
                 st.samples_per_fragment = c.fragments ? double(c.samples) / double(c.fragments) : 0.0;
@@ -343,7 +452,7 @@ void Viewer::render_scene()
                                                                 : Renderer::Overlay::PrismShell;
                 const glm::vec4 color = overlay_ == WireOverlay::Base ? glm::vec4(1.0f, 0.85f, 0.2f, 1.0f)
                                                                       : glm::vec4(0.25f, 0.9f, 1.0f, 1.0f);
-                r.draw_overlay(s_.camera, kind, color, half_[k]);
+                r.draw_overlay(s_.camera, kind, color, d);
             }
             glDisable(GL_SCISSOR_TEST);
             compositor_->copy_view(r.framebuffer(), x0, x1, w, h);
@@ -355,6 +464,7 @@ void Viewer::render_scene()
             r.draw(s_.camera, s_.light, ref);
             compositor_->copy_reference(r.framebuffer(), w, h);
         }
+        if (meanwhile_frame && cone_job_) ++cone_job_->frames_meanwhile;
         shader_error_.clear();
         ++rendered_;
     } catch (const Error& e) {
@@ -578,6 +688,11 @@ void Viewer::draw_panel()
                 compositor_->width(), compositor_->height());
     fmt_half(0);
     if (split_) fmt_half(1);
+    if (cone_job_) {
+        ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "building the %s", cone_job_->what.c_str());
+        ImGui::ProgressBar(float(cone_job_->done->load()), ImVec2(-1.0f, 0.0f));
+        ImGui::TextDisabled("relief drawn meanwhile; the map is cached for later runs");
+    }
     if (!frame_ms_.empty()) {
         std::vector<float> v(frame_ms_.begin(), frame_ms_.end());
         ImGui::PlotLines("##frames", v.data(), int(v.size()), 0, "frame ms", 0.0f, FLT_MAX,
@@ -689,7 +804,8 @@ int Viewer::run()
     try {
         while (!window_.should_close()) {
             const bool busy = dirty_ || continuous_ || o_.frames > 0 || drag_ != Drag::None;
-            window_.poll_events(busy ? 0.0 : 0.25);
+            window_.poll_events(busy ? 0.0 : cone_job_ ? 0.1 : 0.25); // a build's progress: 10 per s
+            poll_cone_job(false);
             for (const std::string& path : window_.take_dropped_files()) handle_drop(path);
             if (frame_ == (o_.frames == 1 ? 0 : 1)) { // after the first frame, as if dropped by hand (tests)
                 for (const std::string& path : pending_drops_) handle_drop(path);

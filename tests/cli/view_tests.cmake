@@ -28,7 +28,7 @@ if(TARGET pr_view)
             set(view_preload "${asan_runtime}:${PR_GLX_MESA}:${PR_SWRAST_DRI}")
         endif()
     endif()
-    foreach(case single split overlay drop shader_error)
+    foreach(case single split overlay drop shader_error cone_build)
         add_test(NAME view.${case}
                  COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:prismrelief> -DCHECK=$<TARGET_FILE:view_mask_check>
                          -DWORKDIR=${CMAKE_CURRENT_BINARY_DIR}/view_work/${case} -DCASE=${case}
