@@ -168,6 +168,23 @@ elseif(CASE STREQUAL "cone_build")
         message(FATAL_ERROR "the cached maps were built again:\n${view_out}")
     endif()
     check(same cached.png render.png 0)
+    # A height image dropped while a build runs cancels it (nothing of the old map is cached) and
+    # builds the new one's: the screenshot is render's with the dropped image.
+    run_view(--mesh ${MESHES}/torus.obj --height builtin:noise@512 --size 160x120 --technique relaxed-cone
+             --cache-dir drop_cache --frames 3 --drop render.png --screenshot dropped.png)
+    if(view_out MATCHES "builtin:noise@512")
+        message(FATAL_ERROR "the build for the replaced height map was not cancelled:\n${view_out}")
+    endif()
+    if(NOT view_out MATCHES "built the relaxed cone map of [^ ]*render.png")
+        message(FATAL_ERROR "the dropped height map's cone maps were not built on a thread:\n${view_out}")
+    endif()
+    file(GLOB stale ${WORKDIR}/drop_cache/cone/*512x512*)
+    if(stale)
+        message(FATAL_ERROR "a cancelled build left cache entries: ${stale}")
+    endif()
+    run_render(--mesh ${MESHES}/torus.obj --height render.png --size 160x120 --technique relaxed-cone
+               --cache-dir render_cache --out dropped_render.png)
+    check(same dropped.png dropped_render.png 0)
 else()
     message(FATAL_ERROR "unknown CASE ${CASE}")
 endif()
