@@ -120,6 +120,11 @@ void add_scene_options(CLI::App& app, SceneOptions& o)
                    "Folder for derived maps (cone maps); default $XDG_CACHE_HOME/prismrelief, else "
                    "~/.cache/prismrelief")
         ->group("Output");
+    app.add_option("--cone-backend", o.cone_backend,
+                   "Where cone maps missing from the cache are built: cpu (threads) or gpu (compute "
+                   "shader in the render's context: for a real GPU, with --backend egl)")
+        ->group("Output")
+        ->capture_default_str();
 }
 
 void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_technique)

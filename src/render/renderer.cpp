@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "maps/conemap.hpp"
+#include "render/conemap_gpu.hpp"
 #include "mesh/adjacency.hpp"
 #include "render/reference_geometry.hpp"
 #include "render/shell_bounds.hpp"
@@ -527,7 +528,12 @@ const ConeMap& Renderer::cone_map(const std::shared_ptr<const HeightField>& fiel
                                  (field->name.empty() ? std::string("the height map") : field->name);
         options.progress = [this, what](double f) { cone_progress_(what, f); };
     }
-    ConeMap map = cached_cone_map(*field, kind, cache_dir(), options).map;
+    ConeMap map = cone_gpu_ ? cached_cone_map(*field, kind, cache_dir(), options,
+                                              [](const HeightField& f, ConeKind k, const ConeBuildOptions& o) {
+                                                  return build_cone_map_gpu(f, k, o);
+                                              })
+                                  .map
+                            : cached_cone_map(*field, kind, cache_dir(), options).map;
     return cone_maps_.insert_or_assign({field.get(), kind}, HeldConeMap{field, std::move(map)}).first->second.map;
 }
 

@@ -50,6 +50,12 @@ public:
     using ConeProgress = std::function<void(const std::string& what, double fraction)>;
     void set_cone_progress(ConeProgress progress) { cone_progress_ = std::move(progress); }
 
+    // Where a draw builds a missing cone map: the CPU's threads (default), or the compute shader
+    // in this renderer's own context (render/conemap_gpu.hpp: the same map, bit for bit), for a
+    // real GPU; on llvmpipe the threads are as fast or faster (docs/cone-maps.md).
+    void set_cone_maps_on_gpu(bool gpu) { cone_gpu_ = gpu; }
+    bool cone_maps_on_gpu() const { return cone_gpu_; }
+
     // Cone maps built elsewhere (the viewer builds them on a thread while it goes on drawing):
     // what a draw with `map` would have to build first, neither in memory nor in the cache
     // directory (for AuxMap::Relaxed the relaxed map and the cone map both), each once; and the
@@ -191,6 +197,7 @@ private:
     };
     std::map<std::pair<const void*, ConeKind>, HeldConeMap> cone_maps_;
     ConeProgress cone_progress_;
+    bool cone_gpu_ = false;
     // The cone map of `kind` for `field`: from memory, else the cache directory, else built.
     const ConeMap& cone_map(const std::shared_ptr<const HeightField>& field, ConeKind kind);
     std::filesystem::path cache_dir_;

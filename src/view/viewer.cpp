@@ -331,7 +331,9 @@ bool Viewer::half_needs_reference() const
 DrawSettings Viewer::drawable(const DrawSettings& d, bool last_frame)
 {
     const AuxMap map = d.aux_map();
-    if (cone_builds_inline_ || (map != AuxMap::Cone && map != AuxMap::Relaxed)) return d;
+    // (--cone-backend gpu builds in the draw: the compute shader needs this thread's context.)
+    if (cone_builds_inline_ || s_.renderer->cone_maps_on_gpu() || (map != AuxMap::Cone && map != AuxMap::Relaxed))
+        return d;
     if (last_frame) { // what is still missing then is built by the draw itself
         poll_cone_job(true);
         return d;

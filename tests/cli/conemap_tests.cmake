@@ -50,6 +50,11 @@ pr_cli(compare_fast_marchers EXIT 0 STDOUT "prism:cone .*prism:relaxed-cone .*pr
        JSON f.json CHECKS "results.0.iou:GREATER:0.9|results.1.iou:GREATER:0.9|results.2.iou:GREATER:0.9"
        ARGS compare --mesh ${M}/torus.obj --height builtin:bumps@128 --size 96x96 --cache-dir fm_cache
             --techniques prism:cone,prism:relaxed-cone,prism:max-mip --shadows hard --json f.json)
+pr_cli(render_cone_backend_gpu EXIT 0 EXPECT_FILE g.png STDOUT "g.png: 64x48 prism"
+       ARGS render --mesh ${M}/torus.obj --height builtin:noise@48 --technique prism --marcher relaxed-cone
+            --cone-backend gpu --size 64x48 --cache-dir gpu_cache --out g.png)
+pr_cli(cone_backend_unknown EXIT 1 ONE_LINE STDERR "${CM}--cone-backend: unknown cone-map backend 'tpu'" NO_FILE o.png
+       ARGS render --mesh ${M}/cube.obj --cone-backend tpu --out o.png)
 pr_cli(shadows_unknown EXIT 1 ONE_LINE STDERR "${CM}--shadows: unknown shadow mode 'dark'" NO_FILE o.png
        ARGS render --mesh ${M}/cube.obj --shadows dark --out o.png)
 pr_cli(marcher_unknown EXIT 1 ONE_LINE STDERR "${CM}--marcher: unknown marcher 'warp'" NO_FILE o.png

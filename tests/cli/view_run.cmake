@@ -185,6 +185,12 @@ elseif(CASE STREQUAL "cone_build")
     run_render(--mesh ${MESHES}/torus.obj --height render.png --size 160x120 --technique relaxed-cone
                --cache-dir render_cache --out dropped_render.png)
     check(same dropped.png dropped_render.png 0)
+    # --cone-backend gpu: the compute shader needs the viewer's context, so the draw builds them.
+    run_view(${noise} --cache-dir gpu_cache --cone-backend gpu --frames 2 --screenshot gpu.png)
+    if(view_out MATCHES "built the")
+        message(FATAL_ERROR "with --cone-backend gpu the maps were built on a thread:\n${view_out}")
+    endif()
+    check(same gpu.png render.png 0)
 else()
     message(FATAL_ERROR "unknown CASE ${CASE}")
 endif()

@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <unistd.h>
 #include <utility>
@@ -371,5 +373,47 @@ TEST(ConeMarch, RendererTakesConeMapsBuiltElsewhere)
     // Another height field: the maps held in memory are dropped with the old one.
     given.upload(prtest::one_object(prtest::square(), other, 0.2f));
     EXPECT_EQ(given.missing_cone_maps(AuxMap::Cone).size(), 1u);
+    fs::remove_all(dir);
+}
+
+// --cone-backend gpu: a draw builds its missing maps with the compute shader in the renderer's own
+// context: the same maps and cache entries as the CPU's threads, the same images, and the GL state
+// the generator leaves behind does not disturb the draws that follow.
+TEST(ConeMarch, RendererBuildsMissingMapsOnTheGpuIfAsked)
+{
+    namespace fs = std::filesystem;
+    prtest::context();
+    const fs::path dir = fs::temp_directory_path() / ("pr_gl_cone_gpu_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    auto h = prtest::height_from(48, [](float u, float v) {
+        return 0.5f + 0.4f * std::sin(6.2831853f * 3.0f * u) * std::cos(6.2831853f * 2.0f * v);
+    });
+    const Camera c = oblique_camera();
+    std::vector<std::vector<std::uint8_t>> images[2];
+    for (int gpu = 0; gpu < 2; ++gpu) {
+        Renderer r(96, 72);
+        r.set_cache_dir(dir / (gpu ? "gpu" : "cpu"));
+        r.set_cone_maps_on_gpu(gpu == 1);
+        EXPECT_EQ(r.cone_maps_on_gpu(), gpu == 1);
+        r.upload(prtest::one_object(prtest::square(), h, 0.2f));
+        for (const DrawSettings& d : {settings(Technique::RelaxedCone), settings(Technique::Relief),
+                                      settings(Technique::Prism, Marcher::Cone), settings(Technique::Pom)}) {
+            r.draw(c, kLight, d);
+            images[gpu].push_back(r.read_color().pixels);
+        }
+        EXPECT_GT(prtest::coverage(r.read_color()), 1000u);
+    }
+    for (std::size_t i = 0; i < images[0].size(); ++i) EXPECT_EQ(images[1][i], images[0][i]) << "draw " << i;
+    for (ConeKind kind : {ConeKind::Cone, ConeKind::Relaxed}) {
+        const fs::path a = cone_cache_entry(*h, kind, ConeFormat::Rg16, dir / "cpu");
+        const fs::path b = cone_cache_entry(*h, kind, ConeFormat::Rg16, dir / "gpu");
+        ASSERT_TRUE(fs::exists(a) && fs::exists(b));
+        EXPECT_EQ(fs::file_size(a), fs::file_size(b));
+        const auto bytes = [](const fs::path& p) {
+            std::ifstream in(p, std::ios::binary);
+            return std::vector<char>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        };
+        EXPECT_EQ(bytes(a), bytes(b)) << cone_kind_name(kind);
+    }
     fs::remove_all(dir);
 }
