@@ -6,18 +6,23 @@
 //   payload: width*height float32 heights, then width*height u16 ratio steps k (ratio = k/steps).
 // Every field is checked when read, and the stored heights must equal the field's (so a hash
 // collision cannot serve another map). A bad entry is rebuilt and overwritten with a warning; a
-// cache that cannot be written only warns.
+// cache that cannot be written only warns. The cache is bounded: a hit marks its entry used (its
+// modification time), and after each write the least recently used entries go until the rest
+// fits in cone_cache_max_bytes().
 #include "maps/conemap.hpp"
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 
+#include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <limits>
 
 namespace pr {
 namespace {
@@ -139,6 +144,59 @@ std::filesystem::path default_cache_dir()
     return std::filesystem::temp_directory_path() / "prismrelief-cache";
 }
 
+std::uint64_t cone_cache_max_bytes()
+{
+    constexpr std::uint64_t kDefaultMiB = 2048;
+    const char* env = std::getenv("PRISMRELIEF_CACHE_MAX_MB");
+    if (!env || !*env) return kDefaultMiB << 20;
+    std::uint64_t mib = 0;
+    const char* end = env + std::strlen(env);
+    const auto [at, ec] = std::from_chars(env, end, mib);
+    if (ec != std::errc() || at != end || mib > (std::uint64_t(1) << 43)) {
+        warn(std::string("PRISMRELIEF_CACHE_MAX_MB: '") + env + "' is not a size in MiB; the cache keeps " +
+             std::to_string(kDefaultMiB) + " MiB");
+        return kDefaultMiB << 20;
+    }
+    return mib == 0 ? std::numeric_limits<std::uint64_t>::max() : mib << 20;
+}
+
+std::size_t trim_cone_cache(const std::filesystem::path& cache_dir, std::uint64_t max_bytes,
+                            const std::filesystem::path& keep)
+{
+    namespace fs = std::filesystem;
+    struct Entry {
+        fs::path path;
+        fs::file_time_type used;
+        std::uint64_t bytes;
+    };
+    std::vector<Entry> entries;
+    std::uint64_t total = 0;
+    std::error_code ec;
+    for (fs::directory_iterator it(cache_dir / "cone", ec), end; !ec && it != end; it.increment(ec)) {
+        // Only the cache's own entries (<kind>-<format>-<W>x<H>-<key>.bin): never anything else.
+        const std::string name = it->path().filename().string();
+        const bool ours = (name.rfind("cone-", 0) == 0 || name.rfind("relaxed-", 0) == 0) && name.size() > 4 &&
+                          name.compare(name.size() - 4, 4, ".bin") == 0;
+        std::error_code e;
+        if (!ours || !it->is_regular_file(e)) continue;
+        const std::uint64_t bytes = it->file_size(e);
+        const fs::file_time_type used = e ? fs::file_time_type::min() : it->last_write_time(e);
+        if (e) continue; // gone meanwhile (another process trimming)
+        entries.push_back({it->path(), used, bytes});
+        total += bytes;
+    }
+    std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.used < b.used; });
+    std::size_t removed = 0;
+    for (const Entry& e : entries) {
+        if (total <= max_bytes) break;
+        if (e.path == keep) continue;
+        std::error_code re;
+        if (fs::remove(e.path, re)) ++removed;
+        total -= e.bytes; // (removed by another process if not by us)
+    }
+    return removed;
+}
+
 std::filesystem::path cone_cache_entry(const HeightField& field, ConeKind kind, ConeFormat format,
                                        const std::filesystem::path& cache_dir)
 {
@@ -159,6 +217,8 @@ ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const s
                                          : deserialize(bytes, field, kind, options.format, key, result.map);
         if (why.empty()) {
             result.from_cache = true;
+            // Used now: the last entries a trim removes (a read-only cache keeps its times).
+            std::filesystem::last_write_time(result.entry, std::filesystem::file_time_type::clock::now(), ec);
             if (options.progress) options.progress(1.0);
             return result;
         }
@@ -169,6 +229,7 @@ ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const s
         std::filesystem::create_directories(result.entry.parent_path(), ec);
         if (ec) throw Error(result.entry.parent_path().string(), ec.message());
         write_file_atomic(result.entry, serialize(result.map, options.format, key));
+        trim_cone_cache(cache_dir, cone_cache_max_bytes(), result.entry);
     } catch (const Error& e) {
         warn("cone-map cache not written: " + std::string(e.what()));
     }

@@ -139,6 +139,14 @@ ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const s
 using ConeBuilder = std::function<ConeMap(const HeightField&, ConeKind, const ConeBuildOptions&)>;
 ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const std::filesystem::path& cache_dir,
                                 const ConeBuildOptions& options, const ConeBuilder& build);
+// The cache's bound: PRISMRELIEF_CACHE_MAX_MB (MiB; 0: none) if set and valid, else 2048 MiB
+// (a relaxed rg16 entry of 1024² takes 6 MiB, of 4096² 96 MiB).
+std::uint64_t cone_cache_max_bytes();
+// Removes the least recently used entries of cache_dir/cone (by modification time: written, or
+// read by cached_cone_map) until the rest take at most max_bytes, never `keep` nor any file that is
+// not an entry; returns how many it removed. cached_cone_map() calls it after each write.
+std::size_t trim_cone_cache(const std::filesystem::path& cache_dir, std::uint64_t max_bytes,
+                            const std::filesystem::path& keep = {});
 // The entry file a map would have (cache_dir/cone/<kind>-<format>-<W>x<H>-<key>.bin).
 std::filesystem::path cone_cache_entry(const HeightField& field, ConeKind kind, ConeFormat format,
                                        const std::filesystem::path& cache_dir);

@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -417,6 +419,59 @@ TEST(ConeMap, CancelledBuildThrowsAndCachesNothing)
         EXPECT_FALSE(cached_cone_map(f, kind, dir.path(), o).from_cache);
         EXPECT_TRUE(fs::exists(cone_cache_entry(f, kind, o.format, dir.path())));
     }
+}
+
+// The cache is bounded: after a write the least recently used entries (written or read longest
+// ago) go until the rest fit; the entry just written and files that are not entries stay.
+TEST(ConeMap, CacheDropsTheLeastRecentlyUsedEntriesBeyondItsBound)
+{
+    prtest::TempDir dir;
+    using Clock = fs::file_time_type::clock;
+    std::vector<HeightField> fields;
+    std::vector<fs::path> entries;
+    for (int i = 0; i < 3; ++i) {
+        fields.push_back(smooth_map(32, 32, 3 + i));
+        entries.push_back(cached_cone_map(fields.back(), ConeKind::Cone, dir.path()).entry);
+        // Distinct times, oldest first (file times may be coarse).
+        fs::last_write_time(entries.back(), Clock::now() - std::chrono::hours(3 - i));
+    }
+    const std::uintmax_t entry_bytes = fs::file_size(entries[0]);
+    const fs::path foreign = dir.write("cone/notes.txt", std::string(3 * entry_bytes, 'x'));
+    EXPECT_EQ(trim_cone_cache(dir.path(), 3 * entry_bytes), 0u); // fits: nothing goes
+    // Reading the oldest makes it the most recently used: the next trim takes the second one.
+    EXPECT_TRUE(cached_cone_map(fields[0], ConeKind::Cone, dir.path()).from_cache);
+    EXPECT_EQ(trim_cone_cache(dir.path(), 2 * entry_bytes), 1u);
+    EXPECT_TRUE(fs::exists(entries[0]));
+    EXPECT_FALSE(fs::exists(entries[1]));
+    EXPECT_TRUE(fs::exists(entries[2]));
+    EXPECT_TRUE(fs::exists(foreign));
+    // `keep` stays even when it alone is over the bound.
+    EXPECT_EQ(trim_cone_cache(dir.path(), 1, entries[2]), 1u);
+    EXPECT_TRUE(fs::exists(entries[2]));
+    EXPECT_FALSE(fs::exists(entries[0]));
+
+    // cached_cone_map trims after each write, to PRISMRELIEF_CACHE_MAX_MB (here: one MiB, the size
+    // of two 256² entries and a half), and keeps what it wrote.
+    ASSERT_EQ(setenv("PRISMRELIEF_CACHE_MAX_MB", "1", 1), 0);
+    EXPECT_EQ(cone_cache_max_bytes(), std::uint64_t(1) << 20);
+    std::vector<fs::path> big;
+    for (int i = 0; i < 4; ++i) {
+        big.push_back(cached_cone_map(smooth_map(256, 256, 7 + i), ConeKind::Cone, dir.path()).entry);
+        fs::last_write_time(big.back(), Clock::now() - std::chrono::minutes(10 - i));
+        EXPECT_TRUE(fs::exists(big.back()));
+    }
+    std::uintmax_t total = 0;
+    for (const auto& e : fs::directory_iterator(dir.path() / "cone"))
+        if (e.path().extension() == ".bin") total += e.file_size();
+    EXPECT_LE(total, std::uintmax_t(1) << 20);
+    EXPECT_FALSE(fs::exists(big[0])); // the oldest went
+    EXPECT_TRUE(fs::exists(foreign));
+    ASSERT_EQ(setenv("PRISMRELIEF_CACHE_MAX_MB", "0", 1), 0);
+    EXPECT_EQ(cone_cache_max_bytes(), std::numeric_limits<std::uint64_t>::max()); // no bound
+    ASSERT_EQ(setenv("PRISMRELIEF_CACHE_MAX_MB", "lots", 1), 0);
+    EXPECT_EQ(cone_cache_max_bytes(), std::uint64_t(2048) << 20); // warned, the default
+    ASSERT_EQ(unsetenv("PRISMRELIEF_CACHE_MAX_MB"), 0);
+    EXPECT_EQ(cone_cache_max_bytes(), std::uint64_t(2048) << 20);
 }
 
 TEST(ConeMap, PngRoundTrip)
