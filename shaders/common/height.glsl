@@ -88,19 +88,16 @@ vec2 height_slopes(vec2 uv)
     vec4 g10 = textureGatherOffset(PR_SLOPE_TEXTURE, centre, ivec2(1, -1), 0);
     vec4 g01 = textureGatherOffset(PR_SLOPE_TEXTURE, centre, ivec2(-1, 1), 0);
     vec4 g11 = textureGatherOffset(PR_SLOPE_TEXTURE, centre, ivec2(1, 1), 0);
-    // t[j][i]: texel (floor(p) + (i - 1, j - 1)), i, j in 0..3.
-    float t[16] = float[16](g00.w, g00.z, g10.w, g10.z,
-                            g00.x, g00.y, g10.x, g10.y,
-                            g01.w, g01.z, g11.w, g11.z,
-                            g01.x, g01.y, g11.x, g11.y);
-    float h[9];
-    for (int j = 0; j < 3; ++j)
-        for (int i = 0; i < 3; ++i) {
-            int k = j * 4 + i;
-            h[j * 3 + i] = mix(mix(t[k], t[k + 1], f.x), mix(t[k + 4], t[k + 5], f.x), f.y);
-        }
-    float gx = (h[2] + 2.0 * h[5] + h[8]) - (h[0] + 2.0 * h[3] + h[6]);
-    float gy = (h[6] + 2.0 * h[7] + h[8]) - (h[0] + 2.0 * h[1] + h[2]);
+    // Rows of the block, texels floor(p) + (-1..2, j - 1) for j = 0..3 (no arrays: an array
+    // indexed in a loop that the compiler does not unroll would live in memory).
+    vec4 r0 = vec4(g00.w, g00.z, g10.w, g10.z), r1 = vec4(g00.x, g00.y, g10.x, g10.y);
+    vec4 r2 = vec4(g01.w, g01.z, g11.w, g11.z), r3 = vec4(g01.x, g01.y, g11.x, g11.y);
+    // The bilinear taps one texel apart: a[j] holds taps (-1, 0, +1) of row j - 1.
+    vec3 a0 = mix(mix(r0.xyz, r0.yzw, f.x), mix(r1.xyz, r1.yzw, f.x), f.y);
+    vec3 a1 = mix(mix(r1.xyz, r1.yzw, f.x), mix(r2.xyz, r2.yzw, f.x), f.y);
+    vec3 a2 = mix(mix(r2.xyz, r2.yzw, f.x), mix(r3.xyz, r3.yzw, f.x), f.y);
+    float gx = (a0.z + 2.0 * a1.z + a2.z) - (a0.x + 2.0 * a1.x + a2.x);
+    float gy = (a2.x + 2.0 * a2.y + a2.z) - (a0.x + 2.0 * a0.y + a0.z);
     return vec2(gx, gy) / 8.0 * size;
 #endif
 }
