@@ -53,7 +53,8 @@ CommandAction add_conemap_command(CLI::App& app)
         ->capture_default_str();
     cmd->add_option("--threads", s->threads, "CPU threads (0: all cores)")->capture_default_str();
     cmd->add_option("--cache-dir", s->cache_dir,
-                    "Derived-map cache (default $XDG_CACHE_HOME/prismrelief, else ~/.cache/prismrelief)");
+                    "Derived-map cache (default $XDG_CACHE_HOME/prismrelief, else ~/.cache/prismrelief; the "
+                    "least recently used go beyond $PRISMRELIEF_CACHE_MAX_MB, default 2048)");
     cmd->add_flag("--no-cache", s->no_cache, "Neither read nor write the cache");
     cmd->add_option("--json", s->json, "JSON report: size, kind, format, backend, ms (search_ms: the GPU's dispatches alone), from_cache, ratio statistics");
     cmd->footer("Example:\n  prismrelief conemap --height builtin:bricks --kind relaxed --out out/bricks_relaxed.png");

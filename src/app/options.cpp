@@ -118,7 +118,8 @@ void add_scene_options(CLI::App& app, SceneOptions& o)
         ->capture_default_str();
     app.add_option("--cache-dir", o.cache_dir,
                    "Folder for derived maps (cone maps); default $XDG_CACHE_HOME/prismrelief, else "
-                   "~/.cache/prismrelief")
+                   "~/.cache/prismrelief; the least recently used go beyond $PRISMRELIEF_CACHE_MAX_MB "
+                   "(default 2048)")
         ->group("Output");
     app.add_option("--cone-backend", o.cone_backend,
                    "Where cone maps missing from the cache are built: cpu (threads) or gpu (compute "
