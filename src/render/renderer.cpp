@@ -2,8 +2,8 @@
 
 #include "core/error.hpp"
 #include "maps/conemap.hpp"
-#include "render/conemap_gpu.hpp"
 #include "mesh/adjacency.hpp"
+#include "render/conemap_gpu.hpp"
 #include "render/reference_geometry.hpp"
 #include "render/shell_bounds.hpp"
 #include "render/shader_program.hpp"
@@ -343,6 +343,7 @@ void Renderer::upload(const Scene& scene)
     objects_.clear();
     texture_cache_.clear();
     aux_cache_.clear();
+    cone_entries_.clear();
     // Cone maps stay for the height fields the new scene still draws with.
     for (auto it = cone_maps_.begin(); it != cone_maps_.end();) {
         const bool kept = std::any_of(scene.objects.begin(), scene.objects.end(),
@@ -499,10 +500,17 @@ std::vector<Renderer::ConeMapNeed> Renderer::missing_cone_maps(AuxMap map)
                 return n.field == o.height_field && n.kind == kind;
             });
             if (listed || cone_maps_.count({o.height_field.get(), kind})) continue;
-            // (A cache entry is read by the draw: a corrupt one is rebuilt there, which is rare.)
+            // (A cache entry is read by the draw: a corrupt one is rebuilt there, which is rare.) The
+            // entry's name hashes every texel: once per height field and kind, not every frame
+            // that asks (the viewer asks while another map is built).
+            auto entry = cone_entries_.find({o.height_field.get(), kind});
+            if (entry == cone_entries_.end())
+                entry = cone_entries_
+                            .emplace(std::pair{o.height_field.get(), kind},
+                                     cone_cache_entry(*o.height_field, kind, ConeBuildOptions{}.format, cache_dir()))
+                            .first;
             std::error_code ec;
-            if (std::filesystem::is_regular_file(cone_cache_entry(*o.height_field, kind, ConeFormat::Rg16, cache_dir()), ec))
-                continue;
+            if (std::filesystem::is_regular_file(entry->second, ec)) continue;
             needs.push_back({o.height_field, kind});
         }
     }
@@ -528,12 +536,10 @@ const ConeMap& Renderer::cone_map(const std::shared_ptr<const HeightField>& fiel
                                  (field->name.empty() ? std::string("the height map") : field->name);
         options.progress = [this, what](double f) { cone_progress_(what, f); };
     }
-    ConeMap map = cone_gpu_ ? cached_cone_map(*field, kind, cache_dir(), options,
-                                              [](const HeightField& f, ConeKind k, const ConeBuildOptions& o) {
-                                                  return build_cone_map_gpu(f, k, o);
-                                              })
-                                  .map
-                            : cached_cone_map(*field, kind, cache_dir(), options).map;
+    ConeBuilder build = build_cone_map_cpu;
+    if (cone_gpu_)
+        build = [](const HeightField& f, ConeKind k, const ConeBuildOptions& o) { return build_cone_map_gpu(f, k, o); };
+    ConeMap map = cached_cone_map(*field, kind, cache_dir(), options, build).map;
     return cone_maps_.insert_or_assign({field.get(), kind}, HeldConeMap{field, std::move(map)}).first->second.map;
 }
 

@@ -41,7 +41,11 @@ public:
 
     // Where derived maps (cone maps) are cached; default default_cache_dir(). Cone maps are built
     // (or read from the cache) on the first draw that needs them, before its timing starts.
-    void set_cache_dir(std::filesystem::path dir) { cache_dir_ = std::move(dir); }
+    void set_cache_dir(std::filesystem::path dir)
+    {
+        cache_dir_ = std::move(dir);
+        cone_entries_.clear();
+    }
     const std::filesystem::path& cache_dir(); // the one set, else default_cache_dir()
 
     // Called while a draw builds a cone map that is not in the cache (render, compare and bench
@@ -196,6 +200,8 @@ private:
         ConeMap map;
     };
     std::map<std::pair<const void*, ConeKind>, HeldConeMap> cone_maps_;
+    // Cache entry paths of the drawn height fields (missing_cone_maps), by field and kind.
+    std::map<std::pair<const void*, ConeKind>, std::filesystem::path> cone_entries_;
     ConeProgress cone_progress_;
     bool cone_gpu_ = false;
     // The cone map of `kind` for `field`: from memory, else the cache directory, else built.
