@@ -6,6 +6,7 @@
 // file is validated here first (header counts against the file size, numbers, indices), and
 // OpenMesh then reads into our own importer (SoupImporter), which records a plain polygon soup:
 // no halfedge topology means no faces rejected as non-manifold and no vertices duplicated.
+#include "mesh/quiet_openmesh.hpp"
 #include "mesh/raw_mesh.hpp"
 
 #include "core/error.hpp"
@@ -14,7 +15,6 @@
 #include <OpenMesh/Core/IO/Options.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 #include <OpenMesh/Core/IO/reader/STLReader.hh>
-#include <OpenMesh/Core/System/omstream.hh>
 
 #include <algorithm>
 #include <cctype>
@@ -802,30 +802,6 @@ private:
     }
 
     RawMesh& m_;
-};
-
-// OpenMesh logs through global streams; they are silenced while it reads (its complaints are
-// turned into our own errors) and restored afterwards.
-class QuietOpenMesh {
-public:
-    QuietOpenMesh()
-        : err_(::omerr().is_enabled()), out_(::omout().is_enabled()), log_(::omlog().is_enabled())
-    {
-        ::omerr().disable();
-        ::omout().disable();
-        ::omlog().disable();
-    }
-    ~QuietOpenMesh()
-    {
-        if (err_) ::omerr().enable();
-        if (out_) ::omout().enable();
-        if (log_) ::omlog().enable();
-    }
-    QuietOpenMesh(const QuietOpenMesh&) = delete;
-    QuietOpenMesh& operator=(const QuietOpenMesh&) = delete;
-
-private:
-    bool err_, out_, log_;
 };
 
 string lower(string s)
