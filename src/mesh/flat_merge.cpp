@@ -1,0 +1,271 @@
+// Merging flat, evenly textured stretches of a mesh for the prism walk (flat_merge.hpp): vertices
+// whose removal changes nothing are taken out by halfedge collapses in OpenMesh, shortest edge
+// first, until none is left.
+#include "mesh/flat_merge.hpp"
+
+#include "mesh/quiet_openmesh.hpp"
+
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <utility>
+
+namespace pr {
+namespace {
+
+using glm::dvec2;
+using glm::dvec3;
+using std::size_t;
+using std::uint32_t;
+using Mesh = OpenMesh::TriMesh_ArrayKernelT<>;
+
+// Relative tolerance of "the same" plane, mapping and frame: float input computed in double. A
+// region of n texels merged with it moves the mapping by about n * 1e-5 texels.
+constexpr double kSame = 1e-5;
+// The smallest sine of a corner angle a merged triangle may have (in space and in uv).
+constexpr double kMinSine = 1e-6;
+// Vertices with more edges wait for their neighbours to go first (Merger::run).
+constexpr std::size_t kMaxValence = 10;
+
+bool near(const dvec3& a, const dvec3& b, double scale) { return glm::length(a - b) <= kSame * scale; }
+
+double cross2(const dvec2& a, const dvec2& b) { return a.x * b.y - a.y * b.x; }
+
+// A triangle's texture mapping: P = P_a + dpdu (u - u_a) + dpdv (v - v_a) over its plane.
+struct Mapping {
+    dvec3 dpdu{0.0}, dpdv{0.0};
+    bool valid = false;
+};
+
+Mapping mapping_of(const MeshVertex& a, const MeshVertex& b, const MeshVertex& c)
+{
+    const dvec3 e1 = dvec3(b.position) - dvec3(a.position), e2 = dvec3(c.position) - dvec3(a.position);
+    const dvec2 t1 = dvec2(b.uv) - dvec2(a.uv), t2 = dvec2(c.uv) - dvec2(a.uv);
+    const double det = cross2(t1, t2);
+    Mapping m;
+    if (!(std::abs(det) > kMinSine * glm::length(t1) * glm::length(t2))) return m; // degenerate in uv
+    if (!(glm::length(glm::cross(e1, e2)) > kMinSine * glm::length(e1) * glm::length(e2))) return m;
+    m.dpdu = (e1 * t2.y - e2 * t1.y) / det;
+    m.dpdv = (e2 * t1.x - e1 * t2.x) / det;
+    m.valid = std::isfinite(m.dpdu.x + m.dpdu.y + m.dpdu.z + m.dpdv.x + m.dpdv.y + m.dpdv.z);
+    return m;
+}
+
+bool same_mapping(const Mapping& a, const Mapping& b)
+{
+    const double scale = glm::length(a.dpdu) + glm::length(a.dpdv);
+    return a.valid && b.valid && near(a.dpdu, b.dpdu, scale) && near(a.dpdv, b.dpdv, scale);
+}
+
+// What the shell and the hit's frame interpolate besides P and uv.
+bool same_frame(const MeshVertex& a, const MeshVertex& b)
+{
+    const double scale = glm::length(dvec3(a.tangent)) + glm::length(dvec3(a.bitangent));
+    return near(dvec3(a.normal), dvec3(b.normal), 1.0) && a.tangent.w == b.tangent.w &&
+           near(dvec3(a.tangent), dvec3(b.tangent), scale) && near(dvec3(a.bitangent), dvec3(b.bitangent), scale);
+}
+
+class Merger {
+public:
+    Merger(const std::vector<MeshVertex>& vertices, Mesh& mesh, const std::vector<uint32_t>& copies)
+        : v_(vertices), m_(mesh), copies_(copies), removable_(mesh.n_vertices(), -1)
+    {
+    }
+
+    // Rounds of collapses until no vertex can go; the number of collapses. In each round every
+    // vertex that may go and has at most kMaxValence edges goes along its shortest edge that
+    // keeps the shape, unless a neighbour moved in this round (so no vertex gathers edges faster
+    // than they go: a planar mesh always has many vertices of low valence, and each round
+    // removes a share of them); when none of those is left, the rest (beside vertices that stay,
+    // a vertex may keep many edges). Going vertex by vertex without rounds piled the removed
+    // vertices' edges onto a few, and every check walks a vertex's ring: 4.4 s on a 400 x 400
+    // floor; a global queue by edge length 1.6 s; rounds 0.7 s.
+    std::size_t run()
+    {
+        std::size_t collapses = 0;
+        std::vector<std::uint32_t> round_of(m_.n_vertices(), 0);
+        std::vector<std::pair<double, Mesh::HalfedgeHandle>> out;
+        std::size_t max_valence = kMaxValence; // lifted once nothing below it can go
+        for (std::uint32_t round = 1;; ++round) {
+            std::size_t in_round = 0;
+            for (int i = 0, n = int(m_.n_vertices()); i < n; ++i) {
+                const Mesh::VertexHandle v0(i);
+                if (m_.status(v0).deleted() || round_of[size_t(i)] == round || !may_go(v0)) continue;
+                out.clear();
+                bool crowded = false;
+                for (const Mesh::HalfedgeHandle h : m_.voh_range(v0)) {
+                    const Mesh::VertexHandle to = m_.to_vertex_handle(h);
+                    crowded = crowded || round_of[size_t(to.idx())] == round || out.size() >= max_valence;
+                    out.emplace_back(glm::length(pos(to) - pos(v0)), h);
+                }
+                if (crowded) continue;
+                std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+                for (const auto& [length, h] : out) {
+                    if (!keeps_shape(h) || !m_.is_collapse_ok(h)) continue;
+                    for (const Mesh::VertexHandle w : m_.vv_range(v0)) round_of[size_t(w.idx())] = round;
+                    m_.collapse(h);
+                    ++in_round;
+                    break;
+                }
+            }
+            if (in_round == 0 && max_valence == SIZE_MAX) return collapses;
+            if (in_round == 0) max_valence = SIZE_MAX; // hubs beside vertices that stay
+            collapses += in_round;
+        }
+    }
+
+private:
+    dvec3 pos(Mesh::VertexHandle v) const { return dvec3(v_[size_t(v.idx())].position); }
+    dvec2 uv(Mesh::VertexHandle v) const { return dvec2(v_[size_t(v.idx())].uv); }
+
+    // A face's corners in order, starting at `first`.
+    std::array<Mesh::VertexHandle, 3> corners_from(Mesh::FaceHandle f, Mesh::VertexHandle first) const
+    {
+        std::array<Mesh::VertexHandle, 3> c;
+        int k = 0;
+        for (const Mesh::VertexHandle v : m_.fv_range(f)) c[size_t(k++)] = v;
+        while (c[0] != first) std::rotate(c.begin(), c.begin() + 1, c.end());
+        return c;
+    }
+
+    // The only copy of its position, its faces one plane with one mapping, its neighbours its frame.
+    bool removable(Mesh::VertexHandle v0) const
+    {
+        const MeshVertex& a = v_[size_t(v0.idx())];
+        if (copies_[a.weld_id] != 1) return false;
+        Mapping first;
+        for (const Mesh::FaceHandle f : m_.vf_range(v0)) {
+            const auto c = corners_from(f, v0);
+            const Mapping m = mapping_of(a, v_[size_t(c[1].idx())], v_[size_t(c[2].idx())]);
+            if (!first.valid) {
+                if (!m.valid) return false;
+                first = m;
+            } else if (!same_mapping(first, m)) {
+                return false;
+            }
+        }
+        if (!first.valid) return false; // an isolated vertex
+        for (const Mesh::VertexHandle w : m_.vv_range(v0))
+            if (!same_frame(a, v_[size_t(w.idx())])) return false;
+        return true;
+    }
+
+    // Moving v0 onto v1 leaves the same region covered, every face turned as before and none
+    // degenerate; on a boundary, v0 must lie on a straight run of it between v1 and the other
+    // boundary neighbour.
+bool keeps_shape(Mesh::HalfedgeHandle h) const
+    {
+        const Mesh::VertexHandle v0 = m_.from_vertex_handle(h), v1 = m_.to_vertex_handle(h);
+        if (m_.is_boundary(v0)) {
+            if (!m_.is_boundary(m_.edge_handle(h))) return false;
+            const Mesh::HalfedgeHandle out = m_.halfedge_handle(v0); // the outgoing boundary halfedge
+            const Mesh::VertexHandle ahead = m_.to_vertex_handle(out);
+            const Mesh::VertexHandle behind = m_.from_vertex_handle(m_.prev_halfedge_handle(out));
+            const Mesh::VertexHandle v2 = ahead == v1 ? behind : ahead;
+            const dvec3 d1 = pos(v1) - pos(v0), d2 = pos(v2) - pos(v0);
+            if (!(glm::dot(d1, d2) < 0.0)) return false;
+            if (!(glm::length(glm::cross(d1, d2)) <= kSame * glm::length(d1) * glm::length(d2))) return false;
+        }
+        for (const Mesh::FaceHandle f : m_.vf_range(v0)) {
+            const auto c = corners_from(f, v0);
+            if (c[1] == v1 || c[2] == v1) continue; // collapses with the edge
+            const dvec3 pa = pos(c[1]), pb = pos(c[2]);
+            const dvec3 before = glm::cross(pa - pos(v0), pb - pos(v0));
+            const dvec3 e1 = pa - pos(v1), e2 = pb - pos(v1), e3 = pb - pa;
+            const dvec3 after = glm::cross(e1, e2);
+            if (!(glm::dot(before, after) > 0.0)) return false;
+            const double longest = std::max({glm::length(e1), glm::length(e2), glm::length(e3)});
+            if (!(glm::length(after) > kMinSine * longest * longest)) return false;
+            const dvec2 ua = uv(c[1]), ub = uv(c[2]);
+            const double uv_before = cross2(ua - uv(v0), ub - uv(v0));
+            const dvec2 t1 = ua - uv(v1), t2 = ub - uv(v1), t3 = ub - ua;
+            const double uv_after = cross2(t1, t2);
+            const double uv_longest = std::max({glm::length(t1), glm::length(t2), glm::length(t3)});
+            if (!(uv_before * uv_after > 0.0)) return false;
+            if (!(std::abs(uv_after) > kMinSine * uv_longest * uv_longest)) return false;
+        }
+        return true;
+    }
+
+    // Whether v may go at all. That does not change as others go: a collapse v0 -> v1 gives
+    // the vertices around v0 faces of v0's own plane and mapping, and v1, whose frame is v0's, as
+    // a neighbour; so it is judged once.
+    bool may_go(Mesh::VertexHandle v)
+    {
+        signed char& r = removable_[size_t(v.idx())];
+        if (r < 0) r = removable(v) ? 1 : 0;
+        return r == 1;
+    }
+
+    const std::vector<MeshVertex>& v_;
+    Mesh& m_;
+    const std::vector<uint32_t>& copies_;
+
+    std::vector<signed char> removable_; // per vertex: -1 not judged yet, 0 no, 1 yes
+};
+
+} // namespace
+
+std::vector<uint32_t> merge_flat_regions(const std::vector<MeshVertex>& vertices, const std::vector<uint32_t>& indices)
+{
+    const size_t faces = indices.size() / 3;
+    if (faces < 2) return indices;
+    // Copies per welded position (a vertex on a UV seam has two or more).
+    std::vector<uint32_t> copies;
+    for (const MeshVertex& v : vertices) {
+        if (v.weld_id >= copies.size()) copies.resize(size_t(v.weld_id) + 1, 0);
+        ++copies[v.weld_id];
+    }
+    // A first look without OpenMesh: is any vertex removable by its faces and neighbours? Curved
+    // meshes (most) stop here. (The merge checks again on the mesh as it changes.)
+    std::vector<Mapping> mapping(faces);
+    for (size_t f = 0; f < faces; ++f)
+        mapping[f] = mapping_of(vertices[indices[3 * f]], vertices[indices[3 * f + 1]], vertices[indices[3 * f + 2]]);
+    std::vector<uint32_t> state(vertices.size(), 0); // 0 unseen, 1 candidate, 2 not
+    std::vector<uint32_t> face_of(vertices.size(), 0);
+    for (size_t f = 0; f < faces; ++f) {
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t i = indices[3 * f + size_t(k)];
+            if (state[i] == 2) continue;
+            bool ok = mapping[f].valid && copies[vertices[i].weld_id] == 1;
+            if (ok && state[i] == 1) ok = same_mapping(mapping[face_of[i]], mapping[f]);
+            for (int j = 1; ok && j < 3; ++j) ok = same_frame(vertices[i], vertices[indices[3 * f + size_t((k + j) % 3)]]);
+            state[i] = ok ? 1 : 2;
+            face_of[i] = uint32_t(f);
+        }
+    }
+    if (std::none_of(state.begin(), state.end(), [](uint32_t s) { return s == 1; })) return indices;
+
+    Mesh mesh;
+    mesh.request_vertex_status();
+    mesh.request_edge_status();
+    mesh.request_halfedge_status();
+    mesh.request_face_status();
+    {
+        QuietOpenMesh quiet; // add_face complains on non-manifold input, which comes back unchanged
+        for (const MeshVertex& v : vertices) mesh.add_vertex(Mesh::Point(v.position.x, v.position.y, v.position.z));
+        for (size_t f = 0; f < faces; ++f) {
+            const Mesh::FaceHandle fh = mesh.add_face(Mesh::VertexHandle(int(indices[3 * f])),
+                                                      Mesh::VertexHandle(int(indices[3 * f + 1])),
+                                                      Mesh::VertexHandle(int(indices[3 * f + 2])));
+            if (!fh.is_valid()) return indices;
+        }
+    }
+    if (Merger(vertices, mesh, copies).run() == 0) return indices;
+
+    std::vector<uint32_t> merged;
+    merged.reserve(mesh.n_faces() * 3);
+    for (const Mesh::FaceHandle f : mesh.faces()) {
+        if (mesh.status(f).deleted()) continue;
+        for (const Mesh::VertexHandle v : mesh.fv_range(f)) merged.push_back(uint32_t(v.idx()));
+    }
+    return merged;
+}
+
+} // namespace pr

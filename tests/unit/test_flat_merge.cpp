@@ -1,0 +1,248 @@
+// The prism walk's merged triangles (mesh/flat_merge.hpp): flat, evenly mapped stretches become
+// fewer triangles that carry the same surface — position, uv, shell normal and tangent frame at
+// every point — with the same orientation; everything else stays.
+#include "mesh/flat_merge.hpp"
+#include "mesh/mesh.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "temp_dir.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using glm::dvec2;
+using glm::dvec3;
+
+const fs::path kMeshes = fs::path(PR_SOURCE_DIR) / "meshes";
+
+// An n x n grid of quads over [0,1]^2, each quad split into two triangles, as an OBJ: position
+// (x, height(x, z), -z) for grid point (x, z) — a floor facing +Y seen from above — and uv(x, z).
+std::string grid_obj(int n, const std::function<double(double, double)>& height,
+                     const std::function<dvec2(double, double)>& uv)
+{
+    std::ostringstream s;
+    s.precision(9);
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+            const double x = double(i) / n, z = double(j) / n;
+            const dvec2 t = uv(x, z);
+            s << "v " << x << ' ' << height(x, z) << ' ' << -z << "\nvt " << t.x << ' ' << t.y << '\n';
+        }
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const int a = j * (n + 1) + i + 1, b = a + 1, c = b + n + 1, d = a + n + 1;
+            s << "f " << a << '/' << a << ' ' << b << '/' << b << ' ' << c << '/' << c << '\n';
+            s << "f " << a << '/' << a << ' ' << c << '/' << c << ' ' << d << '/' << d << '\n';
+        }
+    return s.str();
+}
+
+double flat(double, double) { return 0.0; }
+dvec2 plain_uv(double x, double z) { return {x, z}; }
+
+dvec3 pos(const pr::MeshVertex& v) { return dvec3(v.position); }
+
+double area(const pr::PreparedMesh& m, const std::vector<std::uint32_t>& tris)
+{
+    double a = 0.0;
+    for (std::size_t t = 0; t + 2 < tris.size(); t += 3)
+        a += 0.5 * glm::length(glm::cross(pos(m.vertices[tris[t + 1]]) - pos(m.vertices[tris[t]]),
+                                          pos(m.vertices[tris[t + 2]]) - pos(m.vertices[tris[t]])));
+    return a;
+}
+
+// What the walk interpolates at a point of a triangle.
+struct Surface {
+    dvec3 p, n, tangent, bitangent;
+    dvec2 uv;
+};
+
+Surface interpolate(const pr::PreparedMesh& m, const std::uint32_t* tri, const dvec3& w)
+{
+    Surface s{};
+    for (int k = 0; k < 3; ++k) {
+        const pr::MeshVertex& v = m.vertices[tri[k]];
+        s.p += w[k] * pos(v);
+        s.n += w[k] * dvec3(v.normal);
+        s.tangent += w[k] * dvec3(v.tangent);
+        s.bitangent += w[k] * dvec3(v.bitangent);
+        s.uv += w[k] * dvec2(v.uv);
+    }
+    return s;
+}
+
+// Barycentric weights of p in triangle tri when p lies on it (within `slack`), else nothing.
+std::optional<dvec3> weights_on(const pr::PreparedMesh& m, const std::uint32_t* tri, const dvec3& p, double slack)
+{
+    const dvec3 a = pos(m.vertices[tri[0]]), b = pos(m.vertices[tri[1]]), c = pos(m.vertices[tri[2]]);
+    const dvec3 n = glm::cross(b - a, c - a);
+    const double nn = glm::dot(n, n);
+    if (!(nn > 0.0)) return std::nullopt;
+    if (std::abs(glm::dot(p - a, n)) > slack * std::sqrt(nn)) return std::nullopt;
+    const double wa = glm::dot(glm::cross(c - b, p - b), n) / nn, wb = glm::dot(glm::cross(a - c, p - c), n) / nn;
+    const dvec3 w(wa, wb, 1.0 - wa - wb);
+    if (std::min({w.x, w.y, w.z}) < -slack) return std::nullopt;
+    return w;
+}
+
+// Points spread over every input triangle are on some merged triangle, where that triangle gives
+// the same uv, shell normal and frame; the merged triangles face the way their region did.
+void expect_same_surface(const pr::PreparedMesh& m, const std::vector<std::uint32_t>& merged)
+{
+    const double kSlack = 1e-5;
+    const dvec3 samples[] = {{1.0 / 3, 1.0 / 3, 1.0 / 3}, {0.8, 0.1, 0.1}, {0.1, 0.8, 0.1}, {0.1, 0.1, 0.8}}; // inside: a seam's two sides share its edges
+    int checked = 0;
+    for (std::size_t t = 0; t < m.indices.size(); t += 3) {
+        const dvec3 a = pos(m.vertices[m.indices[t]]), b = pos(m.vertices[m.indices[t + 1]]),
+                    c = pos(m.vertices[m.indices[t + 2]]);
+        const dvec3 facing = glm::cross(b - a, c - a);
+        for (const dvec3& w : samples) {
+            const Surface want = interpolate(m, &m.indices[t], w);
+            bool found = false;
+            for (std::size_t u = 0; u < merged.size() && !found; u += 3) {
+                const auto wu = weights_on(m, &merged[u], want.p, kSlack);
+                if (!wu) continue;
+                const dvec3 ua = pos(m.vertices[merged[u]]), ub = pos(m.vertices[merged[u + 1]]),
+                            uc = pos(m.vertices[merged[u + 2]]);
+                if (glm::dot(glm::cross(ub - ua, uc - ua), facing) <= 0.0) continue; // the other side
+                const Surface got = interpolate(m, &merged[u], *wu);
+                found = true;
+                EXPECT_NEAR(glm::length(got.uv - want.uv), 0.0, 1e-4) << "triangle " << t / 3;
+                EXPECT_NEAR(glm::length(got.n - want.n), 0.0, 1e-4) << "triangle " << t / 3;
+                EXPECT_NEAR(glm::length(got.tangent - want.tangent), 0.0, 1e-4) << "triangle " << t / 3;
+                EXPECT_NEAR(glm::length(got.bitangent - want.bitangent), 0.0, 1e-4) << "triangle " << t / 3;
+            }
+            EXPECT_TRUE(found) << "no merged triangle under a point of triangle " << t / 3;
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 0);
+}
+
+std::set<std::uint32_t> used(const std::vector<std::uint32_t>& tris) { return {tris.begin(), tris.end()}; }
+
+} // namespace
+
+TEST(FlatMerge, ASubdividedFloorBecomesTwoTriangles)
+{
+    const pr::PreparedMesh m = pr::load_mesh(kMeshes / "plane.obj");
+    ASSERT_EQ(m.triangle_count(), 512u);
+    const std::vector<std::uint32_t> merged = pr::merge_flat_regions(m.vertices, m.indices);
+    EXPECT_EQ(merged.size(), 6u);
+    EXPECT_NEAR(area(m, merged), area(m, m.indices), 1e-9);
+    expect_same_surface(m, merged);
+}
+
+TEST(FlatMerge, CurvedMeshesComeBackUnchanged)
+{
+    // (The rock's chips are flat, but no vertex inside one has the chip's normal: they are
+    // small, and their mappings are the cube sphere's, not affine.)
+    for (const char* name : {"torus.obj", "uv_sphere.obj", "blob.off", "cube.obj", "rock.obj"}) {
+        const pr::PreparedMesh m = pr::load_mesh(kMeshes / name);
+        EXPECT_EQ(pr::merge_flat_regions(m.vertices, m.indices), m.indices) << name;
+    }
+}
+
+TEST(FlatMerge, KeepsTheRingOfARaisedVertex)
+{
+    prtest::TempDir dir;
+    const auto bump = [](double x, double z) { return std::abs(x - 0.5) < 1e-9 && std::abs(z - 0.5) < 1e-9 ? 0.2 : 0.0; };
+    const pr::PreparedMesh m = pr::load_mesh(dir.write("bump.obj", grid_obj(8, bump, plain_uv)));
+    const std::vector<std::uint32_t> merged = pr::merge_flat_regions(m.vertices, m.indices);
+    EXPECT_LT(merged.size(), m.indices.size());
+    EXPECT_NEAR(area(m, merged), area(m, m.indices), 1e-9);
+    expect_same_surface(m, merged);
+    // The raised vertex and every vertex next to it stay (their normals differ from the floor's).
+    std::uint32_t top = 0;
+    for (std::uint32_t i = 0; i < m.vertices.size(); ++i)
+        if (m.vertices[i].position.y > 0.1f) top = i;
+    const std::set<std::uint32_t> kept = used(merged);
+    for (std::size_t t = 0; t < m.indices.size(); t += 3) {
+        if (m.indices[t] != top && m.indices[t + 1] != top && m.indices[t + 2] != top) continue;
+        for (int k = 0; k < 3; ++k) EXPECT_TRUE(kept.count(m.indices[t + std::size_t(k)])) << m.indices[t + std::size_t(k)];
+    }
+}
+
+TEST(FlatMerge, KeepsUvSeamsAndMergesEachSide)
+{
+    // Left half mapped at u = x, right half at u = x + 0.25: the column at x = 0.5 is a seam.
+    prtest::TempDir dir;
+    std::string obj = grid_obj(8, flat, plain_uv);
+    // Rewrite the right half's uvs per face: faces right of x = 0.5 take uv copies of their own.
+    const int n = 8;
+    std::ostringstream s;
+    s.precision(9);
+    std::istringstream in(obj);
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("f ", 0) != 0) s << line << '\n';
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i)
+            s << "vt " << double(i) / n + 0.25 << ' ' << double(j) / n << '\n';
+    const int right = (n + 1) * (n + 1); // offset of the second uv set
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const int a = j * (n + 1) + i + 1, b = a + 1, c = b + n + 1, d = a + n + 1;
+            const int o = i >= n / 2 ? right : 0;
+            s << "f " << a << '/' << a + o << ' ' << b << '/' << b + o << ' ' << c << '/' << c + o << '\n';
+            s << "f " << a << '/' << a + o << ' ' << c << '/' << c + o << ' ' << d << '/' << d + o << '\n';
+        }
+    const pr::PreparedMesh m = pr::load_mesh(dir.write("seam.obj", s.str()));
+    const std::vector<std::uint32_t> merged = pr::merge_flat_regions(m.vertices, m.indices);
+    EXPECT_LT(merged.size(), m.indices.size());
+    EXPECT_NEAR(area(m, merged), area(m, m.indices), 1e-9);
+    expect_same_surface(m, merged);
+    // Every render vertex on the seam stays, on both sides.
+    const std::set<std::uint32_t> kept = used(merged);
+    int seam = 0;
+    for (std::uint32_t i = 0; i < m.vertices.size(); ++i) {
+        if (std::abs(m.vertices[i].position.x - 0.5f) > 1e-6f) continue;
+        if (!used(m.indices).count(i)) continue;
+        EXPECT_TRUE(kept.count(i)) << "seam vertex " << i;
+        ++seam;
+    }
+    EXPECT_EQ(seam, 2 * (n + 1));
+}
+
+TEST(FlatMerge, LeavesAnUnevenMappingAlone)
+{
+    // uv = (x^2, z): each column of quads has a mapping of its own, so no vertex can go.
+    prtest::TempDir dir;
+    const pr::PreparedMesh m =
+        pr::load_mesh(dir.write("uneven.obj", grid_obj(6, flat, [](double x, double z) { return dvec2(x * x, z); })));
+    EXPECT_EQ(pr::merge_flat_regions(m.vertices, m.indices), m.indices);
+}
+
+TEST(FlatMerge, MergesEachWingOfAFoldAndKeepsTheCrease)
+{
+    // Two flat wings meeting at x = 0.5 at 90 degrees.
+    prtest::TempDir dir;
+    const auto fold = [](double x, double) { return x > 0.5 ? x - 0.5 : 0.0; };
+    const pr::PreparedMesh m = pr::load_mesh(dir.write("fold.obj", grid_obj(8, fold, plain_uv)));
+    const std::vector<std::uint32_t> merged = pr::merge_flat_regions(m.vertices, m.indices);
+    // The crease and the columns beside it stay (their welded normals are bent, or their
+    // neighbours'): 2 x 8 quads, 32 triangles; each wing beyond them is a polygon of 11 corners,
+    // 9 triangles.
+    EXPECT_EQ(merged.size(), 3u * (32 + 9 + 9));
+    EXPECT_NEAR(area(m, merged), area(m, m.indices), 1e-9);
+    // Not the same uv map on the sloped wing (uv follows x, not the slope), but one affine map:
+    // it merges; the crease and its neighbours (normals bent) stay.
+    expect_same_surface(m, merged);
+    const std::set<std::uint32_t> kept = used(merged);
+    for (std::uint32_t i = 0; i < m.vertices.size(); ++i)
+        if (std::abs(m.vertices[i].position.x - 0.5f) < 1e-6f) EXPECT_TRUE(kept.count(i)) << i;
+}
