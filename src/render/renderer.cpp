@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 #include "maps/conemap.hpp"
 #include "mesh/adjacency.hpp"
+#include "mesh/flat_merge.hpp"
 #include "render/conemap_gpu.hpp"
 #include "render/reference_geometry.hpp"
 #include "render/shell_bounds.hpp"
@@ -382,10 +383,16 @@ Renderer::Geometry Renderer::make_geometry(const std::vector<MeshVertex>& verts,
     g.vertices = gl::immutable_buffer(verts);
     g.indices = gl::immutable_buffer(idx);
     g.index_count = static_cast<GLsizei>(idx.size());
-    g.vao = gl::VertexArray::create();
-    const GLuint vao = g.vao.id();
-    glVertexArrayVertexBuffer(vao, 0, g.vertices.id(), 0, sizeof(MeshVertex));
-    glVertexArrayElementBuffer(vao, g.indices.id());
+    g.vao = make_vertex_array(g.vertices.id(), g.indices.id());
+    return g;
+}
+
+gl::VertexArray Renderer::make_vertex_array(GLuint vertices, GLuint indices)
+{
+    gl::VertexArray array = gl::VertexArray::create();
+    const GLuint vao = array.id();
+    glVertexArrayVertexBuffer(vao, 0, vertices, 0, sizeof(MeshVertex));
+    glVertexArrayElementBuffer(vao, indices);
     const auto attrib = [vao](GLuint loc, GLint n, std::size_t offset) {
         glEnableVertexArrayAttrib(vao, loc);
         glVertexArrayAttribFormat(vao, loc, n, GL_FLOAT, GL_FALSE, static_cast<GLuint>(offset));
@@ -400,7 +407,7 @@ Renderer::Geometry Renderer::make_geometry(const std::vector<MeshVertex>& verts,
     glVertexArrayAttribIFormat(vao, PR_ATTR_WELD_ID, 1, GL_UNSIGNED_INT, offsetof(MeshVertex, weld_id));
     glVertexArrayAttribBinding(vao, PR_ATTR_WELD_ID, 0);
     if (glGetError() == GL_OUT_OF_MEMORY) throw Error("scene", "out of GPU memory while uploading geometry");
-    return g;
+    return array;
 }
 
 Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const Camera& camera,
@@ -597,6 +604,7 @@ void Renderer::ensure_prism_data(bool walk)
             o.vertex_texels = std::move(vertices);
         }
         if (walk && !o.corner_texels) {
+            if (o.walk.vao) o.walk_index_texels = buffer_texture(o.walk.indices, GL_RGB32UI, 12, texture_buffer_limit_);
             o.adjacency_texels = buffer_texture(o.adjacency, GL_RGBA32UI, 16, texture_buffer_limit_);
             for (int full = 0; full < 2; ++full)
                 o.listed_texels[full] = buffer_texture(o.listed[full], GL_R32UI, 4, texture_buffer_limit_);
@@ -605,10 +613,10 @@ void Renderer::ensure_prism_data(bool walk)
     }
 }
 
-void Renderer::bind_prism_data(const GpuObject& o)
+void Renderer::bind_prism_data(const GpuObject& o, bool walk)
 {
     glBindTextureUnit(PR_TEX_VERTICES, o.vertex_texels.id());
-    glBindTextureUnit(PR_TEX_INDICES, o.index_texels.id());
+    glBindTextureUnit(PR_TEX_INDICES, walk && o.walk_index_texels ? o.walk_index_texels.id() : o.index_texels.id());
     glBindTextureUnit(PR_TEX_ADJACENCY, o.adjacency_texels.id());
     glBindTextureUnit(PR_TEX_CORNERS, o.corner_texels.id());
 }
@@ -622,11 +630,19 @@ void Renderer::ensure_walk_data()
         GLint64 vertex_bytes = 0;
         glGetNamedBufferParameteri64v(o.base.vertices.id(), GL_BUFFER_SIZE, &vertex_bytes);
         std::vector<MeshVertex> vertices(static_cast<std::size_t>(vertex_bytes) / sizeof(MeshVertex));
-        std::vector<std::uint32_t> indices(static_cast<std::size_t>(o.base.index_count));
+        std::vector<std::uint32_t> base_indices(static_cast<std::size_t>(o.base.index_count));
         glGetNamedBufferSubData(o.base.vertices.id(), 0, static_cast<GLsizeiptr>(vertices.size() * sizeof(MeshVertex)),
                                 vertices.data());
-        glGetNamedBufferSubData(o.base.indices.id(), 0, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)),
-                                indices.data());
+        glGetNamedBufferSubData(o.base.indices.id(), 0,
+                                static_cast<GLsizeiptr>(base_indices.size() * sizeof(std::uint32_t)), base_indices.data());
+        // The walk's own triangles: flat, evenly mapped stretches merged (fewer prisms to cross).
+        std::vector<std::uint32_t> indices = merge_flat_regions(vertices, base_indices);
+        if (indices.size() != base_indices.size()) {
+            o.walk.indices = gl::immutable_buffer(indices);
+            o.walk.index_count = static_cast<GLsizei>(indices.size());
+            o.walk.vao = make_vertex_array(o.base.vertices.id(), o.walk.indices.id());
+        }
+        base_indices = {};
         const EdgeAdjacency adjacency = edge_adjacency(vertices, indices);
         o.open_shell = adjacency.open_edges > 0;
         o.tears = !o.open_shell && adjacency.seam_edges > 0;
@@ -735,7 +751,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     // buffers (prism.frag).
     const auto draw_base = [&](const GpuObject& o) {
         set_object(o);
-        if (prism) bind_prism_data(o);
+        if (prism) bind_prism_data(o, false);
         glBindVertexArray(o.base.vao.id());
         glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
     };
@@ -745,17 +761,18 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     // prisms (ShellDraw).
     const auto draw_walk_shell = [&](const GpuObject& o, WalkVariant variant) {
         set_object(o);
-        bind_prism_data(o);
-        glBindVertexArray(o.base.vao.id());
+        bind_prism_data(o, true);
+        const Geometry& shell = walk_geometry(o);
+        glBindVertexArray(shell.vao.id());
         glEnable(GL_CULL_FACE);
         glFrontFace(GL_CCW);
         glCullFace(GL_BACK);
         glUseProgram(program_for(settings, variant, ShellDraw::Tops));
-        glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
+        glDrawElements(GL_TRIANGLES, shell.index_count, GL_UNSIGNED_INT, nullptr);
         if (o.open_shell) {
             glCullFace(GL_FRONT);
             glUseProgram(program_for(settings, variant, ShellDraw::Bottoms));
-            glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
+            glDrawElements(GL_TRIANGLES, shell.index_count, GL_UNSIGNED_INT, nullptr);
         }
         glDisable(GL_CULL_FACE);
         const int full = settings.full_shell ? 1 : 0;
@@ -806,7 +823,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
                                   lists.prisms.data(), GL_STREAM_DRAW);
                 glTextureBuffer(pass_list_texels_.id(), GL_R32UI, pass_list_.id());
                 set_object(o);
-                bind_prism_data(o);
+                bind_prism_data(o, true);
                 glUseProgram(program_for(settings, WalkVariant::Inside, ShellDraw::Listed));
                 glBindTextureUnit(PR_TEX_PRISM_LIST, pass_list_texels_.id());
                 glBindVertexArray(o.base.vao.id());

@@ -138,12 +138,18 @@ private:
     };
     static Geometry make_geometry(const std::vector<MeshVertex>& vertices,
                                   const std::vector<std::uint32_t>& indices);
+    // A vertex array reading MeshVertex attributes from `vertices` and elements from `indices`.
+    static gl::VertexArray make_vertex_array(GLuint vertices, GLuint indices);
 
     struct GpuObject {
         Geometry base;
         // The prism walk's data, built on its first draw (ensure_walk_data): edge_adjacency() of
         // the base mesh, whether it has edges without a neighbour, shell corners per vertex;
         // `tears`: closed, with UV seams, where the surface may tear (a second pass, docs/prism.md).
+        // The walk's triangles when they are not the base mesh's: its flat, evenly mapped
+        // stretches merged into fewer, larger prisms (merge_flat_regions, docs/prism.md item 11);
+        // `vertices` stays empty (the base's buffer is read). Everything below is of these.
+        Geometry walk;
         gl::Buffer adjacency;
         bool open_shell = false;
         bool tears = false;
@@ -152,6 +158,7 @@ private:
         // The prism's views of its data as buffer textures (shared.h, PR_TEX_VERTICES..CORNERS):
         // vertices and indices on the first prism draw (ensure_prism_data), the walk's with it.
         gl::Texture vertex_texels, index_texels, adjacency_texels, corner_texels;
+        gl::Texture walk_index_texels; // of walk.indices, when the walk has its own
         // The prisms whose faces other than the caps the walk draws (walk_triangles: folded ones,
         // bit 31 set, and those with an open edge), with the tight tops and with full ones (r32ui
         // buffer textures, PR_TEX_PRISM_LIST).
@@ -216,7 +223,9 @@ private:
     void upload_object(const GpuObject& o, const DrawSettings& settings, float midlevel);
     void ensure_walk_data(); // adjacency, shell corners, open_shell, tears and seamless of every object
     void ensure_prism_data(bool walk); // the buffer textures of every object (and the walk's data)
-    static void bind_prism_data(const GpuObject& o); // to their texture units
+    // To their texture units; with `walk`, the walk's triangles.
+    static void bind_prism_data(const GpuObject& o, bool walk);
+    static const Geometry& walk_geometry(const GpuObject& o) { return o.walk.vao ? o.walk : o.base; }
 };
 
 } // namespace pr

@@ -57,9 +57,11 @@ void Renderer::draw_overlay(const Camera& camera, Overlay overlay, glm::vec4 col
     const bool inward = t != Technique::Prism && t != Technique::Reference && t != Technique::Flat;
     for (const GpuObject& o : objects_) {
         upload_object(o, settings, inward ? 1.0f : o.midlevel);
-        if (walk) bind_prism_data(o);
-        glBindVertexArray(o.base.vao.id());
-        glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
+        // The walk's prisms are those of its own triangles (flat stretches merged).
+        if (walk) bind_prism_data(o, true);
+        const Geometry& g = walk ? walk_geometry(o) : o.base;
+        glBindVertexArray(g.vao.id());
+        glDrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
     }
     glBindVertexArray(0);
     glUseProgram(0);
