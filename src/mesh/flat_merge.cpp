@@ -73,8 +73,10 @@ bool same_frame(const MeshVertex& a, const MeshVertex& b)
 
 class Merger {
 public:
-    Merger(const std::vector<MeshVertex>& vertices, Mesh& mesh, const std::vector<uint32_t>& copies)
-        : v_(vertices), m_(mesh), copies_(copies), removable_(mesh.n_vertices(), -1)
+    // `render_of`: the render vertex of each of the mesh's vertices.
+    Merger(const std::vector<MeshVertex>& vertices, const std::vector<uint32_t>& render_of, Mesh& mesh,
+           const std::vector<uint32_t>& copies)
+        : v_(vertices), render_of_(render_of), m_(mesh), copies_(copies), removable_(mesh.n_vertices(), -1)
     {
     }
 
@@ -121,8 +123,9 @@ public:
     }
 
 private:
-    dvec3 pos(Mesh::VertexHandle v) const { return dvec3(v_[size_t(v.idx())].position); }
-    dvec2 uv(Mesh::VertexHandle v) const { return dvec2(v_[size_t(v.idx())].uv); }
+    const MeshVertex& vertex(Mesh::VertexHandle v) const { return v_[render_of_[size_t(v.idx())]]; }
+    dvec3 pos(Mesh::VertexHandle v) const { return dvec3(vertex(v).position); }
+    dvec2 uv(Mesh::VertexHandle v) const { return dvec2(vertex(v).uv); }
 
     // A face's corners in order, starting at `first`.
     std::array<Mesh::VertexHandle, 3> corners_from(Mesh::FaceHandle f, Mesh::VertexHandle first) const
@@ -137,12 +140,12 @@ private:
     // The only copy of its position, its faces one plane with one mapping, its neighbours its frame.
     bool removable(Mesh::VertexHandle v0) const
     {
-        const MeshVertex& a = v_[size_t(v0.idx())];
+        const MeshVertex& a = vertex(v0);
         if (copies_[a.weld_id] != 1) return false;
         Mapping first;
         for (const Mesh::FaceHandle f : m_.vf_range(v0)) {
             const auto c = corners_from(f, v0);
-            const Mapping m = mapping_of(a, v_[size_t(c[1].idx())], v_[size_t(c[2].idx())]);
+            const Mapping m = mapping_of(a, vertex(c[1]), vertex(c[2]));
             if (!first.valid) {
                 if (!m.valid) return false;
                 first = m;
@@ -152,7 +155,7 @@ private:
         }
         if (!first.valid) return false; // an isolated vertex
         for (const Mesh::VertexHandle w : m_.vv_range(v0))
-            if (!same_frame(a, v_[size_t(w.idx())])) return false;
+            if (!same_frame(a, vertex(w))) return false;
         return true;
     }
 
@@ -204,6 +207,7 @@ bool keeps_shape(Mesh::HalfedgeHandle h) const
     }
 
     const std::vector<MeshVertex>& v_;
+    const std::vector<uint32_t>& render_of_;
     Mesh& m_;
     const std::vector<uint32_t>& copies_;
 
@@ -242,6 +246,33 @@ std::vector<uint32_t> merge_flat_regions(const std::vector<MeshVertex>& vertices
     }
     if (std::none_of(state.begin(), state.end(), [](uint32_t s) { return s == 1; })) return indices;
 
+    // OpenMesh gets only the region that may change: the faces around a candidate or around a
+    // neighbour of one. So every edge between two vertices around a candidate is there, and
+    // OpenMesh's checks of a collapse see the whole of both ends' rings (also after earlier
+    // collapses: a vertex around a merged stretch was around one of its candidates). The rest of
+    // a large mesh with a few flat spots is copied as it is.
+    std::vector<uint8_t> near(vertices.size(), 0);
+    for (size_t f = 0; f < faces; ++f) {
+        const uint32_t* t = &indices[3 * f];
+        if (state[t[0]] == 1 || state[t[1]] == 1 || state[t[2]] == 1) near[t[0]] = near[t[1]] = near[t[2]] = 1;
+    }
+    std::vector<uint32_t> kept, region_faces;
+    std::vector<int> om_of(vertices.size(), -1);
+    std::vector<uint32_t> render_of;
+    for (size_t f = 0; f < faces; ++f) {
+        const uint32_t* t = &indices[3 * f];
+        if (!near[t[0]] && !near[t[1]] && !near[t[2]]) {
+            kept.insert(kept.end(), t, t + 3);
+            continue;
+        }
+        region_faces.push_back(uint32_t(f));
+        for (int k = 0; k < 3; ++k)
+            if (om_of[t[k]] < 0) {
+                om_of[t[k]] = int(render_of.size());
+                render_of.push_back(t[k]);
+            }
+    }
+
     Mesh mesh;
     mesh.request_vertex_status();
     mesh.request_edge_status();
@@ -249,21 +280,23 @@ std::vector<uint32_t> merge_flat_regions(const std::vector<MeshVertex>& vertices
     mesh.request_face_status();
     {
         QuietOpenMesh quiet; // add_face complains on non-manifold input, which comes back unchanged
-        for (const MeshVertex& v : vertices) mesh.add_vertex(Mesh::Point(v.position.x, v.position.y, v.position.z));
-        for (size_t f = 0; f < faces; ++f) {
-            const Mesh::FaceHandle fh = mesh.add_face(Mesh::VertexHandle(int(indices[3 * f])),
-                                                      Mesh::VertexHandle(int(indices[3 * f + 1])),
-                                                      Mesh::VertexHandle(int(indices[3 * f + 2])));
+        for (const uint32_t r : render_of) {
+            const glm::vec3& p = vertices[r].position;
+            mesh.add_vertex(Mesh::Point(p.x, p.y, p.z));
+        }
+        for (const uint32_t f : region_faces) {
+            const uint32_t* t = &indices[3 * size_t(f)];
+            const Mesh::FaceHandle fh = mesh.add_face(Mesh::VertexHandle(om_of[t[0]]), Mesh::VertexHandle(om_of[t[1]]),
+                                                      Mesh::VertexHandle(om_of[t[2]]));
             if (!fh.is_valid()) return indices;
         }
     }
-    if (Merger(vertices, mesh, copies).run() == 0) return indices;
+    if (Merger(vertices, render_of, mesh, copies).run() == 0) return indices;
 
-    std::vector<uint32_t> merged;
-    merged.reserve(mesh.n_faces() * 3);
+    std::vector<uint32_t> merged = std::move(kept);
     for (const Mesh::FaceHandle f : mesh.faces()) {
         if (mesh.status(f).deleted()) continue;
-        for (const Mesh::VertexHandle v : mesh.fv_range(f)) merged.push_back(uint32_t(v.idx()));
+        for (const Mesh::VertexHandle v : mesh.fv_range(f)) merged.push_back(render_of[size_t(v.idx())]);
     }
     return merged;
 }

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -245,4 +246,33 @@ TEST(FlatMerge, MergesEachWingOfAFoldAndKeepsTheCrease)
     const std::set<std::uint32_t> kept = used(merged);
     for (std::uint32_t i = 0; i < m.vertices.size(); ++i)
         if (std::abs(m.vertices[i].position.x - 0.5f) < 1e-6f) EXPECT_TRUE(kept.count(i)) << i;
+}
+
+TEST(FlatMerge, MergesAFlatPartAndLeavesTheCurvedPartAsItIs)
+{
+    // Flat for x <= 0.5, curved beyond: only the flat part and its rim go to OpenMesh; every
+    // triangle of the curved part comes back as it was.
+    prtest::TempDir dir;
+    const auto bowl = [](double x, double) { return x > 0.5 ? 2.0 * (x - 0.5) * (x - 0.5) : 0.0; };
+    const pr::PreparedMesh m = pr::load_mesh(dir.write("bowl.obj", grid_obj(12, bowl, plain_uv)));
+    const std::vector<std::uint32_t> merged = pr::merge_flat_regions(m.vertices, m.indices);
+    EXPECT_LT(merged.size(), m.indices.size() * 2 / 3);
+    EXPECT_NEAR(area(m, merged), area(m, m.indices), 1e-9);
+    expect_same_surface(m, merged);
+    std::set<std::array<std::uint32_t, 3>> out;
+    for (std::size_t t = 0; t < merged.size(); t += 3) {
+        std::array<std::uint32_t, 3> k{merged[t], merged[t + 1], merged[t + 2]};
+        std::rotate(k.begin(), std::min_element(k.begin(), k.end()), k.end()); // same winding, one start
+        out.insert(k);
+    }
+    int curved = 0;
+    for (std::size_t t = 0; t < m.indices.size(); t += 3) {
+        std::array<std::uint32_t, 3> k{m.indices[t], m.indices[t + 1], m.indices[t + 2]};
+        if (std::min({m.vertices[k[0]].position.x, m.vertices[k[1]].position.x, m.vertices[k[2]].position.x}) < 0.55f)
+            continue;
+        std::rotate(k.begin(), std::min_element(k.begin(), k.end()), k.end());
+        EXPECT_TRUE(out.count(k)) << "curved triangle " << t / 3;
+        ++curved;
+    }
+    EXPECT_GT(curved, 100);
 }
