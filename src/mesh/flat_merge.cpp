@@ -1,6 +1,6 @@
 // Merging flat, evenly textured stretches of a mesh for the prism walk (flat_merge.hpp): vertices
-// whose removal changes nothing are taken out by halfedge collapses in OpenMesh, shortest edge
-// first, until none is left.
+// whose removal changes nothing are taken out by halfedge collapses in OpenMesh, in rounds, until
+// none is left.
 #include "mesh/flat_merge.hpp"
 
 #include "mesh/quiet_openmesh.hpp"
@@ -162,12 +162,13 @@ private:
     // Moving v0 onto v1 leaves the same region covered, every face turned as before and none
     // degenerate; on a boundary, v0 must lie on a straight run of it between v1 and the other
     // boundary neighbour.
-bool keeps_shape(Mesh::HalfedgeHandle h) const
+    bool keeps_shape(Mesh::HalfedgeHandle h) const
     {
         const Mesh::VertexHandle v0 = m_.from_vertex_handle(h), v1 = m_.to_vertex_handle(h);
         if (m_.is_boundary(v0)) {
             if (!m_.is_boundary(m_.edge_handle(h))) return false;
-            const Mesh::HalfedgeHandle out = m_.halfedge_handle(v0); // the outgoing boundary halfedge
+            const Mesh::HalfedgeHandle out = m_.halfedge_handle(v0); // OpenMesh keeps it on the boundary
+            if (!m_.is_boundary(out)) return false;
             const Mesh::VertexHandle ahead = m_.to_vertex_handle(out);
             const Mesh::VertexHandle behind = m_.from_vertex_handle(m_.prev_halfedge_handle(out));
             const Mesh::VertexHandle v2 = ahead == v1 ? behind : ahead;
@@ -210,7 +211,6 @@ bool keeps_shape(Mesh::HalfedgeHandle h) const
     const std::vector<uint32_t>& render_of_;
     Mesh& m_;
     const std::vector<uint32_t>& copies_;
-
     std::vector<signed char> removable_; // per vertex: -1 not judged yet, 0 no, 1 yes
 };
 

@@ -143,12 +143,12 @@ private:
 
     struct GpuObject {
         Geometry base;
-        // The prism walk's data, built on its first draw (ensure_walk_data): edge_adjacency() of
-        // the base mesh, whether it has edges without a neighbour, shell corners per vertex;
-        // `tears`: closed, with UV seams, where the surface may tear (a second pass, docs/prism.md).
-        // The walk's triangles when they are not the base mesh's: its flat, evenly mapped
-        // stretches merged into fewer, larger prisms (merge_flat_regions, docs/prism.md item 11);
-        // `vertices` stays empty (the base's buffer is read). Everything below is of these.
+        // The prism walk's data, built on its first draw (ensure_walk_data), of the walk's
+        // triangles: edge_adjacency(), whether it has edges without a neighbour, shell corners
+        // per vertex; `tears`: closed, with UV seams, where the surface may tear (a second pass,
+        // docs/prism.md). `walk`: those triangles when they are not the base mesh's, its flat,
+        // evenly mapped stretches merged into fewer, larger prisms (merge_flat_regions,
+        // docs/prism.md item 11); its `vertices` stays empty (the base's buffer is read).
         Geometry walk;
         gl::Buffer adjacency;
         bool open_shell = false;
