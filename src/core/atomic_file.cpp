@@ -7,6 +7,7 @@
 #include <cstring>
 #include <fcntl.h>
 #include <random>
+#include <string>
 #include <unistd.h>
 
 namespace pr {
@@ -31,7 +32,10 @@ void write_file_atomic(const std::filesystem::path& path, std::span<const std::u
     if (dir.empty()) dir = ".";
 
     std::random_device rd;
-    const fs::path tmp = dir / ("." + path.filename().string() + ".tmp" + std::to_string(rd() % 1000000));
+    std::string name = "."; // (appended, not "." + ...: GCC 12 warns wrongly on that, -Wrestrict)
+    name += path.filename().string();
+    name += ".tmp" + std::to_string(rd() % 1000000);
+    const fs::path tmp = dir / name;
     const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
     if (fd < 0) throw Error(subject, std::string("cannot write: ") + std::strerror(errno));
     std::size_t done = 0;

@@ -38,7 +38,10 @@ std::string technique_name(Technique t)
 std::string technique_names()
 {
     std::string s;
-    for (const TechniqueInfo& t : technique_table()) s += (s.empty() ? "" : "|") + std::string(t.name);
+    for (const TechniqueInfo& t : technique_table()) {
+        if (!s.empty()) s += '|';
+        s += t.name;
+    }
     return s;
 }
 
@@ -99,7 +102,10 @@ const std::vector<Marcher>& all_marchers()
 std::string marcher_names()
 {
     std::string s;
-    for (const MarcherInfo& m : kMarchers) s += (s.empty() ? "" : "|") + std::string(m.name);
+    for (const MarcherInfo& m : kMarchers) {
+        if (!s.empty()) s += '|';
+        s += m.name;
+    }
     return s;
 }
 
