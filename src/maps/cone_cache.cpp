@@ -13,6 +13,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/fnv.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -29,16 +30,6 @@ namespace {
 
 constexpr char kMagic[8] = {'P', 'R', 'C', 'O', 'N', 'E', '0', '1'};
 constexpr std::size_t kHeaderBytes = 8 + 5 * 4 + 8 + 8;
-
-struct Fnv {
-    std::uint64_t h = 0xcbf29ce484222325ull;
-    void add(const void* data, std::size_t n)
-    {
-        const auto* p = static_cast<const std::uint8_t*>(data);
-        for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 0x100000001b3ull;
-    }
-    void add32(std::uint32_t v) { add(&v, 4); }
-};
 
 std::uint64_t cache_key(const HeightField& field, ConeKind kind, ConeFormat format)
 {

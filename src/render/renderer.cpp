@@ -1,6 +1,7 @@
 #include "render/renderer.hpp"
 
 #include "core/error.hpp"
+#include "core/fnv.hpp"
 #include "maps/conemap.hpp"
 #include "mesh/adjacency.hpp"
 #include "mesh/flat_merge.hpp"
@@ -636,7 +637,7 @@ void Renderer::ensure_walk_data()
         glGetNamedBufferSubData(o.base.indices.id(), 0,
                                 static_cast<GLsizeiptr>(base_indices.size() * sizeof(std::uint32_t)), base_indices.data());
         // The walk's own triangles: flat, evenly mapped stretches merged (fewer prisms to cross).
-        std::vector<std::uint32_t> indices = merge_flat_regions(vertices, base_indices);
+        std::vector<std::uint32_t> indices = walk_triangles_of(vertices, base_indices);
         if (indices.size() != base_indices.size()) {
             o.walk.indices = gl::immutable_buffer(indices);
             o.walk.index_count = static_cast<GLsizei>(indices.size());
@@ -663,6 +664,27 @@ void Renderer::ensure_walk_data()
         }
     }
     if (glGetError() == GL_OUT_OF_MEMORY) throw Error("scene", "out of GPU memory while building the prism walk's buffers");
+}
+
+std::vector<std::uint32_t> Renderer::walk_triangles_of(const std::vector<MeshVertex>& vertices,
+                                                       const std::vector<std::uint32_t>& indices)
+{
+    Fnv key;
+    key.add(vertices.data(), vertices.size() * sizeof(MeshVertex));
+    key.add(indices.data(), indices.size() * sizeof(std::uint32_t));
+    const auto hit = std::find_if(merged_.begin(), merged_.end(), [&](const MergedTriangles& m) {
+        return m.key == key.h && m.vertex_count == vertices.size() && m.index_count == indices.size();
+    });
+    if (hit != merged_.end()) {
+        std::rotate(merged_.begin(), hit, hit + 1); // most recent first
+        return merged_.front().indices;
+    }
+    std::vector<std::uint32_t> merged = merge_flat_regions(vertices, indices);
+    if (merged.size() != indices.size()) {
+        merged_.insert(merged_.begin(), MergedTriangles{key.h, vertices.size(), indices.size(), merged});
+        if (merged_.size() > kMergedKept) merged_.pop_back();
+    }
+    return merged;
 }
 
 void Renderer::upload_object(const GpuObject& o, const DrawSettings& settings, float midlevel)

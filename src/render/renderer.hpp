@@ -207,6 +207,13 @@ private:
         ConeMap map;
     };
     std::map<std::pair<const void*, ConeKind>, HeldConeMap> cone_maps_;
+    struct MergedTriangles {
+        std::uint64_t key; // Fnv of the vertices and indices
+        std::size_t vertex_count, index_count;
+        std::vector<std::uint32_t> indices;
+    };
+    static constexpr std::size_t kMergedKept = 4;
+    std::vector<MergedTriangles> merged_; // walk_triangles_of(), most recent first
     // Cache entry paths of the drawn height fields (missing_cone_maps), by field and kind.
     std::map<std::pair<const void*, ConeKind>, std::filesystem::path> cone_entries_;
     ConeProgress cone_progress_;
@@ -222,6 +229,11 @@ private:
     // Fills the object block for `o` drawn with `settings` (draw() and draw_overlay()).
     void upload_object(const GpuObject& o, const DrawSettings& settings, float midlevel);
     void ensure_walk_data(); // adjacency, shell corners, open_shell, tears and seamless of every object
+    // merge_flat_regions() of a mesh, remembered for the last few meshes that merged: it is the
+    // slow part of a large flat mesh's walk data (0.9 s for a million triangles), and the viewer
+    // uploads the same meshes again whenever the depth or midlevel changes. Keyed by content.
+    std::vector<std::uint32_t> walk_triangles_of(const std::vector<MeshVertex>& vertices,
+                                                 const std::vector<std::uint32_t>& indices);
     void ensure_prism_data(bool walk); // the buffer textures of every object (and the walk's data)
     // To their texture units; with `walk`, the walk's triangles.
     static void bind_prism_data(const GpuObject& o, bool walk);

@@ -459,6 +459,33 @@ TEST(Prism, WalkDrawsTheWallsAndBottomOfOpenMeshes)
     }
 }
 
+// The walk's merged triangles (a flat floor's 512 become 2; docs/prism.md item 11) are
+// remembered across uploads (the viewer uploads again whenever the depth changes): an upload of
+// another depth draws another picture, and one of the first depth again the same, to the bit.
+TEST(Prism, WalkDrawsTheSameAfterUploadingTheSameMeshAgain)
+{
+    prtest::context();
+    Renderer r(96, 96);
+    auto bumps = bumps_map(128);
+    Scene scene = mesh_scene("plane.obj", bumps, 0.06f);
+    const Camera c = framed(scene, 30.0f);
+    r.upload(scene);
+    const FrameCapture first = capture(r, c, Technique::Prism);
+    const float depth = scene.objects[0].depth;
+    scene.objects[0].depth = 0.5f * depth;
+    r.upload(scene);
+    const FrameCapture shallow = capture(r, c, Technique::Prism);
+    scene.objects[0].depth = depth;
+    r.upload(scene);
+    const FrameCapture again = capture(r, c, Technique::Prism);
+    EXPECT_NE(shallow.color.pixels, first.color.pixels);
+    EXPECT_EQ(again.color.pixels, first.color.pixels);
+    int covered = 0;
+    for (int y = 0; y < 96; ++y)
+        for (int x = 0; x < 96; ++x) covered += first.color.at(x, y).a >= 128;
+    EXPECT_GT(covered, 1500);
+}
+
 // The tight shell (top caps at the field's local maximum) draws what the full one (top caps at
 // height 1) draws, and its rays start lower: fewer height samples per fragment.
 TEST(Prism, TightShellMatchesTheFullShellWithFewerSamples)
