@@ -276,3 +276,44 @@ TEST(FlatMerge, MergesAFlatPartAndLeavesTheCurvedPartAsItIs)
     }
     EXPECT_GT(curved, 100);
 }
+
+TEST(FlatMerge, MergesAMirroredFloorToo)
+{
+    // u runs against x: every tangent frame is left-handed (tangent.w = -1), and it merges alike.
+    prtest::TempDir dir;
+    const pr::PreparedMesh m =
+        pr::load_mesh(dir.write("mirrored.obj", grid_obj(6, flat, [](double x, double z) { return dvec2(1.0 - x, z); })));
+    ASSERT_EQ(m.vertices[0].tangent.w, -1.0f);
+    const std::vector<std::uint32_t> merged = pr::merge_flat_regions(m.vertices, m.indices);
+    EXPECT_EQ(merged.size(), 6u);
+    expect_same_surface(m, merged);
+}
+
+TEST(FlatMerge, KeepsAFinAndTheEdgeItStandsOn)
+{
+    // A floor with a fin standing on one of its inner edges: three faces on that edge (in the
+    // welded mesh; the fin's corners are render vertices of their own, with their own frames).
+    prtest::TempDir dir;
+    std::string obj = grid_obj(4, flat, plain_uv);
+    // Grid vertices 7 and 8 (1-based: row 1, columns 1 and 2) share an inner edge; the fin's apex
+    // is a new vertex above them.
+    obj += "v 0.375 0.3 -0.25\nvt 0.5 0.5\nf 7/7 8/8 26/26\n";
+    const pr::PreparedMesh m = pr::load_mesh(dir.write("fin.obj", obj));
+    ASSERT_EQ(m.triangle_count(), 33u);
+    const std::vector<std::uint32_t> merged = pr::merge_flat_regions(m.vertices, m.indices);
+    EXPECT_LT(merged.size(), m.indices.size());
+    expect_same_surface(m, merged);
+    // The edge keeps a floor triangle on each side: positions 0.25 and 0.5 along x at z = 0.25.
+    const auto at = [&](std::uint32_t i, float x) {
+        return std::abs(m.vertices[i].position.x - x) < 1e-6f && std::abs(m.vertices[i].position.z + 0.25f) < 1e-6f &&
+               m.vertices[i].position.y == 0.0f;
+    };
+    int sides = 0;
+    for (std::size_t t = 0; t < merged.size(); t += 3)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = merged[t + std::size_t(k)], b = merged[t + std::size_t((k + 1) % 3)];
+            const bool floor = std::abs(m.vertices[merged[t + std::size_t((k + 2) % 3)]].position.y) < 1e-6f;
+            sides += floor && ((at(a, 0.25f) && at(b, 0.5f)) || (at(a, 0.5f) && at(b, 0.25f)));
+        }
+    EXPECT_EQ(sides, 2);
+}
