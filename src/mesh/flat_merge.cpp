@@ -82,12 +82,12 @@ public:
 
     // Rounds of collapses until no vertex can go; the number of collapses. In each round every
     // vertex that may go and has at most kMaxValence edges goes along its shortest edge that
-    // keeps the shape, unless a neighbour moved in this round (so no vertex gathers edges faster
-    // than they go: a planar mesh always has many vertices of low valence, and each round
-    // removes a share of them); when none of those is left, the rest (beside vertices that stay,
-    // a vertex may keep many edges). Going vertex by vertex without rounds piled the removed
-    // vertices' edges onto a few, and every check walks a vertex's ring: 4.4 s on a 400 x 400
-    // floor; a global queue by edge length 1.6 s; rounds 0.7 s.
+    // keeps the shape and whose other end has not taken a collapse in this round (so no vertex
+    // gathers edges faster than they go: a planar mesh always has many vertices of low valence,
+    // and each round removes about half of them); when none of those is left, the rest (beside
+    // vertices that stay, a vertex may keep many edges). Vertex by vertex without rounds piled
+    // the removed vertices' edges onto a few, and every check walks a vertex's ring: 4.4 s on a
+    // 400 x 400 quad floor; a global queue by edge length 1.6 s; rounds 0.4 s.
     std::size_t run()
     {
         std::size_t collapses = 0;
@@ -100,17 +100,17 @@ public:
                 const Mesh::VertexHandle v0(i);
                 if (m_.status(v0).deleted() || round_of[size_t(i)] == round || !may_go(v0)) continue;
                 out.clear();
-                bool crowded = false;
+                std::size_t valence = 0;
                 for (const Mesh::HalfedgeHandle h : m_.voh_range(v0)) {
                     const Mesh::VertexHandle to = m_.to_vertex_handle(h);
-                    crowded = crowded || round_of[size_t(to.idx())] == round || out.size() >= max_valence;
-                    out.emplace_back(glm::length(pos(to) - pos(v0)), h);
+                    ++valence;
+                    if (round_of[size_t(to.idx())] != round) out.emplace_back(glm::length(pos(to) - pos(v0)), h);
                 }
-                if (crowded) continue;
+                if (valence > max_valence) continue;
                 std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
                 for (const auto& [length, h] : out) {
                     if (!keeps_shape(h) || !m_.is_collapse_ok(h)) continue;
-                    for (const Mesh::VertexHandle w : m_.vv_range(v0)) round_of[size_t(w.idx())] = round;
+                    round_of[size_t(m_.to_vertex_handle(h).idx())] = round;
                     m_.collapse(h);
                     ++in_round;
                     break;
@@ -214,24 +214,27 @@ private:
     std::vector<signed char> removable_; // per vertex: -1 not judged yet, 0 no, 1 yes
 };
 
-} // namespace
-
-std::vector<uint32_t> merge_flat_regions(const std::vector<MeshVertex>& vertices, const std::vector<uint32_t>& indices)
+// Copies per welded position (a vertex on a UV seam has two or more).
+std::vector<uint32_t> copies_per_position(const std::vector<MeshVertex>& vertices)
 {
-    const size_t faces = indices.size() / 3;
-    if (faces < 2) return indices;
-    // Copies per welded position (a vertex on a UV seam has two or more).
     std::vector<uint32_t> copies;
     for (const MeshVertex& v : vertices) {
         if (v.weld_id >= copies.size()) copies.resize(size_t(v.weld_id) + 1, 0);
         ++copies[v.weld_id];
     }
-    // A first look without OpenMesh: is any vertex removable by its faces and neighbours? Curved
-    // meshes (most) stop here. (The merge checks again on the mesh as it changes.)
+    return copies;
+}
+
+// A first look without OpenMesh, per vertex: 1 where its faces and neighbours would let it go
+// (the merge checks again on the mesh as it changes), 2 where not, 0 for unused vertices.
+std::vector<uint8_t> candidates(const std::vector<MeshVertex>& vertices, const std::vector<uint32_t>& indices,
+                                const std::vector<uint32_t>& copies)
+{
+    const size_t faces = indices.size() / 3;
     std::vector<Mapping> mapping(faces);
     for (size_t f = 0; f < faces; ++f)
         mapping[f] = mapping_of(vertices[indices[3 * f]], vertices[indices[3 * f + 1]], vertices[indices[3 * f + 2]]);
-    std::vector<uint32_t> state(vertices.size(), 0); // 0 unseen, 1 candidate, 2 not
+    std::vector<uint8_t> state(vertices.size(), 0);
     std::vector<uint32_t> face_of(vertices.size(), 0);
     for (size_t f = 0; f < faces; ++f) {
         for (int k = 0; k < 3; ++k) {
@@ -244,7 +247,28 @@ std::vector<uint32_t> merge_flat_regions(const std::vector<MeshVertex>& vertices
             face_of[i] = uint32_t(f);
         }
     }
-    if (std::none_of(state.begin(), state.end(), [](uint32_t s) { return s == 1; })) return indices;
+    return state;
+}
+
+bool any_candidate(const std::vector<uint8_t>& state)
+{
+    return std::any_of(state.begin(), state.end(), [](uint8_t s) { return s == 1; });
+}
+
+} // namespace
+
+bool has_flat_stretch(const std::vector<MeshVertex>& vertices, const std::vector<uint32_t>& indices)
+{
+    return indices.size() >= 6 && any_candidate(candidates(vertices, indices, copies_per_position(vertices)));
+}
+
+std::vector<uint32_t> merge_flat_regions(const std::vector<MeshVertex>& vertices, const std::vector<uint32_t>& indices)
+{
+    const size_t faces = indices.size() / 3;
+    if (faces < 2) return indices;
+    const std::vector<uint32_t> copies = copies_per_position(vertices);
+    const std::vector<uint8_t> state = candidates(vertices, indices, copies);
+    if (!any_candidate(state)) return indices; // curved meshes (most) stop here
 
     // OpenMesh gets only the region that may change: the faces around a candidate or around a
     // neighbour of one. So every edge between two vertices around a candidate is there, and

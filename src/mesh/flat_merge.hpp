@@ -22,5 +22,8 @@ namespace pr {
 // manifold (non-manifold edges or vertices) come back unchanged.
 std::vector<std::uint32_t> merge_flat_regions(const std::vector<MeshVertex>& vertices,
                                               const std::vector<std::uint32_t>& indices);
+// Whether merge_flat_regions() finds anything to try: its first look alone (per face and vertex,
+// no OpenMesh), false on curved meshes. (True does not promise a merge.)
+bool has_flat_stretch(const std::vector<MeshVertex>& vertices, const std::vector<std::uint32_t>& indices);
 
 } // namespace pr

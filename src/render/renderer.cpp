@@ -669,6 +669,7 @@ void Renderer::ensure_walk_data()
 std::vector<std::uint32_t> Renderer::walk_triangles_of(const std::vector<MeshVertex>& vertices,
                                                        const std::vector<std::uint32_t>& indices)
 {
+    if (!has_flat_stretch(vertices, indices)) return indices; // cheaper than the key
     Fnv key;
     key.add(vertices.data(), vertices.size() * sizeof(MeshVertex));
     key.add(indices.data(), indices.size() * sizeof(std::uint32_t));

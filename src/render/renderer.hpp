@@ -230,7 +230,7 @@ private:
     void upload_object(const GpuObject& o, const DrawSettings& settings, float midlevel);
     void ensure_walk_data(); // adjacency, shell corners, open_shell, tears and seamless of every object
     // merge_flat_regions() of a mesh, remembered for the last few meshes that merged: it is the
-    // slow part of a large flat mesh's walk data (0.9 s for a million triangles), and the viewer
+    // slow part of a large flat mesh's walk data (1.4 s for a million triangles), and the viewer
     // uploads the same meshes again whenever the depth or midlevel changes. Keyed by content.
     std::vector<std::uint32_t> walk_triangles_of(const std::vector<MeshVertex>& vertices,
                                                  const std::vector<std::uint32_t>& indices);
