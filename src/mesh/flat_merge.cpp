@@ -106,7 +106,11 @@ public:
                     ++valence;
                     if (round_of[size_t(to.idx())] != round) out.emplace_back(glm::length(pos(to) - pos(v0)), h);
                 }
-                if (valence > max_valence) continue;
+                // Judged again on its ring as it is now: each collapse keeps the merged
+                // triangles' corners within kSame of the vertex that goes, so the error cannot
+                // creep along chains of vertices each close to the next (a surface curving more
+                // gently than kSame per edge stays curved). No vertex that could not go ever can.
+                if (valence > max_valence || !removable(v0)) continue;
                 std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
                 for (const auto& [length, h] : out) {
                     if (!keeps_shape(h) || !m_.is_collapse_ok(h)) continue;
@@ -197,9 +201,9 @@ private:
         return true;
     }
 
-    // Whether v may go at all. That does not change as others go: a collapse v0 -> v1 gives
-    // the vertices around v0 faces of v0's own plane and mapping, and v1, whose frame is v0's, as
-    // a neighbour; so it is judged once.
+    // Whether v may go at all, as first judged. A vertex that could not go never can (a
+    // neighbour with another frame or a face with another mapping cannot go either), so a "no"
+    // is kept; run() judges a "yes" again on the ring as it is before each collapse.
     bool may_go(Mesh::VertexHandle v)
     {
         signed char& r = removable_[size_t(v.idx())];

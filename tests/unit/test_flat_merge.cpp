@@ -317,3 +317,17 @@ TEST(FlatMerge, KeepsAFinAndTheEdgeItStandsOn)
         }
     EXPECT_EQ(sides, 2);
 }
+
+TEST(FlatMerge, AGentlyCurvedFloorKeepsItsCurve)
+{
+    // y = a x^2 bends each edge's normal by less than the merge's tolerance, but the floor's by
+    // 2a: merging must not creep along the chain of nearly equal neighbours and flatten it
+    // (points of every input triangle stay on the merged ones within 1e-5).
+    prtest::TempDir dir;
+    const double a = 1.5e-4;
+    const pr::PreparedMesh m =
+        pr::load_mesh(dir.write("gentle.obj", grid_obj(40, [a](double x, double) { return a * x * x; }, plain_uv)));
+    const std::vector<std::uint32_t> merged = pr::merge_flat_regions(m.vertices, m.indices);
+    EXPECT_LT(merged.size(), m.indices.size());
+    expect_same_surface(m, merged);
+}
