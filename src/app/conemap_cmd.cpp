@@ -63,9 +63,7 @@ CommandAction add_conemap_command(CLI::App& app)
         const ConeKind kind = parse_cone_kind(s->kind, "--kind");
         ConeBuildOptions options;
         options.format = parse_cone_format(s->format, "--format");
-        if (s->backend != "cpu" && s->backend != "gpu")
-            throw Error("--backend", "unknown cone-map backend '" + s->backend + "' (expected cpu or gpu)");
-        const bool gpu = s->backend == "gpu";
+        const bool gpu = parse_cone_backend_gpu(s->backend, "--backend");
         const Backend gl_backend = parse_backend(s->gl_backend);
         if (s->threads < 0 || s->threads > 1024) throw Error("--threads", "must be between 0 (all cores) and 1024");
         options.threads = s->threads;

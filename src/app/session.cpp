@@ -2,6 +2,7 @@
 
 #include "app/progress.hpp"
 #include "core/error.hpp"
+#include "maps/conemap.hpp"
 
 #include <memory>
 #include <sstream>
@@ -11,8 +12,7 @@ namespace pr {
 Session open_session(const SceneOptions& options, const ContextFactory& make_context)
 {
     Session s;
-    if (options.cone_backend != "cpu" && options.cone_backend != "gpu")
-        throw Error("--cone-backend", "unknown cone-map backend '" + options.cone_backend + "' (expected cpu or gpu)");
+    const bool cone_maps_on_gpu = parse_cone_backend_gpu(options.cone_backend, "--cone-backend");
     s.spec = make_scene_spec(options);
     const Backend backend = parse_backend(options.backend);
     if (!make_context) preload_backend(backend); // loads Mesa while the scene is read
@@ -20,7 +20,7 @@ Session open_session(const SceneOptions& options, const ContextFactory& make_con
     s.context = make_context ? make_context(s.spec) : create_headless_context(backend);
     s.renderer = std::make_unique<Renderer>(s.spec.width, s.spec.height);
     if (!options.cache_dir.empty()) s.renderer->set_cache_dir(options.cache_dir);
-    s.renderer->set_cone_maps_on_gpu(options.cone_backend == "gpu");
+    s.renderer->set_cone_maps_on_gpu(cone_maps_on_gpu);
     // A cone map built on first use can take seconds (a relaxed map of 1024²: about 8 s on two
     // cores): a bar on a terminal says what the wait is for.
     auto progress = std::make_shared<TaskProgress>();

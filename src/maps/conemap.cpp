@@ -44,6 +44,13 @@ ConeFormat parse_cone_format(const std::string& name, const std::string& option)
 
 std::string cone_format_name(ConeFormat format) { return format == ConeFormat::Rg8 ? "rg8" : "rg16"; }
 
+bool parse_cone_backend_gpu(const std::string& name, const std::string& option)
+{
+    if (name == "cpu") return false;
+    if (name == "gpu") return true;
+    throw Error(option, "unknown cone-map backend '" + name + "' (expected cpu or gpu)");
+}
+
 int cone_format_steps(ConeFormat format) { return format == ConeFormat::Rg8 ? 255 : 65535; }
 
 namespace {
