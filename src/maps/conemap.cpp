@@ -44,6 +44,12 @@ ConeFormat parse_cone_format(const std::string& name, const std::string& option)
 
 std::string cone_format_name(ConeFormat format) { return format == ConeFormat::Rg8 ? "rg8" : "rg16"; }
 
+std::string cone_map_label(ConeKind kind, const HeightField& field)
+{
+    return (kind == ConeKind::Relaxed ? "relaxed cone map of " : "cone map of ") +
+           (field.name.empty() ? std::string("the height map") : field.name);
+}
+
 bool parse_cone_backend_gpu(const std::string& name, const std::string& option)
 {
     if (name == "cpu") return false;

@@ -23,6 +23,8 @@ ConeKind parse_cone_kind(const std::string& name, const std::string& option = "-
 std::string cone_kind_name(ConeKind kind);       // "cone" | "relaxed"
 ConeFormat parse_cone_format(const std::string& name, const std::string& option = "--format");
 std::string cone_format_name(ConeFormat format); // "rg8" | "rg16"
+// What a progress line calls the map of `kind` for `field`: "relaxed cone map of builtin:noise@1024".
+std::string cone_map_label(ConeKind kind, const HeightField& field);
 // Where a cone map is built: "cpu" (threads) -> false, "gpu" (compute shader) -> true.
 bool parse_cone_backend_gpu(const std::string& name, const std::string& option);
 

@@ -540,9 +540,7 @@ const ConeMap& Renderer::cone_map(const std::shared_ptr<const HeightField>& fiel
     if (it != cone_maps_.end()) return it->second.map;
     ConeBuildOptions options;
     if (cone_progress_) {
-        const std::string what = (kind == ConeKind::Relaxed ? "relaxed cone map of " : "cone map of ") +
-                                 (field->name.empty() ? std::string("the height map") : field->name);
-        options.progress = [this, what](double f) { cone_progress_(what, f); };
+        options.progress = [this, what = cone_map_label(kind, *field)](double f) { cone_progress_(what, f); };
     }
     ConeBuilder build = build_cone_map_cpu;
     if (cone_gpu_)

@@ -344,9 +344,7 @@ DrawSettings Viewer::drawable(const DrawSettings& d, bool last_frame)
     if (!cone_job_) { // one build at a time: the other half's maps follow
         ConeJob& job = cone_job_.emplace();
         job.map = map;
-        const std::string& name = needs.front().field->name;
-        job.what = std::string(map == AuxMap::Relaxed ? "relaxed cone map" : "cone map") + " of " +
-                   (name.empty() ? std::string("the height map") : name);
+        job.what = cone_map_label(map == AuxMap::Relaxed ? ConeKind::Relaxed : ConeKind::Cone, *needs.front().field);
         job.maps = std::async(std::launch::async, [needs = std::move(needs), dir = s_.renderer->cache_dir(),
                                                    done = job.done, cancel = job.cancel]() {
             ConeJob::Maps maps;
