@@ -12,8 +12,11 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <span>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
@@ -192,6 +195,150 @@ int box_direction(const dvec3& n)
     const dvec3 an = glm::abs(n);
     const int axis = an.x > an.y && an.x > an.z ? 0 : (an.y > an.z ? 1 : 2);
     return axis * 2 + (n[axis] >= 0.0 ? 0 : 1);
+}
+
+// Per face, the faces across its shared edges (one entry per edge): faces[offsets[f], offsets[f + 1]).
+struct FaceNeighbours {
+    std::vector<uint32_t> offsets;
+    std::vector<uint32_t> faces;
+    std::span<const uint32_t> of(size_t f) const
+    {
+        return {faces.data() + offsets[f], faces.data() + offsets[f + 1]};
+    }
+};
+
+// The unit vector of box direction d (box_direction()).
+dvec3 box_axis(int d)
+{
+    dvec3 a(0.0);
+    a[d / 2] = d % 2 == 0 ? 1.0 : -1.0;
+    return a;
+}
+
+// The welded position of corner k of a triangle (prepare_mesh's tri_weld).
+struct TriangleWelds {
+    const std::vector<uint32_t>& compact;
+    const std::vector<uint32_t>& weld_of;
+    const std::vector<uint32_t>& corners;
+    uint32_t operator()(const Triangle& t, int k) const { return compact[weld_of[corners[t.corner[k]]]]; }
+};
+
+// The faces across each shared edge of the faces for which generated(f) holds, from the other
+// such faces: of the triangles around the edge's first position, the one other triangle that has
+// the edge too, if it lies in another face (a polygon's own diagonals do not count; nor do edges
+// of three or more triangles).
+template <class Generated>
+FaceNeighbours generated_face_neighbours(const std::vector<Triangle>& tris, const TriangleWelds& welds,
+                                         size_t weld_count, size_t face_count, Generated generated)
+{
+    std::vector<uint32_t> corner(tris.size() * 3); // welded position per triangle corner
+    for (size_t i = 0; i < tris.size(); ++i)
+        for (int k = 0; k < 3; ++k) corner[3 * i + size_t(k)] = welds(tris[i], k);
+    std::vector<uint32_t> around_offsets(weld_count + 1, 0), around; // triangles per position
+    for (size_t i = 0; i < tris.size(); ++i)
+        if (generated(tris[i].face))
+            for (int k = 0; k < 3; ++k) ++around_offsets[corner[3 * i + size_t(k)] + 1];
+    for (size_t w = 0; w < weld_count; ++w) around_offsets[w + 1] += around_offsets[w];
+    around.resize(around_offsets[weld_count]);
+    std::vector<uint32_t> fill(around_offsets.begin(), around_offsets.end() - 1);
+    for (size_t i = 0; i < tris.size(); ++i)
+        if (generated(tris[i].face))
+            for (int k = 0; k < 3; ++k) around[fill[corner[3 * i + size_t(k)]]++] = uint32_t(i);
+
+    std::vector<uint32_t> across(tris.size() * 3, kNone); // the face across each triangle edge
+    for (size_t i = 0; i < tris.size(); ++i) {
+        if (!generated(tris[i].face)) continue;
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t a = corner[3 * i + size_t(k)], b = corner[3 * i + size_t((k + 1) % 3)];
+            uint32_t other = kNone, count = 0;
+            for (uint32_t j = around_offsets[a]; j < around_offsets[a + 1]; ++j) {
+                const uint32_t* c = &corner[3 * size_t(around[j])];
+                if (around[j] != i && (c[0] == b || c[1] == b || c[2] == b)) {
+                    other = around[j];
+                    ++count;
+                }
+            }
+            if (count == 1 && tris[other].face != tris[i].face) across[3 * i + size_t(k)] = tris[other].face;
+        }
+    }
+
+    FaceNeighbours neighbours;
+    neighbours.offsets.assign(face_count + 1, 0);
+    for (size_t e = 0; e < across.size(); ++e) neighbours.offsets[tris[e / 3].face + 1] += across[e] != kNone;
+    for (size_t f = 0; f < face_count; ++f) neighbours.offsets[f + 1] += neighbours.offsets[f];
+    neighbours.faces.resize(neighbours.offsets[face_count]);
+    fill.assign(neighbours.offsets.begin(), neighbours.offsets.end() - 1);
+    for (size_t e = 0; e < across.size(); ++e)
+        if (across[e] != kNone) neighbours.faces[fill[tris[e / 3].face]++] = across[e];
+    return neighbours;
+}
+
+// Tidies the charts of box projection (docs/mesh-input.md, "UVs"): the dominant axis alone leaves
+// ragged chart boundaries and islands of a few faces where the surface turns near 45° to two axes,
+// and every chart boundary is a UV seam (on a closed mesh, a tear of the displaced surface). A face
+// may take another direction only if its normal is within 60° of that axis (the projection then
+// stretches the texture at most 2×, against 1.73× for the dominant axis).
+// - Small charts (fewer than max(16, faces / 64) faces) join the direction that most of their
+//   boundary edges border, if all of their faces may take it.
+// - Then teeth: a face whose edges border another direction on more than half of its shared edges
+//   takes that direction, if it may; repeated (at most 16 rounds) until nothing changes.
+// `direction`: per face, -1 for faces that keep their file's UVs (left alone); `normal`: per face,
+// unit.
+void tidy_box_charts(std::vector<int>& direction, const std::vector<dvec3>& normal, const FaceNeighbours& neighbours)
+{
+    constexpr double kMaxTurn = 0.5; // cos 60°
+    const size_t faces = direction.size();
+    const auto may_take = [&](size_t f, int d) { return glm::dot(normal[f], box_axis(d)) >= kMaxTurn; };
+    const auto most_common = [](const std::array<size_t, 6>& count) {
+        return int(std::max_element(count.begin(), count.end()) - count.begin()); // ties: the lower
+    };
+    size_t generated = 0;
+    for (int d : direction) generated += d >= 0;
+    const size_t small = std::max<size_t>(16, generated / 64);
+
+    // Small charts, each as one piece.
+    std::vector<uint32_t> chart(faces, kNone), members;
+    for (size_t seed = 0; seed < faces; ++seed) {
+        if (direction[seed] < 0 || chart[seed] != kNone) continue;
+        members.assign(1, uint32_t(seed));
+        chart[seed] = uint32_t(seed);
+        for (size_t i = 0; i < members.size(); ++i)
+            for (uint32_t g : neighbours.of(members[i]))
+                if (chart[g] == kNone && direction[g] == direction[seed]) {
+                    chart[g] = uint32_t(seed);
+                    members.push_back(g);
+                }
+        if (members.size() >= small) continue;
+        std::array<size_t, 6> border{};
+        for (uint32_t f : members)
+            for (uint32_t g : neighbours.of(f))
+                if (direction[g] >= 0 && direction[g] != direction[seed]) ++border[size_t(direction[g])];
+        if (*std::max_element(border.begin(), border.end()) == 0) continue;
+        const int d = most_common(border);
+        if (std::all_of(members.begin(), members.end(), [&](uint32_t f) { return may_take(f, d); }))
+            for (uint32_t f : members) direction[f] = d;
+    }
+
+    // Teeth.
+    for (int round = 0; round < 16; ++round) {
+        bool changed = false;
+        for (size_t f = 0; f < faces; ++f) {
+            if (direction[f] < 0) continue;
+            std::array<size_t, 6> count{};
+            size_t shared = 0;
+            for (uint32_t g : neighbours.of(f))
+                if (direction[g] >= 0) {
+                    ++count[size_t(direction[g])];
+                    ++shared;
+                }
+            const int d = most_common(count);
+            if (d != direction[f] && 2 * count[size_t(d)] > shared && may_take(f, d)) {
+                direction[f] = d;
+                changed = true;
+            }
+        }
+        if (!changed) break;
+    }
 }
 
 } // namespace
@@ -386,7 +533,12 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     auto face_uses_file_uv = [&](uint32_t f) { return file_uvs && raw.face_has_uv[f] != 0; };
     std::vector<int> face_direction(face_count, -1);
     size_t generated_faces = 0;
-    {
+    const bool any_generated =
+        !file_uvs || std::any_of(raw.face_has_uv.begin(), raw.face_has_uv.end(), [](uint8_t h) { return h == 0; });
+    if (any_generated) {
+        const FaceNeighbours neighbours =
+            generated_face_neighbours(tris, TriangleWelds{compact, weld_of, raw.corners}, weld_count, face_count,
+                                      [&](uint32_t f) { return !face_uses_file_uv(f); });
         // Dominant axis of each face's averaged welded normal (face normal if that cancels).
         std::vector<dvec3> fsum(face_count, dvec3(0.0)), fcross(face_count, dvec3(0.0));
         for (const Triangle& t : tris) {
@@ -396,11 +548,16 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
                         &c = wpos[tri_weld(t, 2)];
             fcross[t.face] += glm::cross(b - a, c - a);
         }
+        std::vector<dvec3>& face_normal = fsum; // (reused)
         for (size_t f = 0; f < face_count; ++f) {
             if (face_uses_file_uv(uint32_t(f))) continue;
             const dvec3 s = glm::length(fsum[f]) > 1e-9 ? fsum[f] : fcross[f];
             face_direction[f] = box_direction(s);
+            const double len = glm::length(s);
+            face_normal[f] = len > 0.0 ? s / len : dvec3(0.0);
         }
+        fcross = {};
+        tidy_box_charts(face_direction, face_normal, neighbours);
     }
     const double uv_per_unit = extent > 0.0 ? double(options.uv_scale) / extent : 1.0;
     auto generated_uv = [&](uint32_t weld, int direction) {

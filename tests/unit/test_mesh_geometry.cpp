@@ -1,11 +1,13 @@
 // Mesh preparation: welded normals, UVs (the file's and generated ones), tangent frames, and
 // the bundled meshes.
 #include "core/error.hpp"
+#include "mesh/adjacency.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/raw_mesh.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -206,6 +208,90 @@ TEST(MeshUv, ForcedGeneratedUvsReplaceTheFilesAndSplitAtAxisChanges)
     EXPECT_FALSE(m.had_uvs);
     EXPECT_EQ(m.vertices.size(), 24u); // every corner touches three projection directions
     for (const pr::MeshVertex& v : m.vertices) EXPECT_EQ(v.tangent.w, 1.0f);
+}
+
+// A sheet whose normal lies 1° from the diagonal between +X and +Y (+Y dominant), with one
+// vertex raised: the faces on one side of the bump turn a little towards +X. Box projection by
+// the dominant axis alone gives them an island of their own (+X), with UV seams around it; the
+// tidied charts give the whole sheet the +Y projection, seamless.
+TEST(MeshUv, SmallChartsJoinTheirNeighbours)
+{
+    const float theta = 46.0f * glm::pi<float>() / 180.0f;
+    const glm::vec3 n0(std::cos(theta), std::sin(theta), 0.0f), across(-std::sin(theta), std::cos(theta), 0.0f),
+        along(0.0f, 0.0f, 1.0f);
+    constexpr int kQuads = 6;
+    std::vector<glm::vec3> positions;
+    for (int j = 0; j <= kQuads; ++j)
+        for (int i = 0; i <= kQuads; ++i) {
+            glm::vec3 p = 0.2f * (float(i - kQuads / 2) * across + float(j - kQuads / 2) * along);
+            if (i == kQuads / 2 && j == kQuads / 2) p += 0.05f * n0;
+            positions.push_back(p);
+        }
+    std::vector<std::vector<std::uint32_t>> faces;
+    for (int j = 0; j < kQuads; ++j)
+        for (int i = 0; i < kQuads; ++i) {
+            const auto at = [&](int di, int dj) { return std::uint32_t((j + dj) * (kQuads + 1) + i + di); };
+            faces.push_back({at(0, 0), at(1, 0), at(1, 1)});
+            faces.push_back({at(0, 0), at(1, 1), at(0, 1)});
+        }
+    const pr::PreparedMesh m = pr::prepare_mesh(soup(positions, faces), {}, "test");
+    // The island is there by the dominant axis: some triangle's corners' welded normals sum to
+    // a direction closer to +X than to +Y.
+    int towards_x = 0;
+    for (std::size_t t = 0; t < m.indices.size(); t += 3) {
+        glm::vec3 sum(0.0f);
+        for (int k = 0; k < 3; ++k) sum += m.vertices[m.indices[t + std::size_t(k)]].normal;
+        towards_x += std::abs(sum.x) > std::abs(sum.y);
+    }
+    ASSERT_GT(towards_x, 0);
+    EXPECT_LT(towards_x, 16); // a small chart (under max(16, faces / 64) faces)
+    // One projection for the whole sheet: +Y's (U = x, V = -z), one vertex per position.
+    EXPECT_EQ(m.vertices.size(), positions.size());
+    const float s = pr::MeshOptions{}.uv_scale / (m.bbox_max.z - m.bbox_min.z); // z: the largest extent
+    ASSERT_GT(m.bbox_max.z - m.bbox_min.z, m.bbox_max.x - m.bbox_min.x);
+    ASSERT_GT(m.bbox_max.z - m.bbox_min.z, m.bbox_max.y - m.bbox_min.y);
+    for (const pr::MeshVertex& v : m.vertices) {
+        EXPECT_NEAR(v.uv.x, (v.position.x - m.bbox_min.x) * s, 1e-5f);
+        EXPECT_NEAR(v.uv.y, (m.bbox_max.z - v.position.z) * s, 1e-5f);
+    }
+}
+
+// On the bundled blob (no UVs), the charts' ragged edges and islands are tidied: fewer seams
+// (470 edges by the dominant axis alone), and every triangle projected along one of the six box
+// directions no more than 60° from its corners' summed welded normals (at most 2× stretch).
+TEST(MeshUv, GeneratedChartsOfTheBlobAreTidy)
+{
+    const pr::PreparedMesh m = pr::load_mesh(kMeshes / "blob.off");
+    const pr::EdgeAdjacency adjacency = pr::edge_adjacency(m.vertices, m.indices);
+    EXPECT_LE(adjacency.seam_edges, 340u);
+    EXPECT_GT(adjacency.seam_edges, 0u);
+    const glm::vec3 extent = m.bbox_max - m.bbox_min;
+    const float s = pr::MeshOptions{}.uv_scale / std::max({extent.x, extent.y, extent.z});
+    // Box directions (docs/mesh-input.md): the axis, and U and V as signed coordinates.
+    struct Box {
+        glm::vec3 axis;
+        int u, v;
+        float su, sv;
+    };
+    const Box boxes[6] = {{{1, 0, 0}, 2, 1, -1, 1}, {{-1, 0, 0}, 2, 1, 1, 1}, {{0, 1, 0}, 0, 2, 1, -1},
+                          {{0, -1, 0}, 0, 2, 1, 1}, {{0, 0, 1}, 0, 1, 1, 1},  {{0, 0, -1}, 0, 1, -1, 1}};
+    for (std::size_t t = 0; t < m.indices.size(); t += 3) {
+        const pr::MeshVertex &a = m.vertices[m.indices[t]], &b = m.vertices[m.indices[t + 1]],
+                             &c = m.vertices[m.indices[t + 2]];
+        const glm::vec3 n = glm::normalize(a.normal + b.normal + c.normal);
+        int found = 0;
+        for (const Box& box : boxes) {
+            const auto fits = [&](const pr::MeshVertex& p, const pr::MeshVertex& q) {
+                const glm::vec3 e = q.position - p.position;
+                const glm::vec2 d = q.uv - p.uv;
+                return std::abs(d.x - box.su * e[box.u] * s) < 1e-4f && std::abs(d.y - box.sv * e[box.v] * s) < 1e-4f;
+            };
+            if (!fits(a, b) || !fits(a, c)) continue;
+            ++found;
+            EXPECT_GE(glm::dot(n, box.axis), 0.5f - 1e-4f) << "triangle " << t / 3;
+        }
+        EXPECT_EQ(found, 1) << "triangle " << t / 3 << ": not one box projection";
+    }
 }
 
 // ---- tangents --------------------------------------------------------------------------------
