@@ -297,6 +297,15 @@ void main()
     // loaded once more after the walk, for the frame.)
     int entry_edge = -1;
     float entry_along = 0.0;
+#ifdef PR_PRISM_FROM_EYE
+    // The walk from the eye (prism_eye.vert): it starts in the prism that holds the eye, at the
+    // eye (t = 0), whose place in that prism's texture space the renderer found.
+    if (u_march.z < 0) discard;
+    prim = uint(u_march.z);
+    t_in = 0.0;
+    tex_in = u_eye_tex.xyz;
+    tex_out = tex_in;
+#endif
     for (int k = 0; k < PR_WALK_MAX_PRISMS; ++k) {
         load_walk_prism(prim, index, weld, from_a);
         if (entry_edge >= 0) {
@@ -310,8 +319,14 @@ void main()
         // the nearest of the faces' planes (shell.glsl), which on a convex prism still finds the
         // way out.
         int entry_face = entry_edge < 0 ? -1 : (via_top ? 0 : 2 + entry_edge);
-        ExitFace ex = nearest_exit(dir, t_in * (1.0 - 1e-6), from_a, 1e-5, walk_orientation, t_in, entry_face, top_entry,
-                                   w_top);
+        float t_min = t_in * (1.0 - 1e-6);
+#ifdef PR_PRISM_FROM_EYE
+        // The eye may lie on a face of its prism (a mesh's symmetry plane, say): a ray that goes
+        // out through that face crosses it at t = 0, give or take rounding. So the first prism's
+        // exits count from a little behind the eye (the faces the ray goes in through never count).
+        if (k == 0) t_min = -1e-4 * distance(corner_world[0], corner_world[3]) / length(dir);
+#endif
+        ExitFace ex = nearest_exit(dir, t_min, from_a, 1e-5, walk_orientation, t_in, entry_face, top_entry, w_top);
         if (via_top && !top_entry) break; // it does not go in there: out of the shell
         if (ex.face < 0) break; // lost: a miss
         t_out = ex.t;
@@ -405,5 +420,8 @@ void main()
     count_fragment();
     o_color = vec4(shade_blinn_phong(albedo_at(tex.xy, g), shading_n, light_dir, -normalize(dir), visibility), 1.0);
     vec4 clip = u_view_proj * vec4(hit, 1.0);
+#ifdef PR_PRISM_FROM_EYE
+    if (clip.z < -clip.w) discard; // between the eye and the near plane: clipped, as geometry is
+#endif
     gl_FragDepth = clamp(clip.z / clip.w * 0.5 + 0.5, gl_FragCoord.z, 1.0);
 }

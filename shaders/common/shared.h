@@ -92,9 +92,10 @@ PR_UNIFORM_BLOCK(ObjectBlock, PR_UBO_OBJECT)
     mat4 u_normal_matrix; // inverse transpose of the model's 3x3 part
     vec4 u_displace;      // x: depth (scene units), y: midlevel, z/w: height map size (texels)
     ivec4 u_march;        // x: linear steps over the full height range, y: binary steps,
-                          // z: unused, w: PR_FLAG_* bits
+                          // z: the walk's prism that holds the eye (-1: none), w: PR_FLAG_* bits
     vec4 u_material;      // ambient, diffuse, specular, shininess
     vec4 u_base_color;    // albedo when there is no colour texture (rgb), a unused
+    vec4 u_eye_tex;       // xyz: the eye in that prism's texture space (u, v, height); w unused
 };
 
 #ifdef __cplusplus

@@ -460,6 +460,7 @@ GLuint Renderer::program_for(const DrawSettings& settings, WalkVariant variant, 
     if (shell == ShellDraw::Tops) defines.emplace_back("PR_PRISM_TOPS", "1"); // no shader reads it: it keys the program, whose stages differ
     if (shell == ShellDraw::Bottoms) defines.emplace_back("PR_PRISM_BOTTOMS", "1");
     if (shell == ShellDraw::Listed) defines.emplace_back("PR_PRISM_LISTED", "1");
+    if (shell == ShellDraw::FromEye) defines.emplace_back("PR_PRISM_FROM_EYE", "1");
     const std::string key = variant_key(defines);
     auto it = programs_.find(key);
     if (it == programs_.end()) {
@@ -467,8 +468,8 @@ GLuint Renderer::program_for(const DrawSettings& settings, WalkVariant variant, 
                             ? build_program({{GL_VERTEX_SHADER, "surface.vert"},
                                              {GL_FRAGMENT_SHADER, "surface.frag"}},
                                             defines)
-                        : shell == ShellDraw::Tops || shell == ShellDraw::Bottoms
-                            ? build_program({{GL_VERTEX_SHADER, "prism_caps.vert"},
+                        : shell == ShellDraw::Tops || shell == ShellDraw::Bottoms || shell == ShellDraw::FromEye
+                            ? build_program({{GL_VERTEX_SHADER, shell == ShellDraw::FromEye ? "prism_eye.vert" : "prism_caps.vert"},
                                              {GL_FRAGMENT_SHADER, "prism.frag"}},
                                             defines)
                             : build_program({{GL_VERTEX_SHADER, shell == ShellDraw::Listed ? "prism_caps.vert" : "prism.vert"},
@@ -646,7 +647,7 @@ void Renderer::ensure_walk_data()
         o.open_shell = adjacency.open_edges > 0;
         o.tears = !o.open_shell && adjacency.seam_edges > 0;
         o.seamless = adjacency.seam_edges == 0;
-        const std::vector<glm::vec4> corners =
+        std::vector<glm::vec4> corners =
             make_shell_corners(vertices, indices, *o.height_field, o.transform, o.depth, o.midlevel);
         o.corners = gl::immutable_buffer(corners);
         const WalkTriangles triangles = walk_triangles(vertices, indices, corners, adjacency.neighbours, o.transform, o.depth);
@@ -658,8 +659,17 @@ void Renderer::ensure_walk_data()
         if (o.tears) {
             o.bottoms.resize(vertices.size());
             for (std::size_t v = 0; v < vertices.size(); ++v) o.bottoms[v] = glm::vec3(corners[3 * v]);
-            o.triangles = indices;
         }
+        // The box of the full shell (it holds the tight one), for the eye test of every draw.
+        o.shell_lo = glm::vec3(std::numeric_limits<float>::max());
+        o.shell_hi = glm::vec3(-std::numeric_limits<float>::max());
+        for (std::size_t v = 0; v < vertices.size(); ++v) {
+            const glm::vec3 bottom(corners[3 * v]), top = bottom + o.depth * glm::vec3(corners[3 * v + 1]);
+            o.shell_lo = glm::min(o.shell_lo, glm::min(bottom, top));
+            o.shell_hi = glm::max(o.shell_hi, glm::max(bottom, top));
+        }
+        o.triangles = std::move(indices);
+        o.shell_corners = std::move(corners);
     }
     if (glGetError() == GL_OUT_OF_MEMORY) throw Error("scene", "out of GPU memory while building the prism walk's buffers");
 }
@@ -686,14 +696,16 @@ std::vector<std::uint32_t> Renderer::walk_triangles_of(const std::vector<MeshVer
     return merged;
 }
 
-void Renderer::upload_object(const GpuObject& o, const DrawSettings& settings, float midlevel)
+void Renderer::upload_object(const GpuObject& o, const DrawSettings& settings, float midlevel,
+                             const EyeInShell* eye)
 {
     shader::ObjectBlock ob{};
     ob.u_model = o.transform;
     ob.u_normal_matrix = glm::mat4(glm::transpose(glm::inverse(glm::mat3(o.transform))));
     ob.u_displace = glm::vec4(o.depth, midlevel, o.height_size.x, o.height_size.y);
-    ob.u_march = glm::ivec4(settings.steps, settings.refine, 0,
+    ob.u_march = glm::ivec4(settings.steps, settings.refine, eye ? int(eye->prism) : -1,
                             (o.color_texture ? PR_FLAG_COLOR_TEXTURE : 0) | (o.open_shell ? PR_FLAG_OPEN_SHELL : 0));
+    ob.u_eye_tex = eye ? glm::vec4(eye->tex, 0.0f) : glm::vec4(0.0f);
     ob.u_material = glm::vec4(0.12f, 0.88f, 0.18f, 48.0f);
     ob.u_base_color = glm::vec4(o.base_color, 1.0f);
     glNamedBufferSubData(object_ubo_.id(), 0, sizeof(ob), &ob);
@@ -742,8 +754,8 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, clear_color);
     glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
     const bool prism = settings.technique == Technique::Prism;
-    const auto set_object = [&](const GpuObject& o) {
-        upload_object(o, settings, o.midlevel);
+    const auto set_object = [&](const GpuObject& o, const EyeInShell* eye = nullptr) {
+        upload_object(o, settings, o.midlevel, eye);
         glBindTextureUnit(PR_TEX_HEIGHT, o.height_texture);
         // Without a colour texture the unit still needs a valid texture; it is not sampled.
         glBindTextureUnit(PR_TEX_COLOR, o.color_texture ? o.color_texture : o.height_texture);
@@ -803,9 +815,28 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
             glDrawArrays(GL_POINTS, 0, o.listed_count[full]);
         }
     };
+    // The eye inside an object's shell (a close-up): the caps around it face away, so no cap
+    // starts the walk of the rays that begin there. A screen-filling triangle at the near plane
+    // starts them at the eye, in the prism that holds it (docs/prism.md, item 12).
+    const auto draw_from_eye = [&](const GpuObject& o, WalkVariant variant) {
+        const glm::vec3 eye = camera.eye;
+        if (glm::any(glm::lessThan(eye, o.shell_lo)) || glm::any(glm::greaterThan(eye, o.shell_hi))) return;
+        const std::optional<EyeInShell> in = find_eye_prism(
+            o.shell_corners, o.triangles, o.depth, settings.full_shell, eye,
+            [&](glm::vec2 uv) { return o.height_field ? o.height_field->sample(uv) : 0.0f; });
+        if (!in) return;
+        set_object(o, &*in);
+        bind_prism_data(o, true);
+        glUseProgram(program_for(settings, variant, ShellDraw::FromEye));
+        glBindVertexArray(o.base.vao.id()); // (no attributes read)
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+    };
     for (const GpuObject& o : objects_) {
         if (walk) {
-            draw_walk_shell(o, o.tears ? WalkVariant::Through : (o.seamless ? WalkVariant::Seamless : WalkVariant::Plain));
+            const WalkVariant variant =
+                o.tears ? WalkVariant::Through : (o.seamless ? WalkVariant::Seamless : WalkVariant::Plain);
+            draw_walk_shell(o, variant);
+            draw_from_eye(o, variant);
             continue;
         }
         glUseProgram(program);

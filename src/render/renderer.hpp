@@ -6,6 +6,7 @@
 #include "core/image.hpp"
 #include "gl/objects.hpp"
 #include "maps/conemap.hpp"
+#include "render/eye_prism.hpp"
 #include "render/scene.hpp"
 #include "render/technique.hpp"
 
@@ -112,7 +113,7 @@ public:
     // vertex shader alone), and Listed (by the geometry shader from one point per listed prism:
     // the other faces of the prisms whose shell folds, the walls along open edges; in the second
     // pass over a torn mesh, the bottoms over marked tiles).
-    enum class ShellDraw { Faces, Tops, Bottoms, Listed };
+    enum class ShellDraw { Faces, Tops, Bottoms, Listed, FromEye };
     GLuint program_for(const DrawSettings& settings, WalkVariant variant = WalkVariant::Plain,
                        ShellDraw shell = ShellDraw::Faces);
 
@@ -165,10 +166,14 @@ private:
         gl::Buffer listed[2];
         gl::Texture listed_texels[2];
         GLsizei listed_count[2] = {0, 0};
-        // Torn meshes: the bottom corners (world) and the triangles, to pick the second pass's
-        // prisms on the CPU (prisms_over_marked_tiles).
+        // Torn meshes: the bottom corners (world), to pick the second pass's prisms on the CPU
+        // (prisms_over_marked_tiles). Every walked mesh: the walk's triangles, and its shell
+        // corners (as in `corners`) and their box, to find a prism that holds the eye
+        // (find_eye_prism).
         std::vector<glm::vec3> bottoms;
         std::vector<std::uint32_t> triangles;
+        std::vector<glm::vec4> shell_corners;
+        glm::vec3 shell_lo{0.0f}, shell_hi{0.0f};
         std::vector<Geometry> reference; // chunks of the tessellated ground truth
         GLuint height_texture = 0; // owned by texture_cache_
         GLuint color_texture = 0;  // 0: plain base colour
@@ -227,7 +232,9 @@ private:
     // Fills and binds the frame block (camera, light, viewport) and binds the object block.
     void upload_frame(const Camera& camera, glm::vec3 light_dir);
     // Fills the object block for `o` drawn with `settings` (draw() and draw_overlay()).
-    void upload_object(const GpuObject& o, const DrawSettings& settings, float midlevel);
+    // `eye`: the prism that holds the eye, for the walk from the eye (ShellDraw::FromEye).
+    void upload_object(const GpuObject& o, const DrawSettings& settings, float midlevel,
+                       const EyeInShell* eye = nullptr);
     void ensure_walk_data(); // adjacency, shell corners, open_shell, tears and seamless of every object
     // merge_flat_regions() of a mesh, remembered for the last few meshes that merged: it is the
     // slow part of a large flat mesh's walk data (1.4 s for a million triangles), and the viewer

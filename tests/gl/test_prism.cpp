@@ -541,3 +541,44 @@ TEST(Prism, MeshTooLargeForBufferTexturesFailsClearly)
     for (std::size_t p = 0; p < std::size_t(64) * 64; ++p) covered += f.color.pixels[4 * p + 3] > 0;
     EXPECT_GT(covered, 400u);
 }
+
+// The eye inside the shell (a close-up): no cap in front of it faces it, so before the walk
+// from the eye (docs/prism.md, item 12) nothing was drawn — an empty image where the reference
+// fills the view. On the open plane, and on the torus with the eye on a plane that holds side
+// faces of its prisms (z = 0: a ray goes out through such a face at t = 0, give or take rounding)
+// and off it.
+TEST(Prism, WalkStartsAtTheEyeInsideTheShell)
+{
+    prtest::context();
+    Renderer r(128, 96);
+    struct View {
+        const char* mesh;
+        glm::vec3 eye, target;
+    };
+    const View views[] = {{"plane.obj", {0.1f, 0.03f, 0.3f}, {0.3f, 0.0f, -0.3f}},
+                          {"torus.obj", {1.0f, 0.43f, 0.0f}, {0.5f, 0.3f, 0.9f}},
+                          {"torus.obj", {1.0f, 0.43f, 0.013f}, {0.5f, 0.3f, 0.9f}}};
+    for (const View& v : views) {
+        Scene scene = mesh_scene(v.mesh, bumps_map(256), 0.04f);
+        r.upload(scene);
+        Camera c;
+        c.eye = v.eye;
+        c.target = v.target;
+        fit_clip_planes(c, scene.shell_bounds);
+        r.prepare_reference(scene, c, ReferenceOptions{});
+        const FrameCapture ref = capture(r, c, Technique::Reference);
+        int covered = 0;
+        for (int y = 0; y < ref.color.height; ++y)
+            for (int x = 0; x < ref.color.width; ++x) covered += ref.color.at(x, y).a >= 128;
+        ASSERT_GT(covered, ref.color.width * ref.color.height / 2) << v.mesh << ": the view shows little";
+        for (Marcher m : {Marcher::Relief, Marcher::RelaxedCone}) {
+            const CompareMetrics cm = compare_frames(capture(r, c, Technique::Prism, m), ref);
+            const std::string what = std::string(v.mesh) + (m == Marcher::Relief ? " relief" : " relaxed-cone") +
+                                     " eye z " + std::to_string(v.eye.z);
+            EXPECT_GT(cm.iou, 0.99) << what;
+            EXPECT_LT(*cm.depth_error_mean, 0.05 * scene.objects[0].depth) << what;
+            EXPECT_GT(*cm.psnr, 27.0) << what;
+            std::printf("%s: IoU %.4f, PSNR %.1f dB\n", what.c_str(), cm.iou, *cm.psnr);
+        }
+    }
+}

@@ -125,6 +125,7 @@ TEST(SharedLayout, UniformBlockOffsetsMatchCpp)
     EXPECT_EQ(offset_of("u_march"), GLint(offsetof(shader::ObjectBlock, u_march)));
     EXPECT_EQ(offset_of("u_material"), GLint(offsetof(shader::ObjectBlock, u_material)));
     EXPECT_EQ(offset_of("u_base_color"), GLint(offsetof(shader::ObjectBlock, u_base_color)));
+    EXPECT_EQ(offset_of("u_eye_tex"), GLint(offsetof(shader::ObjectBlock, u_eye_tex)));
 }
 
 TEST(Context, IsOpenGL45Core)

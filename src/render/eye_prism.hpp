@@ -1,0 +1,77 @@
+// The prism that holds the eye, for views from inside the displacement shell (docs/prism.md,
+// item 12): no cap faces the eye there, so the walk starts from the eye itself.
+#pragma once
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/common.hpp>
+#include <glm/vec4.hpp>
+
+#include <algorithm>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace pr {
+
+struct EyeInShell {
+    std::uint32_t prism; // the walk's triangle
+    glm::vec3 tex;       // the eye in that prism's texture space: (u, v, height)
+};
+
+// The first prism of the walk's triangles `indices` that holds `eye` (world), from the shell
+// corners of the renderer (three texels per vertex: bottom corner and u, unit normal and v, tight
+// top height; renderer.cpp, make_shell_corners) and the depth (scene units). A prism's point of
+// barycentric weights b and height h is sum b_i (bottom_i + h * depth * N_i), h from 0 to its top
+// (1 with `full_shell`, else the corners' tight tops, interpolated); the eye's b and h come from
+// a few Newton steps. None when no prism holds the eye, or when it lies under the surface
+// (`height_at`, the height map at a uv, says so): the walk starts above it.
+template <class HeightAt>
+std::optional<EyeInShell> find_eye_prism(const std::vector<glm::vec4>& corners,
+                                         const std::vector<std::uint32_t>& indices, float depth, bool full_shell,
+                                         glm::vec3 eye, HeightAt height_at);
+
+// Where the eye lies in prism `a, b, c` (vertex indices into the corners): the eye's barycentric
+// weights of b and c and its height, or none when Newton's steps do not settle.
+std::optional<glm::vec3> prism_coordinates(const std::vector<glm::vec4>& corners, std::uint32_t a, std::uint32_t b,
+                                           std::uint32_t c, float depth, glm::vec3 eye);
+
+// Whether `eye` may lie in the prism of triangle t: inside the box of its six corners.
+bool eye_near_prism(const std::vector<glm::vec4>& corners, const std::uint32_t* t, float depth, bool full_shell,
+                    glm::vec3 eye);
+
+// Whether `eye` lies inside the prism of triangle t as the walk sees it: inside its eight planar
+// triangles (shell.glsl: the caps, and each side split along the diagonal that the welded ids
+// choose), by their winding number about the eye.
+bool eye_in_prism(const std::vector<glm::vec4>& corners, const std::uint32_t* t, float depth, bool full_shell,
+                  glm::vec3 eye);
+
+template <class HeightAt>
+std::optional<EyeInShell> find_eye_prism(const std::vector<glm::vec4>& corners,
+                                         const std::vector<std::uint32_t>& indices, float depth, bool full_shell,
+                                         glm::vec3 eye, HeightAt height_at)
+{
+    for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
+        const std::uint32_t* v = &indices[t];
+        if (!eye_near_prism(corners, v, depth, full_shell, eye) || !eye_in_prism(corners, v, depth, full_shell, eye))
+            continue;
+        // Where in the prism: its barycentric weights and height, kept inside it (the planar
+        // faces and the prism's own coordinates differ a little near its faces).
+        const std::optional<glm::vec3> q = prism_coordinates(corners, v[0], v[1], v[2], depth, eye);
+        if (!q) continue;
+        glm::vec3 w(1.0f - q->x - q->y, q->x, q->y);
+        w = glm::max(w, glm::vec3(0.0f));
+        w /= std::max(w.x + w.y + w.z, 1e-30f);
+        const auto top = [&](std::uint32_t i) { return full_shell ? 1.0f : corners[3 * std::size_t(i) + 2].x; };
+        const float h = std::clamp(q->z, 0.0f, w.x * top(v[0]) + w.y * top(v[1]) + w.z * top(v[2]));
+        const auto uv = [&](std::uint32_t i) {
+            return glm::vec2(corners[3 * std::size_t(i)].w, corners[3 * std::size_t(i) + 1].w);
+        };
+        const glm::vec2 e_uv = w.x * uv(v[0]) + w.y * uv(v[1]) + w.z * uv(v[2]);
+        if (h < height_at(e_uv)) return std::nullopt; // under the surface
+        return EyeInShell{std::uint32_t(t / 3), glm::vec3(e_uv, h)};
+    }
+    return std::nullopt;
+}
+
+} // namespace pr

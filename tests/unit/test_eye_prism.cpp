@@ -1,0 +1,69 @@
+// The prism that holds the eye (src/render/eye_prism.hpp), on a flat square of two prisms.
+#include "render/eye_prism.hpp"
+
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cstdint>
+#include <vector>
+
+namespace {
+
+// The unit square in the XZ plane facing +Y, as the renderer's shell corners (three texels per
+// vertex: bottom corner and u, unit normal and v, tight top height and welded id), tops at 0.8,
+// depth 0.1; u = x, v = z. Triangles (0, 1, 2) (where x >= z) and (0, 2, 3).
+struct Square {
+    std::vector<glm::vec4> corners;
+    std::vector<std::uint32_t> indices{0, 1, 2, 0, 2, 3};
+    Square()
+    {
+        const glm::vec3 p[4] = {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}};
+        for (std::uint32_t i = 0; i < 4; ++i) {
+            corners.emplace_back(p[i], p[i].x);
+            corners.emplace_back(0.0f, 1.0f, 0.0f, p[i].z);
+            corners.emplace_back(0.8f, std::bit_cast<float>(i), 0.0f, 0.0f);
+        }
+    }
+};
+
+constexpr float kDepth = 0.1f;
+
+std::optional<pr::EyeInShell> find(const Square& s, glm::vec3 eye, float surface = 0.2f, bool full = false)
+{
+    return pr::find_eye_prism(s.corners, s.indices, kDepth, full, eye, [&](glm::vec2) { return surface; });
+}
+
+} // namespace
+
+TEST(EyePrism, FindsThePrismAndWhereInItTheEyeIs)
+{
+    const Square s;
+    const auto in = find(s, {0.7f, 0.05f, 0.2f});
+    ASSERT_TRUE(in);
+    EXPECT_EQ(in->prism, 0u);
+    EXPECT_NEAR(in->tex.x, 0.7f, 1e-5f);
+    EXPECT_NEAR(in->tex.y, 0.2f, 1e-5f);
+    EXPECT_NEAR(in->tex.z, 0.5f, 1e-5f); // 0.05 of a depth of 0.1
+    const auto other = find(s, {0.2f, 0.05f, 0.7f});
+    ASSERT_TRUE(other);
+    EXPECT_EQ(other->prism, 1u);
+}
+
+TEST(EyePrism, OnTheFaceTwoPrismsShareEitherHoldsIt)
+{
+    const Square s;
+    const auto in = find(s, {0.5f, 0.05f, 0.5f});
+    ASSERT_TRUE(in);
+    EXPECT_NEAR(in->tex.x, 0.5f, 1e-5f);
+    EXPECT_NEAR(in->tex.y, 0.5f, 1e-5f);
+}
+
+TEST(EyePrism, NoneAboveTheTopBesideTheShellOrUnderTheSurface)
+{
+    const Square s;
+    EXPECT_FALSE(find(s, {0.7f, 0.09f, 0.2f}));                 // above the tight top (0.8 of the depth)
+    EXPECT_TRUE(find(s, {0.7f, 0.09f, 0.2f}, 0.2f, true));      // the full shell goes to 1
+    EXPECT_FALSE(find(s, {1.2f, 0.05f, 0.5f}));                 // beside it
+    EXPECT_FALSE(find(s, {0.7f, -0.01f, 0.2f}));                // under its bottom
+    EXPECT_FALSE(find(s, {0.7f, 0.05f, 0.2f}, 0.6f));           // under the surface (height 0.6 there)
+}
