@@ -112,7 +112,8 @@ public:
     // and per-vertex exits); for the walk, Tops and on open meshes Bottoms (the caps, by the
     // vertex shader alone), and Listed (by the geometry shader from one point per listed prism:
     // the other faces of the prisms whose shell folds, the walls along open edges; in the second
-    // pass over a torn mesh, the bottoms over marked tiles).
+    // pass over a torn mesh, the bottoms over marked tiles), and FromEye (one triangle over the
+    // screen whose walks start at the eye, when it is inside the shell: docs/prism.md, item 12).
     enum class ShellDraw { Faces, Tops, Bottoms, Listed, FromEye };
     GLuint program_for(const DrawSettings& settings, WalkVariant variant = WalkVariant::Plain,
                        ShellDraw shell = ShellDraw::Faces);
