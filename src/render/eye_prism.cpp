@@ -115,4 +115,30 @@ bool eye_in_prism(const std::vector<glm::vec4>& corners, const std::uint32_t* t,
     return on_face || std::abs(sum) > 0.2 * 4.0 * 3.14159265358979323846;
 }
 
+PrismBlocks prism_blocks(const std::vector<glm::vec4>& corners, const std::vector<std::uint32_t>& indices, float depth)
+{
+    PrismBlocks b;
+    const std::size_t triangles = indices.size() / 3;
+    const std::size_t blocks = (triangles + PrismBlocks::kSize - 1) / PrismBlocks::kSize;
+    b.lo.assign(blocks, glm::vec3(std::numeric_limits<float>::max()));
+    b.hi.assign(blocks, glm::vec3(-std::numeric_limits<float>::max()));
+    for (std::size_t t = 0; t < triangles; ++t) {
+        glm::vec3& lo = b.lo[t / PrismBlocks::kSize];
+        glm::vec3& hi = b.hi[t / PrismBlocks::kSize];
+        for (int k = 0; k < 3; ++k) {
+            const glm::vec4* c = &corners[3 * std::size_t(indices[3 * t + std::size_t(k)])];
+            const glm::vec3 bottom(c[0]), top = bottom + depth * glm::vec3(c[1]);
+            lo = glm::min(lo, glm::min(bottom, top));
+            hi = glm::max(hi, glm::max(bottom, top));
+        }
+    }
+    // The margin of eye_near_prism().
+    for (std::size_t i = 0; i < blocks; ++i) {
+        const glm::vec3 margin = 1e-4f * (b.hi[i] - b.lo[i]) + glm::vec3(1e-7f);
+        b.lo[i] -= margin;
+        b.hi[i] += margin;
+    }
+    return b;
+}
+
 } // namespace pr

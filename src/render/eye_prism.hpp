@@ -5,6 +5,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/common.hpp>
+#include <glm/vector_relational.hpp>
 #include <glm/vec4.hpp>
 
 #include <algorithm>
@@ -19,6 +20,16 @@ struct EyeInShell {
     glm::vec3 tex;       // the eye in that prism's texture space: (u, v, height)
 };
 
+// Boxes of the walk's prisms in blocks of kSize consecutive triangles (their full shells, which
+// hold the tight ones), so that the search below looks at the triangles of a few blocks only
+// (a mesh's triangles usually come in spatial order). Built once per upload.
+struct PrismBlocks {
+    static constexpr std::size_t kSize = 64;
+    std::vector<glm::vec3> lo, hi;
+};
+PrismBlocks prism_blocks(const std::vector<glm::vec4>& corners, const std::vector<std::uint32_t>& indices,
+                         float depth);
+
 // The first prism of the walk's triangles `indices` that holds `eye` (world), from the shell
 // corners of the renderer (three texels per vertex: bottom corner and u, unit normal and v, tight
 // top height; renderer.cpp, make_shell_corners) and the depth (scene units). A prism's point of
@@ -28,8 +39,8 @@ struct EyeInShell {
 // (`height_at`, the height map at a uv, says so): the walk starts above it.
 template <class HeightAt>
 std::optional<EyeInShell> find_eye_prism(const std::vector<glm::vec4>& corners,
-                                         const std::vector<std::uint32_t>& indices, float depth, bool full_shell,
-                                         glm::vec3 eye, HeightAt height_at);
+                                         const std::vector<std::uint32_t>& indices, const PrismBlocks& blocks,
+                                         float depth, bool full_shell, glm::vec3 eye, HeightAt height_at);
 
 // Where the eye lies in prism `a, b, c` (vertex indices into the corners): the eye's barycentric
 // weights of b and c and its height, or none when Newton's steps do not settle.
@@ -48,11 +59,18 @@ bool eye_in_prism(const std::vector<glm::vec4>& corners, const std::uint32_t* t,
 
 template <class HeightAt>
 std::optional<EyeInShell> find_eye_prism(const std::vector<glm::vec4>& corners,
-                                         const std::vector<std::uint32_t>& indices, float depth, bool full_shell,
-                                         glm::vec3 eye, HeightAt height_at)
+                                         const std::vector<std::uint32_t>& indices, const PrismBlocks& blocks,
+                                         float depth, bool full_shell, glm::vec3 eye, HeightAt height_at)
 {
-    for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
-        const std::uint32_t* v = &indices[t];
+    const std::size_t triangles = indices.size() / 3;
+    for (std::size_t t = 0; t < triangles; ++t) {
+        const std::size_t block = t / PrismBlocks::kSize;
+        if (t % PrismBlocks::kSize == 0 && block < blocks.lo.size() &&
+            (glm::any(glm::lessThan(eye, blocks.lo[block])) || glm::any(glm::greaterThan(eye, blocks.hi[block])))) {
+            t += PrismBlocks::kSize - 1; // not in this block
+            continue;
+        }
+        const std::uint32_t* v = &indices[3 * t];
         if (!eye_near_prism(corners, v, depth, full_shell, eye) || !eye_in_prism(corners, v, depth, full_shell, eye))
             continue;
         // Where in the prism: its barycentric weights and height, kept inside it (the planar
@@ -69,7 +87,7 @@ std::optional<EyeInShell> find_eye_prism(const std::vector<glm::vec4>& corners,
         };
         const glm::vec2 e_uv = w.x * uv(v[0]) + w.y * uv(v[1]) + w.z * uv(v[2]);
         if (h < height_at(e_uv)) return std::nullopt; // under the surface
-        return EyeInShell{std::uint32_t(t / 3), glm::vec3(e_uv, h)};
+        return EyeInShell{std::uint32_t(t), glm::vec3(e_uv, h)};
     }
     return std::nullopt;
 }

@@ -668,6 +668,7 @@ void Renderer::ensure_walk_data()
             o.shell_lo = glm::min(o.shell_lo, glm::min(bottom, top));
             o.shell_hi = glm::max(o.shell_hi, glm::max(bottom, top));
         }
+        o.eye_blocks = prism_blocks(corners, indices, o.depth);
         o.triangles = std::move(indices);
         o.shell_corners = std::move(corners);
     }
@@ -822,7 +823,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         const glm::vec3 eye = camera.eye;
         if (glm::any(glm::lessThan(eye, o.shell_lo)) || glm::any(glm::greaterThan(eye, o.shell_hi))) return;
         const std::optional<EyeInShell> in = find_eye_prism(
-            o.shell_corners, o.triangles, o.depth, settings.full_shell, eye,
+            o.shell_corners, o.triangles, o.eye_blocks, o.depth, settings.full_shell, eye,
             [&](glm::vec2 uv) { return o.height_field ? o.height_field->sample(uv) : 0.0f; });
         if (!in) return;
         set_object(o, &*in);

@@ -169,12 +169,13 @@ private:
         GLsizei listed_count[2] = {0, 0};
         // Torn meshes: the bottom corners (world), to pick the second pass's prisms on the CPU
         // (prisms_over_marked_tiles). Every walked mesh: the walk's triangles, and its shell
-        // corners (as in `corners`) and their box, to find a prism that holds the eye
-        // (find_eye_prism).
+        // corners (as in `corners`), their box and its blocks' boxes, to find a prism that holds
+        // the eye (find_eye_prism).
         std::vector<glm::vec3> bottoms;
         std::vector<std::uint32_t> triangles;
         std::vector<glm::vec4> shell_corners;
         glm::vec3 shell_lo{0.0f}, shell_hi{0.0f};
+        PrismBlocks eye_blocks;
         std::vector<Geometry> reference; // chunks of the tessellated ground truth
         GLuint height_texture = 0; // owned by texture_cache_
         GLuint color_texture = 0;  // 0: plain base colour

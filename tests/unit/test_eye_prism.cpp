@@ -30,7 +30,8 @@ constexpr float kDepth = 0.1f;
 
 std::optional<pr::EyeInShell> find(const Square& s, glm::vec3 eye, float surface = 0.2f, bool full = false)
 {
-    return pr::find_eye_prism(s.corners, s.indices, kDepth, full, eye, [&](glm::vec2) { return surface; });
+    return pr::find_eye_prism(s.corners, s.indices, pr::prism_blocks(s.corners, s.indices, kDepth), kDepth, full, eye,
+                              [&](glm::vec2) { return surface; });
 }
 
 } // namespace
@@ -56,6 +57,32 @@ TEST(EyePrism, OnTheFaceTwoPrismsShareEitherHoldsIt)
     ASSERT_TRUE(in);
     EXPECT_NEAR(in->tex.x, 0.5f, 1e-5f);
     EXPECT_NEAR(in->tex.y, 0.5f, 1e-5f);
+}
+
+TEST(EyePrism, BlocksHoldTheirPrisms)
+{
+    // 200 squares in a row (400 triangles, seven blocks): the eye over each is found in it.
+    Square one;
+    std::vector<glm::vec4> corners;
+    std::vector<std::uint32_t> indices;
+    for (std::uint32_t q = 0; q < 200; ++q) {
+        for (std::size_t i = 0; i < one.corners.size(); ++i) {
+            glm::vec4 c = one.corners[i];
+            if (i % 3 == 0) c.x += float(q);
+            if (i % 3 == 2) c.y = std::bit_cast<float>(std::uint32_t(4 * q) + std::uint32_t(i / 3));
+            corners.push_back(c);
+        }
+        for (std::uint32_t i : one.indices) indices.push_back(4 * q + i);
+    }
+    const pr::PrismBlocks blocks = pr::prism_blocks(corners, indices, kDepth);
+    EXPECT_EQ(blocks.lo.size(), 7u);
+    for (std::uint32_t q = 0; q < 200; q += 13) {
+        const auto in = pr::find_eye_prism(corners, indices, blocks, kDepth, false,
+                                           glm::vec3(float(q) + 0.7f, 0.05f, 0.2f), [](glm::vec2) { return 0.2f; });
+        ASSERT_TRUE(in) << q;
+        EXPECT_EQ(in->prism, 2 * q) << q;
+        EXPECT_NEAR(in->tex.x, 0.7f, 1e-4f) << q; // (every square has u 0..1)
+    }
 }
 
 TEST(EyePrism, NoneAboveTheTopBesideTheShellOrUnderTheSurface)
