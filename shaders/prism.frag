@@ -276,6 +276,9 @@ void main()
     if (imageLoad(u_tears, ivec2(gl_FragCoord.xy)).r == 0u) discard;
     below = true;
 #endif
+#ifdef PR_PRISM_EYE_UNDER
+    below = true; // the eye is under the surface (inside a bump): the walk from it starts there
+#endif
     uint index[3], weld[3];
     Segment hit_segment; // the last segment marched; br.hit when the walk found the surface in it
     hit_segment.br.hit = false;
@@ -353,7 +356,7 @@ void main()
     }
     // The hit prism again (corners, uv and normals for the frame below).
     load_walk_prism(prim, index, weld, from_a);
-#if defined(PR_PRISM_TEARS) && !defined(PR_PRISM_INSIDE)
+#if defined(PR_PRISM_TEARS) && !defined(PR_PRISM_INSIDE) && !defined(PR_PRISM_EYE_UNDER)
     if (went_in) {
         imageStore(u_tears, ivec2(gl_FragCoord.xy), uvec4(1u));
         imageStore(u_tear_tiles, ivec2(gl_FragCoord.xy) / PR_TEAR_TILE, uvec4(1u));

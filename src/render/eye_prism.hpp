@@ -18,6 +18,7 @@ namespace pr {
 struct EyeInShell {
     std::uint32_t prism; // the walk's triangle
     glm::vec3 tex;       // the eye in that prism's texture space: (u, v, height)
+    bool under = false;  // under the surface there (inside a bump): the walk starts under it
 };
 
 // Boxes of the walk's prisms in blocks of kSize consecutive triangles (their full shells, which
@@ -35,8 +36,9 @@ PrismBlocks prism_blocks(const std::vector<glm::vec4>& corners, const std::vecto
 // top height; renderer.cpp, make_shell_corners) and the depth (scene units). A prism's point of
 // barycentric weights b and height h is sum b_i (bottom_i + h * depth * N_i), h from 0 to its top
 // (1 with `full_shell`, else the corners' tight tops, interpolated); the eye's b and h come from
-// a few Newton steps. None when no prism holds the eye, or when it lies under the surface
-// (`height_at`, the height map at a uv, says so): the walk starts above it.
+// a few Newton steps. Whether a prism holds the eye is judged on its planar faces, as the walk
+// judges its exits. None when no prism holds the eye; `under` when it lies under the surface
+// there (`height_at`: the height map at a uv).
 template <class HeightAt>
 std::optional<EyeInShell> find_eye_prism(const std::vector<glm::vec4>& corners,
                                          const std::vector<std::uint32_t>& indices, const PrismBlocks& blocks,
@@ -86,8 +88,7 @@ std::optional<EyeInShell> find_eye_prism(const std::vector<glm::vec4>& corners,
             return glm::vec2(corners[3 * std::size_t(i)].w, corners[3 * std::size_t(i) + 1].w);
         };
         const glm::vec2 e_uv = w.x * uv(v[0]) + w.y * uv(v[1]) + w.z * uv(v[2]);
-        if (h < height_at(e_uv)) return std::nullopt; // under the surface
-        return EyeInShell{std::uint32_t(t), glm::vec3(e_uv, h)};
+        return EyeInShell{std::uint32_t(t), glm::vec3(e_uv, h), h < height_at(e_uv)};
     }
     return std::nullopt;
 }

@@ -455,8 +455,10 @@ GLuint Renderer::program_for(const DrawSettings& settings, WalkVariant variant, 
 {
     ShaderDefines defines = defines_for(settings);
     if (variant == WalkVariant::Seamless) defines.emplace_back("PR_PRISM_SEAMLESS", "1");
-    if (variant == WalkVariant::Through || variant == WalkVariant::Inside) defines.emplace_back("PR_PRISM_TEARS", "1");
+    if (variant == WalkVariant::Through || variant == WalkVariant::Inside || variant == WalkVariant::UnderSurface)
+        defines.emplace_back("PR_PRISM_TEARS", "1");
     if (variant == WalkVariant::Inside) defines.emplace_back("PR_PRISM_INSIDE", "1");
+    if (variant == WalkVariant::UnderSurface) defines.emplace_back("PR_PRISM_EYE_UNDER", "1");
     if (shell == ShellDraw::Tops) defines.emplace_back("PR_PRISM_TOPS", "1"); // no shader reads it: it keys the program, whose stages differ
     if (shell == ShellDraw::Bottoms) defines.emplace_back("PR_PRISM_BOTTOMS", "1");
     if (shell == ShellDraw::Listed) defines.emplace_back("PR_PRISM_LISTED", "1");
@@ -828,7 +830,8 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         if (!in) return;
         set_object(o, &*in);
         bind_prism_data(o, true);
-        glUseProgram(program_for(settings, variant, ShellDraw::FromEye));
+        // Under the surface (inside a bump) the walk starts under it, as through a tear.
+        glUseProgram(program_for(settings, in->under ? WalkVariant::UnderSurface : variant, ShellDraw::FromEye));
         glBindVertexArray(o.base.vao.id()); // (no attributes read)
         glDrawArrays(GL_TRIANGLES, 0, 3);
     };

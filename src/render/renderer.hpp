@@ -106,8 +106,9 @@ public:
     // The prism walk has variants by the mesh's UV seams: Seamless for a mesh without any (it
     // samples no height where it crosses from prism to prism), Through for a torn mesh
     // (GpuObject::tears) that goes through the tears, and Inside, the second pass from inside
-    // the object (docs/prism.md); Plain for the rest and for the other techniques.
-    enum class WalkVariant { Plain, Seamless, Through, Inside };
+    // the object (docs/prism.md); Plain for the rest and for the other techniques. UnderSurface:
+    // the walk from an eye under the surface (ShellDraw::FromEye), which starts under it.
+    enum class WalkVariant { Plain, Seamless, Through, Inside, UnderSurface };
     // How the prism's shell is drawn: Faces, by the geometry shader from each triangle (the exact
     // and per-vertex exits); for the walk, Tops and on open meshes Bottoms (the caps, by the
     // vertex shader alone), and Listed (by the geometry shader from one point per listed prism:

@@ -544,9 +544,9 @@ TEST(Prism, MeshTooLargeForBufferTexturesFailsClearly)
 
 // The eye inside the shell (a close-up): no cap in front of it faces it, so before the walk
 // from the eye (docs/prism.md, item 12) nothing was drawn — an empty image where the reference
-// fills the view. On the open plane, and on the torus with the eye on a plane that holds side
-// faces of its prisms (z = 0: a ray goes out through such a face at t = 0, give or take rounding)
-// and off it.
+// fills the view. On the open plane, over the surface and inside a bump, and on the torus with
+// the eye on a plane that holds side faces of its prisms (z = 0: a ray goes out through such a
+// face at t = 0, give or take rounding) and off it.
 TEST(Prism, WalkStartsAtTheEyeInsideTheShell)
 {
     prtest::context();
@@ -554,10 +554,14 @@ TEST(Prism, WalkStartsAtTheEyeInsideTheShell)
     struct View {
         const char* mesh;
         glm::vec3 eye, target;
+        bool under = false; // inside a bump
     };
     const View views[] = {{"plane.obj", {0.1f, 0.03f, 0.3f}, {0.3f, 0.0f, -0.3f}},
                           {"torus.obj", {1.0f, 0.43f, 0.0f}, {0.5f, 0.3f, 0.9f}},
-                          {"torus.obj", {1.0f, 0.43f, 0.013f}, {0.5f, 0.3f, 0.9f}}};
+                          {"torus.obj", {1.0f, 0.43f, 0.013f}, {0.5f, 0.3f, 0.9f}},
+                          // Inside the map's tallest bump (height 0.998 at uv 0.0615, 0.0615), at 0.44
+                          // of the depth: the walk starts under the surface and meets it from below.
+                          {"plane.obj", {-0.877f, 0.05f, 0.877f}, {-0.2f, 0.02f, 0.3f}, true}};
     for (const View& v : views) {
         Scene scene = mesh_scene(v.mesh, bumps_map(256), 0.04f);
         r.upload(scene);
@@ -577,8 +581,12 @@ TEST(Prism, WalkStartsAtTheEyeInsideTheShell)
                                      " eye z " + std::to_string(v.eye.z);
             EXPECT_GT(cm.iou, 0.99) << what;
             EXPECT_LT(*cm.depth_error_mean, 0.05 * scene.objects[0].depth) << what;
-            EXPECT_GT(*cm.psnr, 27.0) << what;
-            std::printf("%s: IoU %.4f, PSNR %.1f dB\n", what.c_str(), cm.iou, *cm.psnr);
+            // (From under the surface the prism shades the back of the surface with its normal
+            // turned, as through a tear; the reference shades its back faces dark: only the
+            // geometry is compared there.)
+            if (!v.under) EXPECT_GT(*cm.psnr, 27.0) << what;
+            std::printf("%s%s: IoU %.4f, mean depth error %.5f, PSNR %.1f dB\n", what.c_str(),
+                        v.under ? " (inside a bump)" : "", cm.iou, *cm.depth_error_mean, *cm.psnr);
         }
     }
 }

@@ -85,12 +85,21 @@ TEST(EyePrism, BlocksHoldTheirPrisms)
     }
 }
 
-TEST(EyePrism, NoneAboveTheTopBesideTheShellOrUnderTheSurface)
+TEST(EyePrism, NoneAboveTheTopOrBesideTheShell)
 {
     const Square s;
-    EXPECT_FALSE(find(s, {0.7f, 0.09f, 0.2f}));                 // above the tight top (0.8 of the depth)
-    EXPECT_TRUE(find(s, {0.7f, 0.09f, 0.2f}, 0.2f, true));      // the full shell goes to 1
-    EXPECT_FALSE(find(s, {1.2f, 0.05f, 0.5f}));                 // beside it
-    EXPECT_FALSE(find(s, {0.7f, -0.01f, 0.2f}));                // under its bottom
-    EXPECT_FALSE(find(s, {0.7f, 0.05f, 0.2f}, 0.6f));           // under the surface (height 0.6 there)
+    EXPECT_FALSE(find(s, {0.7f, 0.09f, 0.2f}));            // above the tight top (0.8 of the depth)
+    EXPECT_TRUE(find(s, {0.7f, 0.09f, 0.2f}, 0.2f, true)); // the full shell goes to 1
+    EXPECT_FALSE(find(s, {1.2f, 0.05f, 0.5f}));            // beside it
+    EXPECT_FALSE(find(s, {0.7f, -0.01f, 0.2f}));           // under its bottom
+}
+
+TEST(EyePrism, SaysWhetherTheEyeIsUnderTheSurface)
+{
+    const Square s;
+    const auto over = find(s, {0.7f, 0.05f, 0.2f}, 0.2f);  // height 0.5 over a surface at 0.2
+    const auto under = find(s, {0.7f, 0.05f, 0.2f}, 0.6f); // under one at 0.6
+    ASSERT_TRUE(over && under);
+    EXPECT_FALSE(over->under);
+    EXPECT_TRUE(under->under);
 }
