@@ -215,7 +215,7 @@ dvec3 box_axis(int d)
     return a;
 }
 
-// The welded position of corner k of a triangle (prepare_mesh's tri_weld).
+// The welded position of corner k of a triangle: compacted weld id of its raw corner.
 struct TriangleWelds {
     const std::vector<uint32_t>& compact;
     const std::vector<uint32_t>& weld_of;
@@ -420,9 +420,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     // ---- compact weld ids to the positions that survive ----------------------------------------
     std::vector<uint32_t> compact(welds.size(), kNone);
     std::vector<dvec3> wpos;
-    auto tri_weld = [&](const Triangle& t, int k) {
-        return compact[weld_of[raw.corners[t.corner[k]]]];
-    };
+    const TriangleWelds tri_weld{compact, weld_of, raw.corners};
     for (const Triangle& t : tris) {
         for (int k = 0; k < 3; ++k) {
             uint32_t& c = compact[weld_of[raw.corners[t.corner[k]]]];
@@ -537,7 +535,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         !file_uvs || std::any_of(raw.face_has_uv.begin(), raw.face_has_uv.end(), [](uint8_t h) { return h == 0; });
     if (any_generated) {
         const FaceNeighbours neighbours =
-            generated_face_neighbours(tris, TriangleWelds{compact, weld_of, raw.corners}, weld_count, face_count,
+            generated_face_neighbours(tris, tri_weld, weld_count, face_count,
                                       [&](uint32_t f) { return !face_uses_file_uv(f); });
         // Dominant axis of each face's averaged welded normal (face normal if that cancels).
         std::vector<dvec3> fsum(face_count, dvec3(0.0)), fcross(face_count, dvec3(0.0));
