@@ -6,7 +6,6 @@
 #include <glm/vec2.hpp>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -14,15 +13,24 @@ namespace pr {
 
 namespace {
 
-glm::dvec3 bottom_of(const std::vector<glm::vec4>& corners, std::uint32_t i)
+// Grows the box lo..hi by the column of corner c from the bottom to height h.
+void add_column(glm::vec3& lo, glm::vec3& hi, const ShellCorner& c, float h, float depth)
 {
-    return glm::dvec3(corners[3 * std::size_t(i)]);
+    const glm::vec3 top = c.at(h, depth);
+    lo = glm::min(lo, glm::min(c.bottom, top));
+    hi = glm::max(hi, glm::max(c.bottom, top));
 }
 
-glm::dvec3 normal_of(const std::vector<glm::vec4>& corners, std::uint32_t i)
+// A box grown by 10^-4 of its size (and a little more): the slack of every box test here.
+void add_margin(glm::vec3& lo, glm::vec3& hi)
 {
-    return glm::dvec3(corners[3 * std::size_t(i) + 1]);
+    const glm::vec3 margin = 1e-4f * (hi - lo) + glm::vec3(1e-7f);
+    lo -= margin;
+    hi += margin;
 }
+
+glm::vec3 empty_lo() { return glm::vec3(std::numeric_limits<float>::max()); }
+glm::vec3 empty_hi() { return glm::vec3(-std::numeric_limits<float>::max()); }
 
 } // namespace
 
@@ -30,10 +38,11 @@ std::optional<glm::vec3> prism_coordinates(const std::vector<glm::vec4>& corners
                                            std::uint32_t c, float depth, glm::vec3 eye)
 {
     // F(w1, w2, h) = B0 + w1 (B1 - B0) + w2 (B2 - B0) + h d (N0 + w1 (N1 - N0) + w2 (N2 - N0)) - eye.
-    const glm::dvec3 b0 = bottom_of(corners, a), e1 = bottom_of(corners, b) - b0, e2 = bottom_of(corners, c) - b0;
+    const ShellCorner ca = shell_corner(corners, a), cb = shell_corner(corners, b), cc = shell_corner(corners, c);
+    const glm::dvec3 b0(ca.bottom), e1 = glm::dvec3(cb.bottom) - b0, e2 = glm::dvec3(cc.bottom) - b0;
     const double d = depth;
-    const glm::dvec3 n0 = d * normal_of(corners, a), m1 = d * normal_of(corners, b) - n0,
-                     m2 = d * normal_of(corners, c) - n0;
+    const glm::dvec3 n0 = d * glm::dvec3(ca.normal), m1 = d * glm::dvec3(cb.normal) - n0,
+                     m2 = d * glm::dvec3(cc.normal) - n0;
     const glm::dvec3 target(eye);
     const double scale = std::max({glm::length(e1), glm::length(e2), d, 1e-30});
     glm::dvec3 q(1.0 / 3.0, 1.0 / 3.0, 0.5);
@@ -55,20 +64,12 @@ bool eye_near_prism(const std::vector<glm::vec4>& corners, const std::uint32_t* 
 {
     // Every point of the prism lies on a segment from bottom_i to bottom_i + h_max d N_i, h_max
     // its highest top, combined with the barycentric weights: inside those six points' box.
-    float h_max = 1.0f;
-    if (!full_shell)
-        h_max = std::max({corners[3 * std::size_t(t[0]) + 2].x, corners[3 * std::size_t(t[1]) + 2].x,
-                          corners[3 * std::size_t(t[2]) + 2].x});
-    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-    for (int k = 0; k < 3; ++k) {
-        const glm::vec4* c = &corners[3 * std::size_t(t[k])];
-        const glm::vec3 bottom(c[0]);
-        const glm::vec3 top = bottom + h_max * depth * glm::vec3(c[1]);
-        lo = glm::min(lo, glm::min(bottom, top));
-        hi = glm::max(hi, glm::max(bottom, top));
-    }
-    const glm::vec3 margin = 1e-4f * (hi - lo) + glm::vec3(1e-7f);
-    return glm::all(glm::greaterThanEqual(eye, lo - margin)) && glm::all(glm::lessThanEqual(eye, hi + margin));
+    const ShellCorner c[3] = {shell_corner(corners, t[0]), shell_corner(corners, t[1]), shell_corner(corners, t[2])};
+    const float h_max = full_shell ? 1.0f : std::max({c[0].top, c[1].top, c[2].top});
+    glm::vec3 lo = empty_lo(), hi = empty_hi();
+    for (const ShellCorner& k : c) add_column(lo, hi, k, h_max, depth);
+    add_margin(lo, hi);
+    return glm::all(glm::greaterThanEqual(eye, lo)) && glm::all(glm::lessThanEqual(eye, hi));
 }
 
 bool eye_in_prism(const std::vector<glm::vec4>& corners, const std::uint32_t* t, float depth, bool full_shell,
@@ -78,12 +79,10 @@ bool eye_in_prism(const std::vector<glm::vec4>& corners, const std::uint32_t* t,
     glm::dvec3 p[6];
     std::uint32_t weld[3];
     for (int k = 0; k < 3; ++k) {
-        const glm::vec4* c = &corners[3 * std::size_t(t[k])];
-        const glm::vec3 bottom(c[0]);
-        const float top = full_shell ? 1.0f : c[2].x;
-        p[k] = glm::dvec3(bottom) - glm::dvec3(eye);
-        p[k + 3] = glm::dvec3(bottom + top * (depth * glm::vec3(c[1]))) - glm::dvec3(eye);
-        weld[k] = std::bit_cast<std::uint32_t>(c[2].y);
+        const ShellCorner c = shell_corner(corners, t[k]);
+        p[k] = glm::dvec3(c.bottom) - glm::dvec3(eye);
+        p[k + 3] = glm::dvec3(c.at(full_shell ? 1.0f : c.top, depth)) - glm::dvec3(eye);
+        weld[k] = c.weld;
     }
     // The solid angle of each triangle seen from the eye (Van Oosterom and Strackee); their sum
     // over a closed surface is 4 pi inside (either orientation) and 0 outside.
@@ -120,24 +119,13 @@ PrismBlocks prism_blocks(const std::vector<glm::vec4>& corners, const std::vecto
     PrismBlocks b;
     const std::size_t triangles = indices.size() / 3;
     const std::size_t blocks = (triangles + PrismBlocks::kSize - 1) / PrismBlocks::kSize;
-    b.lo.assign(blocks, glm::vec3(std::numeric_limits<float>::max()));
-    b.hi.assign(blocks, glm::vec3(-std::numeric_limits<float>::max()));
-    for (std::size_t t = 0; t < triangles; ++t) {
-        glm::vec3& lo = b.lo[t / PrismBlocks::kSize];
-        glm::vec3& hi = b.hi[t / PrismBlocks::kSize];
-        for (int k = 0; k < 3; ++k) {
-            const glm::vec4* c = &corners[3 * std::size_t(indices[3 * t + std::size_t(k)])];
-            const glm::vec3 bottom(c[0]), top = bottom + depth * glm::vec3(c[1]);
-            lo = glm::min(lo, glm::min(bottom, top));
-            hi = glm::max(hi, glm::max(bottom, top));
-        }
-    }
-    // The margin of eye_near_prism().
-    for (std::size_t i = 0; i < blocks; ++i) {
-        const glm::vec3 margin = 1e-4f * (b.hi[i] - b.lo[i]) + glm::vec3(1e-7f);
-        b.lo[i] -= margin;
-        b.hi[i] += margin;
-    }
+    b.lo.assign(blocks, empty_lo());
+    b.hi.assign(blocks, empty_hi());
+    for (std::size_t t = 0; t < triangles; ++t)
+        for (int k = 0; k < 3; ++k)
+            add_column(b.lo[t / PrismBlocks::kSize], b.hi[t / PrismBlocks::kSize],
+                       shell_corner(corners, indices[3 * t + std::size_t(k)]), 1.0f, depth);
+    for (std::size_t i = 0; i < blocks; ++i) add_margin(b.lo[i], b.hi[i]);
     return b;
 }
 

@@ -2,6 +2,8 @@
 // item 12): no cap faces the eye there, so the walk starts from the eye itself.
 #pragma once
 
+#include "render/shell_bounds.hpp"
+
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/common.hpp>
@@ -32,8 +34,7 @@ PrismBlocks prism_blocks(const std::vector<glm::vec4>& corners, const std::vecto
                          float depth);
 
 // The first prism of the walk's triangles `indices` that holds `eye` (world), from the shell
-// corners of the renderer (three texels per vertex: bottom corner and u, unit normal and v, tight
-// top height; renderer.cpp, make_shell_corners) and the depth (scene units). A prism's point of
+// corners of the renderer (ShellCorner, shell_bounds.hpp) and the depth (scene units). A prism's point of
 // barycentric weights b and height h is sum b_i (bottom_i + h * depth * N_i), h from 0 to its top
 // (1 with `full_shell`, else the corners' tight tops, interpolated); the eye's b and h come from
 // a few Newton steps. Whether a prism holds the eye is judged on its planar faces, as the walk
@@ -82,12 +83,10 @@ std::optional<EyeInShell> find_eye_prism(const std::vector<glm::vec4>& corners,
         glm::vec3 w(1.0f - q->x - q->y, q->x, q->y);
         w = glm::max(w, glm::vec3(0.0f));
         w /= std::max(w.x + w.y + w.z, 1e-30f);
-        const auto top = [&](std::uint32_t i) { return full_shell ? 1.0f : corners[3 * std::size_t(i) + 2].x; };
-        const float h = std::clamp(q->z, 0.0f, w.x * top(v[0]) + w.y * top(v[1]) + w.z * top(v[2]));
-        const auto uv = [&](std::uint32_t i) {
-            return glm::vec2(corners[3 * std::size_t(i)].w, corners[3 * std::size_t(i) + 1].w);
-        };
-        const glm::vec2 e_uv = w.x * uv(v[0]) + w.y * uv(v[1]) + w.z * uv(v[2]);
+        const ShellCorner c[3] = {shell_corner(corners, v[0]), shell_corner(corners, v[1]), shell_corner(corners, v[2])};
+        const float top = full_shell ? 1.0f : w.x * c[0].top + w.y * c[1].top + w.z * c[2].top;
+        const float h = std::clamp(q->z, 0.0f, top);
+        const glm::vec2 e_uv = w.x * c[0].uv + w.y * c[1].uv + w.z * c[2].uv;
         return EyeInShell{std::uint32_t(t), glm::vec3(e_uv, h), h < height_at(e_uv)};
     }
     return std::nullopt;

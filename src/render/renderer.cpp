@@ -176,12 +176,12 @@ WalkTriangles walk_triangles(const std::vector<MeshVertex>& vertices, const std:
         glm::vec3 base[3], bottom[3], top[2][3], up(0.0f);
         for (int i = 0; i < 3; ++i) {
             const std::uint32_t v = indices[t + std::size_t(i)];
-            const glm::vec3 n = glm::vec3(corners[3 * v + 1]);
+            const ShellCorner c = shell_corner(corners, v);
             base[i] = glm::vec3(transform * glm::vec4(vertices[v].position, 1.0f));
-            bottom[i] = glm::vec3(corners[3 * v]);
-            top[0][i] = bottom[i] + corners[3 * v + 2].x * (depth * n);
-            top[1][i] = bottom[i] + depth * n;
-            up += n;
+            bottom[i] = c.bottom;
+            top[0][i] = c.at(c.top, depth);
+            top[1][i] = c.at(1.0f, depth);
+            up += c.normal;
         }
         const glm::vec3 n_base = normal(base[0], base[1], base[2]);
         const bool clockwise = glm::dot(n_base, up) < 0.0f;
@@ -209,7 +209,7 @@ struct TileLists {
     std::vector<std::uint32_t> prisms, offsets, marked;
 };
 
-TileLists prisms_over_marked_tiles(const std::vector<glm::vec3>& bottoms, const std::vector<std::uint32_t>& triangles,
+TileLists prisms_over_marked_tiles(const std::vector<glm::vec4>& corners, const std::vector<std::uint32_t>& triangles,
                                    const glm::mat4& view_proj, glm::vec2 viewport, const std::vector<GLuint>& tiles,
                                    int tw, int th)
 {
@@ -226,7 +226,7 @@ TileLists prisms_over_marked_tiles(const std::vector<glm::vec3>& bottoms, const 
         glm::vec2 lo(1e30f), hi(-1e30f);
         bool unsure = false;
         for (int i = 0; i < 3; ++i) {
-            const glm::vec4 clip = view_proj * glm::vec4(bottoms[triangles[t + std::size_t(i)]], 1.0f);
+            const glm::vec4 clip = view_proj * glm::vec4(shell_corner(corners, triangles[t + std::size_t(i)]).bottom, 1.0f);
             if (clip.w <= 0.0f) {
                 unsure = true;
                 break;
@@ -658,18 +658,6 @@ void Renderer::ensure_walk_data()
             o.listed[full] = gl::immutable_buffer(triangles.listed[full]);
             o.listed_count[full] = GLsizei(triangles.listed[full].size());
         }
-        if (o.tears) {
-            o.bottoms.resize(vertices.size());
-            for (std::size_t v = 0; v < vertices.size(); ++v) o.bottoms[v] = glm::vec3(corners[3 * v]);
-        }
-        // The box of the full shell (it holds the tight one), for the eye test of every draw.
-        o.shell_lo = glm::vec3(std::numeric_limits<float>::max());
-        o.shell_hi = glm::vec3(-std::numeric_limits<float>::max());
-        for (std::size_t v = 0; v < vertices.size(); ++v) {
-            const glm::vec3 bottom(corners[3 * v]), top = bottom + o.depth * glm::vec3(corners[3 * v + 1]);
-            o.shell_lo = glm::min(o.shell_lo, glm::min(bottom, top));
-            o.shell_hi = glm::max(o.shell_hi, glm::max(bottom, top));
-        }
         o.eye_blocks = prism_blocks(corners, indices, o.depth);
         o.triangles = std::move(indices);
         o.shell_corners = std::move(corners);
@@ -822,10 +810,8 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     // starts the walk of the rays that begin there. A screen-filling triangle at the near plane
     // starts them at the eye, in the prism that holds it (docs/prism.md, item 12).
     const auto draw_from_eye = [&](const GpuObject& o, WalkVariant variant) {
-        const glm::vec3 eye = camera.eye;
-        if (glm::any(glm::lessThan(eye, o.shell_lo)) || glm::any(glm::greaterThan(eye, o.shell_hi))) return;
         const std::optional<EyeInShell> in = find_eye_prism(
-            o.shell_corners, o.triangles, o.eye_blocks, o.depth, settings.full_shell, eye,
+            o.shell_corners, o.triangles, o.eye_blocks, o.depth, settings.full_shell, camera.eye,
             [&](glm::vec2 uv) { return o.height_field ? o.height_field->sample(uv) : 0.0f; });
         if (!in) return;
         set_object(o, &*in);
@@ -868,7 +854,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
             const glm::mat4 view_proj = camera.projection(float(width_) / float(height_)) * camera.view();
             for (const GpuObject& o : objects_) {
                 if (!o.tears) continue;
-                const TileLists lists = prisms_over_marked_tiles(o.bottoms, o.triangles, view_proj,
+                const TileLists lists = prisms_over_marked_tiles(o.shell_corners, o.triangles, view_proj,
                                                                  glm::vec2(width_, height_), tiles, tw, th);
                 if (lists.prisms.empty()) continue;
                 if (!pass_list_) {

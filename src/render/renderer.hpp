@@ -168,14 +168,11 @@ private:
         gl::Buffer listed[2];
         gl::Texture listed_texels[2];
         GLsizei listed_count[2] = {0, 0};
-        // Torn meshes: the bottom corners (world), to pick the second pass's prisms on the CPU
-        // (prisms_over_marked_tiles). Every walked mesh: the walk's triangles, and its shell
-        // corners (as in `corners`), their box and its blocks' boxes, to find a prism that holds
-        // the eye (find_eye_prism).
-        std::vector<glm::vec3> bottoms;
+        // The walk's triangles and shell corners (as in `corners`) on the CPU: to pick the second
+        // pass's prisms of a torn mesh (prisms_over_marked_tiles), and with the boxes of blocks of
+        // them to find a prism that holds the eye (find_eye_prism).
         std::vector<std::uint32_t> triangles;
         std::vector<glm::vec4> shell_corners;
-        glm::vec3 shell_lo{0.0f}, shell_hi{0.0f};
         PrismBlocks eye_blocks;
         std::vector<Geometry> reference; // chunks of the tessellated ground truth
         GLuint height_texture = 0; // owned by texture_cache_

@@ -1,6 +1,7 @@
 #include "render/shell_bounds.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include <glm/common.hpp>
@@ -45,6 +46,13 @@ std::vector<float> shell_top_heights(const std::vector<MeshVertex>& vertices,
     for (std::size_t i = 0; i < vertices.size(); ++i)
         top[i] = std::min(1.0f, weld_top[vertices[i].weld_id] + step);
     return top;
+}
+
+ShellCorner shell_corner(const std::vector<glm::vec4>& corners, std::uint32_t vertex)
+{
+    const glm::vec4* c = &corners[3 * std::size_t(vertex)];
+    return ShellCorner{glm::vec3(c[0]), glm::vec3(c[1]), glm::vec2(c[0].w, c[1].w), c[2].x,
+                       std::bit_cast<std::uint32_t>(c[2].y)};
 }
 
 } // namespace pr

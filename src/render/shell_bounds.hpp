@@ -17,4 +17,19 @@ namespace pr {
 std::vector<float> shell_top_heights(const std::vector<MeshVertex>& vertices,
                                      const std::vector<std::uint32_t>& indices, const HeightField& height);
 
+// One vertex of the walk's shell corners, three vec4 per vertex as the renderer builds them
+// (renderer.cpp, make_shell_corners; PR_TEX_CORNERS in shared.h): the bottom corner (world) and
+// u, the unit normal and v, the tight top height and the welded id (bits of a float).
+struct ShellCorner {
+    glm::vec3 bottom;
+    glm::vec3 normal;
+    glm::vec2 uv;
+    float top;
+    std::uint32_t weld;
+    // The shell's point over this vertex at height h (0 bottom, 1 the full shell's top), as
+    // shell.glsl's shell_top_corner() builds it.
+    glm::vec3 at(float h, float depth) const { return bottom + h * (depth * normal); }
+};
+ShellCorner shell_corner(const std::vector<glm::vec4>& corners, std::uint32_t vertex);
+
 } // namespace pr
