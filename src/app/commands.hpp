@@ -1,9 +1,13 @@
 #pragma once
 // One function per subcommand: each registers its options on the parser and returns the action
 // to run after parsing.
+#include "app/options.hpp"
+#include "core/atomic_file.hpp"
+
 #include <CLI/CLI.hpp>
 
 #include <functional>
+#include <vector>
 
 namespace pr {
 
@@ -14,5 +18,12 @@ CommandAction add_compare_command(CLI::App& app);
 CommandAction add_bench_command(CLI::App& app);
 CommandAction add_conemap_command(CLI::App& app); // conemap_cmd.cpp
 CommandAction add_view_command(CLI::App& app);    // view_cmd.cpp
+
+// The files a command reads by flag, for check_distinct_outputs(): an output must not overwrite
+// one of them. (The meshes and images a scene file names are not listed.)
+inline std::vector<NamedPath> scene_inputs(const SceneOptions& s)
+{
+    return {{"--scene", s.scene_file}, {"--mesh", s.mesh}, {"--height", s.height.value_or("")}, {"--color", s.color}};
+}
 
 } // namespace pr

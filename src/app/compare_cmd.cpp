@@ -11,6 +11,7 @@
 
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 namespace pr {
 
@@ -31,6 +32,16 @@ FrameCapture capture(Session& s, const DrawSettings& settings, double& ms)
 nlohmann::json optional_number(const std::optional<double>& v)
 {
     return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+}
+
+// encode_png() with a failure reported under the file it was meant for, as write_png() does.
+std::vector<std::uint8_t> encode_png_for(const std::string& path, const RgbaImage& image)
+{
+    try {
+        return encode_png(image);
+    } catch (const Error& e) {
+        throw Error(path, e.problem());
+    }
 }
 
 std::string fixed(double v, int digits)
@@ -65,8 +76,9 @@ CommandAction add_compare_command(CLI::App& app)
     return [s]() {
         std::vector<TechniqueRun> runs = parse_technique_list(s->quality.techniques, s->quality);
         const ReferenceOptions ref_options = make_reference_options(s->quality);
-        if (!s->out.empty()) check_output_folder(s->out);
+        if (!s->out.empty()) check_png_output(s->out);
         if (!s->json.empty()) check_output_folder(s->json);
+        check_distinct_outputs({{"--out", s->out}, {"--json", s->json}}, scene_inputs(s->scene));
         Session session = open_session(s->scene);
 
         const auto ref_stats = session.renderer->prepare_reference(session.scene, session.camera, ref_options);
@@ -128,12 +140,16 @@ CommandAction add_compare_command(CLI::App& app)
               {"target", {session.camera.target.x, session.camera.target.y, session.camera.target.z}},
               {"fovy", session.camera.fovy_deg}}},
             {"renderer", session.context->description()}};
+        // Both outputs staged before either replaces a file: a failure leaves both as they were.
+        std::optional<StagedFile> grid, json;
         if (!s->out.empty()) {
             std::vector<Tile> tiles = top;
             tiles.insert(tiles.end(), bottom.begin(), bottom.end());
-            write_png(s->out, compose_grid(tiles, static_cast<int>(top.size())));
+            grid.emplace(s->out, encode_png_for(s->out, compose_grid(tiles, static_cast<int>(top.size()))));
         }
-        if (!s->json.empty()) write_second_output(s->json, report.dump(2) + "\n", s->out);
+        if (!s->json.empty()) json.emplace(s->json, report.dump(2) + "\n");
+        if (grid) grid->commit();
+        if (json) json->commit();
         if (!s->out.empty()) std::printf("wrote %s\n", s->out.c_str());
         if (!s->json.empty()) std::printf("wrote %s\n", s->json.c_str());
         return kExitOk;

@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <thread>
 
 namespace pr {
@@ -67,8 +68,9 @@ CommandAction add_conemap_command(CLI::App& app)
         const Backend gl_backend = parse_backend(s->gl_backend);
         if (s->threads < 0 || s->threads > 1024) throw Error("--threads", "must be between 0 (all cores) and 1024");
         options.threads = s->threads;
-        check_output_folder(s->out);
+        check_png_output(s->out);
         if (!s->json.empty()) check_output_folder(s->json);
+        check_distinct_outputs({{"--out", s->out}, {"--json", s->json}}, {{"--height", s->height}});
         // A GPU build loads Mesa on another thread (about 75 ms of its fixed cost on the 2-core
         // machine) while the CPU does its share: with --no-cache, from before the height map is
         // read; else once the cache has missed (build, below), while the max pyramid is built. Not
@@ -109,8 +111,9 @@ CommandAction add_conemap_command(CLI::App& app)
         for (float r : m.ratios) sum += r, lo = std::min(lo, double(r)), hi = std::max(hi, double(r));
         const double mean = m.ratios.empty() ? 0.0 : sum / double(m.ratios.size());
         const std::string how = result.from_cache ? "from the cache (" + result.entry.string() + ")" : "built (" + device + ")";
-        // Both outputs or neither (write_second_output).
-        write_cone_png(s->out, result.map, options.format);
+        // Both outputs or neither: the report is staged first, so a failure to write either leaves
+        // both destinations as they were.
+        std::optional<StagedFile> json;
         if (!s->json.empty()) {
             const nlohmann::json report = {{"height_map", s->height},
                                            {"width", m.width},
@@ -128,8 +131,10 @@ CommandAction add_conemap_command(CLI::App& app)
                                            {"ratio_min", lo},
                                            {"ratio_mean", mean},
                                            {"ratio_max", hi}};
-            write_second_output(s->json, report.dump(2) + "\n", s->out);
+            json.emplace(s->json, report.dump(2) + "\n");
         }
+        write_cone_png(s->out, result.map, options.format);
+        if (json) json->commit();
         std::printf("%s: %dx%d %s %s, %s in %.0f ms, ratio min %.4f mean %.4f max %.4f\n", s->out.c_str(), m.width,
                     m.height, cone_kind_name(kind).c_str(), cone_format_name(options.format).c_str(), how.c_str(), ms,
                     lo, mean, hi);

@@ -27,7 +27,8 @@ CommandAction add_render_command(CLI::App& app)
     return [s]() {
         const DrawSettings settings = make_draw_settings(s->technique, s->technique.technique);
         const ReferenceOptions ref = make_reference_options(s->technique);
-        check_output_folder(s->out);
+        check_png_output(s->out);
+        check_distinct_outputs({{"--out", s->out}}, scene_inputs(s->scene));
         Session session = open_session(s->scene);
         Renderer& renderer = *session.renderer;
         if (settings.technique == Technique::Reference) {

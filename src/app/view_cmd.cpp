@@ -101,7 +101,10 @@ CommandAction add_view_command(CLI::App& app)
         o.reference = make_reference_options(s->technique);
         if (s->frames < 0 || s->frames > 1000000) throw Error("--frames", "must be between 0 and 1000000");
         o.frames = s->frames;
-        if (!s->screenshot.empty()) check_output_folder(s->screenshot);
+        if (!s->screenshot.empty()) {
+            check_png_output(s->screenshot);
+            check_distinct_outputs({{"--screenshot", s->screenshot}}, scene_inputs(s->scene));
+        }
         o.screenshot = s->screenshot;
         o.screenshot_ui = s->screenshot_ui;
         o.panel = !s->no_panel;

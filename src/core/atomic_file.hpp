@@ -5,7 +5,10 @@
 #include <filesystem>
 #include <functional>
 #include <span>
+#include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace pr {
 
@@ -14,13 +17,38 @@ namespace pr {
 void write_file_atomic(const std::filesystem::path& path, std::span<const std::uint8_t> bytes);
 void write_file_atomic(const std::filesystem::path& path, std::string_view text);
 
-// The second output of a run that writes two (an image, then its JSON report): writes `text` to
-// `path` atomically and, if that fails, removes `first` (already written) before rethrowing, so
-// the run leaves both files or neither. An empty `first` is ignored.
-void write_second_output(const std::filesystem::path& path, std::string_view text, const std::filesystem::path& first);
+// A file written now under a temporary name in its destination's folder and renamed into place
+// by commit(); if never committed, the destructor removes the temporary and the destination is
+// untouched. A run with several outputs stages them all, then commits them, so a failure while
+// writing any of them leaves every destination as it was (a user's earlier file included).
+class StagedFile {
+public:
+    // Writes `bytes` to the temporary. Throws pr::Error naming `path`.
+    StagedFile(std::filesystem::path path, std::span<const std::uint8_t> bytes);
+    StagedFile(std::filesystem::path path, std::string_view text);
+    StagedFile(const StagedFile&) = delete;
+    StagedFile& operator=(const StagedFile&) = delete;
+    ~StagedFile();
+    // Renames the temporary onto the destination. Throws pr::Error naming the destination.
+    void commit();
+
+private:
+    std::filesystem::path path_, tmp_;
+};
 
 // Fails early (before long work) when `path` could not be written: its folder is missing or it
 // names a folder. Throws pr::Error naming `path`.
 void check_output_folder(const std::filesystem::path& path);
+
+// check_output_folder() for a PNG output, which also refuses a name ending in another image
+// format's extension (".jpg": the file would hold PNG data under a name that says otherwise).
+void check_png_output(const std::filesystem::path& path);
+
+// Refuses an output that is the same file as another output or as an input (the run would
+// overwrite what it reads, or keep only one of two outputs). `outputs` and `inputs` pair a file
+// with the option that names it; empty paths and inputs that are not files (builtin:NAME) are
+// skipped. Throws pr::Error naming the later option.
+using NamedPath = std::pair<std::string, std::filesystem::path>; // option, path
+void check_distinct_outputs(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs);
 
 } // namespace pr

@@ -154,7 +154,7 @@ if(PRLIMIT AND NOT PRISMRELIEF_SANITIZE)
     endforeach()
 endif()
 
-# Two outputs, both or neither: a report that cannot be written (/proc takes no new files) takes
-# the grid image with it (write_second_output).
+# Two outputs, both or neither: a report that cannot be written (/proc takes no new files) leaves
+# no grid image either (both are staged before either is renamed into place: StagedFile).
 pr_cli(compare_json_unwritable EXIT 1 ONE_LINE STDERR "^prismrelief: error: /proc/x.json: " NO_FILE g.png
        ARGS compare --mesh ${M}/cube.obj --techniques pom --size 32x32 --out g.png --json /proc/x.json)

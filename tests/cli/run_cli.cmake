@@ -1,6 +1,7 @@
 # Runs one prismrelief command and checks its outcome. Variables (set with -D):
 #   EXE, ARGS (;-list), WORKDIR, EXPECT_EXIT, STDERR_REGEX (optional), STDOUT_REGEX (optional),
 #   EXPECT_FILE (optional: must exist after), NO_FILE (optional: must not exist after),
+#   KEEP_FILE (optional: written before the run with a marker text, which it must still hold after),
 #   ONE_LINE (optional: stderr must be exactly one line), TIMEOUT (seconds, default 120),
 #   JSON_FILE + JSON_CHECKS (optional): checks "path:OP:value" separated by '|', path in dots
 #   (results.1.iou), OP one of LESS GREATER EQUAL LESS_EQUAL GREATER_EQUAL STREQUAL EXISTS TYPE (NULL, NUMBER, …)
@@ -13,6 +14,10 @@ if(NO_FILE)
 endif()
 if(EXPECT_FILE)
     file(REMOVE ${WORKDIR}/${EXPECT_FILE})
+endif()
+set(keep_marker "a file the user had before the run\n")
+if(KEEP_FILE)
+    file(WRITE ${WORKDIR}/${KEEP_FILE} "${keep_marker}")
 endif()
 string(REPLACE "|" ";" ARGS "${ARGS}")
 execute_process(COMMAND ${EXE} ${ARGS} WORKING_DIRECTORY ${WORKDIR} TIMEOUT ${TIMEOUT}
@@ -39,6 +44,15 @@ if(NO_FILE AND EXISTS ${WORKDIR}/${NO_FILE})
 endif()
 if(EXPECT_FILE AND NOT EXISTS ${WORKDIR}/${EXPECT_FILE})
     message(FATAL_ERROR "${EXPECT_FILE} was not written\n${ctx}")
+endif()
+if(KEEP_FILE)
+    if(NOT EXISTS ${WORKDIR}/${KEEP_FILE})
+        message(FATAL_ERROR "${KEEP_FILE}, there before the run, was removed\n${ctx}")
+    endif()
+    file(READ ${WORKDIR}/${KEEP_FILE} kept)
+    if(NOT kept STREQUAL keep_marker)
+        message(FATAL_ERROR "${KEEP_FILE}, there before the run, was overwritten\n${ctx}")
+    endif()
 endif()
 file(GLOB leftovers ${WORKDIR}/.*.tmp*)
 if(leftovers)

@@ -33,3 +33,67 @@ TEST(AtomicFile, MissingFolderIsAnErrorNamingTheFile)
         EXPECT_NE(std::string(e.what()).find("does not exist"), std::string::npos);
     }
 }
+
+namespace {
+std::string read_all(const fs::path& p)
+{
+    std::ifstream in(p);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+} // namespace
+
+// A staged file replaces its destination only when committed; dropped, it leaves the destination
+// and its folder as they were (no temporary behind).
+TEST(AtomicFile, StagedFileReplacesOnlyOnCommit)
+{
+    const fs::path dir = fs::temp_directory_path() / "pr_staged_test";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const fs::path f = dir / "a.txt";
+    pr::write_file_atomic(f, std::string_view("earlier"));
+    {
+        pr::StagedFile staged(f, std::string_view("new"));
+        EXPECT_EQ(read_all(f), "earlier");
+    }
+    EXPECT_EQ(read_all(f), "earlier");
+    for (const auto& e : fs::directory_iterator(dir)) EXPECT_EQ(e.path().filename(), "a.txt");
+    {
+        pr::StagedFile staged(f, std::string_view("new"));
+        staged.commit();
+        staged.commit(); // a second commit does nothing
+    }
+    EXPECT_EQ(read_all(f), "new");
+    for (const auto& e : fs::directory_iterator(dir)) EXPECT_EQ(e.path().filename(), "a.txt");
+    fs::remove_all(dir);
+}
+
+TEST(AtomicFile, OutputsMustBeDistinctFromEachOtherAndFromInputs)
+{
+    const fs::path dir = fs::temp_directory_path() / "pr_distinct_test";
+    fs::remove_all(dir);
+    fs::create_directories(dir / "sub");
+    pr::write_file_atomic(dir / "mesh.obj", std::string_view("v 0 0 0\n"));
+    fs::create_symlink(dir / "mesh.obj", dir / "link.obj");
+    const auto refused = [](const std::vector<pr::NamedPath>& out, const std::vector<pr::NamedPath>& in) {
+        try {
+            pr::check_distinct_outputs(out, in);
+        } catch (const pr::Error& e) {
+            return std::string(e.subject());
+        }
+        return std::string();
+    };
+    EXPECT_EQ(refused({{"--out", dir / "a.png"}, {"--json", dir / "sub/../a.png"}}, {}), "--json");
+    EXPECT_EQ(refused({{"--out", dir / "a.png"}, {"--json", dir / "a.json"}}, {}), "");
+    EXPECT_EQ(refused({{"--out", dir / "link.obj"}}, {{"--mesh", dir / "mesh.obj"}}), "--out");
+    EXPECT_EQ(refused({{"--out", dir / "x.png"}}, {{"--height", "builtin:bumps"}, {"--color", ""}}), "");
+    EXPECT_EQ(refused({{"--out", ""}, {"--json", ""}}, {}), "");
+    fs::remove_all(dir);
+}
+
+TEST(AtomicFile, PngOutputsRefuseOtherImageExtensions)
+{
+    EXPECT_THROW(pr::check_png_output("x.JPG"), pr::Error);
+    EXPECT_THROW(pr::check_png_output("x.tga"), pr::Error);
+    EXPECT_NO_THROW(pr::check_png_output("x.png"));
+    EXPECT_NO_THROW(pr::check_png_output("x")); // no extension: the user's choice
+}
