@@ -7,40 +7,56 @@ namespace pr {
 
 namespace {
 
+// A base triangle's corner: its vertex, its index and its displacement direction (object space).
+struct Corner {
+    const MeshVertex* v;
+    std::uint32_t index;
+    glm::vec3 offset;
+};
+
+// A grid point: the interpolated vertex and displacement direction.
+struct GridPoint {
+    MeshVertex v;
+    glm::vec3 offset;
+};
+
 // Grid point (i, j) of a triangle split at `level`: barycentric weights
 // (level - i - j, i, j) / level on corners (a, b, c).
 // Edge points are evaluated from the edge's two endpoints only, in the order of their vertex
 // indices, so both triangles sharing the edge compute exactly the same floating-point values.
-MeshVertex lerp_edge(const MeshVertex& x, std::uint32_t xi, const MeshVertex& y, std::uint32_t yi,
-                     int k, int level)
+GridPoint lerp_edge(const Corner& x, const Corner& y, int k, int level)
 {
     // Point k/level of the way from x to y; canonical order: from the lower index.
-    if (xi > yi) return lerp_edge(y, yi, x, xi, level - k, level);
+    if (x.index > y.index) return lerp_edge(y, x, level - k, level);
     const float t = static_cast<float>(k) / static_cast<float>(level);
     const float s = static_cast<float>(level - k) / static_cast<float>(level);
-    MeshVertex v;
-    v.position = x.position * s + y.position * t;
-    v.normal = x.normal * s + y.normal * t;
-    v.uv = x.uv * s + y.uv * t;
-    v.tangent = x.tangent * s + y.tangent * t;
-    v.bitangent = x.bitangent * s + y.bitangent * t;
-    v.weld_id = x.weld_id;
-    return v;
+    GridPoint p;
+    MeshVertex& v = p.v;
+    v.position = x.v->position * s + y.v->position * t;
+    v.normal = x.v->normal * s + y.v->normal * t;
+    v.uv = x.v->uv * s + y.v->uv * t;
+    v.tangent = x.v->tangent * s + y.v->tangent * t;
+    v.bitangent = x.v->bitangent * s + y.v->bitangent * t;
+    v.weld_id = x.v->weld_id;
+    p.offset = x.offset * s + y.offset * t;
+    return p;
 }
 
-MeshVertex interior(const MeshVertex& a, const MeshVertex& b, const MeshVertex& c, int i, int j, int level)
+GridPoint interior(const Corner& a, const Corner& b, const Corner& c, int i, int j, int level)
 {
     const float wb = static_cast<float>(i) / static_cast<float>(level);
     const float wc = static_cast<float>(j) / static_cast<float>(level);
     const float wa = static_cast<float>(level - i - j) / static_cast<float>(level);
-    MeshVertex v;
-    v.position = a.position * wa + b.position * wb + c.position * wc;
-    v.normal = a.normal * wa + b.normal * wb + c.normal * wc;
-    v.uv = a.uv * wa + b.uv * wb + c.uv * wc;
-    v.tangent = a.tangent * wa + b.tangent * wb + c.tangent * wc;
-    v.bitangent = a.bitangent * wa + b.bitangent * wb + c.bitangent * wc;
-    v.weld_id = a.weld_id;
-    return v;
+    GridPoint p;
+    MeshVertex& v = p.v;
+    v.position = a.v->position * wa + b.v->position * wb + c.v->position * wc;
+    v.normal = a.v->normal * wa + b.v->normal * wb + c.v->normal * wc;
+    v.uv = a.v->uv * wa + b.v->uv * wb + c.v->uv * wc;
+    v.tangent = a.v->tangent * wa + b.v->tangent * wb + c.v->tangent * wc;
+    v.bitangent = a.v->bitangent * wa + b.v->bitangent * wb + c.v->bitangent * wc;
+    v.weld_id = a.v->weld_id;
+    p.offset = a.offset * wa + b.offset * wb + c.offset * wc;
+    return p;
 }
 
 } // namespace
@@ -88,32 +104,39 @@ ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::mat4&
     return r;
 }
 
-void tessellate_reference(const PreparedMesh& mesh, const HeightField& height, float depth,
-                          float midlevel, int level, std::size_t first, std::size_t last,
+void tessellate_reference(const PreparedMesh& mesh, const glm::mat4& transform, const HeightField& height,
+                          float depth, float midlevel, int level, std::size_t first, std::size_t last,
                           std::vector<MeshVertex>& vertices, std::vector<std::uint32_t>& indices)
 {
     level = std::max(level, 1);
     const auto& v = mesh.vertices;
+    // The world unit normal of the prism's shell (make_shell_corners: the normal matrix, then
+    // normalized), taken back to object space by the inverse of the transform's linear part.
+    const glm::mat3 to_object = glm::inverse(glm::mat3(transform));
+    const glm::mat3 normal_matrix = glm::transpose(to_object);
+    const auto corner = [&](std::uint32_t i) {
+        return Corner{&v[i], i, to_object * glm::normalize(normal_matrix * v[i].normal)};
+    };
     const int per_row_total = (level + 1) * (level + 2) / 2;
     std::vector<std::uint32_t> grid(static_cast<std::size_t>(per_row_total));
     for (std::size_t t = first; t < last; ++t) {
-        const std::uint32_t ia = mesh.indices[3 * t], ib = mesh.indices[3 * t + 1], ic = mesh.indices[3 * t + 2];
-        const MeshVertex &a = v[ia], &b = v[ib], &c = v[ic];
+        const Corner a = corner(mesh.indices[3 * t]), b = corner(mesh.indices[3 * t + 1]),
+                     c = corner(mesh.indices[3 * t + 2]);
         // Grid points row by row: j = 0..level (towards c), i = 0..level-j (towards b).
         int n = 0;
         for (int j = 0; j <= level; ++j) {
             for (int i = 0; i <= level - j; ++i) {
-                MeshVertex p;
-                if (j == 0) p = lerp_edge(a, ia, b, ib, i, level);                 // edge a-b
-                else if (i == 0) p = lerp_edge(a, ia, c, ic, j, level);            // edge a-c
-                else if (i + j == level) p = lerp_edge(b, ib, c, ic, j, level);    // edge b-c
+                GridPoint p;
+                if (j == 0) p = lerp_edge(a, b, i, level);              // edge a-b
+                else if (i == 0) p = lerp_edge(a, c, j, level);         // edge a-c
+                else if (i + j == level) p = lerp_edge(b, c, j, level); // edge b-c
                 else p = interior(a, b, c, i, j, level);
                 // Displace along the interpolated (not renormalized) normal: S stays inside the
                 // straight-edged prism (contract).
-                const float h = height.sample(p.uv);
-                p.position += depth * (h - midlevel) * p.normal;
+                const float h = height.sample(p.v.uv);
+                p.v.position += depth * (h - midlevel) * p.offset;
                 grid[static_cast<std::size_t>(n++)] = static_cast<std::uint32_t>(vertices.size());
-                vertices.push_back(p);
+                vertices.push_back(p.v);
             }
         }
         // Row start offsets: row j starts after rows 0..j-1 of (level + 1 - r) points each.

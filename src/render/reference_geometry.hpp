@@ -29,11 +29,14 @@ ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::mat4&
 
 // Tessellates base triangles [first, last) at `level` and displaces them. Output vertices use the
 // MeshVertex layout (position displaced; normal, uv, tangent, bitangent interpolated) so the
-// surface shaders draw them. Points on an edge are computed from that edge's two endpoints alone,
+// surface shaders draw them, in object space (drawn with `transform`). `depth` is in world units,
+// along world unit normals, as the prism's shell: each vertex's displacement direction is the
+// object-space vector that `transform` maps to its world unit normal (under a scale the mesh's
+// own unit normals would scale the displacement too), interpolated like the normals. Points on an edge are computed from that edge's two endpoints alone,
 // in an order fixed by their vertex indices, so neighbours sharing the edge produce bit-identical
 // positions: no cracks where UVs agree.
-void tessellate_reference(const PreparedMesh& mesh, const HeightField& height, float depth,
-                          float midlevel, int level, std::size_t first, std::size_t last,
+void tessellate_reference(const PreparedMesh& mesh, const glm::mat4& transform, const HeightField& height,
+                          float depth, float midlevel, int level, std::size_t first, std::size_t last,
                           std::vector<MeshVertex>& vertices, std::vector<std::uint32_t>& indices);
 
 // Bytes of vertex and index data per base triangle at `level` (for chunking and reporting).

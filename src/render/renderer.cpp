@@ -440,7 +440,7 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
         for (std::size_t first = 0; first < count; first += batch) {
             vertices.clear();
             indices.clear();
-            tessellate_reference(so.mesh, *so.height, so.depth, so.midlevel, lv.level, first,
+            tessellate_reference(so.mesh, so.transform, *so.height, so.depth, so.midlevel, lv.level, first,
                                  std::min(count, first + batch), vertices, indices);
             stats.triangles += indices.size() / 3;
             stats.bytes += vertices.size() * sizeof(MeshVertex) + indices.size() * sizeof(std::uint32_t);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <utility>
 
 namespace pr {
 
@@ -28,6 +29,13 @@ Scene load_scene(const SceneSpec& spec)
             obj.color = c;
         }
         obj.transform = o.transform;
+        // A mirroring transform (negative determinant) turns the triangles' winding: counter-
+        // clockwise seen from outside in the mesh becomes clockwise in world space, where faces
+        // are judged (culling, gl_FrontFacing, the prism's faces and walk). Each triangle reversed
+        // keeps world space counter-clockwise seen from outside (PreparedMesh::indices).
+        if (glm::determinant(glm::mat3(o.transform)) < 0.0f)
+            for (std::size_t t = 0; t + 2 < obj.mesh.indices.size(); t += 3)
+                std::swap(obj.mesh.indices[t + 1], obj.mesh.indices[t + 2]);
         obj.midlevel = o.midlevel;
         obj.base_color = o.base_color;
 

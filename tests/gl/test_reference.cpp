@@ -4,8 +4,12 @@
 #include "eval/grid.hpp"
 #include "eval/metrics.hpp"
 #include "mesh/mesh.hpp"
+#include "render/scene.hpp"
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <cmath>
+#include <string>
 
 using namespace pr;
 
@@ -156,4 +160,70 @@ TEST(Reference, ClosedMeshStaysWatertight)
                 img.at(x, y - 2).a >= 128 && img.at(x, y + 2).a >= 128)
                 ++holes;
     EXPECT_EQ(holes, 0);
+}
+
+namespace {
+
+// Mean of R+G+B over the covered pixels.
+double mean_brightness(const RgbaImage& img)
+{
+    double sum = 0.0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i + 3 < img.pixels.size(); i += 4)
+        if (img.pixels[i + 3] >= 128) sum += img.pixels[i] + img.pixels[i + 1] + img.pixels[i + 2], ++n;
+    return n ? sum / double(n) : 0.0;
+}
+
+} // namespace
+
+// Scene transforms: `depth` is in world units along world unit normals for every technique, the
+// reference included (it displaced in object space, so a scale of 0.5 halved its bumps: the
+// prism's IoU against it was 0.949); and a mirror (negative determinant) keeps every technique's
+// faces outward (the prism drew nothing, IoU 0.0005, and the base-surface techniques and the
+// reference were lit from inside). The light comes from the eye, so a lit mirror image is as
+// bright as the original.
+TEST(Reference, ScaledAndMirroredObjectsMatchThePrism)
+{
+    prtest::context();
+    struct Case {
+        const char* mesh;
+        glm::vec3 scale;
+        float depth;
+        double min_iou;
+    };
+    const Case cases[] = {{"cube.obj", glm::vec3(0.5f), 0.1f, 0.985},
+                          {"plane.obj", glm::vec3(1.0f, 3.0f, 1.0f), 0.08f, 0.99},
+                          {"cube.obj", glm::vec3(-1.0f, 1.0f, 1.0f), 0.08f, 0.99},
+                          {"torus.obj", glm::vec3(1.0f, -1.0f, 1.0f), 0.08f, 0.99}};
+    for (const Case& k : cases) {
+        SCOPED_TRACE(std::string(k.mesh) + " scaled " + std::to_string(k.scale.x) + "," + std::to_string(k.scale.y));
+        double brightness[2] = {0.0, 0.0};
+        for (int mirrored = 0; mirrored < 2; ++mirrored) {
+            SceneSpec spec;
+            ObjectSpec o;
+            o.mesh = std::string(PR_SOURCE_DIR) + "/meshes/" + k.mesh;
+            o.height = "builtin:bumps@128";
+            o.depth = k.depth;
+            o.transform = glm::scale(glm::mat4(1.0f), mirrored ? k.scale : glm::abs(k.scale));
+            spec.objects.push_back(o);
+            spec.width = spec.height = kSize;
+            const Scene scene = load_scene(spec);
+            Renderer r(kSize, kSize);
+            r.upload(scene);
+            const Camera c = scene_camera(spec, scene);
+            r.prepare_reference(scene, c, ReferenceOptions{});
+            const glm::vec3 light = glm::normalize(c.eye - c.target);
+            FrameCapture frames[2];
+            for (int t = 0; t < 2; ++t) {
+                DrawSettings s;
+                s.technique = t ? Technique::Reference : Technique::Prism;
+                r.draw(c, light, s);
+                frames[t] = {r.read_color(), r.read_depth(), c};
+            }
+            const CompareMetrics m = compare_frames(frames[0], frames[1]);
+            EXPECT_GT(m.iou, k.min_iou) << (mirrored ? "as given" : "unmirrored");
+            brightness[mirrored] = mean_brightness(frames[1].color);
+        }
+        EXPECT_NEAR(brightness[1], brightness[0], 0.2 * brightness[0]) << "the reference lit from inside";
+    }
 }
