@@ -356,7 +356,9 @@ void main()
     }
     // The hit prism again (corners, uv and normals for the frame below).
     load_walk_prism(prim, index, weld, from_a);
-#if defined(PR_PRISM_TEARS) && !defined(PR_PRISM_INSIDE) && !defined(PR_PRISM_EYE_UNDER)
+// (Not in the second pass itself, nor in the walks from inside the body, which start at the
+// same bottoms the second pass would.)
+#if defined(PR_PRISM_TEARS) && !defined(PR_PRISM_INSIDE) && !(defined(PR_PRISM_EYE_UNDER) && defined(PR_PRISM_BOTTOMS))
     if (went_in) {
         imageStore(u_tears, ivec2(gl_FragCoord.xy), uvec4(1u));
         imageStore(u_tear_tiles, ivec2(gl_FragCoord.xy) / PR_TEAR_TILE, uvec4(1u));

@@ -80,6 +80,13 @@ void main()
 
 #if PR_TECHNIQUE == PR_TECH_FLAT
     vec3 n = n_geom;
+#elif PR_TECHNIQUE == PR_TECH_REFERENCE
+    // The true displaced surface: seen from behind (an open mesh from below, a closed one from
+    // inside) its back, whose normal is the front's turned round. (The turned base normal in
+    // height_normal() would tilt the bumps' slopes the wrong way: the surface carved into the
+    // back, which is what the base-surface techniques draw there, not this one.)
+    vec3 n = height_normal(uv, t_axis, b_axis, gl_FrontFacing ? n_geom : -n_geom, depth);
+    if (!gl_FrontFacing) n = -n;
 #else
     vec3 n = height_normal(uv, t_axis, b_axis, n_geom, depth);
 #endif

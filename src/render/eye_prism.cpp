@@ -129,4 +129,47 @@ PrismBlocks prism_blocks(const std::vector<glm::vec4>& corners, const std::vecto
     return b;
 }
 
+bool eye_inside_body(const std::vector<glm::vec4>& corners, const std::vector<std::uint32_t>& indices,
+                     const PrismBlocks& blocks, glm::vec3 eye)
+{
+    // Crossings of the bottom caps by a ray from the eye: odd inside. A ray through an edge or a
+    // corner may count a crossing twice or not at all, so three rays in unrelated directions vote.
+    const glm::dvec3 e(eye);
+    const glm::dvec3 dirs[3] = {glm::normalize(glm::dvec3(0.5377, 0.7219, 0.4353)),
+                                glm::normalize(glm::dvec3(-0.6513, 0.2291, -0.7233)),
+                                glm::normalize(glm::dvec3(0.1847, -0.8966, 0.4025))};
+    const std::size_t triangles = indices.size() / 3;
+    int votes = 0;
+    for (const glm::dvec3& d : dirs) {
+        const glm::dvec3 inv = 1.0 / d;
+        bool odd = false;
+        for (std::size_t block = 0; block < blocks.lo.size(); ++block) {
+            // Slab test of the ray against the block's box.
+            const glm::dvec3 t0 = (glm::dvec3(blocks.lo[block]) - e) * inv, t1 = (glm::dvec3(blocks.hi[block]) - e) * inv;
+            const glm::dvec3 near = glm::min(t0, t1), far = glm::max(t0, t1);
+            if (std::max({near.x, near.y, near.z}) > std::min({far.x, far.y, far.z}) || std::min({far.x, far.y, far.z}) < 0.0)
+                continue;
+            const std::size_t end = std::min(triangles, (block + 1) * PrismBlocks::kSize);
+            for (std::size_t t = block * PrismBlocks::kSize; t < end; ++t) {
+                // Moller-Trumbore on the bottom cap.
+                const glm::dvec3 a(shell_corner(corners, indices[3 * t]).bottom);
+                const glm::dvec3 ab = glm::dvec3(shell_corner(corners, indices[3 * t + 1]).bottom) - a;
+                const glm::dvec3 ac = glm::dvec3(shell_corner(corners, indices[3 * t + 2]).bottom) - a;
+                const glm::dvec3 p = glm::cross(d, ac);
+                const double det = glm::dot(ab, p);
+                if (std::abs(det) < 1e-300) continue;
+                const glm::dvec3 s = e - a;
+                const double u = glm::dot(s, p) / det;
+                if (u < 0.0 || u > 1.0) continue;
+                const glm::dvec3 q = glm::cross(s, ab);
+                const double v = glm::dot(d, q) / det;
+                if (v < 0.0 || u + v > 1.0) continue;
+                if (glm::dot(ac, q) / det > 0.0) odd = !odd;
+            }
+        }
+        votes += odd ? 1 : 0;
+    }
+    return votes >= 2;
+}
+
 } // namespace pr

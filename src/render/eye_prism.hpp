@@ -45,6 +45,12 @@ std::optional<EyeInShell> find_eye_prism(const std::vector<glm::vec4>& corners,
                                          const std::vector<std::uint32_t>& indices, const PrismBlocks& blocks,
                                          float depth, bool full_shell, glm::vec3 eye, HeightAt height_at);
 
+// Whether `eye` lies inside the closed surface of the walk's bottom caps (the object's body under
+// its displacement shell), by the parity of a ray's crossings (three rays vote). Meaningful for
+// closed meshes only; `blocks` as for find_eye_prism.
+bool eye_inside_body(const std::vector<glm::vec4>& corners, const std::vector<std::uint32_t>& indices,
+                     const PrismBlocks& blocks, glm::vec3 eye);
+
 // Where the eye lies in prism `a, b, c` (vertex indices into the corners): the eye's barycentric
 // weights of b and c and its height, or none when Newton's steps do not settle.
 std::optional<glm::vec3> prism_coordinates(const std::vector<glm::vec4>& corners, std::uint32_t a, std::uint32_t b,

@@ -756,7 +756,23 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     };
     // Torn meshes (GpuObject::tears): the walk marks the pixels whose rays went into the object
     // through a tear; a second pass from the far side's bottoms shades those (prism.frag).
-    const bool tears = walk && std::any_of(objects_.begin(), objects_.end(), [](const GpuObject& o) { return o.tears; });
+    // The eye inside an object's shell (find_eye_prism, item 12): looked for once per object.
+    std::vector<std::optional<EyeInShell>> eye_in(objects_.size());
+    if (walk)
+        for (std::size_t k = 0; k < objects_.size(); ++k) {
+            const GpuObject& o = objects_[k];
+            eye_in[k] = find_eye_prism(o.shell_corners, o.triangles, o.eye_blocks, o.depth, settings.full_shell,
+                                       camera.eye,
+                                       [&](glm::vec2 uv) { return o.height_field ? o.height_field->sample(uv) : 0.0f; });
+        }
+    // Objects whose walks may go into the object under the surface and need the second pass:
+    // torn meshes, and a closed mesh with the eye under its surface (inside a bump), whose rays
+    // into the body come out on its far side.
+    const auto goes_inside = [&](std::size_t k) {
+        return objects_[k].tears || (eye_in[k] && eye_in[k]->under && !objects_[k].open_shell);
+    };
+    bool tears = false;
+    for (std::size_t k = 0; walk && k < objects_.size(); ++k) tears = tears || goes_inside(k);
     if (tears) {
         if (!tear_mask_) {
             tear_mask_ = gl::Texture::create(GL_TEXTURE_2D);
@@ -809,11 +825,27 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     // The eye inside an object's shell (a close-up): the caps around it face away, so no cap
     // starts the walk of the rays that begin there. A screen-filling triangle at the near plane
     // starts them at the eye, in the prism that holds it (docs/prism.md, item 12).
-    const auto draw_from_eye = [&](const GpuObject& o, WalkVariant variant) {
-        const std::optional<EyeInShell> in = find_eye_prism(
-            o.shell_corners, o.triangles, o.eye_blocks, o.depth, settings.full_shell, camera.eye,
-            [&](glm::vec2 uv) { return o.height_field ? o.height_field->sample(uv) : 0.0f; });
-        if (!in) return;
+    // The eye inside a closed object's body, under its shell: every cap faces away too. The
+    // bottom caps seen from inside start each ray's walk under the surface, which it meets from
+    // below, as the second pass through tears does (docs/prism.md, item 12).
+    const auto draw_from_body = [&](const GpuObject& o) {
+        set_object(o);
+        bind_prism_data(o, true);
+        const Geometry& shell = walk_geometry(o);
+        glBindVertexArray(shell.vao.id());
+        glEnable(GL_CULL_FACE);
+        glCullFace(GL_FRONT);
+        glUseProgram(program_for(settings, WalkVariant::UnderSurface, ShellDraw::Bottoms));
+        glDrawElements(GL_TRIANGLES, shell.index_count, GL_UNSIGNED_INT, nullptr);
+        glCullFace(GL_BACK);
+        glDisable(GL_CULL_FACE);
+    };
+    const auto draw_from_eye = [&](const GpuObject& o, const std::optional<EyeInShell>& in, WalkVariant variant) {
+        if (!in) {
+            if (!o.open_shell && eye_inside_body(o.shell_corners, o.triangles, o.eye_blocks, camera.eye))
+                draw_from_body(o);
+            return;
+        }
         set_object(o, &*in);
         bind_prism_data(o, true);
         // Under the surface (inside a bump) the walk starts under it, as through a tear.
@@ -821,12 +853,13 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         glBindVertexArray(o.base.vao.id()); // (no attributes read)
         glDrawArrays(GL_TRIANGLES, 0, 3);
     };
-    for (const GpuObject& o : objects_) {
+    for (std::size_t k = 0; k < objects_.size(); ++k) {
+        const GpuObject& o = objects_[k];
         if (walk) {
             const WalkVariant variant =
                 o.tears ? WalkVariant::Through : (o.seamless ? WalkVariant::Seamless : WalkVariant::Plain);
             draw_walk_shell(o, variant);
-            draw_from_eye(o, variant);
+            draw_from_eye(o, eye_in[k], variant);
             continue;
         }
         glUseProgram(program);
@@ -852,8 +885,9 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
                           tiles.data());
         if (std::any_of(tiles.begin(), tiles.end(), [](GLuint t) { return t != 0; })) {
             const glm::mat4 view_proj = camera.projection(float(width_) / float(height_)) * camera.view();
-            for (const GpuObject& o : objects_) {
-                if (!o.tears) continue;
+            for (std::size_t k = 0; k < objects_.size(); ++k) {
+                const GpuObject& o = objects_[k];
+                if (!goes_inside(k)) continue;
                 const TileLists lists = prisms_over_marked_tiles(o.shell_corners, o.triangles, view_proj,
                                                                  glm::vec2(width_, height_), tiles, tw, th);
                 if (lists.prisms.empty()) continue;

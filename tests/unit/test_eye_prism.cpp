@@ -1,6 +1,7 @@
 // The prism that holds the eye (src/render/eye_prism.hpp), on a flat square of two prisms.
 #include "render/eye_prism.hpp"
 
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -102,4 +103,27 @@ TEST(EyePrism, SaysWhetherTheEyeIsUnderTheSurface)
     ASSERT_TRUE(over && under);
     EXPECT_FALSE(over->under);
     EXPECT_TRUE(under->under);
+}
+
+// A closed body: the unit cube's twelve triangles as bottom caps (normals outward). Inside it,
+// and on the line through its centre and a corner or an edge (where a ray may meet an edge),
+// the eye is in the body; outside it, not; a ray along a face plane leaves the vote to the others.
+TEST(EyePrism, EyeInsideTheBodyByTheParityOfBottomCrossings)
+{
+    std::vector<glm::vec4> corners;
+    const glm::vec3 p[8] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    for (std::uint32_t i = 0; i < 8; ++i) {
+        corners.emplace_back(p[i], 0.0f);
+        corners.emplace_back(glm::normalize(p[i] - glm::vec3(0.5f)), 0.0f);
+        corners.emplace_back(1.0f, std::bit_cast<float>(i), 0.0f, 0.0f);
+    }
+    const std::vector<std::uint32_t> indices{0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                                             3, 7, 6, 3, 6, 2, 0, 4, 7, 0, 7, 3, 1, 2, 6, 1, 6, 5};
+    const pr::PrismBlocks blocks = pr::prism_blocks(corners, indices, 0.1f);
+    for (const glm::vec3 eye : {glm::vec3(0.5f), glm::vec3(0.1f, 0.2f, 0.9f), glm::vec3(0.25f, 0.25f, 0.25f),
+                                glm::vec3(0.5f, 0.5f, 0.01f)})
+        EXPECT_TRUE(pr::eye_inside_body(corners, indices, blocks, eye)) << eye.x << "," << eye.y << "," << eye.z;
+    for (const glm::vec3 eye : {glm::vec3(1.5f, 0.5f, 0.5f), glm::vec3(-0.01f, 0.5f, 0.5f), glm::vec3(0.5f, 0.5f, -3.0f),
+                                glm::vec3(5.0f)})
+        EXPECT_FALSE(pr::eye_inside_body(corners, indices, blocks, eye)) << eye.x << "," << eye.y << "," << eye.z;
 }
