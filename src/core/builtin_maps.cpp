@@ -90,27 +90,31 @@ Cell cell(double u, double v, int n)
     return {mod(int(fx), n), mod(int(fy), n), x - fx - 0.5, y - fy - 0.5};
 }
 
+// The patterns below laid out on a grid of cells take the number of cells per UV unit as `cells`:
+// kCells, or fewer on maps too small to show them with kCells (height_values).
+constexpr int kCells = 8;
+
 // 8×8 round bumps: a raised-cosine dome of radius 0.42 cells on flat ground (smooth, C¹).
-double bumps(double u, double v)
+double bumps(double u, double v, int cells)
 {
-    const Cell c = cell(u, v, 8);
+    const Cell c = cell(u, v, cells);
     const double r = std::hypot(c.x, c.y) / 0.42;
     return r < 1.0 ? 0.5 * (1.0 + std::cos(std::numbers::pi * r)) : 0.0;
 }
 
 // 8×8 square pyramids, apex 1 at the cell centre, 0 along the cell borders.
-double pyramids(double u, double v)
+double pyramids(double u, double v, int cells)
 {
-    const Cell c = cell(u, v, 8);
+    const Cell c = cell(u, v, cells);
     return 1.0 - 2.0 * std::max(std::abs(c.x), std::abs(c.y));
 }
 
 // 8×8 cells, each with a flat-topped box of its own size, place and height on ground 0, some
 // with a taller box stacked on top: hard vertical steps, as in cone-map test images. Boxes stay
 // inside their cell, so the borders (and the map's edges) are ground.
-double boxes(double u, double v)
+double boxes(double u, double v, int cells)
 {
-    const Cell c = cell(u, v, 8);
+    const Cell c = cell(u, v, cells);
     const auto r = [&](std::uint32_t k) { return rand01(c.i, c.j, kSaltBoxes + k); };
     if (r(0) < 0.1) return 0.0; // an empty cell now and then
     const double hx = 0.18 + 0.24 * r(1), hy = 0.18 + 0.24 * r(2); // half sizes, ≤ 0.42
@@ -123,7 +127,7 @@ double boxes(double u, double v)
     return height;
 }
 
-double noise(double u, double v) { return fbm(u, v, 4, 5, kSaltNoise); }
+double noise(double u, double v, int /*cells: none*/) { return fbm(u, v, 4, 5, kSaltNoise); }
 
 // Running-bond bricks: 8 courses per UV unit, 4 bricks per course (2:1 on a square map), every
 // other course shifted by half a brick. Shared by the height and colour maps so they line up.
@@ -152,7 +156,7 @@ constexpr double kMortarHeight = 0.08;
 
 bool in_mortar(const BrickSample& b) { return b.edge < kMortar; }
 
-double bricks(double u, double v)
+double bricks(double u, double v, int /*cells: courses and bricks of their own*/)
 {
     const BrickSample b = brick(u, v);
     if (in_mortar(b)) return kMortarHeight + 0.03 * fbm(u, v, 64, 2, kSaltBricks + 1);
@@ -206,15 +210,16 @@ Rgb tint(double h)
 
 // ---- the catalogue ----
 
-using HeightFn = double (*)(double, double);
+using HeightFn = double (*)(double u, double v, int cells);
 struct HeightEntry {
     const char* name;
     HeightFn fn;
     bool normalize; // rescale the sampled map to exactly [0,1] (noise has no fixed range)
+    bool cells;     // laid out on a grid of kCells cells per UV unit, or fewer (height_values)
 };
 constexpr HeightEntry kHeights[] = {
-    {"bumps", bumps, false},       {"bricks", bricks, false}, {"noise", noise, true},
-    {"pyramids", pyramids, false}, {"boxes", boxes, false},
+    {"bumps", bumps, false, true},       {"bricks", bricks, false, false}, {"noise", noise, true, false},
+    {"pyramids", pyramids, false, true}, {"boxes", boxes, false, true},
 };
 constexpr const char* kConstName = "const:V";
 
@@ -253,16 +258,19 @@ Parsed parse(const std::string& spec, const ImageLimits& limits)
     Parsed p;
     const auto at = body.rfind('@');
     p.name = body.substr(0, at);
-    if (at == std::string::npos) return p;
-    const std::string_view size = std::string_view(body).substr(at + 1);
+    // Without '@' the default size, which obeys the limits (--max-image-size) as an @N does.
+    const std::string_view size =
+        at == std::string::npos ? std::string_view() : std::string_view(body).substr(at + 1);
     const auto x = size.find('x');
-    const auto w = parse_int(size.substr(0, x));
+    const auto w = at == std::string::npos ? std::optional<int>(kDefaultSize) : parse_int(size.substr(0, x));
     const auto h = x == std::string_view::npos ? w : parse_int(size.substr(x + 1));
     const int max = limits.max_dimension;
     if (!w || !h || *w < 1 || *h < 1 || *w > max || *h > max)
         throw Error(spec, fmt::format("size after '@' must be N or WxH with each side between 1 "
-                                      "and {}, got '{}'",
-                                      max, size));
+                                      "and {}, got {}",
+                                      max, at == std::string::npos
+                                               ? fmt::format("none (the default is {})", kDefaultSize)
+                                               : fmt::format("'{}'", size)));
     if (std::int64_t(*w) * *h > limits.max_pixels)
         throw Error(spec, fmt::format("{}x{} is more than the limit of {} pixels", *w, *h,
                                       limits.max_pixels));
@@ -313,7 +321,25 @@ std::optional<std::vector<double>> height_values(const std::string& spec, const 
         return std::vector<double>(std::size_t(p.width) * p.height, *c);
     for (const HeightEntry& e : kHeights) {
         if (p.name != e.name) continue;
-        std::vector<double> v = sample_grid(p.width, p.height, e.fn);
+        int cells = kCells;
+        const auto sample = [&] {
+            return sample_grid(p.width, p.height, [&](double u, double v) { return e.fn(u, v, cells); });
+        };
+        const auto flat = [](const std::vector<double>& v) {
+            return std::all_of(v.begin(), v.end(), [&](double x) { return x == v[0]; });
+        };
+        std::vector<double> v = sample();
+        if (e.cells) {
+            // Where every texel centre sits at the same place in its cell (one or two texels per
+            // cell: bumps@8, bumps@16), a cell pattern comes out flat. Such maps take fewer, larger
+            // cells, halving until the pattern shows; every map that shows it with kCells keeps
+            // that layout, bit for bit. With one cell a side of 3 texels shows any of them.
+            while (flat(v) && cells > 1) {
+                cells /= 2;
+                v = sample();
+            }
+            if (flat(v)) throw Error(spec, "too small for its pattern; at least 3 texels per side");
+        }
         if (e.normalize) {
             const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
             const double a = *lo, range = *hi - *lo;

@@ -4,9 +4,11 @@
 // kind, format, width, height, the height texels' float bits). Layout, little endian:
 //   magic "PRCONE01" | u32 version, kind, format, width, height | u64 key | u64 payload FNV-1a |
 //   payload: width*height float32 heights, then width*height u16 ratio steps k (ratio = k/steps).
-// Every field is checked when read, and the stored heights must equal the field's (so a hash
-// collision cannot serve another map). A bad entry is rebuilt and overwritten with a warning; a
-// cache that cannot be written only warns. The cache is bounded: a hit marks its entry used (its
+// Every field is checked when read, and the stored heights must equal those the map is built from
+// (cone_source_field: rg8 rounds them to 8 bits), so a hash collision cannot serve another map.
+// The key hashes the field's own texels: fields that differ only below 8 bits get separate (equal)
+// rg8 entries. A bad entry is rebuilt and overwritten with a warning saying why; a cache that
+// cannot be written only warns. The cache is bounded: a hit marks its entry used (its
 // modification time), and after each write the least recently used entries go until the rest
 // fits in cone_cache_max_bytes().
 #include "maps/conemap.hpp"
@@ -94,17 +96,21 @@ std::string deserialize(const std::vector<std::uint8_t>& bytes, const HeightFiel
         get<std::uint32_t>(bytes, 24) != std::uint32_t(field.height))
         return "another size";
     if (get<std::uint64_t>(bytes, 28) != key) return "another key";
-    if (bytes.size() != kHeaderBytes + n * 6) return "truncated (" + std::to_string(bytes.size()) + " bytes)";
+    if (bytes.size() != kHeaderBytes + n * 6) // cut short, or with bytes appended
+        return "size is wrong (expected " + std::to_string(kHeaderBytes + n * 6) + " bytes, found " +
+               std::to_string(bytes.size()) + ")";
     Fnv sum;
     sum.add(bytes.data() + kHeaderBytes, n * 6);
     if (get<std::uint64_t>(bytes, 36) != sum.h) return "checksum mismatch";
-    if (std::memcmp(bytes.data() + kHeaderBytes, field.texels.data(), n * sizeof(float)) != 0)
+    HeightField rounded;
+    const HeightField& source = cone_source_field(field, format, rounded);
+    if (std::memcmp(bytes.data() + kHeaderBytes, source.texels.data(), n * sizeof(float)) != 0)
         return "heights differ from the height map";
     const std::vector<float>& ratio_of = cone_ratio_table(format);
     map.width = field.width;
     map.height = field.height;
     map.kind = kind;
-    map.heights = field.texels;
+    map.heights = source.texels;
     map.ratios.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
         const std::size_t k = get<std::uint16_t>(bytes, kHeaderBytes + 4 * n + 2 * i);

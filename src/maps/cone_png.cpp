@@ -79,7 +79,7 @@ std::vector<std::uint8_t> encode(const ConeMap& map, ConeFormat format)
         std::uint8_t* row = raw.data() + std::size_t(map.height - 1 - y) * stride;
         for (int x = 0; x < map.width; ++x) {
             const std::size_t i = std::size_t(y) * std::size_t(map.width) + std::size_t(x);
-            const auto h = std::uint32_t(std::lround(std::clamp(map.heights[i], 0.0f, 1.0f) * float(steps)));
+            const std::uint32_t h = cone_height_steps(map.heights[i], format);
             const auto r = std::uint32_t(std::lround(std::clamp(map.ratios[i], 0.0f, 1.0f) * double(steps)));
             const std::uint32_t v[3] = {h, r, 0};
             for (int c = 0; c < 3; ++c) {

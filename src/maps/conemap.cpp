@@ -59,6 +59,21 @@ bool parse_cone_backend_gpu(const std::string& name, const std::string& option)
 
 int cone_format_steps(ConeFormat format) { return format == ConeFormat::Rg8 ? 255 : 65535; }
 
+std::uint32_t cone_height_steps(float h, ConeFormat format)
+{
+    return std::uint32_t(std::lround(std::clamp(h, 0.0f, 1.0f) * float(cone_format_steps(format))));
+}
+
+const HeightField& cone_source_field(const HeightField& field, ConeFormat format, HeightField& storage)
+{
+    if (format != ConeFormat::Rg8) return field;
+    storage = field;
+    storage.bits = 8;
+    const float steps = float(cone_format_steps(format));
+    for (float& t : storage.texels) t = float(cone_height_steps(t, format)) / steps; // as read_cone_png reads R
+    return storage;
+}
+
 namespace {
 
 // 1 - 2^-20: the relative margin on c (exact in double).
@@ -368,11 +383,13 @@ private:
 
 } // namespace
 
-ConeMap build_cone_map_cpu(const HeightField& field, ConeKind kind, const ConeBuildOptions& options)
+ConeMap build_cone_map_cpu(const HeightField& given, ConeKind kind, const ConeBuildOptions& options)
 {
-    if (field.width < 1 || field.height < 1 ||
-        field.texels.size() != std::size_t(field.width) * std::size_t(field.height))
-        throw Error(field.name.empty() ? "height map" : field.name, "cannot build a cone map of an empty height field");
+    if (given.width < 1 || given.height < 1 ||
+        given.texels.size() != std::size_t(given.width) * std::size_t(given.height))
+        throw Error(given.name.empty() ? "height map" : given.name, "cannot build a cone map of an empty height field");
+    HeightField rounded;
+    const HeightField& field = cone_source_field(given, options.format, rounded);
     const MaxPyramid pyramid = build_max_pyramid(field);
     ConeMap map;
     map.width = field.width;

@@ -33,13 +33,15 @@ struct ConeMap {
     int width = 0;
     int height = 0;
     ConeKind kind = ConeKind::Cone;
-    std::vector<float> heights; // the height field's texels, unchanged
+    std::vector<float> heights; // the heights it was built from and stores (cone_source_field)
     std::vector<float> ratios;  // sqrt(c) in [0,1]; already rounded *down* to the stored format
 };
 
 struct ConeBuildOptions {
     int threads = 0; // 0: std::thread::hardware_concurrency()
-    ConeFormat format = ConeFormat::Rg16; // ratios are rounded down to this format's steps
+    // Ratios are rounded down to this format's steps, and rg8 maps are built from the heights
+    // rounded to 8 bits, as they store them (cone_source_field).
+    ConeFormat format = ConeFormat::Rg16;
     // Called now and then with the fraction done (0..1), from the calling thread.
     std::function<void(double)> progress;
     // CPU generator only: when set and it turns true, the threads stop at their next row and the
@@ -77,11 +79,22 @@ ConeMap read_cone_png(const std::filesystem::path& path, ConeKind kind);
 
 // ---- generator details shared by the CPU and GPU paths (docs/cone-maps.md) ----
 
-// Bumped whenever the generator's output changes: part of every cache key.
-inline constexpr std::uint32_t kConeGeneratorVersion = 2;
+// Bumped whenever the generator's output changes: part of every cache key. (3: rg8 maps are
+// built from their 8-bit heights.)
+inline constexpr std::uint32_t kConeGeneratorVersion = 3;
 
 // 255 (rg8) or 65535 (rg16): the ratio is stored as k / steps, k an integer.
 int cone_format_steps(ConeFormat format);
+// The step k a height is stored as (the PNG's R channel): h clamped to [0,1], times steps, rounded
+// to nearest. It reads back as float(k) / float(steps).
+std::uint32_t cone_height_steps(float h, ConeFormat format);
+// The field a map of `format` is built from, and whose heights it holds: a map must be
+// conservative against the heights it stores, which a marcher or a reader of the PNG sees. rg16:
+// the field itself (every height field has at most 16 bits: 8- or 16-bit images, built-in maps
+// quantized to 16 bits). rg8: the field's heights as the R channel stores them (8-bit rounding can
+// swap two close heights or bring them closer, which narrows cones), in `storage`; 8-bit fields
+// come out bit for bit as they are. Both generators start from it, so they stay equal.
+const HeightField& cone_source_field(const HeightField& field, ConeFormat format, HeightField& storage);
 // The largest k in [0, steps] with k^2 / steps^2 <= c * (1 - 2^-20): sqrt(c) rounded *down* to the
 // format's step, with a relative margin of about 1e-6 on c so that the rounded ratio stays
 // conservative under float rounding of k / steps. c is capped at 1.

@@ -26,12 +26,15 @@ constexpr double kChunkSeconds = 0.25;
 
 } // namespace
 
-ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBuildOptions& options,
+ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBuildOptions& options,
                            double* search_ms, const std::function<void()>& make_current)
 {
-    const std::string subject = field.name.empty() ? "height map" : field.name; // for error lines
-    const std::size_t n = std::size_t(std::max(field.width, 0)) * std::size_t(std::max(field.height, 0));
-    if (n == 0 || field.texels.size() != n) throw Error(subject, "cannot build a cone map of an empty height field");
+    const std::string subject = given.name.empty() ? "height map" : given.name; // for error lines
+    const std::size_t n = std::size_t(std::max(given.width, 0)) * std::size_t(std::max(given.height, 0));
+    if (n == 0 || given.texels.size() != n) throw Error(subject, "cannot build a cone map of an empty height field");
+    // The heights the map stores (rg8: rounded to 8 bits), as the CPU generator does.
+    HeightField rounded;
+    const HeightField& field = cone_source_field(given, options.format, rounded);
     const MaxPyramid pyramid = build_max_pyramid(field);
     if (pyramid.levels() > kMaxLevels) throw Error(subject, "height map too large for the GPU generator");
     if (pyramid.data.size() > std::size_t(1) << 30) throw Error(subject, "height map too large for the GPU generator");

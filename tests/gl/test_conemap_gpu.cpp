@@ -7,7 +7,9 @@
 #include "maps/conemap.hpp"
 #include "render/conemap_gpu.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <random>
 
 using namespace pr;
@@ -106,6 +108,43 @@ TEST(ConeMapGpu, SpikeAndLargerThanOneChunk)
     f.texels[1234] = 1.0f;
     expect_same(build_cone_map_gpu(f, ConeKind::Cone, {}), build_cone_map_cpu(f, ConeKind::Cone, {}),
                 ConeFormat::Rg16, "spike");
+}
+
+// An rg8 map stores 8-bit heights, so both generators build it from those (the 16-bit field
+// rounded as the PNG's R channel rounds it): the same map, conservative against its own heights
+// (brute force), cone and relaxed.
+TEST(ConeMapGpu, Rg8MapsAreBuiltFromTheirStoredHeights)
+{
+    prtest::context();
+    const HeightField f = field_of(48, 40, 10u, true);
+    ConeBuildOptions o;
+    o.format = ConeFormat::Rg8;
+    for (ConeKind kind : {ConeKind::Cone, ConeKind::Relaxed}) {
+        const ConeMap gpu = build_cone_map_gpu(f, kind, o);
+        expect_same(gpu, build_cone_map_cpu(f, kind, o), ConeFormat::Rg8,
+                    kind == ConeKind::Cone ? "cone rg8" : "relaxed rg8");
+        ASSERT_EQ(gpu.heights.size(), f.texels.size());
+        for (std::size_t i = 0; i < f.texels.size(); ++i)
+            ASSERT_EQ(gpu.heights[i], float(std::lround(std::clamp(f.texels[i], 0.0f, 1.0f) * 255.0f)) / 255.0f) << i;
+        if (kind == ConeKind::Relaxed) continue; // not conservative by design
+        int inside = 0;
+        for (int py = 0; py < f.height; ++py)
+            for (int px = 0; px < f.width; ++px) {
+                const double r = gpu.ratios[std::size_t(py * f.width + px)];
+                const double hp = gpu.heights[std::size_t(py * f.width + px)];
+                for (int qy = 0; qy < f.height; ++qy)
+                    for (int qx = 0; qx < f.width; ++qx) {
+                        const double dh = double(gpu.heights[std::size_t(qy * f.width + qx)]) - hp;
+                        int dx = std::abs(qx - px), dy = std::abs(qy - py);
+                        dx = std::min(dx, f.width - dx);
+                        dy = std::min(dy, f.height - dy);
+                        const double d = std::sqrt(double(dx * dx) / double(f.width * f.width) +
+                                                   double(dy * dy) / double(f.height * f.height));
+                        inside += dh > 0 && d < r * r * dh;
+                    }
+            }
+        EXPECT_EQ(inside, 0);
+    }
 }
 
 // Maps with more pyramid texels than GL_MAX_TEXTURE_BUFFER_SIZE are read from storage buffers

@@ -10,13 +10,13 @@
 
 namespace {
 
-std::string problem_of(const std::string& spec, bool colour = false)
+std::string problem_of(const std::string& spec, bool colour = false, const pr::ImageLimits& limits = {})
 {
     try {
         if (colour)
-            pr::load_color(spec);
+            pr::load_color(spec, limits);
         else
-            pr::load_height(spec);
+            pr::load_height(spec, limits);
     } catch (const pr::Error& e) {
         EXPECT_EQ(e.subject(), spec);
         return e.problem();
@@ -163,6 +163,63 @@ TEST(BuiltinHeight, Errors)
     pr::ImageLimits small;
     small.max_pixels = 1000;
     EXPECT_THROW(pr::load_height("builtin:bumps@64", small), pr::Error);
+}
+
+// --max-image-size applies to a built-in map named without @N (its default size, 512) as to one
+// with @N, with the same message.
+TEST(BuiltinHeight, DefaultSizeObeysTheLimits)
+{
+    pr::ImageLimits small;
+    small.max_dimension = 16;
+    small.max_pixels = 16 * 16;
+    const std::string expected = "size after '@' must be N or WxH with each side between 1 and 16";
+    for (bool colour : {false, true})
+        for (const char* spec : {"builtin:bumps", "builtin:bumps@64", "builtin:noise", "builtin:const:0.5"})
+            EXPECT_NE(problem_of(spec, colour, small).find(expected), std::string::npos) << spec;
+    EXPECT_NE(problem_of("builtin:checker", true, small).find(expected), std::string::npos);
+    EXPECT_NE(problem_of("builtin:bumps", false, small).find("512"), std::string::npos); // the default named
+    EXPECT_EQ(pr::load_height("builtin:bumps@16", small).width, 16);
+    pr::ImageLimits fits;
+    fits.max_dimension = 512;
+    fits.max_pixels = 512 * 512;
+    EXPECT_EQ(pr::load_height("builtin:bumps", fits).width, 512);
+    fits.max_pixels = 512 * 512 - 1; // the area limit too
+    EXPECT_NE(problem_of("builtin:bumps", false, fits).find("more than the limit"), std::string::npos);
+}
+
+// The patterns laid out on an 8x8 grid of cells per UV unit came out constant where every texel
+// centre sits at the same place in its cell (bumps@8, @16: one or two texels per cell): those
+// sizes take fewer, larger cells (4, 2 or 1 per UV unit), the most that show the pattern. Sizes
+// that showed it keep their 8x8 layout bit for bit (SizeIndependentLayout, and every size the
+// tests and docs use); sizes too small for any layout are refused.
+TEST(BuiltinHeight, SmallSizesShowTheirPattern)
+{
+    for (const char* name : {"bumps", "pyramids", "boxes"})
+        for (const char* size : {"3", "4", "5", "6", "8", "12", "16", "24", "32", "2x64", "64x2", "1x40", "3x2"}) {
+            const std::string spec = std::string("builtin:") + name + "@" + size;
+            const pr::HeightField h = pr::load_height(spec);
+            EXPECT_GT(h.max_value() - h.min_value(), 0.2f) << spec;
+            const pr::RgbaImage c = pr::load_color(spec); // the tint follows the heights
+            bool varies = false;
+            for (int y = 0; y < c.height; ++y)
+                for (int x = 0; x < c.width; ++x) varies = varies || c.at(x, y) != c.at(0, 0);
+            EXPECT_TRUE(varies) << spec;
+        }
+    // With 4 texels per cell, as at 32: bumps@16 and @8 are corners of bumps@32, bit for bit.
+    for (const char* name : {"bumps", "pyramids"}) {
+        const pr::HeightField big = pr::load_height(std::string("builtin:") + name + "@32");
+        for (int size : {8, 16}) {
+            const pr::HeightField h = pr::load_height(std::string("builtin:") + name + "@" + std::to_string(size));
+            for (int y = 0; y < size; ++y)
+                for (int x = 0; x < size; ++x) ASSERT_EQ(h.at(x, y), big.at(x, y)) << name << "@" << size;
+        }
+    }
+    for (const char* spec : {"builtin:bumps@2", "builtin:pyramids@1", "builtin:bumps@2x1"}) {
+        EXPECT_NE(problem_of(spec).find("too small for its pattern; at least 3"), std::string::npos) << spec;
+        EXPECT_NE(problem_of(spec, true).find("too small for its pattern"), std::string::npos) << spec;
+    }
+    // A constant map has no pattern to show: any size.
+    EXPECT_EQ(pr::load_height("builtin:const:0.5@1").width, 1);
 }
 
 TEST(BuiltinColor, CheckerAndUv)
