@@ -504,7 +504,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
             }
         }
         std::sort(edges.begin(), edges.end());
-        size_t non_manifold = 0, flipped = 0;
+        size_t non_manifold = 0, flipped = 0, boundary = 0;
         for (size_t i = 0; i < edges.size();) {
             size_t j = i, forward = 0;
             while (j < edges.size() && (edges[j] >> 1) == (edges[i] >> 1)) {
@@ -516,7 +516,28 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
                 ++non_manifold;
             else if (count == 2 && forward != 1)
                 ++flipped;
+            else if (count == 1)
+                ++boundary;
             i = j;
+        }
+        // A closed, consistently oriented mesh wound the other way round (clockwise seen from
+        // outside: its signed volume is negative) has every normal pointing in, so its shell and
+        // bumps would go inward and the prism would show the body from inside. Such files are
+        // common (a mirrored export, another convention) and meant outward: reversed, with a
+        // warning. An open mesh has no inside to tell.
+        if (non_manifold == 0 && flipped == 0 && boundary == 0) {
+            double volume = 0.0; // six times the signed volume, about the box's centre
+            for (const Triangle& t : tris) {
+                const dvec3 a = wpos[tri_weld(t, 0)] - centre, b = wpos[tri_weld(t, 1)] - centre,
+                            c = wpos[tri_weld(t, 2)] - centre;
+                volume += glm::dot(a, glm::cross(b, c));
+            }
+            if (volume < 0.0) {
+                for (Triangle& t : tris) std::swap(t.corner[1], t.corner[2]);
+                for (dvec3& n : wnormal) n = -n;
+                warn(name + ": the faces wind clockwise seen from outside (the closed mesh's volume is "
+                            "negative): reversed, so that its normals point out");
+            }
         }
         if (non_manifold > 0)
             warn(name + ": " + std::to_string(non_manifold) +

@@ -370,6 +370,26 @@ TEST(MeshLoad, WarnsAboutInconsistentOrientationAndGeneratedUvs)
     expect_sane(m);
 }
 
+// A closed tetrahedron wound clockwise seen from outside (negative volume): reversed with a
+// warning, so that its faces and welded normals point out; wound the usual way, no warning.
+TEST(MeshLoad, ClosedMeshWoundInwardIsReversed)
+{
+    TempDir dir;
+    const std::string points = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
+    for (const bool inward : {true, false}) {
+        ::testing::internal::CaptureStderr();
+        const pr::PreparedMesh m = pr::load_mesh(dir.write(
+            "tet.obj", points + (inward ? "f 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n" : "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")));
+        const std::string warnings = ::testing::internal::GetCapturedStderr();
+        EXPECT_EQ(warnings.find("wind clockwise seen from outside") != std::string::npos, inward) << warnings;
+        expect_sane(m);
+        const glm::vec3 centre(0.25f);
+        for (std::size_t t = 0; t < m.triangle_count(); ++t)
+            EXPECT_GT(glm::dot(face_normal(m, t), m.vertices[m.indices[3 * t]].position - centre), 0.0f) << t;
+        for (const pr::MeshVertex& v : m.vertices) EXPECT_GT(glm::dot(v.normal, v.position - centre), 0.0f);
+    }
+}
+
 TEST(MeshLoad, DegenerateTrianglesAndIsolatedVerticesAreDropped)
 {
     TempDir dir;
