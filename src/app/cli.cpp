@@ -6,8 +6,39 @@
 #include <cstdio>
 #include <exception>
 #include <new>
+#include <string>
+#include <vector>
 
 namespace pr {
+
+namespace {
+
+// CLI11's own texts for two usage errors say what it checked, not what the user did wrong:
+// "At Most 1 required but received 2" for an option given twice, "A subcommand is required" for
+// `prismrelief foo`. Anything else keeps CLI11's message.
+std::string usage_message(CLI::App& app, const CLI::ParseError& e, int argc, char** argv)
+{
+    const std::vector<CLI::App*> commands = app.get_subcommands({});
+    bool any_parsed = false;
+    for (CLI::App* command : commands) {
+        if (!command->parsed()) continue;
+        any_parsed = true;
+        if (dynamic_cast<const CLI::ArgumentMismatch*>(&e))
+            for (const CLI::Option* option : command->get_options())
+                if (option->get_items_expected_max() == 1 && option->count() > 1)
+                    return option->get_name() + ": given " + std::to_string(option->count()) +
+                           " times; give it once";
+    }
+    if (!any_parsed && argc > 1 && argv[1][0] != '-') {
+        std::string names;
+        for (std::size_t i = 0; i < commands.size(); ++i)
+            names += (i == 0 ? "" : i + 1 == commands.size() ? " or " : ", ") + commands[i]->get_name();
+        return "unknown subcommand '" + std::string(argv[1]) + "' (expected " + names + ")";
+    }
+    return e.what();
+}
+
+} // namespace
 
 int run_cli(int argc, char** argv)
 {
@@ -38,7 +69,8 @@ int run_cli(int argc, char** argv)
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        std::fprintf(stderr, "prismrelief: usage: %s (see prismrelief --help)\n", e.what());
+        std::fprintf(stderr, "prismrelief: usage: %s (see prismrelief --help)\n",
+                     usage_message(app, e, argc, argv).c_str());
         return kExitUsage;
     }
 

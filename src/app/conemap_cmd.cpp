@@ -65,7 +65,7 @@ CommandAction add_conemap_command(CLI::App& app)
         ConeBuildOptions options;
         options.format = parse_cone_format(s->format, "--format");
         const bool gpu = parse_cone_backend_gpu(s->backend, "--backend");
-        const Backend gl_backend = parse_backend(s->gl_backend);
+        const Backend gl_backend = parse_backend(s->gl_backend, "--gl-backend");
         if (s->threads < 0 || s->threads > 1024) throw Error("--threads", "must be between 0 (all cores) and 1024");
         options.threads = s->threads;
         check_png_output(s->out);
@@ -91,7 +91,7 @@ CommandAction add_conemap_command(CLI::App& app)
             preload_backend(gl_backend); // (started already with --no-cache)
             std::unique_ptr<Context> context;
             return build_cone_map_gpu(f, k, o, &search_ms, [&] {
-                context = create_headless_context(gl_backend);
+                context = create_headless_context(gl_backend, "--gl-backend");
                 device = "gpu, " + context->description();
             });
         };

@@ -1,14 +1,21 @@
 #include "app/options.hpp"
 
+#include "core/camera.hpp"
 #include "core/error.hpp"
 #include "core/image.hpp"
 
 #include <nlohmann/json.hpp>
 
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
+#include <limits>
+#include <memory>
+#include <set>
 #include <sstream>
 
 namespace pr {
@@ -22,33 +29,112 @@ std::string list(const std::vector<std::string>& names, const std::string& prefi
     return s;
 }
 
+// Also refuses what a float cannot hold (1e300 would become infinity).
 float finite(double v, const std::string& what)
 {
-    if (!std::isfinite(v)) throw Error(what, "must be a finite number");
+    if (!std::isfinite(v) || std::abs(v) > std::numeric_limits<float>::max())
+        throw Error(what, "must be a finite number");
     return static_cast<float>(v);
+}
+
+// Positions (eye, target, translations) and scales beyond this lose all meaning in the renderer's
+// 32-bit floats: at 1e15 neighbouring floats are 6e7 apart, and the products of two such
+// coordinates (lengths, clip planes) overflow near 1e19. An eye at 1e30 rendered an empty image.
+constexpr double kMaxCoordinate = 1e15;
+
+std::string number_text(double v)
+{
+    std::ostringstream out;
+    out << v;
+    return out.str();
+}
+
+std::string vec_text(const glm::dvec3& v)
+{
+    return number_text(v.x) + "," + number_text(v.y) + "," + number_text(v.z);
+}
+
+// Parsed in double, so that a direction like 1e-30,0,0 or 1e300,0,0 keeps its meaning until it
+// is normalized (unit_direction). strtod rather than stod: stod refuses a value that underflows
+// to a denormal (1e-310), which is still a valid, non-zero number.
+glm::dvec3 parse_dvec3(const std::string& text, const std::string& option)
+{
+    const auto malformed = [&] { return Error(option, "expected x,y,z (three numbers), got '" + text + "'"); };
+    glm::dvec3 v(0.0);
+    std::istringstream in(text);
+    std::string part;
+    int n = 0;
+    while (std::getline(in, part, ',')) {
+        if (n == 3) throw malformed();
+        char* end = nullptr;
+        const double d = std::strtod(part.c_str(), &end);
+        if (end == part.c_str() || part.find_first_not_of(" \t", end - part.c_str()) != std::string::npos)
+            throw malformed();
+        if (!std::isfinite(d)) throw Error(option, "must be finite numbers, got '" + text + "'");
+        v[n++] = d;
+    }
+    if (n != 3) throw malformed();
+    return v;
+}
+
+// A direction (light, up): any finite non-zero vector, returned at unit length.
+glm::vec3 direction(const glm::dvec3& v, const std::string& where)
+{
+    const std::optional<glm::vec3> unit = unit_direction(v);
+    if (!unit) throw Error(where, "must not be the zero vector");
+    return *unit;
+}
+
+// A position (eye, target, a translation): finite (checked when parsed) and within kMaxCoordinate.
+glm::dvec3 check_position(const glm::dvec3& v, const std::string& where)
+{
+    for (int i = 0; i < 3; ++i)
+        if (std::abs(v[i]) > kMaxCoordinate)
+            throw Error(where, "coordinates must be at most 1e15 in magnitude (float precision), got " +
+                                   vec_text(v));
+    return v;
+}
+
+glm::vec3 position(const glm::dvec3& v, const std::string& where)
+{
+    return glm::vec3(check_position(v, where));
+}
+
+void check_depth(double depth, const std::string& where)
+{
+    if (!std::isfinite(depth) || depth < 0.0) throw Error(where, "must be a finite number >= 0");
+}
+
+void check_midlevel(double midlevel, const std::string& where)
+{
+    if (!std::isfinite(midlevel) || midlevel < 0.0 || midlevel > 1.0)
+        throw Error(where, "must be between 0 and 1");
+}
+
+// The bounds are exclusive: 0.5 is the narrowest view the depth precision serves, 180 degrees
+// is no perspective at all.
+void check_fovy(double fovy, const std::string& where)
+{
+    if (!(fovy > 0.5 && fovy < 179.0)) throw Error(where, "must be more than 0.5 and less than 179 degrees");
+}
+
+void check_elevation(double elevation, const std::string& where)
+{
+    if (!std::isfinite(elevation) || std::abs(elevation) > 90.0)
+        throw Error(where, "must be between -90 and 90 degrees");
+}
+
+void check_azimuth(double azimuth, const std::string& where)
+{
+    if (!std::isfinite(azimuth)) throw Error(where, "must be a finite number");
 }
 
 } // namespace
 
 glm::vec3 parse_vec3(const std::string& text, const std::string& option)
 {
-    glm::vec3 v(0.0f);
-    std::istringstream in(text);
-    std::string part;
-    int n = 0;
-    while (std::getline(in, part, ',')) {
-        if (n == 3) throw Error(option, "expected x,y,z (three numbers), got '" + text + "'");
-        try {
-            std::size_t used = 0;
-            const double d = std::stod(part, &used);
-            if (part.find_first_not_of(" \t", used) != std::string::npos) throw std::invalid_argument("");
-            v[n++] = finite(d, option);
-        } catch (const std::logic_error&) {
-            throw Error(option, "expected x,y,z (three numbers), got '" + text + "'");
-        }
-    }
-    if (n != 3) throw Error(option, "expected x,y,z (three numbers), got '" + text + "'");
-    return v;
+    const glm::dvec3 v = parse_dvec3(text, option);
+    return {finite(v.x, option), finite(v.y, option), finite(v.z, option)};
 }
 
 std::pair<int, int> parse_size(const std::string& text, const std::string& option)
@@ -214,8 +300,11 @@ DrawSettings make_draw_settings(const TechniqueOptions& o, const std::string& te
     s.prism_exit = parse_prism_exit(o.prism_exit, "--prism-exit");
     s.full_shell = parse_prism_shell(o.prism_shell, "--prism-shell");
     if (parts.size() > 1) {
-        if (s.technique != Technique::Prism || parts.size() > 4)
+        if (s.technique != Technique::Prism)
             throw Error(option, "'" + technique + "': only prism takes options (prism:MARCHER[:EXIT[:SHELL]])");
+        if (parts.size() > 4)
+            throw Error(option, "'" + technique + "': too many options, '" + parts[4] +
+                                    "' is one too many (prism:MARCHER[:EXIT[:SHELL]] takes at most three)");
         s.marcher = parse_marcher(parts[1], option);
         if (parts.size() >= 3) s.prism_exit = parse_prism_exit(parts[2], option);
         if (parts.size() == 4) {
@@ -238,18 +327,27 @@ namespace {
 
 using json = nlohmann::json;
 
-glm::vec3 json_vec3(const json& j, const std::string& where)
+glm::dvec3 json_dvec3(const json& j, const std::string& where)
 {
     if (!j.is_array() || j.size() != 3 || !j[0].is_number() || !j[1].is_number() || !j[2].is_number())
         throw Error(where, "expected an array of three numbers");
-    return {finite(j[0].get<double>(), where), finite(j[1].get<double>(), where),
-            finite(j[2].get<double>(), where)};
+    const glm::dvec3 v(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
+    if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+        throw Error(where, "must be finite numbers");
+    return v;
+}
+
+double json_number(const json& j, const std::string& where)
+{
+    if (!j.is_number()) throw Error(where, "expected a number");
+    const double v = j.get<double>();
+    if (!std::isfinite(v)) throw Error(where, "must be a finite number");
+    return v;
 }
 
 float json_float(const json& j, const std::string& where)
 {
-    if (!j.is_number()) throw Error(where, "expected a number");
-    return finite(j.get<double>(), where);
+    return finite(json_number(j, where), where);
 }
 
 std::string json_path(const json& j, const std::string& where, const std::filesystem::path& base)
@@ -261,45 +359,178 @@ std::string json_path(const json& j, const std::string& where, const std::filesy
     return p.is_absolute() ? s : (base / p).lexically_normal().string();
 }
 
+// An object's transform must leave a solid object where floats can draw it: a singular matrix
+// flattens it (the prism shell then has no thickness, and nothing was drawn), and the ratio of
+// its largest to its smallest stretch (the condition number, from Frobenius norms: within a
+// factor 3 of the 2-norm one) is kept to 1e6, so that float rounding of the larger axes stays
+// well below the smaller (floats carry about 7 digits). Mirrors (negative determinant) are fine.
+void check_linear_part(const glm::dmat4& t, const std::string& subject)
+{
+    const glm::dmat3 a(t);
+    double largest = 0.0, squares = 0.0;
+    for (int c = 0; c < 3; ++c) {
+        largest = std::max(largest, glm::length(a[c]));
+        squares += glm::dot(a[c], a[c]);
+    }
+    if (largest > kMaxCoordinate) throw Error(subject, "scales by more than 1e15 (float precision)");
+    if (largest < 1.0 / kMaxCoordinate) throw Error(subject, "scales by less than 1e-15 (float precision)");
+    if (glm::determinant(a) == 0.0)
+        throw Error(subject, "is singular: it flattens the object (to a plane, a line or a point)");
+    const glm::dmat3 inv = glm::inverse(a);
+    double inv_squares = 0.0;
+    for (int c = 0; c < 3; ++c) inv_squares += glm::dot(inv[c], inv[c]);
+    const double condition = std::sqrt(squares * inv_squares);
+    if (!(condition <= 1e6)) // NaN too
+        throw Error(subject, "is nearly singular: it flattens the object (condition number " +
+                                 number_text(condition) + ", at most 1e6)");
+}
+
 glm::mat4 json_transform(const json& j, const std::string& where)
 {
     if (!j.is_object()) throw Error(where, "expected an object with translate/rotate/scale or matrix");
-    if (j.contains("matrix")) {
-        const json& m = j["matrix"];
-        if (!m.is_array() || m.size() != 16) throw Error(where + ".matrix", "expected 16 numbers (row-major)");
-        glm::mat4 r(1.0f);
-        for (int i = 0; i < 16; ++i) r[i % 4][i / 4] = json_float(m[i], where + ".matrix");
-        return r;
-    }
-    glm::mat4 t(1.0f);
-    if (j.contains("translate")) t = glm::translate(t, json_vec3(j["translate"], where + ".translate"));
-    if (j.contains("rotate")) {
-        // Degrees about X, then Y, then Z (applied to the object in that order).
-        const glm::vec3 r = json_vec3(j["rotate"], where + ".rotate");
-        t = glm::rotate(t, glm::radians(r.z), {0, 0, 1});
-        t = glm::rotate(t, glm::radians(r.y), {0, 1, 0});
-        t = glm::rotate(t, glm::radians(r.x), {1, 0, 0});
-    }
-    if (j.contains("scale")) {
-        const json& s = j["scale"];
-        const glm::vec3 v = s.is_number() ? glm::vec3(json_float(s, where + ".scale"))
-                                          : json_vec3(s, where + ".scale");
-        if (v.x == 0.0f || v.y == 0.0f || v.z == 0.0f) throw Error(where + ".scale", "must not be zero");
-        t = glm::scale(t, v);
-    }
     for (const auto& [key, value] : j.items())
         if (key != "matrix" && key != "translate" && key != "rotate" && key != "scale")
             throw Error(where, "unknown key '" + key + "'");
-    return t;
+    glm::dmat4 t(1.0);
+    if (j.contains("matrix")) {
+        // docs/scenes.md: either a matrix or the parts; with both, one of them was ignored.
+        if (j.size() > 1) throw Error(where, "either \"matrix\" or translate/rotate/scale, not both");
+        const std::string w = where + ".matrix";
+        const json& m = j["matrix"];
+        if (!m.is_array() || m.size() != 16) throw Error(w, "expected 16 numbers (row-major)");
+        for (int i = 0; i < 16; ++i) t[i % 4][i / 4] = json_number(m[i], w);
+        // A projective matrix makes w vary over the mesh: each technique divides by it at another
+        // stage (vertices, shell, per-pixel rays), so they drew different shapes.
+        if (t[0][3] != 0.0 || t[1][3] != 0.0 || t[2][3] != 0.0 || t[3][3] != 1.0)
+            throw Error(w, "must be affine: last row 0 0 0 1");
+        for (int i = 0; i < 3; ++i)
+            if (std::abs(t[3][i]) > kMaxCoordinate)
+                throw Error(w, "its translation must be at most 1e15 in magnitude (float precision)");
+        check_linear_part(t, w);
+        return glm::mat4(t);
+    }
+    if (j.contains("translate")) {
+        const std::string w = where + ".translate";
+        t = glm::translate(t, check_position(json_dvec3(j["translate"], w), w));
+    }
+    if (j.contains("rotate")) {
+        // Degrees about X, then Y, then Z (applied to the object in that order).
+        const glm::dvec3 r = json_dvec3(j["rotate"], where + ".rotate");
+        t = glm::rotate(t, glm::radians(r.z), glm::dvec3(0, 0, 1));
+        t = glm::rotate(t, glm::radians(r.y), glm::dvec3(0, 1, 0));
+        t = glm::rotate(t, glm::radians(r.x), glm::dvec3(1, 0, 0));
+    }
+    if (j.contains("scale")) {
+        const std::string w = where + ".scale";
+        const json& s = j["scale"];
+        const glm::dvec3 v = s.is_number() ? glm::dvec3(json_number(s, w)) : json_dvec3(s, w);
+        if (v.x == 0.0 || v.y == 0.0 || v.z == 0.0) throw Error(w, "must not be zero");
+        t = glm::scale(t, v);
+        check_linear_part(t, w); // rotations are orthonormal: only the scale can degenerate
+    }
+    return glm::mat4(t);
 }
 
-void read_scene_file(const std::string& file, SceneSpec& spec, std::string& size)
+// nlohmann::json keeps the last of duplicate keys, so a scene saying "mesh" twice (a typo, a merge
+// gone wrong) passed silently, which docs/scenes.md promises it does not. The parser calls this
+// for every key before storing it; it tracks where it is (objects[0].transform) to name the
+// place of a key its object already has.
+class DuplicateKeys {
+public:
+    explicit DuplicateKeys(std::string file) : file_(std::move(file)) {}
+
+    bool operator()(int /*depth*/, json::parse_event_t event, json& parsed)
+    {
+        switch (event) {
+        case json::parse_event_t::object_start: enter(false); break;
+        case json::parse_event_t::array_start: enter(true); break;
+        case json::parse_event_t::object_end:
+        case json::parse_event_t::array_end: levels_.pop_back(); break;
+        case json::parse_event_t::value: next_element(); break;
+        case json::parse_event_t::key: {
+            Level& level = levels_.back();
+            level.key = parsed.get<std::string>();
+            if (!level.keys.insert(level.key).second)
+                throw Error(where(), "\"" + level.key + "\" is given twice");
+            break;
+        }
+        }
+        return true;
+    }
+
+private:
+    struct Level {
+        bool array = false;
+        std::size_t elements = 0; // arrays: elements seen so far
+        std::string key;          // objects: the latest key
+        std::set<std::string> keys;
+        std::string name; // "objects" (in the top-level object), "[0]", ".transform"
+    };
+
+    void next_element()
+    {
+        if (!levels_.empty() && levels_.back().array) ++levels_.back().elements;
+    }
+
+    void enter(bool array)
+    {
+        Level level;
+        level.array = array;
+        if (!levels_.empty()) {
+            const Level& parent = levels_.back();
+            level.name = parent.array ? "[" + std::to_string(parent.elements) + "]"
+                                      : (levels_.size() > 1 ? "." : "") + parent.key;
+        }
+        next_element();
+        levels_.push_back(std::move(level));
+    }
+
+    std::string where() const
+    {
+        std::string path;
+        for (const Level& l : levels_) path += l.name;
+        return path.empty() ? file_ : file_ + ": " + path;
+    }
+
+    std::string file_;
+    std::vector<Level> levels_;
+};
+
+// The whole file, or a message that names it: an ifstream on a folder threw libstdc++'s own
+// "basic_filebuf::underflow error reading the file". Bounded, so that --scene /dev/zero ends.
+std::string read_scene_text(const std::string& file)
 {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw Error(file, "cannot open");
+    constexpr std::size_t kMaxBytes = std::size_t(64) << 20;
+    std::error_code ec;
+    if (std::filesystem::is_directory(file, ec)) throw Error(file, "is a folder, not a scene file");
+    const std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(file.c_str(), "rb"), &std::fclose);
+    if (!f) throw Error(file, std::string("cannot open: ") + std::strerror(errno));
+    std::string text;
+    char buffer[65536];
+    for (;;) {
+        const std::size_t n = std::fread(buffer, 1, sizeof buffer, f.get());
+        text.append(buffer, n);
+        if (text.size() > kMaxBytes) throw Error(file, "is larger than 64 MiB: not a scene file");
+        if (n < sizeof buffer) break;
+    }
+    if (std::ferror(f.get())) throw Error(file, std::string("cannot be read: ") + std::strerror(errno));
+    return text;
+}
+
+// What the scene file set that flags may override (make_scene_spec names the right source).
+struct SceneFileValues {
+    std::string size;
+    bool up = false;
+};
+
+// Every value is checked here, under its place in the file ("s.json: objects[0].depth"), whether
+// or not a flag overrides it; flags are checked under their own names by make_scene_spec.
+SceneFileValues read_scene_file(const std::string& file, SceneSpec& spec)
+{
+    SceneFileValues found;
     json j;
     try {
-        j = json::parse(in);
+        j = json::parse(read_scene_text(file), DuplicateKeys(file));
     } catch (const json::exception& e) {
         std::string what = e.what();
         throw Error(file, "not valid JSON (" + what.substr(what.find(']') + 2) + ")");
@@ -320,10 +551,19 @@ void read_scene_file(const std::string& file, SceneSpec& spec, std::string& size
                     if (k == "mesh") o.mesh = json_path(v, w, base);
                     else if (k == "height") o.height = json_path(v, w, base);
                     else if (k == "color") o.color = json_path(v, w, base);
-                    else if (k == "depth") o.depth = json_float(v, w);
-                    else if (k == "midlevel") o.midlevel = json_float(v, w);
-                    else if (k == "base_color") o.base_color = json_vec3(v, w);
-                    else if (k == "transform") o.transform = json_transform(v, w);
+                    else if (k == "depth") {
+                        check_depth(json_number(v, w), w);
+                        o.depth = json_float(v, w);
+                    } else if (k == "midlevel") {
+                        check_midlevel(json_number(v, w), w);
+                        o.midlevel = json_float(v, w);
+                    } else if (k == "base_color") {
+                        const glm::dvec3 c = json_dvec3(v, w);
+                        for (int n = 0; n < 3; ++n)
+                            if (c[n] < 0.0 || c[n] > 1.0)
+                                throw Error(w, "must be three numbers between 0 and 1, got " + vec_text(c));
+                        o.base_color = glm::vec3(c);
+                    } else if (k == "transform") o.transform = json_transform(v, w);
                     else throw Error(ow, "unknown key '" + k + "'");
                 }
                 if (o.mesh.empty()) throw Error(ow, "has no \"mesh\"");
@@ -333,24 +573,34 @@ void read_scene_file(const std::string& file, SceneSpec& spec, std::string& size
             if (!value.is_object()) throw Error(where, "expected an object");
             for (const auto& [k, v] : value.items()) {
                 const std::string w = where + "." + k;
-                if (k == "eye") spec.camera.eye = json_vec3(v, w);
-                else if (k == "target") spec.camera.target = json_vec3(v, w);
-                else if (k == "up") spec.camera.up = json_vec3(v, w);
-                else if (k == "fovy") spec.camera.fovy_deg = json_float(v, w);
-                else if (k == "elevation") spec.camera.elevation_deg = json_float(v, w);
-                else if (k == "azimuth") spec.camera.azimuth_deg = json_float(v, w);
-                else throw Error(where, "unknown key '" + k + "'");
+                if (k == "eye") spec.camera.eye = position(json_dvec3(v, w), w);
+                else if (k == "target") spec.camera.target = position(json_dvec3(v, w), w);
+                else if (k == "up") {
+                    spec.camera.up = direction(json_dvec3(v, w), w);
+                    found.up = true;
+                } else if (k == "fovy") {
+                    check_fovy(json_number(v, w), w);
+                    spec.camera.fovy_deg = json_float(v, w);
+                } else if (k == "elevation") {
+                    check_elevation(json_number(v, w), w);
+                    spec.camera.elevation_deg = json_float(v, w);
+                } else if (k == "azimuth") {
+                    check_azimuth(json_number(v, w), w);
+                    spec.camera.azimuth_deg = json_float(v, w);
+                } else throw Error(where, "unknown key '" + k + "'");
             }
         } else if (key == "light") {
-            spec.light = json_vec3(value, where);
+            spec.light = direction(json_dvec3(value, where), where);
         } else if (key == "size") {
             if (!value.is_string()) throw Error(where, "expected \"WIDTHxHEIGHT\"");
-            size = value.get<std::string>();
+            found.size = value.get<std::string>();
+            parse_size(found.size, where);
         } else {
             throw Error(file, "unknown key '" + key + "'");
         }
     }
     if (spec.objects.empty()) throw Error(file, "has no \"objects\"");
+    return found;
 }
 
 } // namespace
@@ -358,12 +608,12 @@ void read_scene_file(const std::string& file, SceneSpec& spec, std::string& size
 SceneSpec make_scene_spec(const SceneOptions& o)
 {
     SceneSpec spec;
-    std::string size = o.size;
-    std::string scene_size;
-    if (!o.scene_file.empty()) read_scene_file(o.scene_file, spec, scene_size);
-    // Size: the flag if given, else the scene file's, else the default.
-    if (!scene_size.empty() && !(o.size_option && o.size_option->count())) size = scene_size;
-    const auto [w, h] = parse_size(size, "--size");
+    SceneFileValues file;
+    if (!o.scene_file.empty()) file = read_scene_file(o.scene_file, spec);
+    // Size: the flag if given, else the scene file's (checked there), else the default.
+    const bool size_flag = o.size_option && o.size_option->count();
+    const auto [w, h] = !size_flag && !file.size.empty() ? parse_size(file.size, o.scene_file + ": size")
+                                                         : parse_size(o.size, "--size");
     spec.width = w;
     spec.height = h;
 
@@ -374,33 +624,49 @@ SceneSpec make_scene_spec(const SceneOptions& o)
         spec.objects[0].mesh = o.mesh;
     }
     if (spec.objects.empty()) throw Error("--mesh", "required (or --scene FILE.json)");
+    if (o.depth) check_depth(*o.depth, "--depth");
+    if (o.midlevel) check_midlevel(*o.midlevel, "--midlevel");
     // Object flags apply to every object of the scene (for one object: override it).
     for (ObjectSpec& obj : spec.objects) {
         if (o.height) obj.height = *o.height;
         if (!o.color.empty()) obj.color = o.color;
         if (o.depth) obj.depth = *o.depth;
         if (o.midlevel) obj.midlevel = *o.midlevel;
-        if (obj.depth && (!std::isfinite(*obj.depth) || *obj.depth < 0.0f))
-            throw Error("--depth", "must be a finite number >= 0");
-        if (!std::isfinite(obj.midlevel) || obj.midlevel < 0.0f || obj.midlevel > 1.0f)
-            throw Error("--midlevel", "must be between 0 and 1");
     }
-    if (!o.light.empty()) {
-        spec.light = parse_vec3(o.light, "--light");
-        if (glm::length(*spec.light) == 0.0f) throw Error("--light", "must not be the zero vector");
+    if (!o.light.empty()) spec.light = direction(parse_dvec3(o.light, "--light"), "--light");
+    if (!o.eye.empty()) spec.camera.eye = position(parse_dvec3(o.eye, "--eye"), "--eye");
+    if (!o.target.empty()) spec.camera.target = position(parse_dvec3(o.target, "--target"), "--target");
+    if (!o.up.empty()) spec.camera.up = direction(parse_dvec3(o.up, "--up"), "--up");
+    if (o.fovy) {
+        check_fovy(*o.fovy, "--fovy");
+        spec.camera.fovy_deg = *o.fovy;
     }
-    if (!o.eye.empty()) spec.camera.eye = parse_vec3(o.eye, "--eye");
-    if (!o.target.empty()) spec.camera.target = parse_vec3(o.target, "--target");
-    if (!o.up.empty()) spec.camera.up = parse_vec3(o.up, "--up");
-    if (glm::length(spec.camera.up) == 0.0f) throw Error("--up", "must not be the zero vector");
-    if (o.fovy) spec.camera.fovy_deg = *o.fovy;
-    if (!(spec.camera.fovy_deg > 0.5f && spec.camera.fovy_deg < 179.0f))
-        throw Error("--fovy", "must be between 0.5 and 179 degrees");
-    if (o.elevation) spec.camera.elevation_deg = *o.elevation;
-    if (o.azimuth) spec.camera.azimuth_deg = *o.azimuth;
-    if (!std::isfinite(spec.camera.elevation_deg) || std::abs(spec.camera.elevation_deg) > 90.0f)
-        throw Error("--elevation", "must be between -90 and 90 degrees");
-    if (!std::isfinite(spec.camera.azimuth_deg)) throw Error("--azimuth", "must be a finite number");
+    if (o.elevation) {
+        check_elevation(*o.elevation, "--elevation");
+        spec.camera.elevation_deg = *o.elevation;
+    }
+    if (o.azimuth) {
+        check_azimuth(*o.azimuth, "--azimuth");
+        spec.camera.azimuth_deg = *o.azimuth;
+    }
+    // An explicit camera is checked here, where it is known whether each value came from a flag
+    // or from the file; without a target (the shell's centre), scene_camera checks it once the
+    // scene is loaded (open_session names the file there).
+    if (spec.camera.eye && spec.camera.target) {
+        const std::string eye_subject = !o.eye.empty()      ? "--eye"
+                                        : !o.target.empty() ? "--target"
+                                                            : o.scene_file + ": camera.eye";
+        const glm::dvec3 view = glm::dvec3(*spec.camera.target) - glm::dvec3(*spec.camera.eye);
+        const std::optional<glm::vec3> forward = unit_direction(view);
+        if (!forward) throw Error(eye_subject, "eye and target are the same point");
+        // The sine of the angle between up and the view: lookAt's side vector is their cross
+        // product, and below 1e-5 float rounding turns the image by a visible angle.
+        if (glm::length(glm::cross(glm::dvec3(*forward), glm::dvec3(spec.camera.up))) < 1e-5) {
+            if (!o.up.empty()) throw Error("--up", "up is parallel to the viewing direction");
+            if (file.up) throw Error(o.scene_file + ": camera.up", "up is parallel to the viewing direction");
+            throw Error(eye_subject, "looks straight along the default up direction 0,1,0 (give --up)");
+        }
+    }
     if (o.max_triangles < 1) throw Error("--max-triangles", "must be at least 1");
     spec.mesh_options.max_triangles = o.max_triangles;
     if (o.max_image_size) {

@@ -17,6 +17,19 @@ Session open_session(const SceneOptions& options, const ContextFactory& make_con
     const Backend backend = parse_backend(options.backend);
     if (!make_context) preload_backend(backend); // loads Mesa while the scene is read
     s.scene = load_scene(s.spec);
+    // Before the context: a bad camera fails fast, without GL.
+    try {
+        s.camera = scene_camera(s.spec, s.scene);
+    } catch (const Error& e) {
+        // An eye without a target (the shell's centre) is checked only here, under the flags'
+        // names: when the eye came from the scene file, name the file (make_scene_spec does for
+        // the cases it can check).
+        const bool file_eye = !options.scene_file.empty() && options.eye.empty();
+        if (file_eye && (e.subject() == "--eye" || (e.subject() == "--up" && options.up.empty())))
+            throw Error(options.scene_file + ": camera", e.problem());
+        throw;
+    }
+    s.light = scene_light(s.spec, s.camera);
     s.context = make_context ? make_context(s.spec) : create_headless_context(backend);
     s.renderer = std::make_unique<Renderer>(s.spec.width, s.spec.height);
     if (!options.cache_dir.empty()) s.renderer->set_cache_dir(options.cache_dir);
@@ -26,8 +39,6 @@ Session open_session(const SceneOptions& options, const ContextFactory& make_con
     auto progress = std::make_shared<TaskProgress>();
     s.renderer->set_cone_progress([progress](const std::string& what, double f) { (*progress)(what, f); });
     s.renderer->upload(s.scene);
-    s.camera = scene_camera(s.spec, s.scene);
-    s.light = scene_light(s.spec, s.camera);
     return s;
 }
 

@@ -16,12 +16,21 @@ glm::mat4 Camera::projection(float aspect) const
     return glm::perspective(glm::radians(fovy_deg), aspect, near_plane, far_plane);
 }
 
+std::optional<glm::vec3> unit_direction(const glm::dvec3& v)
+{
+    if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) return std::nullopt;
+    const double largest = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+    if (largest == 0.0) return std::nullopt;
+    const glm::dvec3 scaled = v / largest; // largest component +-1: its square cannot overflow
+    return glm::vec3(scaled / glm::length(scaled));
+}
+
 Camera frame_sphere(const Sphere& bounds, float fovy_deg, float aspect, float elevation_deg,
                     float azimuth_deg, glm::vec3 up)
 {
     Camera c;
     c.fovy_deg = fovy_deg;
-    c.up = glm::normalize(up);
+    c.up = unit_direction(glm::dvec3(up)).value_or(glm::vec3(0.0f, 1.0f, 0.0f));
     // A basis around `up`: `fwd` is the azimuth-0 horizontal direction towards the eye.
     glm::vec3 ref = std::abs(c.up.z) < 0.9f ? glm::vec3(0, 0, 1) : glm::vec3(1, 0, 0);
     glm::vec3 side = glm::normalize(glm::cross(c.up, ref));

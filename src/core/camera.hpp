@@ -3,6 +3,8 @@
 // auto-framing on a bounding sphere. World space throughout; OpenGL clip conventions.
 #include <glm/glm.hpp>
 
+#include <optional>
+
 namespace pr {
 
 struct Sphere {
@@ -22,9 +24,16 @@ struct Camera {
     glm::mat4 projection(float aspect) const;
 };
 
+// The unit vector along `v`, or nullopt for the zero vector and for non-finite components. It
+// divides by the largest absolute component first, in double: a plain float normalize squares
+// the components, which overflows for 3e19 (the result is NaN) and underflows for 1e-30 (the
+// vector looks like zero), though both are valid directions.
+std::optional<glm::vec3> unit_direction(const glm::dvec3& v);
+
 // Auto-framing: looks at `bounds.center` from `elevation_deg` above the horizontal plane
 // (perpendicular to `up`) and `azimuth_deg` around `up` (0 looks along -Z from +Z, 90 from +X),
 // at the distance where the sphere fits both the vertical and the horizontal field of view.
+// `up` need not be unit length (any finite non-zero vector; the zero vector falls back to +Y).
 Camera frame_sphere(const Sphere& bounds, float fovy_deg, float aspect, float elevation_deg,
                     float azimuth_deg, glm::vec3 up = {0.0f, 1.0f, 0.0f});
 

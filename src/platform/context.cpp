@@ -5,11 +5,11 @@
 
 namespace pr {
 
-Backend parse_backend(const std::string& name)
+Backend parse_backend(const std::string& name, const std::string& option)
 {
     if (name == "osmesa") return Backend::OSMesa;
     if (name == "egl") return Backend::Egl;
-    throw Error("--backend", "unknown backend '" + name + "' (expected osmesa or egl)");
+    throw Error(option, "unknown backend '" + name + "' (expected osmesa or egl)");
 }
 
 std::string backend_name(Backend backend)
@@ -42,9 +42,15 @@ void Context::load_gl(ProcLoader get_proc, const std::string& subject, const std
     description_ = backend + ": " + str(GL_RENDERER) + ", OpenGL " + str(GL_VERSION);
 }
 
-std::unique_ptr<Context> create_headless_context(Backend backend)
+std::unique_ptr<Context> create_headless_context(Backend backend, const std::string& option)
 {
-    return backend == Backend::OSMesa ? create_osmesa_context() : create_egl_context();
+    try {
+        return backend == Backend::OSMesa ? create_osmesa_context() : create_egl_context();
+    } catch (const Error& e) {
+        // The backends name "--backend"; a command whose flag is another says its own.
+        if (e.subject() != "--backend" || option == "--backend") throw;
+        throw Error(option, e.problem());
+    }
 }
 
 void preload_backend(Backend backend)

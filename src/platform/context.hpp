@@ -12,7 +12,9 @@ namespace pr {
 
 enum class Backend { OSMesa, Egl };
 
-Backend parse_backend(const std::string& name); // "osmesa" | "egl"; throws pr::Error("--backend", …)
+// "osmesa" | "egl"; throws pr::Error(option, …): the flag the user typed (conemap's is
+// --gl-backend, its --backend being cpu|gpu).
+Backend parse_backend(const std::string& name, const std::string& option = "--backend");
 std::string backend_name(Backend backend);
 std::vector<std::string> available_backends(); // compiled in (EGL needs headers at build time)
 
@@ -37,9 +39,9 @@ private:
 };
 
 // Creates a headless context and makes it current. All rendering goes to framebuffer objects,
-// so the context's own surface is tiny. Throws pr::Error("--backend", …) when the backend's
+// so the context's own surface is tiny. Throws pr::Error(option, …) when the backend's
 // library is missing or no 4.5 core context can be created.
-std::unique_ptr<Context> create_headless_context(Backend backend);
+std::unique_ptr<Context> create_headless_context(Backend backend, const std::string& option = "--backend");
 
 // Starts loading the backend's library on a thread of its own, so that a command can read its
 // mesh and maps meanwhile; create_headless_context() then waits for it. Loading libOSMesa (Mesa
