@@ -100,7 +100,8 @@ CommandAction add_bench_command(CLI::App& app)
         std::printf("%-14s %9s %9s %9s %11s %9s %9s\n", "technique", "ms_median", "ms_min", "ms_max",
                     "fragments", "spf_mean", "spf_p95");
         const double base = median(rows[0].ms);
-        for (const BenchRow& row : rows) {
+        for (std::size_t i = 0; i < rows.size(); ++i) {
+            const BenchRow& row = rows[i];
             const double med = median(row.ms);
             const double mean = row.counters.fragments ? double(row.counters.samples) / double(row.counters.fragments) : 0.0;
             const double p95 = histogram_percentile(row.counters.histogram, 0.95);
@@ -117,6 +118,7 @@ CommandAction add_bench_command(CLI::App& app)
                                {"samples_per_fragment_mean", mean},
                                {"samples_per_fragment_p95", p95},
                                {"frames", row.ms.size()}});
+            results.back().update(prism_configuration(runs[i].settings));
         }
         if (!s->json.empty()) {
             const nlohmann::json report = {{"results", results},

@@ -5,6 +5,7 @@
 #include "core/atomic_file.hpp"
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <functional>
 #include <vector>
@@ -18,6 +19,17 @@ CommandAction add_compare_command(CLI::App& app);
 CommandAction add_bench_command(CLI::App& app);
 CommandAction add_conemap_command(CLI::App& app); // conemap_cmd.cpp
 CommandAction add_view_command(CLI::App& app);    // view_cmd.cpp
+
+// A report row's description of a prism run beyond its label: the marcher, exit and shell it
+// used (a label "prism" does not say which: --marcher, --prism-exit and --prism-shell set them).
+// Empty for the other techniques.
+inline nlohmann::json prism_configuration(const DrawSettings& s)
+{
+    if (s.technique != Technique::Prism) return nlohmann::json::object();
+    return {{"marcher", marcher_name(s.marcher)},
+            {"prism_exit", prism_exit_name(s.prism_exit)},
+            {"prism_shell", s.full_shell || s.prism_exit != PrismExit::Walk ? "full" : "tight"}}; // (other exits: full)
+}
 
 // The files a command reads by flag, for check_distinct_outputs(): an output must not overwrite
 // one of them. (The meshes and images a scene file names are not listed.)

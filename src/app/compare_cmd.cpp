@@ -114,6 +114,7 @@ CommandAction add_compare_command(CLI::App& app)
                                   {"steps", run.settings.steps},
                                   {"refine", run.settings.refine},
                                   {"depth_write", run.settings.depth_write}};
+            row.update(prism_configuration(run.settings));
             results.push_back(row);
             std::printf("%-14s %8.4f %10zu %12s %12s %8s %9.2f\n", run.label.c_str(), m.iou,
                         m.silhouette_wrong_px,
@@ -138,6 +139,7 @@ CommandAction add_compare_command(CLI::App& app)
             {"camera",
              {{"eye", {session.camera.eye.x, session.camera.eye.y, session.camera.eye.z}},
               {"target", {session.camera.target.x, session.camera.target.y, session.camera.target.z}},
+              {"up", {session.camera.up.x, session.camera.up.y, session.camera.up.z}},
               {"fovy", session.camera.fovy_deg}}},
             {"renderer", session.context->description()}};
         // Both outputs staged before either replaces a file: a failure leaves both as they were.

@@ -28,3 +28,11 @@ pr_cli(render_out_jpg EXIT 1 ONE_LINE STDERR "${E}o.jpg: only PNG images are wri
        ARGS render --mesh ${M}/cube.obj --size 32x32 --out o.jpg)
 pr_cli(conemap_out_tga EXIT 1 ONE_LINE STDERR "${E}c.TGA: only PNG images are written" NO_FILE c.TGA
        ARGS conemap --height builtin:bumps@16 --out c.TGA --no-cache)
+
+# Reports say which prism they measured: a row labelled "prism" holds --marcher's choice.
+pr_cli(compare_json_names_the_prism_configuration EXIT 0 JSON c.json
+       CHECKS "results.0.technique:STREQUAL:prism|results.0.marcher:STREQUAL:max-mip|results.0.prism_exit:STREQUAL:walk|results.0.prism_shell:STREQUAL:tight|results.1.prism_exit:STREQUAL:exact|results.1.prism_shell:STREQUAL:full|camera.up.1:EQUAL:1"
+       ARGS compare --mesh ${M}/cube.obj --techniques prism,prism:linear:exact --marcher max-mip --size 32x32 --json c.json)
+pr_cli(bench_json_names_the_prism_configuration EXIT 0 JSON b.json
+       CHECKS "results.0.marcher:STREQUAL:cone|results.0.prism_shell:STREQUAL:full"
+       ARGS bench --mesh ${M}/cube.obj --techniques prism:cone --prism-shell full --size 32x32 --frames 1 --json b.json)
