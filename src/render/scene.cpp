@@ -52,7 +52,9 @@ Scene load_scene(const SceneSpec& spec)
         const float diagonal = glm::length(ohi - olo);
         obj.depth = o.depth.value_or(0.04f * diagonal);
         if (!std::isfinite(obj.depth) || obj.depth < 0.0f)
-            throw Error("--depth", "must be a finite number >= 0");
+            throw Error(o.depth ? "--depth" : o.mesh,
+                        o.depth ? "must be a finite number >= 0"
+                                : "the default depth (4% of the bounding box's diagonal) is not a finite number");
         // The shell spans depth * (h - midlevel) for h in [0,1] along unit normals.
         const float reach = obj.depth * std::max(obj.midlevel, 1.0f - obj.midlevel);
         lo = glm::min(lo, olo - glm::vec3(reach));
@@ -76,7 +78,10 @@ Camera scene_camera(const SceneSpec& spec, const Scene& scene)
         camera.fovy_deg = c.fovy_deg;
         if (glm::length(camera.eye - camera.target) <= 0.0f)
             throw Error("--eye", "eye and target are the same point");
-        if (glm::length(glm::cross(camera.target - camera.eye, camera.up)) <= 1e-12f)
+        // Relative to the lengths (an absolute bound let an up within 1e-6 degrees of the view
+        // through at a distance of 1e6, and refused a parallel one only near the target).
+        const glm::dvec3 view = glm::dvec3(camera.target) - glm::dvec3(camera.eye), up(camera.up);
+        if (glm::length(glm::cross(view, up)) <= 1e-6 * glm::length(view) * glm::length(up))
             throw Error("--up", "up is parallel to the viewing direction");
         fit_clip_planes(camera, scene.shell_bounds);
         return camera;
