@@ -795,26 +795,26 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         glBindVertexArray(o.base.vao.id());
         glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
     };
-    // The walk: the shell's top caps by the vertex shader, culled by the rasterizer (base
-    // triangles wind counter-clockwise seen along +N), on open meshes the bottom caps too (seen
-    // from below: the same triangles' back faces), then the other front faces of the listed
-    // prisms (ShellDraw).
-    const auto draw_walk_shell = [&](const GpuObject& o, WalkVariant variant) {
-        set_object(o);
-        bind_prism_data(o, true);
+    // Caps of the walk's shell by the vertex shader, culled by the rasterizer (base triangles wind
+    // counter-clockwise seen along +N): the tops facing the eye, or the bottoms seen from below
+    // (the same triangles' back faces). The object and its prism data are bound.
+    const auto draw_caps = [&](const GpuObject& o, WalkVariant variant, ShellDraw caps) {
         const Geometry& shell = walk_geometry(o);
         glBindVertexArray(shell.vao.id());
         glEnable(GL_CULL_FACE);
         glFrontFace(GL_CCW);
-        glCullFace(GL_BACK);
-        glUseProgram(program_for(settings, variant, ShellDraw::Tops));
+        glCullFace(caps == ShellDraw::Tops ? GL_BACK : GL_FRONT);
+        glUseProgram(program_for(settings, variant, caps));
         glDrawElements(GL_TRIANGLES, shell.index_count, GL_UNSIGNED_INT, nullptr);
-        if (o.open_shell) {
-            glCullFace(GL_FRONT);
-            glUseProgram(program_for(settings, variant, ShellDraw::Bottoms));
-            glDrawElements(GL_TRIANGLES, shell.index_count, GL_UNSIGNED_INT, nullptr);
-        }
         glDisable(GL_CULL_FACE);
+    };
+    // The walk: the top caps, on open meshes the bottom caps too, then the other front faces of
+    // the listed prisms (ShellDraw).
+    const auto draw_walk_shell = [&](const GpuObject& o, WalkVariant variant) {
+        set_object(o);
+        bind_prism_data(o, true);
+        draw_caps(o, variant, ShellDraw::Tops);
+        if (o.open_shell) draw_caps(o, variant, ShellDraw::Bottoms);
         const int full = settings.full_shell ? 1 : 0;
         if (o.listed_count[full] > 0) {
             glUseProgram(program_for(settings, variant, ShellDraw::Listed));
@@ -822,24 +822,18 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
             glDrawArrays(GL_POINTS, 0, o.listed_count[full]);
         }
     };
-    // The eye inside an object's shell (a close-up): the caps around it face away, so no cap
-    // starts the walk of the rays that begin there. A screen-filling triangle at the near plane
-    // starts them at the eye, in the prism that holds it (docs/prism.md, item 12).
-    // The eye inside a closed object's body, under its shell: every cap faces away too. The
-    // bottom caps seen from inside start each ray's walk under the surface, which it meets from
-    // below, as the second pass through tears does (docs/prism.md, item 12).
+    // The eye inside a closed object's body, under its shell: every cap faces away. The bottom
+    // caps seen from inside start each ray's walk under the surface, which it meets from below,
+    // as the second pass through tears does (docs/prism.md, item 12).
     const auto draw_from_body = [&](const GpuObject& o) {
         set_object(o);
         bind_prism_data(o, true);
-        const Geometry& shell = walk_geometry(o);
-        glBindVertexArray(shell.vao.id());
-        glEnable(GL_CULL_FACE);
-        glCullFace(GL_FRONT);
-        glUseProgram(program_for(settings, WalkVariant::UnderSurface, ShellDraw::Bottoms));
-        glDrawElements(GL_TRIANGLES, shell.index_count, GL_UNSIGNED_INT, nullptr);
-        glCullFace(GL_BACK);
-        glDisable(GL_CULL_FACE);
+        draw_caps(o, WalkVariant::UnderSurface, ShellDraw::Bottoms);
     };
+    // The eye inside an object's shell (a close-up): the caps around it face away, so no cap
+    // starts the walk of the rays that begin there. A screen-filling triangle at the near plane
+    // starts them at the eye, in the prism that holds it (docs/prism.md, item 12); an eye in no
+    // prism but inside the body walks from the bottoms.
     const auto draw_from_eye = [&](const GpuObject& o, const std::optional<EyeInShell>& in, WalkVariant variant) {
         if (!in) {
             if (!o.open_shell && eye_inside_body(o.shell_corners, o.triangles, o.eye_blocks, camera.eye))

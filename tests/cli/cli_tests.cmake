@@ -110,12 +110,22 @@ pr_cli(bench_counters EXIT 0 JSON b.json
 pr_cli(bench_bad_frames EXIT 1 ONE_LINE STDERR "${E}--frames: "
        ARGS bench --mesh ${M}/cube.obj --frames 0)
 
+# Two renders that must give byte-identical images (same_image.cmake); ARGS are shared, A and B
+# are each run's own.
+function(pr_same_image name)
+    cmake_parse_arguments(T "" "" "ARGS;A;B" ${ARGN})
+    string(REPLACE ";" "|" a "render;${T_ARGS};${T_A};--out;a.png")
+    string(REPLACE ";" "|" b "render;${T_ARGS};${T_B};--out;b.png")
+    add_test(NAME cli.${name}
+             COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:prismrelief> -DWORKDIR=${PR_CLI_WORK}/${name}
+                     "-DA=${a}" "-DB=${b}" -P ${CMAKE_CURRENT_SOURCE_DIR}/cli/same_image.cmake)
+    set_tests_properties(cli.${name} PROPERTIES LABELS "cli" TIMEOUT 180)
+endfunction()
+
 # EGL (surfaceless Mesa here) renders exactly what OSMesa renders.
 if(EGL_INCLUDE_DIR)
-    add_test(NAME cli.egl_matches_osmesa
-             COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:prismrelief> -DWORKDIR=${PR_CLI_WORK}/egl
-                     -DMESH=${M}/rock.obj -P ${CMAKE_CURRENT_SOURCE_DIR}/cli/same_image.cmake)
-    set_tests_properties(cli.egl_matches_osmesa PROPERTIES LABELS "cli" TIMEOUT 180)
+    pr_same_image(egl_matches_osmesa ARGS --mesh ${M}/rock.obj --height builtin:noise --technique relief --size 96x64
+                  A --backend osmesa B --backend egl)
 endif()
 
 # Prism options in lists and flags.

@@ -1,43 +1,18 @@
 # Option and scene-file handling: vectors that float math used to lose (huge, tiny), values of a
 # scene file reported under its own name rather than a flag's, transforms that cannot render,
-# duplicate keys, and usage messages that say what the user did wrong.
-#
-# Run with -P, this file is the image comparison of the *_same_image tests: it renders A and B
-# (|-separated arguments, each ending with its own --out) and requires byte-identical PNGs.
-if(CMAKE_SCRIPT_MODE_FILE)
-    file(MAKE_DIRECTORY ${WORKDIR})
-    foreach(run A B)
-        string(REPLACE "|" ";" args "${${run}}")
-        execute_process(COMMAND ${EXE} ${args} WORKING_DIRECTORY ${WORKDIR} TIMEOUT 120
-                        RESULT_VARIABLE rc ERROR_VARIABLE err)
-        if(NOT rc EQUAL 0)
-            message(FATAL_ERROR "prismrelief ${args} failed (${rc}): ${err}")
-        endif()
-    endforeach()
-    execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${WORKDIR}/a.png ${WORKDIR}/b.png
-                    RESULT_VARIABLE same)
-    if(NOT same EQUAL 0)
-        message(FATAL_ERROR "images differ:\n  ${A}\n  ${B}")
-    endif()
-    return()
-endif()
-
-# Two renders that must give the same image (see above); ARGS are shared, A and B differ.
-function(pr_same_image name)
-    cmake_parse_arguments(T "" "" "ARGS;A;B" ${ARGN})
-    string(REPLACE ";" "|" a "render;${T_ARGS};${T_A};--out;a.png")
-    string(REPLACE ";" "|" b "render;${T_ARGS};${T_B};--out;b.png")
-    add_test(NAME cli.${name}
-             COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:prismrelief> -DWORKDIR=${PR_CLI_WORK}/${name}
-                     "-DA=${a}" "-DB=${b}" -P ${CMAKE_CURRENT_LIST_FILE})
-    set_tests_properties(cli.${name} PROPERTIES LABELS "cli" TIMEOUT 180)
-endfunction()
+# duplicate keys, and usage messages that say what the user did wrong. (pr_same_image: cli_tests.cmake.)
 
 # Scene files written at configure time (absolute mesh paths). pr_scene(NAME JSON) writes NAME.json
 # with JSON after `"objects": [{"mesh": torus` (the rest of the first object, then the file).
 set(OS ${CMAKE_CURRENT_BINARY_DIR}/options_scenes)
 function(pr_scene name json)
     file(WRITE ${OS}/${name}.json "{\"objects\": [{\"mesh\": \"${M}/torus.obj\"${json}\n")
+endfunction()
+# A scene that `render` refuses with one line naming the file: cli.scene_NAME.
+function(pr_scene_refused name json message)
+    pr_scene(${name} "${json}")
+    pr_cli(scene_${name} EXIT 1 ONE_LINE STDERR "${E}.*${name}.json: ${message}" NO_FILE o.png
+           ARGS render --scene ${OS}/${name}.json --out o.png)
 endfunction()
 
 # 1. Directions: normalized in double after dividing by the largest component.
@@ -66,9 +41,7 @@ pr_cli(up_zero EXIT 1 ONE_LINE STDERR "${E}--up: must not be the zero vector" NO
        ARGS render ${T} --up 0,0,0 --out o.png)
 pr_scene(up_huge "}], \"camera\": {\"up\": [0, 3e19, 0]}}")
 pr_cli(scene_up_huge EXIT 0 EXPECT_FILE o.png STDOUT "coverage 1[0-9]\\." ARGS render --scene ${OS}/up_huge.json --size 48x48 --out o.png)
-pr_scene(up_zero "}], \"camera\": {\"up\": [0, 0, 0]}}")
-pr_cli(scene_up_zero EXIT 1 ONE_LINE STDERR "${E}.*up_zero.json: camera.up: must not be the zero vector"
-       NO_FILE o.png ARGS render --scene ${OS}/up_zero.json --out o.png)
+pr_scene_refused(up_zero "}], \"camera\": {\"up\": [0, 0, 0]}}" "camera.up: must not be the zero vector")
 pr_cli(eye_huge EXIT 1 ONE_LINE STDERR "${E}--eye: coordinates must be at most 1e15" NO_FILE o.png
        ARGS render ${T} --eye 1e30,0,0 --target 0,0,0 --out o.png)
 pr_cli(target_huge EXIT 1 ONE_LINE STDERR "${E}--target: coordinates must be at most 1e15" NO_FILE o.png
@@ -79,32 +52,16 @@ pr_scene(translate_huge ", \"transform\": {\"translate\": [0, 1e30, 0]}}]}")
 pr_cli(scene_translate_huge EXIT 1 ONE_LINE
        STDERR "${E}.*translate_huge.json: objects\\[0\\].transform.translate: coordinates must be at most 1e15"
        NO_FILE o.png ARGS render --scene ${OS}/translate_huge.json --out o.png)
-pr_scene(eye_huge "}], \"camera\": {\"eye\": [1e30, 0, 0], \"target\": [0, 0, 0]}}")
-pr_cli(scene_eye_huge EXIT 1 ONE_LINE STDERR "${E}.*eye_huge.json: camera.eye: coordinates must be at most 1e15"
-       NO_FILE o.png ARGS render --scene ${OS}/eye_huge.json --out o.png)
+pr_scene_refused(eye_huge "}], \"camera\": {\"eye\": [1e30, 0, 0], \"target\": [0, 0, 0]}}" "camera.eye: coordinates must be at most 1e15")
 
 # 3. A scene file's values under the file's name; flags keep theirs.
-pr_scene(depth_negative ", \"depth\": -1}]}")
-pr_cli(scene_depth_negative EXIT 1 ONE_LINE STDERR "${E}.*depth_negative.json: objects\\[0\\].depth: must be a finite number >= 0"
-       NO_FILE o.png ARGS render --scene ${OS}/depth_negative.json --out o.png)
-pr_scene(midlevel_two ", \"midlevel\": 2}]}")
-pr_cli(scene_midlevel EXIT 1 ONE_LINE STDERR "${E}.*midlevel_two.json: objects\\[0\\].midlevel: must be between 0 and 1"
-       NO_FILE o.png ARGS render --scene ${OS}/midlevel_two.json --out o.png)
-pr_scene(fovy_zero "}], \"camera\": {\"fovy\": 0}}")
-pr_cli(scene_fovy EXIT 1 ONE_LINE STDERR "${E}.*fovy_zero.json: camera.fovy: must be more than 0.5"
-       NO_FILE o.png ARGS render --scene ${OS}/fovy_zero.json --out o.png)
-pr_scene(elevation_high "}], \"camera\": {\"elevation\": 91}}")
-pr_cli(scene_elevation EXIT 1 ONE_LINE STDERR "${E}.*elevation_high.json: camera.elevation: must be between -90 and 90"
-       NO_FILE o.png ARGS render --scene ${OS}/elevation_high.json --out o.png)
-pr_scene(eye_is_target "}], \"camera\": {\"eye\": [1, 2, 3], \"target\": [1, 2, 3]}}")
-pr_cli(scene_eye_is_target EXIT 1 ONE_LINE STDERR "${E}.*eye_is_target.json: camera.eye: eye and target are the same point"
-       NO_FILE o.png ARGS render --scene ${OS}/eye_is_target.json --out o.png)
-pr_scene(eye_is_centre "}], \"camera\": {\"eye\": [0, 0, 0]}}")
-pr_cli(scene_eye_is_centre EXIT 1 ONE_LINE STDERR "${E}.*eye_is_centre.json: camera: eye and target are the same point"
-       NO_FILE o.png ARGS render --scene ${OS}/eye_is_centre.json --out o.png)
-pr_scene(size_zero "}], \"size\": \"0x10\"}")
-pr_cli(scene_size_zero EXIT 1 ONE_LINE STDERR "${E}.*size_zero.json: size: each side must be between 1 and 16384"
-       NO_FILE o.png ARGS render --scene ${OS}/size_zero.json --out o.png)
+pr_scene_refused(depth_negative ", \"depth\": -1}]}" "objects\\[0\\].depth: must be a finite number >= 0")
+pr_scene_refused(midlevel_two ", \"midlevel\": 2}]}" "objects\\[0\\].midlevel: must be between 0 and 1")
+pr_scene_refused(fovy_zero "}], \"camera\": {\"fovy\": 0}}" "camera.fovy: must be more than 0.5")
+pr_scene_refused(elevation_high "}], \"camera\": {\"elevation\": 91}}" "camera.elevation: must be between -90 and 90")
+pr_scene_refused(eye_is_target "}], \"camera\": {\"eye\": [1, 2, 3], \"target\": [1, 2, 3]}}" "camera.eye: eye and target are the same point")
+pr_scene_refused(eye_is_centre "}], \"camera\": {\"eye\": [0, 0, 0]}}" "camera: eye and target are the same point")
+pr_scene_refused(size_zero "}], \"size\": \"0x10\"}" "size: each side must be between 1 and 16384")
 pr_scene(plain "}]}")
 pr_cli(scene_depth_flag EXIT 1 ONE_LINE STDERR "${E}--depth: must be a finite number >= 0" NO_FILE o.png
        ARGS render --scene ${OS}/plain.json --depth -1 --out o.png)
@@ -120,16 +77,12 @@ pr_scene(projective ", \"transform\": {\"matrix\": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0
 pr_cli(scene_matrix_projective EXIT 1 ONE_LINE
        STDERR "${E}.*projective.json: objects\\[0\\].transform.matrix: must be affine: last row 0 0 0 1"
        NO_FILE o.png ARGS render --scene ${OS}/projective.json --out o.png)
-pr_scene(singular ", \"transform\": {\"matrix\": [1,1,0,0, 1,1,0,0, 0,0,1,0, 0,0,0,1]}}]}")
-pr_cli(scene_matrix_singular EXIT 1 ONE_LINE STDERR "${E}.*singular.json: objects\\[0\\].transform.matrix: is singular"
-       NO_FILE o.png ARGS render --scene ${OS}/singular.json --out o.png)
+pr_scene_refused(singular ", \"transform\": {\"matrix\": [1,1,0,0, 1,1,0,0, 0,0,1,0, 0,0,0,1]}}]}" "objects\\[0\\].transform.matrix: is singular")
 pr_scene(nearly_singular ", \"transform\": {\"matrix\": [1,1,0,0, 1,1.000000001,0,0, 0,0,1,0, 0,0,0,1]}}]}")
 pr_cli(scene_matrix_nearly_singular EXIT 1 ONE_LINE
        STDERR "${E}.*nearly_singular.json: objects\\[0\\].transform.matrix: is nearly singular"
        NO_FILE o.png ARGS render --scene ${OS}/nearly_singular.json --out o.png)
-pr_scene(scale_thin ", \"transform\": {\"scale\": [1, 1e-9, 1]}}]}")
-pr_cli(scene_scale_nearly_zero EXIT 1 ONE_LINE STDERR "${E}.*scale_thin.json: objects\\[0\\].transform.scale: is nearly singular"
-       NO_FILE o.png ARGS render --scene ${OS}/scale_thin.json --out o.png)
+pr_scene_refused(scale_thin ", \"transform\": {\"scale\": [1, 1e-9, 1]}}]}" "objects\\[0\\].transform.scale: is nearly singular")
 pr_scene(matrix_and_parts ", \"transform\": {\"matrix\": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1], \"translate\": [1, 0, 0]}}]}")
 pr_cli(scene_matrix_and_parts EXIT 1 ONE_LINE
        STDERR "${E}.*matrix_and_parts.json: objects\\[0\\].transform: either \"matrix\" or translate/rotate/scale, not both"
@@ -141,15 +94,9 @@ pr_scene(mirror_scale ", \"transform\": {\"scale\": [1, -1, 1], \"rotate\": [10,
 pr_cli(scene_mirror_scale_accepted EXIT 0 EXPECT_FILE o.png ARGS render --scene ${OS}/mirror_scale.json --size 48x48 --out o.png)
 
 # 6. Duplicate keys; base_color range.
-pr_scene(duplicate_mesh ", \"mesh\": \"${M}/cube.obj\"}]}")
-pr_cli(scene_duplicate_key EXIT 1 ONE_LINE STDERR "${E}.*duplicate_mesh.json: objects\\[0\\]: \"mesh\" is given twice"
-       NO_FILE o.png ARGS render --scene ${OS}/duplicate_mesh.json --out o.png)
-pr_scene(duplicate_top "}], \"size\": \"48x48\", \"size\": \"64x64\"}")
-pr_cli(scene_duplicate_top_key EXIT 1 ONE_LINE STDERR "${E}.*duplicate_top.json: \"size\" is given twice"
-       NO_FILE o.png ARGS render --scene ${OS}/duplicate_top.json --out o.png)
-pr_scene(duplicate_nested ", \"transform\": {\"rotate\": [0, 0, 0]}}, {\"mesh\": \"${M}/cube.obj\", \"transform\": {\"scale\": 1, \"scale\": 2}}]}")
-pr_cli(scene_duplicate_nested_key EXIT 1 ONE_LINE STDERR "${E}.*duplicate_nested.json: objects\\[1\\].transform: \"scale\" is given twice"
-       NO_FILE o.png ARGS render --scene ${OS}/duplicate_nested.json --out o.png)
+pr_scene_refused(duplicate_mesh ", \"mesh\": \"${M}/cube.obj\"}]}" "objects\\[0\\]: \"mesh\" is given twice")
+pr_scene_refused(duplicate_top "}], \"size\": \"48x48\", \"size\": \"64x64\"}" "\"size\" is given twice")
+pr_scene_refused(duplicate_nested ", \"transform\": {\"rotate\": [0, 0, 0]}}, {\"mesh\": \"${M}/cube.obj\", \"transform\": {\"scale\": 1, \"scale\": 2}}]}" "objects\\[1\\].transform: \"scale\" is given twice")
 pr_scene(base_color_range ", \"base_color\": [2, -1, 0.5]}]}")
 pr_cli(scene_base_color_range EXIT 1 ONE_LINE
        STDERR "${E}.*base_color_range.json: objects\\[0\\].base_color: must be three numbers between 0 and 1"
