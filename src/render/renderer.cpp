@@ -808,13 +808,14 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         glDrawElements(GL_TRIANGLES, shell.index_count, GL_UNSIGNED_INT, nullptr);
         glDisable(GL_CULL_FACE);
     };
-    // The walk: the top caps, on open meshes the bottom caps too, then the other front faces of
-    // the listed prisms (ShellDraw).
+    // The walk: the top caps, on open meshes the bottom caps too (the sheet seen from below: the
+    // walk starts under the surface and meets its back), then the other front faces of the
+    // listed prisms (ShellDraw).
     const auto draw_walk_shell = [&](const GpuObject& o, WalkVariant variant) {
         set_object(o);
         bind_prism_data(o, true);
         draw_caps(o, variant, ShellDraw::Tops);
-        if (o.open_shell) draw_caps(o, variant, ShellDraw::Bottoms);
+        if (o.open_shell) draw_caps(o, WalkVariant::UnderSurface, ShellDraw::Bottoms);
         const int full = settings.full_shell ? 1 : 0;
         if (o.listed_count[full] > 0) {
             glUseProgram(program_for(settings, variant, ShellDraw::Listed));
