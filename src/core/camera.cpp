@@ -58,6 +58,20 @@ void fit_clip_planes(Camera& camera, const Sphere& bounds)
     camera.near_plane = std::max(d - r, camera.far_plane * 1e-4f);
 }
 
+void fit_clip_planes(Camera& camera, const std::vector<Sphere>& objects, const Sphere& all)
+{
+    if (objects.size() < 2) return fit_clip_planes(camera, all);
+    float near = INFINITY, far = 0.0f;
+    for (const Sphere& b : objects) {
+        const float d = glm::length(camera.eye - b.center);
+        const float r = b.radius * 1.05f;
+        far = std::max(far, d + r);
+        near = std::min(near, std::max(d - r, (d + r) * 1e-4f));
+    }
+    camera.far_plane = far;
+    camera.near_plane = std::min(near, far * 0.5f);
+}
+
 float depth_to_distance(const Camera& camera, int width, int height, float x, float y, float window_depth)
 {
     const float aspect = static_cast<float>(width) / static_cast<float>(height);

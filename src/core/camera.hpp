@@ -4,6 +4,7 @@
 #include <glm/glm.hpp>
 
 #include <optional>
+#include <vector>
 
 namespace pr {
 
@@ -40,6 +41,11 @@ Camera frame_sphere(const Sphere& bounds, float fovy_deg, float aspect, float el
 // Near and far planes that enclose `bounds` as seen from the camera (near never below a small
 // fraction of the distance, so depth precision holds).
 void fit_clip_planes(Camera& camera, const Sphere& bounds);
+// The same for several objects' bounds: far encloses them all, near comes from the nearest
+// (each object's near is kept from a small fraction of its own far side, not the scene's, so
+// that a far-away object does not push the near plane past the near ones). `all` encloses them
+// (the result is fit_clip_planes(camera, all) for one object).
+void fit_clip_planes(Camera& camera, const std::vector<Sphere>& objects, const Sphere& all);
 
 // Distance from the eye along the pixel's ray for a window-space depth value (0..1) at pixel
 // centre (x + 0.5, y + 0.5) of a width x height image: the contract's depth-error measure.

@@ -59,6 +59,8 @@ Scene load_scene(const SceneSpec& spec)
         const float reach = obj.depth * std::max(obj.midlevel, 1.0f - obj.midlevel);
         lo = glm::min(lo, olo - glm::vec3(reach));
         hi = glm::max(hi, ohi + glm::vec3(reach));
+        scene.object_bounds.push_back(
+            {0.5f * (olo + ohi), std::max(0.5f * glm::length(ohi - olo) + reach, 1e-6f)});
         scene.objects.push_back(std::move(obj));
     }
     scene.shell_bounds.center = 0.5f * (lo + hi);
@@ -83,7 +85,7 @@ Camera scene_camera(const SceneSpec& spec, const Scene& scene)
         const glm::dvec3 view = glm::dvec3(camera.target) - glm::dvec3(camera.eye), up(camera.up);
         if (glm::length(glm::cross(view, up)) <= 1e-6 * glm::length(view) * glm::length(up))
             throw Error("--up", "up is parallel to the viewing direction");
-        fit_clip_planes(camera, scene.shell_bounds);
+        fit_clip_planes(camera, scene.object_bounds, scene.shell_bounds);
         return camera;
     }
     Sphere s = scene.shell_bounds;
@@ -92,7 +94,7 @@ Camera scene_camera(const SceneSpec& spec, const Scene& scene)
         s.center = *c.target;
     }
     camera = frame_sphere(s, c.fovy_deg, aspect, c.elevation_deg, c.azimuth_deg, c.up);
-    fit_clip_planes(camera, scene.shell_bounds);
+    fit_clip_planes(camera, scene.object_bounds, scene.shell_bounds);
     return camera;
 }
 

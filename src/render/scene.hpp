@@ -57,6 +57,7 @@ struct SceneObject {
 struct Scene {
     std::vector<SceneObject> objects;
     Sphere shell_bounds; // world space, encloses every object's full displacement shell
+    std::vector<Sphere> object_bounds; // the same per object (clip planes: fit_clip_planes)
 };
 
 // Loads every mesh and image (each distinct file once). Throws pr::Error naming the file.

@@ -164,7 +164,14 @@ private:
     RgbaImage read_window() const;
     bool half_needs_reference() const;
     std::string settings_key() const;
-    void fit_planes() { fit_clip_planes(s_.camera, bounds_); }
+    // Each object's bounds grown as the scene's (apply_displacement), so that a far-away object
+    // does not push the near plane past the near ones.
+    void fit_planes()
+    {
+        std::vector<Sphere> objects = s_.scene.object_bounds;
+        for (Sphere& b : objects) b.radius += bounds_.radius - base_radius_;
+        fit_clip_planes(s_.camera, objects, bounds_);
+    }
     void error(const std::string& message); // warns, and shows it in the panel's log
     void note(const std::string& message);  // the panel's log only (newest last, the last six)
 

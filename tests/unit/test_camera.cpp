@@ -1,0 +1,30 @@
+// Clip planes from a scene's bounds (src/core/camera.cpp).
+#include "core/camera.hpp"
+
+#include <gtest/gtest.h>
+
+// A far-away object keeps the near plane at the near object: with one sphere around both, the
+// near plane was kept from a fraction of the far plane (1e-4 of 1e5) and cut the near object away
+// (a scene with a sphere 4e4 away lost its torus' front, at 7e4 everything).
+TEST(Camera, FarObjectDoesNotPushTheNearPlanePastNearOnes)
+{
+    pr::Camera c;
+    c.eye = {0.0f, 0.0f, 5.0f};
+    const std::vector<pr::Sphere> objects = {{{0.0f, 0.0f, 0.0f}, 1.0f}, {{0.0f, 0.0f, -1e5f}, 1.0f}};
+    const pr::Sphere all{{0.0f, 0.0f, -5e4f}, 5e4f + 1.0f};
+    pr::fit_clip_planes(c, objects, all);
+    EXPECT_LE(c.near_plane, 5.0f - 1.0f);
+    EXPECT_GT(c.near_plane, 0.0f);
+    EXPECT_GE(c.far_plane, 1e5f + 5.0f);
+    // One object: as for its sphere alone.
+    pr::Camera one = c, alone = c;
+    pr::fit_clip_planes(one, {objects[0]}, objects[0]);
+    pr::fit_clip_planes(alone, objects[0]);
+    EXPECT_EQ(one.near_plane, alone.near_plane);
+    EXPECT_EQ(one.far_plane, alone.far_plane);
+    // The eye inside an object: near is a small fraction of that object's far side, not zero.
+    c.eye = {0.0f, 0.0f, 0.5f};
+    pr::fit_clip_planes(c, objects, all);
+    EXPECT_GT(c.near_plane, 0.0f);
+    EXPECT_LT(c.near_plane, 0.01f);
+}
