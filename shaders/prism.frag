@@ -418,7 +418,9 @@ void main()
     vec3 light_dir = normalize(u_light_dir.xyz);
     float visibility = 1.0;
 #ifdef PR_SHADOWS
-    if (dot(shading_n, light_dir) > 0.0)
+    // (Not for the back of the surface: its light comes from the other side of the height
+    // field, which the march towards the top of the height range does not describe.)
+    if (dot(shading_n, light_dir) > 0.0 && !below)
         visibility = light_visibility(tex,
                                       light_in_texture_space(t_axis, b_axis, n, u_displace.x, light_dir), g);
 #endif

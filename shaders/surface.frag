@@ -94,6 +94,14 @@ void main()
     vec3 light_dir = normalize(u_light_dir.xyz);
     float visibility = 1.0;
 #if defined(PR_SHADOWS) && PR_TECHNIQUE != PR_TECH_FLAT
+#if PR_TECHNIQUE == PR_TECH_NORMAL || PR_TECHNIQUE == PR_TECH_OFFSET || PR_TECHNIQUE == PR_TECH_STEEP
+    // The point shown is not on the height field: the polygon (normal), a point shifted by the
+    // offset of another texel's height (offset), the first sample under the surface (steep). The
+    // light march starts on the surface at the uv shown, or it starts under the surface and
+    // everything is in shadow (offset's bumps were black pits under a light overhead, steep's
+    // slopes speckled) or over it and nothing is (normal never cast a shadow).
+    if (depth > 0.0 && dot(n, light_dir) > 0.0) s_hit = height_at(uv, g);
+#endif
     if (depth > 0.0 && dot(n, light_dir) > 0.0)
         visibility = light_visibility(vec3(uv, s_hit),
                                       light_in_texture_space(t_axis, b_axis, n_geom, depth, light_dir), g);

@@ -17,7 +17,11 @@
 float light_visibility(vec3 tex, vec3 l_tex, UvGrad g)
 {
 #ifdef PR_SHADOWS
-    if (l_tex.z <= 1e-6) return 1.0; // light at or below the horizon: n.l already darkens
+    // Light at or below the base surface's horizon: a light ray that does not rise stays in the
+    // height range for ever (or comes from under the surface, through the object's body), so
+    // it is blocked. (It used to count as unblocked: bump flanks facing such a light stayed lit,
+    // and a sphere's night side showed them, shadows on or off.)
+    if (l_tex.z <= 1e-6) return 0.0;
     float t_end = (1.0 - tex.z) / l_tex.z;
     if (t_end <= 0.0) return 1.0;
     // --steps per full height range, and at least one sample per two texels along the way (as the

@@ -256,6 +256,58 @@ TEST(Shadows, ATallBoxShadowsTheSideAwayFromTheLight)
     }
 }
 
+// Every technique's light march starts on the surface: under a light straight overhead nothing
+// is in shadow (offset started from another texel's height, under the surface, and its bumps were
+// black pits; steep from its first sample under the surface: speckles), and normal mapping, which
+// shows the polygon, shadows from the height under it (it never shadowed at all). A light at or
+// below the horizon leaves everything in shadow (bump flanks facing it stayed lit).
+TEST(Shadows, EveryTechniqueStartsTheLightMarchOnTheSurface)
+{
+    prtest::context();
+    auto h = std::make_shared<HeightField>(load_height("builtin:bumps@128"));
+    Renderer r(96, 96);
+    r.set_cache_dir(prtest::cache_dir());
+    r.upload(prtest::one_object(prtest::square(), h, 0.3f));
+    const Camera c = top_down_camera(4.0f, 35.0f);
+    // Mean brightness over covered pixels, and the share darkened by a third by the shadows.
+    const auto compare = [](const RgbaImage& lit, const RgbaImage& shadowed) {
+        std::size_t n = 0, dark = 0;
+        double sum = 0.0, sum_lit = 0.0;
+        for (std::size_t i = 0; i + 3 < lit.pixels.size(); i += 4) {
+            if (lit.pixels[i + 3] < 128) continue;
+            const int a = lit.pixels[i] + lit.pixels[i + 1] + lit.pixels[i + 2];
+            const int b = shadowed.pixels[i] + shadowed.pixels[i + 1] + shadowed.pixels[i + 2];
+            ++n;
+            dark += 3 * b < 2 * a;
+            sum += b;
+            sum_lit += a;
+        }
+        return std::pair{double(dark) / double(std::max<std::size_t>(n, 1)), sum / std::max(sum_lit, 1.0)};
+    };
+    for (Technique t : {Technique::Normal, Technique::Offset, Technique::Steep, Technique::Pom, Technique::Relief,
+                        Technique::RelaxedCone, Technique::Prism}) {
+        const std::string what = technique_name(t);
+        const auto draw = [&](glm::vec3 light, Shadows mode) {
+            DrawSettings s = settings(t, Marcher::RelaxedCone);
+            s.shadows = mode;
+            r.draw(c, light, s);
+            return r.read_color();
+        };
+        const glm::vec3 overhead(0.0f, 0.0f, 1.0f);
+        EXPECT_LT(compare(draw(overhead, Shadows::None), draw(overhead, Shadows::Hard)).first, 0.005) << what;
+        // Low from +X: about a quarter of the field in the bumps' shadows, as relief has it.
+        const glm::vec3 low = glm::normalize(glm::vec3(1.0f, 0.0f, 0.25f));
+        const double shadowed = compare(draw(low, Shadows::None), draw(low, Shadows::Hard)).first;
+        EXPECT_GT(shadowed, 0.1) << what;
+        EXPECT_LT(shadowed, 0.6) << what;
+        // At the horizon and under it: in shadow, hard and soft (the ambient term is left).
+        for (const glm::vec3 light : {glm::vec3(1.0f, 0.0f, 0.0f), glm::normalize(glm::vec3(1.0f, 0.0f, -0.05f))})
+            for (Shadows mode : {Shadows::Hard, Shadows::Soft})
+                EXPECT_LT(compare(draw(light, Shadows::None), draw(light, mode)).second, 0.8)
+                    << what << " " << shadows_name(mode) << " light z " << light.z;
+    }
+}
+
 // The cone marchers step the light ray through their cone map too (common/shadow.glsl): on a
 // field of boxes lit from low down, far fewer samples than the linear light march, and the same
 // shadows (a pixel is shadowed where it is darker than unshadowed by a third).
