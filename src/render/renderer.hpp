@@ -107,7 +107,9 @@ public:
     // samples no height where it crosses from prism to prism), Through for a torn mesh
     // (GpuObject::tears) that goes through the tears, and Inside, the second pass from inside
     // the object (docs/prism.md); Plain for the rest and for the other techniques. UnderSurface:
-    // the walk from an eye under the surface (ShellDraw::FromEye), which starts under it.
+    // walks that start under the surface: from an eye inside a bump (ShellDraw::FromEye), from
+    // the bottoms seen from inside a closed object's body or from below an open mesh
+    // (ShellDraw::Bottoms).
     enum class WalkVariant { Plain, Seamless, Through, Inside, UnderSurface };
     // How the prism's shell is drawn: Faces, by the geometry shader from each triangle (the exact
     // and per-vertex exits); for the walk, Tops and on open meshes Bottoms (the caps, by the
