@@ -335,7 +335,15 @@ void main()
         t_out = ex.t;
         tex_out = vec3(ex.tex.xy, clamp(ex.tex.z, 0.0, 1.0));
         // (At a seam on a torn mesh the march decides `below`: it takes the sample there.)
-        hit_segment = march_segment(tex_in, tex_out, last, pending, pending && entry_edge >= 0, below, last);
+#ifdef PR_PRISM_OPEN_ENTRY
+        // An open mesh's walls (and the other faces of its listed prisms): a ray that comes in
+        // under the surface goes on under it (the sheet has no body there), decided by the
+        // first sample, as at a seam.
+        bool decide = pending && (entry_edge >= 0 || k == 0);
+#else
+        bool decide = pending && entry_edge >= 0;
+#endif
+        hit_segment = march_segment(tex_in, tex_out, last, pending, decide, below, last);
         if (hit_segment.br.hit) break;
         // Out through a side into its neighbour, or through the top at one of its edges into the
         // neighbour's top; through a cap elsewhere, or a side without a neighbour, the ray
@@ -357,8 +365,10 @@ void main()
     // The hit prism again (corners, uv and normals for the frame below).
     load_walk_prism(prim, index, weld, from_a);
 // (Not in the second pass itself, nor in the walks from inside the body, which start at the
-// same bottoms the second pass would.)
-#if defined(PR_PRISM_TEARS) && !defined(PR_PRISM_INSIDE) && !(defined(PR_PRISM_EYE_UNDER) && defined(PR_PRISM_BOTTOMS))
+// same bottoms the second pass would, nor on an open mesh, which has no inside: such a ray has
+// left the sheet.)
+#if defined(PR_PRISM_TEARS) && !defined(PR_PRISM_INSIDE) && !(defined(PR_PRISM_EYE_UNDER) && defined(PR_PRISM_BOTTOMS)) && \
+    !defined(PR_PRISM_OPEN_ENTRY)
     if (went_in) {
         imageStore(u_tears, ivec2(gl_FragCoord.xy), uvec4(1u));
         imageStore(u_tear_tiles, ivec2(gl_FragCoord.xy) / PR_TEAR_TILE, uvec4(1u));

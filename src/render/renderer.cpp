@@ -455,8 +455,10 @@ GLuint Renderer::program_for(const DrawSettings& settings, WalkVariant variant, 
 {
     ShaderDefines defines = defines_for(settings);
     if (variant == WalkVariant::Seamless) defines.emplace_back("PR_PRISM_SEAMLESS", "1");
-    if (variant == WalkVariant::Through || variant == WalkVariant::Inside || variant == WalkVariant::UnderSurface)
+    if (variant == WalkVariant::Through || variant == WalkVariant::Inside || variant == WalkVariant::UnderSurface ||
+        variant == WalkVariant::OpenEntry)
         defines.emplace_back("PR_PRISM_TEARS", "1");
+    if (variant == WalkVariant::OpenEntry) defines.emplace_back("PR_PRISM_OPEN_ENTRY", "1");
     if (variant == WalkVariant::Inside) defines.emplace_back("PR_PRISM_INSIDE", "1");
     if (variant == WalkVariant::UnderSurface) defines.emplace_back("PR_PRISM_EYE_UNDER", "1");
     if (shell == ShellDraw::Tops) defines.emplace_back("PR_PRISM_TOPS", "1"); // no shader reads it: it keys the program, whose stages differ
@@ -818,7 +820,8 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         if (o.open_shell) draw_caps(o, WalkVariant::UnderSurface, ShellDraw::Bottoms);
         const int full = settings.full_shell ? 1 : 0;
         if (o.listed_count[full] > 0) {
-            glUseProgram(program_for(settings, variant, ShellDraw::Listed));
+            // (On an open mesh a ray may come in through a wall under the surface: OpenEntry.)
+            glUseProgram(program_for(settings, o.open_shell ? WalkVariant::OpenEntry : variant, ShellDraw::Listed));
             glBindTextureUnit(PR_TEX_PRISM_LIST, o.listed_texels[full].id());
             glDrawArrays(GL_POINTS, 0, o.listed_count[full]);
         }

@@ -110,7 +110,9 @@ public:
     // walks that start under the surface: from an eye inside a bump (ShellDraw::FromEye), from
     // the bottoms seen from inside a closed object's body or from below an open mesh
     // (ShellDraw::Bottoms).
-    enum class WalkVariant { Plain, Seamless, Through, Inside, UnderSurface };
+    // OpenEntry: the listed prisms of an open mesh, whose walls a ray may enter under the
+    // surface, and then walks on under it.
+    enum class WalkVariant { Plain, Seamless, Through, Inside, UnderSurface, OpenEntry };
     // How the prism's shell is drawn: Faces, by the geometry shader from each triangle (the exact
     // and per-vertex exits); for the walk, Tops and on open meshes Bottoms (the caps, by the
     // vertex shader alone), and Listed (by the geometry shader from one point per listed prism:
