@@ -87,7 +87,7 @@ CommandAction add_compare_command(CLI::App& app)
         const FrameCapture reference = capture(session, ref_settings, ref_ms);
 
         std::vector<Tile> top = {{"reference", reference.color}};
-        std::vector<Tile> bottom = {{"silhouette vs reference", RgbaImage{}}};
+        std::vector<Tile> bottom = {{"silhouette diff", RgbaImage{}}};
         bottom[0].image = reference.color;
         for (auto& p : bottom[0].image.pixels) p = 0; // an empty tile under the reference: legend only
         nlohmann::json results = nlohmann::json::array();
@@ -120,8 +120,10 @@ CommandAction add_compare_command(CLI::App& app)
                         m.silhouette_wrong_px,
                         m.depth_error_mean ? fixed(*m.depth_error_mean, 5).c_str() : "-",
                         m.depth_error_max ? fixed(*m.depth_error_max, 5).c_str() : "-",
-                        m.psnr ? fixed(*m.psnr, 2).c_str() : (m.identical ? "same" : "-"), ms);
-            top.push_back({run.label + "  IoU " + fixed(m.iou, 4), frame.color});
+                        m.psnr ? fixed(*m.psnr, 2).c_str() : (m.identical ? "same" : (m.both > 0 ? "inf" : "-")), ms);
+            // The number first: a label too long for its strip is cut at the end (at 128 px the
+            // IoU of "prism:max-mip" read "IoU 0" whatever it was).
+            top.push_back({"IoU " + fixed(m.iou, 4) + "  " + run.label, frame.color});
             bottom.push_back({std::to_string(m.silhouette_wrong_px) + " px wrong",
                               silhouette_diff_tile(frame.color, reference.color)});
         }
