@@ -133,7 +133,7 @@ std::vector<glm::vec4> make_shell_corners(const std::vector<MeshVertex>& vertice
                                           const glm::mat4& transform, float depth, float midlevel)
 {
     const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(transform)));
-    const std::vector<float> top = shell_top_heights(vertices, indices, height);
+    const std::vector<float> top = shell_top_heights(vertices, indices, height, TopSlope{transform, depth});
     std::vector<glm::vec4> corners;
     corners.reserve(vertices.size() * 3);
     for (std::size_t i = 0; i < vertices.size(); ++i) {

@@ -5,6 +5,8 @@
 #include "core/image.hpp"
 #include "mesh/mesh.hpp"
 
+#include <glm/mat4x4.hpp>
+
 #include <cstdint>
 #include <vector>
 
@@ -13,9 +15,17 @@ namespace pr {
 // Per render vertex: an upper bound, in [0, 1], of the bilinear height field over every triangle
 // that shares the vertex's welded position (each triangle's bound covers the texels of its UV
 // bounding box, with repeat wrap, plus the GPU's quantization of the heights), equal for every
-// copy of a position, so that neighbouring prisms keep identical side faces.
+// copy of a position, so that neighbouring prisms keep identical side faces. With `slope` (a
+// depth above 0), tops are raised where needed so that along every edge they differ by at most
+// the edge's world length over the depth (caps tilted no more than 45 degrees along an edge:
+// steeper ones fold the shell, and the walk draws every face of a folded prism).
+struct TopSlope {
+    glm::mat4 transform{1.0f}; // object to world
+    float depth = 0.0f;        // world units; 0: no limit
+};
 std::vector<float> shell_top_heights(const std::vector<MeshVertex>& vertices,
-                                     const std::vector<std::uint32_t>& indices, const HeightField& height);
+                                     const std::vector<std::uint32_t>& indices, const HeightField& height,
+                                     const TopSlope& slope = {});
 
 // One vertex of the walk's shell corners, three vec4 per vertex as the renderer builds them
 // (renderer.cpp, make_shell_corners; PR_TEX_CORNERS in shared.h): the bottom corner (world) and

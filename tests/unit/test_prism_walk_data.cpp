@@ -6,6 +6,7 @@
 #include "mesh/mesh.hpp"
 #include "render/shell_bounds.hpp"
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -159,4 +160,32 @@ TEST(ShellBounds, TopStaysAboveTheFieldAndAgreesAcrossSeams)
         }
         if (std::string(name) == "rock.obj") EXPECT_LT(sum / double(top.size()), 0.8) << "not tight";
     }
+}
+
+// With a slope limit the tops only rise, stay equal across copies of a position, and along every
+// edge differ by at most the edge's world length over the depth; on a mesh of triangles small
+// against the texels (the UV sphere with a fine map and a deep shell) the limit raises some tops.
+TEST(ShellBounds, SlopeLimitRaisesTopsUntilNoEdgeIsSteep)
+{
+    const pr::HeightField h = pr::load_height("builtin:noise@256");
+    const pr::PreparedMesh m = pr::load_mesh(std::filesystem::path(PR_SOURCE_DIR) / "meshes" / "uv_sphere.obj");
+    const glm::mat4 transform = glm::scale(glm::mat4(1.0f), glm::vec3(2.0f));
+    const float depth = 0.5f;
+    const std::vector<float> plain = pr::shell_top_heights(m.vertices, m.indices, h);
+    const std::vector<float> limited = pr::shell_top_heights(m.vertices, m.indices, h, pr::TopSlope{transform, depth});
+    ASSERT_EQ(limited.size(), plain.size());
+    std::size_t raised = 0;
+    for (std::size_t i = 0; i < plain.size(); ++i) {
+        EXPECT_GE(limited[i], plain[i]);
+        EXPECT_LE(limited[i], 1.0f);
+        raised += limited[i] > plain[i];
+    }
+    EXPECT_GT(raised, 0u);
+    for (std::size_t t = 0; t < m.indices.size(); t += 3)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = m.indices[t + std::size_t(k)], b = m.indices[t + std::size_t((k + 1) % 3)];
+            const float run = glm::length(glm::vec3(transform * glm::vec4(m.vertices[a].position, 1.0f)) -
+                                          glm::vec3(transform * glm::vec4(m.vertices[b].position, 1.0f))) / depth;
+            EXPECT_LE(std::abs(limited[a] - limited[b]), run + 2e-5f) << "edge of triangle " << t / 3;
+        }
 }
