@@ -773,8 +773,11 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     const auto goes_inside = [&](std::size_t k) {
         return objects_[k].tears || (eye_in[k] && eye_in[k]->under && !objects_[k].open_shell);
     };
+    // (The images are set up for any walk from under the surface, which marks pixels: on an open
+    // mesh there is no second pass for them, but the images are bound.)
     bool tears = false;
-    for (std::size_t k = 0; walk && k < objects_.size(); ++k) tears = tears || goes_inside(k);
+    for (std::size_t k = 0; walk && k < objects_.size(); ++k)
+        tears = tears || goes_inside(k) || (eye_in[k] && eye_in[k]->under);
     if (tears) {
         if (!tear_mask_) {
             tear_mask_ = gl::Texture::create(GL_TEXTURE_2D);
