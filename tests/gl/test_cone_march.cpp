@@ -107,6 +107,18 @@ double counted_draw(Renderer& r, const Camera& c, DrawSettings s, std::uint64_t 
     return double(k.samples) / double(std::max<std::uint64_t>(k.fragments, 1));
 }
 
+// Pixel p's R+G+B in an image.
+int rgb_sum(const RgbaImage& img, std::size_t p)
+{
+    return img.pixels[4 * p] + img.pixels[4 * p + 1] + img.pixels[4 * p + 2];
+}
+
+// Whether pixel p of `shadowed` is darker than in `lit` by a third: shadowed.
+bool darkened(const RgbaImage& lit, const RgbaImage& shadowed, std::size_t p)
+{
+    return 3 * rgb_sum(shadowed, p) < 2 * rgb_sum(lit, p);
+}
+
 } // namespace
 
 // The contract's test: on a flat shell, cone and relaxed-cone (and max-mip inside the prism) find
@@ -273,14 +285,12 @@ TEST(Shadows, EveryTechniqueStartsTheLightMarchOnTheSurface)
     const auto compare = [](const RgbaImage& lit, const RgbaImage& shadowed) {
         std::size_t n = 0, dark = 0;
         double sum = 0.0, sum_lit = 0.0;
-        for (std::size_t i = 0; i + 3 < lit.pixels.size(); i += 4) {
-            if (lit.pixels[i + 3] < 128) continue;
-            const int a = lit.pixels[i] + lit.pixels[i + 1] + lit.pixels[i + 2];
-            const int b = shadowed.pixels[i] + shadowed.pixels[i + 1] + shadowed.pixels[i + 2];
+        for (std::size_t p = 0; p < lit.pixels.size() / 4; ++p) {
+            if (lit.pixels[4 * p + 3] < 128) continue;
             ++n;
-            dark += 3 * b < 2 * a;
-            sum += b;
-            sum_lit += a;
+            dark += darkened(lit, shadowed, p);
+            sum += rgb_sum(shadowed, p);
+            sum_lit += rgb_sum(lit, p);
         }
         return std::pair{double(dark) / double(std::max<std::size_t>(n, 1)), sum / std::max(sum_lit, 1.0)};
     };
@@ -325,11 +335,7 @@ TEST(Shadows, ConeMarchersStepTheLightRayThroughTheCones)
     // Per pixel: true where the shadowed image is darker than the unshadowed one by a third.
     const auto shadow_mask = [](const RgbaImage& lit, const RgbaImage& shadowed) {
         std::vector<char> m(lit.pixels.size() / 4);
-        for (std::size_t i = 0; i < m.size(); ++i) {
-            const int a = lit.pixels[4 * i] + lit.pixels[4 * i + 1] + lit.pixels[4 * i + 2];
-            const int b = shadowed.pixels[4 * i] + shadowed.pixels[4 * i + 1] + shadowed.pixels[4 * i + 2];
-            m[i] = 3 * b < 2 * a;
-        }
+        for (std::size_t i = 0; i < m.size(); ++i) m[i] = darkened(lit, shadowed, i);
         return m;
     };
     struct Result {
