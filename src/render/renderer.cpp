@@ -759,13 +759,16 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     // Torn meshes (GpuObject::tears): the walk marks the pixels whose rays went into the object
     // through a tear; a second pass from the far side's bottoms shades those (prism.frag).
     // The eye inside an object's shell (find_eye_prism, item 12): looked for once per object.
+    // Else, inside a closed object's body (eye_inside_body).
     std::vector<std::optional<EyeInShell>> eye_in(objects_.size());
+    std::vector<char> in_body(objects_.size(), 0);
     if (walk)
         for (std::size_t k = 0; k < objects_.size(); ++k) {
             const GpuObject& o = objects_[k];
             eye_in[k] = find_eye_prism(o.shell_corners, o.triangles, o.eye_blocks, o.depth, settings.full_shell,
                                        camera.eye,
                                        [&](glm::vec2 uv) { return o.height_field ? o.height_field->sample(uv) : 0.0f; });
+            in_body[k] = !eye_in[k] && !o.open_shell && eye_inside_body(o.shell_corners, o.triangles, o.eye_blocks, camera.eye);
         }
     // Objects whose walks may go into the object under the surface and need the second pass:
     // torn meshes, and a closed mesh with the eye under its surface (inside a bump), whose rays
@@ -815,14 +818,16 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     };
     // The walk: the top caps, on open meshes the bottom caps too (the sheet seen from below: the
     // walk starts under the surface and meets its back), then the other front faces of the
-    // listed prisms (ShellDraw).
-    const auto draw_walk_shell = [&](const GpuObject& o, WalkVariant variant) {
+    // listed prisms (ShellDraw) — not with the eye inside the body: those of prisms folded where
+    // the bottom caps fold (an inward shell at sharp edges) face it from inside and would start
+    // walks as from outside (lit shards along the rock's seams at midlevel 1, PSNR 23 dB).
+    const auto draw_walk_shell = [&](const GpuObject& o, WalkVariant variant, bool eye_in_body) {
         set_object(o);
         bind_prism_data(o, true);
         draw_caps(o, variant, ShellDraw::Tops);
         if (o.open_shell) draw_caps(o, WalkVariant::UnderSurface, ShellDraw::Bottoms);
         const int full = settings.full_shell ? 1 : 0;
-        if (o.listed_count[full] > 0) {
+        if (o.listed_count[full] > 0 && !eye_in_body) {
             // (On an open mesh a ray may come in through a wall under the surface: OpenEntry.)
             glUseProgram(program_for(settings, o.open_shell ? WalkVariant::OpenEntry : variant, ShellDraw::Listed));
             glBindTextureUnit(PR_TEX_PRISM_LIST, o.listed_texels[full].id());
@@ -841,10 +846,10 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     // starts the walk of the rays that begin there. A screen-filling triangle at the near plane
     // starts them at the eye, in the prism that holds it (docs/prism.md, item 12); an eye in no
     // prism but inside the body walks from the bottoms.
-    const auto draw_from_eye = [&](const GpuObject& o, const std::optional<EyeInShell>& in, WalkVariant variant) {
+    const auto draw_from_eye = [&](const GpuObject& o, const std::optional<EyeInShell>& in, bool eye_in_body,
+                                   WalkVariant variant) {
         if (!in) {
-            if (!o.open_shell && eye_inside_body(o.shell_corners, o.triangles, o.eye_blocks, camera.eye))
-                draw_from_body(o);
+            if (eye_in_body) draw_from_body(o);
             return;
         }
         set_object(o, &*in);
@@ -859,8 +864,8 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         if (walk) {
             const WalkVariant variant =
                 o.tears ? WalkVariant::Through : (o.seamless ? WalkVariant::Seamless : WalkVariant::Plain);
-            draw_walk_shell(o, variant);
-            draw_from_eye(o, eye_in[k], variant);
+            draw_walk_shell(o, variant, in_body[k]);
+            draw_from_eye(o, eye_in[k], in_body[k], variant);
             continue;
         }
         glUseProgram(program);

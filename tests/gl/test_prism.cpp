@@ -607,6 +607,7 @@ TEST(Prism, WalkStartsAtTheEyeInsideTheShell)
         glm::vec3 eye, target;
         bool under = false; // inside a bump
         bool flat_top = false; // the height map is 1 everywhere (else bumps)
+        float midlevel = 0.0f;
     };
     const View views[] = {{"plane.obj", {0.1f, 0.03f, 0.3f}, {0.3f, 0.0f, -0.3f}},
                           {"torus.obj", {1.0f, 0.43f, 0.0f}, {0.5f, 0.3f, 0.9f}},
@@ -622,11 +623,16 @@ TEST(Prism, WalkStartsAtTheEyeInsideTheShell)
                           // Under the surface of a sphere, looking into it: the rays that go on
                           // into the body come out on its far side, from inside (second pass; they
                           // drew nothing: IoU 0.89 inside a bump).
-                          {"uv_sphere.obj", {0.0f, 0.0f, 1.02f}, {0.3f, 0.0f, 0.0f}, true, true}};
+                          {"uv_sphere.obj", {0.0f, 0.0f, 1.02f}, {0.3f, 0.0f, 0.0f}, true, true},
+                          // Inside the rock (UV seams, sharp chips) with the shell inward: the
+                          // faces of prisms folded where the bottoms fold faced the eye and
+                          // started walks as from outside (lit shards, 23 dB).
+                          {"rock.obj", {0.0f, 0.0f, 0.0f}, {1.0f, 0.2f, 0.3f}, true, false, 1.0f}};
     for (const View& v : views) {
         Scene scene = mesh_scene(v.mesh, v.flat_top ? prtest::height_from(16, [](float, float) { return 1.0f; })
                                                     : bumps_map(256),
                                  0.04f);
+        scene.objects[0].midlevel = v.midlevel;
         r.upload(scene);
         Camera c;
         c.eye = v.eye;
