@@ -523,10 +523,29 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
         fail(subject, "PLY vertex element lacks an x, y or z property");
     if (!face || face->count == 0) fail(subject, "contains no faces");
     bool has_indices = false;
-    for (const PlyProperty& p : face->properties)
-        if (p.count_size > 0 && (p.name == "vertex_indices" || p.name == "vertex_index"))
-            has_indices = true;
+    for (const PlyProperty& p : face->properties) {
+        const bool indices = p.name == "vertex_indices" || p.name == "vertex_index";
+        if (p.count_size > 0 && indices) has_indices = true;
+        // OpenMesh's reader takes a face's other lists for more indices and fails, saying a face
+        // "has fewer than 3 vertices": name the list instead (MeshLab writes per-face UVs so).
+        if (p.count_size > 0 && !indices)
+            fail(subject, "PLY face element has a list property '" + p.name +
+                              "' besides vertex_indices, which is not read (texture coordinates are read "
+                              "per vertex, as u v or s t)");
+    }
     if (!has_indices) fail(subject, "PLY face element lacks a vertex_indices list");
+    // Texture coordinates under names the reader does not take are dropped: say which, rather
+    // than only that the file has none (UVs are then generated).
+    std::string ignored_uv;
+    bool has_uv = false;
+    for (const PlyProperty& p : vertex->properties) {
+        if (p.name == "u" || p.name == "v" || p.name == "s" || p.name == "t") has_uv = true;
+        else if (p.name.find("tex") != std::string::npos)
+            ignored_uv += (ignored_uv.empty() ? "" : ", ") + p.name;
+    }
+    if (!has_uv && !ignored_uv.empty())
+        warn(subject + ": vertex properties " + ignored_uv +
+             " are not read as texture coordinates (u v or s t are)");
 
     // Smallest body the header allows: binary sizes, or two characters per ASCII value; faces
     // have at least three indices.

@@ -93,6 +93,14 @@ pr_refuse(mesh_fuzz_ply_bad_version "fuzz_ply_bad_version.ply" "line 2: malforme
           ARGS render --mesh ${BAD}/fuzz_ply_bad_version.ply --size 48x48 --out o.png)
 pr_refuse(mesh_ply_obj_info_keyword "ply_obj_info_keyword.ply" "line 3: obj_info line contains the header keyword 'element'"
           ARGS render --mesh ${BAD}/ply_obj_info_keyword.ply --size 48x48 --out o.png)
+# Per-face texture coordinates (MeshLab's layout): OpenMesh read the list as more indices and
+# said "face 1 has fewer than 3 vertices".
+pr_refuse(mesh_ply_face_texcoord "ply_face_texcoord.ply" "PLY face element has a list property 'texcoord' besides vertex_indices"
+          ARGS render --mesh ${BAD}/ply_face_texcoord.ply --size 48x48 --out o.png)
+# Texture coordinates under names not read: said, not only "no texture coordinates".
+pr_cli(mesh_ply_texture_uv_names EXIT 0 EXPECT_FILE o.png
+       STDERR "ply_texture_uv_names.ply: vertex properties texture_u, texture_v are not read as texture coordinates"
+       ARGS render --mesh ${BAD}/ply_texture_uv_names.ply --size 48x48 --out o.png)
 # Half the faces wound the other way: warned about, still drawn (prism and reference agree).
 pr_cli(mesh_inconsistent_orientation EXIT 0 EXPECT_FILE o.png
        STDERR "warning: .*inconsistent_orientation.obj: 4 edges join faces of opposite orientation"
