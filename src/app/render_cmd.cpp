@@ -47,9 +47,11 @@ CommandAction add_render_command(CLI::App& app)
         std::size_t covered = 0;
         for (std::size_t i = 3; i < image.pixels.size(); i += 4) covered += image.pixels[i] >= 128;
         write_png(s->out, image);
-        std::printf("%s: %dx%d %s, %.1f ms%s, coverage %.1f%%\n", s->out.c_str(), image.width, image.height,
+        // A few covered pixels of a large image are not "0.0%": more digits then.
+        const double percent = 100.0 * double(covered) / double(std::size_t(image.width) * image.height);
+        std::printf("%s: %dx%d %s, %.1f ms%s, coverage %.*f%%\n", s->out.c_str(), image.width, image.height,
                     technique_name(settings.technique).c_str(), ms, again ? "" : " (first draw, with compiling)",
-                    100.0 * double(covered) / double(std::size_t(image.width) * image.height));
+                    covered > 0 && percent < 0.1 ? 4 : 1, percent);
         return kExitOk;
     };
 }
