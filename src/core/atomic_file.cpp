@@ -97,7 +97,8 @@ void check_png_output(const std::filesystem::path& path)
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
     for (const char* other : {".jpg", ".jpeg", ".bmp", ".tga", ".gif", ".tif", ".tiff", ".webp", ".exr", ".hdr", ".ppm"})
         if (ext == other)
-            throw Error(path.string(), "only PNG images are written; give a name ending in .png");
+            throw Error(path.string(), "only PNG images are written, and '" + path.extension().string() +
+                                           "' names another format (use .png, or no extension)");
 }
 
 void check_distinct_outputs(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs)

@@ -875,15 +875,23 @@ int Viewer::run()
         if (o_.frames > 0) {
             // Frame times for docs/viewer.md: the renderer's draw (to glFinish) per technique and
             // the whole frame (draw, copy, panel, swap).
+            // (A frame that counts samples is not timed, nor is the first whole frame: with one
+            // frame there is no time to print, "n/a" rather than 0.00.)
+            const auto ms_text = [](const auto& samples) {
+                char buf[32];
+                if (samples.empty()) return std::string("n/a");
+                std::snprintf(buf, sizeof buf, "%.2f ms median", median(samples));
+                return std::string(buf);
+            };
             std::printf("view: %d frames at %dx%d:", frame_, compositor_->width(), compositor_->height());
             for (int k = 0; k < (split_ ? 2 : 1); ++k) {
                 const std::string name = display_name(half_[k]);
-                std::printf(" %s draw %.2f ms median", name.c_str(), median(stats_[k].draws));
+                std::printf(" %s draw %s", name.c_str(), ms_text(stats_[k].draws).c_str());
                 if (stats_[k].samples_per_fragment >= 0.0)
                     std::printf(" (%.2f samples/fragment)", stats_[k].samples_per_fragment);
                 std::printf(";");
             }
-            std::printf(" frame %.2f ms median\n", median(all_frame_ms_));
+            std::printf(" frame %s\n", ms_text(all_frame_ms_).c_str());
         }
     } catch (...) {
         shutdown_imgui();
