@@ -296,6 +296,10 @@ void Viewer::reload_scene(SceneSpec spec, bool reset_camera)
     } else {
         fit_planes();
     }
+    // The counts were the old scene's: the next frame counts again (samples are counted every
+    // tenth frame, and a short --frames run after a drop reported the old scene's figure).
+    for (HalfStats& st : stats_) st.samples_per_fragment = -1.0, st.fragments = 0;
+    rendered_ = 0;
     dirty_ = true;
 }
 
