@@ -345,9 +345,13 @@ double json_number(const json& j, const std::string& where)
     return v;
 }
 
-float json_float(const json& j, const std::string& where)
+// A number of the file checked as its flag is (check_depth, check_fovy, ...), under its place
+// in the file.
+float json_checked(const json& j, const std::string& where, void (*check)(double, const std::string&))
 {
-    return finite(json_number(j, where), where);
+    const double v = json_number(j, where);
+    check(v, where);
+    return finite(v, where);
 }
 
 std::string json_path(const json& j, const std::string& where, const std::filesystem::path& base)
@@ -551,13 +555,9 @@ SceneFileValues read_scene_file(const std::string& file, SceneSpec& spec)
                     if (k == "mesh") o.mesh = json_path(v, w, base);
                     else if (k == "height") o.height = json_path(v, w, base);
                     else if (k == "color") o.color = json_path(v, w, base);
-                    else if (k == "depth") {
-                        check_depth(json_number(v, w), w);
-                        o.depth = json_float(v, w);
-                    } else if (k == "midlevel") {
-                        check_midlevel(json_number(v, w), w);
-                        o.midlevel = json_float(v, w);
-                    } else if (k == "base_color") {
+                    else if (k == "depth") o.depth = json_checked(v, w, check_depth);
+                    else if (k == "midlevel") o.midlevel = json_checked(v, w, check_midlevel);
+                    else if (k == "base_color") {
                         const glm::dvec3 c = json_dvec3(v, w);
                         for (int n = 0; n < 3; ++n)
                             if (c[n] < 0.0 || c[n] > 1.0)
@@ -578,16 +578,10 @@ SceneFileValues read_scene_file(const std::string& file, SceneSpec& spec)
                 else if (k == "up") {
                     spec.camera.up = direction(json_dvec3(v, w), w);
                     found.up = true;
-                } else if (k == "fovy") {
-                    check_fovy(json_number(v, w), w);
-                    spec.camera.fovy_deg = json_float(v, w);
-                } else if (k == "elevation") {
-                    check_elevation(json_number(v, w), w);
-                    spec.camera.elevation_deg = json_float(v, w);
-                } else if (k == "azimuth") {
-                    check_azimuth(json_number(v, w), w);
-                    spec.camera.azimuth_deg = json_float(v, w);
-                } else throw Error(where, "unknown key '" + k + "'");
+                } else if (k == "fovy") spec.camera.fovy_deg = json_checked(v, w, check_fovy);
+                else if (k == "elevation") spec.camera.elevation_deg = json_checked(v, w, check_elevation);
+                else if (k == "azimuth") spec.camera.azimuth_deg = json_checked(v, w, check_azimuth);
+                else throw Error(where, "unknown key '" + k + "'");
             }
         } else if (key == "light") {
             spec.light = direction(json_dvec3(value, where), where);
@@ -656,12 +650,10 @@ SceneSpec make_scene_spec(const SceneOptions& o)
         const std::string eye_subject = !o.eye.empty()      ? "--eye"
                                         : !o.target.empty() ? "--target"
                                                             : o.scene_file + ": camera.eye";
-        const glm::dvec3 view = glm::dvec3(*spec.camera.target) - glm::dvec3(*spec.camera.eye);
-        const std::optional<glm::vec3> forward = unit_direction(view);
-        if (!forward) throw Error(eye_subject, "eye and target are the same point");
-        // The sine of the angle between up and the view: lookAt's side vector is their cross
-        // product, and below 1e-5 float rounding turns the image by a visible angle.
-        if (glm::length(glm::cross(glm::dvec3(*forward), glm::dvec3(spec.camera.up))) < 1e-5) {
+        const ViewProblem problem =
+            view_problem(glm::dvec3(*spec.camera.eye), glm::dvec3(*spec.camera.target), glm::dvec3(spec.camera.up));
+        if (problem == ViewProblem::SamePoint) throw Error(eye_subject, "eye and target are the same point");
+        if (problem == ViewProblem::UpAlongView) {
             if (!o.up.empty()) throw Error("--up", "up is parallel to the viewing direction");
             if (file.up) throw Error(o.scene_file + ": camera.up", "up is parallel to the viewing direction");
             throw Error(eye_subject, "looks straight along the default up direction 0,1,0 (give --up)");

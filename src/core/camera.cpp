@@ -25,6 +25,16 @@ std::optional<glm::vec3> unit_direction(const glm::dvec3& v)
     return glm::vec3(scaled / glm::length(scaled));
 }
 
+ViewProblem view_problem(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& up)
+{
+    const std::optional<glm::vec3> forward = unit_direction(target - eye);
+    if (!forward) return ViewProblem::SamePoint;
+    const std::optional<glm::vec3> unit_up = unit_direction(up);
+    if (!unit_up || glm::length(glm::cross(glm::dvec3(*forward), glm::dvec3(*unit_up))) < 1e-5)
+        return ViewProblem::UpAlongView;
+    return ViewProblem::None;
+}
+
 Camera frame_sphere(const Sphere& bounds, float fovy_deg, float aspect, float elevation_deg,
                     float azimuth_deg, glm::vec3 up)
 {

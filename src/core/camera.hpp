@@ -31,6 +31,13 @@ struct Camera {
 // vector looks like zero), though both are valid directions.
 std::optional<glm::vec3> unit_direction(const glm::dvec3& v);
 
+// What keeps a camera at `eye` looking at `target` with `up` from making a picture: the two
+// points are one, or up lies along the view (the sine of their angle under 1e-5: lookAt's side
+// vector is their cross product, and float rounding then turns the image by a visible angle).
+// The options (naming the flag or the scene key) and scene_camera ask the same question.
+enum class ViewProblem { None, SamePoint, UpAlongView };
+ViewProblem view_problem(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& up);
+
 // Auto-framing: looks at `bounds.center` from `elevation_deg` above the horizontal plane
 // (perpendicular to `up`) and `azimuth_deg` around `up` (0 looks along -Z from +Z, 90 from +X),
 // at the distance where the sphere fits both the vertical and the horizontal field of view.

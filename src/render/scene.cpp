@@ -78,13 +78,13 @@ Camera scene_camera(const SceneSpec& spec, const Scene& scene)
         camera.target = c.target.value_or(scene.shell_bounds.center);
         camera.up = c.up;
         camera.fovy_deg = c.fovy_deg;
-        if (glm::length(camera.eye - camera.target) <= 0.0f)
-            throw Error("--eye", "eye and target are the same point");
-        // Relative to the lengths (an absolute bound let an up within 1e-6 degrees of the view
-        // through at a distance of 1e6, and refused a parallel one only near the target).
-        const glm::dvec3 view = glm::dvec3(camera.target) - glm::dvec3(camera.eye), up(camera.up);
-        if (glm::length(glm::cross(view, up)) <= 1e-6 * glm::length(view) * glm::length(up))
-            throw Error("--up", "up is parallel to the viewing direction");
+        // (The options check a camera whose target is given, naming the flag or the scene key;
+        // without one the target is the shell's centre, known only now.)
+        switch (view_problem(glm::dvec3(camera.eye), glm::dvec3(camera.target), glm::dvec3(camera.up))) {
+        case ViewProblem::SamePoint: throw Error("--eye", "eye and target are the same point");
+        case ViewProblem::UpAlongView: throw Error("--up", "up is parallel to the viewing direction");
+        case ViewProblem::None: break;
+        }
         fit_clip_planes(camera, scene.object_bounds, scene.shell_bounds);
         return camera;
     }
