@@ -34,16 +34,6 @@ nlohmann::json optional_number(const std::optional<double>& v)
     return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
 }
 
-// encode_png() with a failure reported under the file it was meant for, as write_png() does.
-std::vector<std::uint8_t> encode_png_for(const std::string& path, const RgbaImage& image)
-{
-    try {
-        return encode_png(image);
-    } catch (const Error& e) {
-        throw Error(path, e.problem());
-    }
-}
-
 std::string fixed(double v, int digits)
 {
     char buf[64];

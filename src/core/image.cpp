@@ -505,15 +505,18 @@ std::vector<std::uint8_t> encode_png(const RgbaImage& image)
     return out;
 }
 
-void write_png(const std::filesystem::path& path, const RgbaImage& image)
+std::vector<std::uint8_t> encode_png_for(const std::filesystem::path& path, const RgbaImage& image)
 {
-    std::vector<std::uint8_t> bytes;
     try {
-        bytes = encode_png(image);
+        return encode_png(image);
     } catch (const Error& e) {
         throw Error(path.string(), e.problem());
     }
-    write_file_atomic(path, bytes);
+}
+
+void write_png(const std::filesystem::path& path, const RgbaImage& image)
+{
+    write_file_atomic(path, encode_png_for(path, image));
 }
 
 RgbaImage read_rgba(const std::filesystem::path& path) { return load_rgba_file(path.string(), {}); }

@@ -69,6 +69,8 @@ std::vector<std::string> builtin_color_names();
 
 // Encodes `image` (bottom row first) as PNG, top row first as files store it.
 std::vector<std::uint8_t> encode_png(const RgbaImage& image);
+// The same, for the file `path`: a failure is reported under that name (a staged write).
+std::vector<std::uint8_t> encode_png_for(const std::filesystem::path& path, const RgbaImage& image);
 // Encodes and writes atomically (temporary file + rename). Throws pr::Error naming `path`.
 void write_png(const std::filesystem::path& path, const RgbaImage& image);
 // Reads a PNG written by write_png (or any 8-bit image) back as RGBA, bottom row first.
