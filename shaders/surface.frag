@@ -85,7 +85,7 @@ void main()
     // inside) its back, whose normal is the front's turned round. (The turned base normal in
     // height_normal() would tilt the bumps' slopes the wrong way: the surface carved into the
     // back, which is what the base-surface techniques draw there, not this one.)
-    vec3 n = height_normal(uv, t_axis, b_axis, gl_FrontFacing ? n_geom : -n_geom, depth);
+    vec3 n = height_normal(uv, t_axis, b_axis, normalize(v_normal), depth);
     if (!gl_FrontFacing) n = -n;
 #else
     vec3 n = height_normal(uv, t_axis, b_axis, n_geom, depth);
