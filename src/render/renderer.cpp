@@ -780,7 +780,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     // mesh there is no second pass for them, but the images are bound.)
     bool tears = false;
     for (std::size_t k = 0; walk && k < objects_.size(); ++k)
-        tears = tears || goes_inside(k) || (eye_in[k] && eye_in[k]->under);
+        tears = tears || objects_[k].tears || (eye_in[k] && eye_in[k]->under); // goes_inside(k), open meshes too
     if (tears) {
         if (!tear_mask_) {
             tear_mask_ = gl::Texture::create(GL_TEXTURE_2D);
