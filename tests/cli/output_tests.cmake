@@ -29,6 +29,10 @@ pr_cli(render_out_jpg EXIT 1 ONE_LINE STDERR "${E}o.jpg: only PNG images are wri
 pr_cli(conemap_out_tga EXIT 1 ONE_LINE STDERR "${E}c.TGA: only PNG images are written" NO_FILE c.TGA
        ARGS conemap --height builtin:bumps@16 --out c.TGA --no-cache)
 
+# A few covered pixels of a large image are not "coverage 0.0%".
+pr_cli(render_small_coverage_has_digits EXIT 0 EXPECT_FILE o.png STDOUT "coverage 0\\.0[0-9][0-9][1-9]%"
+       ARGS render --mesh ${M}/torus.obj --size 4096x16 --out o.png)
+
 # Reports say which prism they measured: a row labelled "prism" holds --marcher's choice.
 pr_cli(compare_json_names_the_prism_configuration EXIT 0 JSON c.json
        CHECKS "results.0.technique:STREQUAL:prism|results.0.marcher:STREQUAL:max-mip|results.0.prism_exit:STREQUAL:walk|results.0.prism_shell:STREQUAL:tight|results.1.prism_exit:STREQUAL:exact|results.1.prism_shell:STREQUAL:full|camera.up.1:EQUAL:1"

@@ -96,6 +96,9 @@ if(CASE STREQUAL "single")
     # A lower render scale is scaled up without blending: alpha stays coverage.
     run_view(${torus} --technique pom --render-scale 0.5 --frames 2 --screenshot half.png)
     check(binary half.png)
+    # One frame is the counting frame, not timed: "n/a", not 0.00 ms.
+    run_view(${torus} --technique pom --frames 1)
+    expect_match("${view_out}" "pom draw n/a \\([0-9.]+ samples/fragment\\); frame n/a" "one frame printed a time")
 elseif(CASE STREQUAL "split")
     # POM | prism: each half is that technique's render, and the prism half covers pixels outside
     # the base outline that POM's does not (true silhouettes).
