@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <queue>
+#include <utility>
 
 #include <glm/common.hpp>
 
@@ -25,42 +27,55 @@ float box_max(const HeightField& h, glm::vec2 lo, glm::vec2 hi, float global_max
     return m;
 }
 
-} // namespace
-
-namespace {
-
 // Raises tops (never lowers: a top may only be above the field) until along every edge the top
 // differs by at most the edge's length (world units, over the depth): a cap tilted steeply from
 // its base folds the shell, and walk_triangles lists it for the geometry shader, which draws all
 // its faces. Where triangles are small against the height texels (the million-triangle torus of
 // make_big_mesh.py), neighbouring tops differ by more than that almost everywhere, and the listed
-// prisms' faces cost more than the walk itself (1.03 M fragments at 512x512 against 77 k). Jacobi
-// passes over the edges, a bounded number: what is left stays listed, as before.
+// prisms' faces cost more than the walk itself (1.03 M fragments at 512x512 against 77 k).
+// The least such tops are top_a = max over b of (top_b - dist(a, b)), dist the shortest path
+// along edges: a Dijkstra search from the highest tops down settles each position once, exactly,
+// however far a tall top's influence reaches (bounded Jacobi passes, before, left the far end of a
+// long slope steep).
 void limit_top_slopes(std::vector<float>& weld_top, const std::vector<MeshVertex>& vertices,
                       const std::vector<std::uint32_t>& indices, const TopSlope& slope)
 {
-    std::vector<glm::vec3> world(weld_top.size());
+    const std::size_t n = weld_top.size();
+    std::vector<glm::vec3> world(n);
     for (const MeshVertex& v : vertices) world[v.weld_id] = glm::vec3(slope.transform * glm::vec4(v.position, 1.0f));
-    struct Edge {
-        std::uint32_t a, b;
-        float run; // the edge's length over the depth: the most the top may change along it
-    };
-    std::vector<Edge> edges;
-    edges.reserve(indices.size());
+    // Each welded edge once, in both directions (compressed rows: first[a] .. first[a + 1]).
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    pairs.reserve(indices.size() * 2);
     for (std::size_t t = 0; t + 2 < indices.size(); t += 3)
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t a = vertices[indices[t + k]].weld_id, b = vertices[indices[t + (k + 1) % 3]].weld_id;
-            if (a < b) edges.push_back({a, b, glm::length(world[a] - world[b]) / slope.depth});
-            else if (b < a) edges.push_back({b, a, glm::length(world[a] - world[b]) / slope.depth});
+            if (a == b) continue;
+            pairs.emplace_back(a, b);
+            pairs.emplace_back(b, a);
         }
-    for (int pass = 0; pass < 16; ++pass) {
-        bool raised = false;
-        for (const Edge& e : edges) {
-            float &ta = weld_top[e.a], &tb = weld_top[e.b];
-            if (ta < tb - e.run) ta = tb - e.run, raised = true;
-            else if (tb < ta - e.run) tb = ta - e.run, raised = true;
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    std::vector<std::size_t> first(n + 1, 0);
+    for (const auto& [a, b] : pairs) ++first[a + 1];
+    for (std::size_t i = 0; i < n; ++i) first[i + 1] += first[i];
+    std::vector<float> run(pairs.size()); // the edge's length over the depth: the most the top may change along it
+    for (std::size_t e = 0; e < pairs.size(); ++e)
+        run[e] = glm::length(world[pairs[e].first] - world[pairs[e].second]) / slope.depth;
+
+    using Entry = std::pair<float, std::uint32_t>; // (top, position): the highest first
+    std::priority_queue<Entry> queue;
+    for (std::uint32_t i = 0; i < n; ++i) queue.emplace(weld_top[i], i);
+    while (!queue.empty()) {
+        const auto [top, a] = queue.top();
+        queue.pop();
+        if (top < weld_top[a]) continue; // raised since it was queued
+        for (std::size_t e = first[a]; e < first[a + 1]; ++e) {
+            const std::uint32_t b = pairs[e].second;
+            if (weld_top[b] < top - run[e]) {
+                weld_top[b] = top - run[e];
+                queue.emplace(weld_top[b], b);
+            }
         }
-        if (!raised) break;
     }
 }
 

@@ -189,3 +189,50 @@ TEST(ShellBounds, SlopeLimitRaisesTopsUntilNoEdgeIsSteep)
             EXPECT_LE(std::abs(limited[a] - limited[b]), run + 2e-5f) << "edge of triangle " << t / 3;
         }
 }
+
+// The limit reaches as far as a tall top's slope does, in one go: a strip of 200 columns, 0.01
+// apart at depth 1, flat but for a spike in the last column's texels, its triangles listed from
+// the first column to the spike, so that the raise travels against their order (the bounded
+// Jacobi passes before carried it about one column a pass: 83 columns of the slope, 99-181, were
+// left at the field's height). Each top is the least that keeps the slope: the spike's less 0.01 a
+// column of the way (plus the rounding step every top has).
+TEST(ShellBounds, SlopeLimitReachesAlongALongStrip)
+{
+    constexpr int columns = 200;
+    pr::HeightField h;
+    h.width = 2 * columns;
+    h.height = 4;
+    h.name = "spike at the end";
+    h.texels.assign(std::size_t(h.width) * std::size_t(h.height), 0.0f);
+    for (int y = 0; y < h.height; ++y) h.texels[std::size_t(y + 1) * std::size_t(h.width) - 1] = 1.0f;
+    Soup s;
+    for (int i = 0; i < columns; ++i)
+        for (int j = 0; j < 2; ++j) {
+            pr::MeshVertex v;
+            v.position = glm::vec3(0.01f * float(i), 0.01f * float(j), 0.0f);
+            v.uv = glm::vec2((float(i) + 0.5f) / float(columns), 0.25f + 0.5f * float(j));
+            v.weld_id = std::uint32_t(2 * i + j);
+            s.vertices.push_back(v);
+        }
+    for (int i = 0; i + 1 < columns; ++i) {
+        const std::uint32_t a = std::uint32_t(2 * i), b = a + 1, c = a + 2, d = a + 3;
+        s.indices.insert(s.indices.end(), {a, c, d, a, d, b});
+    }
+    const std::vector<float> plain = pr::shell_top_heights(s.vertices, s.indices, h);
+    const std::vector<float> top = pr::shell_top_heights(s.vertices, s.indices, h, pr::TopSlope{glm::mat4(1.0f), 1.0f});
+    ASSERT_EQ(top.size(), s.vertices.size());
+    const float rounding = plain[0]; // the flat field's top: 0 plus one step of 8-bit rounding
+    ASSERT_LT(rounding, 0.01f);
+    // The field's own tops, column by column (the spike's reach the last few columns).
+    std::vector<float> field(columns);
+    for (int i = 0; i < columns; ++i)
+        field[std::size_t(i)] = plain[std::size_t(2 * i)] >= 1.0f ? 1.0f : plain[std::size_t(2 * i)] - rounding;
+    ASSERT_EQ(field[columns - 1], 1.0f);
+    ASSERT_LT(field[columns / 2], 0.01f);
+    for (int i = 0; i < columns; ++i) {
+        float least = 0.0f;
+        for (int c = 0; c < columns; ++c) least = std::max(least, field[std::size_t(c)] - 0.01f * float(std::abs(i - c)));
+        for (int j = 0; j < 2; ++j)
+            EXPECT_NEAR(top[std::size_t(2 * i + j)], std::min(least + rounding, 1.0f), 1e-4f) << "column " << i;
+    }
+}
