@@ -54,27 +54,58 @@ std::string vec_text(const glm::dvec3& v)
     return number_text(v.x) + "," + number_text(v.y) + "," + number_text(v.z);
 }
 
+// The shape of an x,y,z value: empty when it is three numbers separated by commas, else what is
+// wrong. strtod rather than stod: stod refuses a value that underflows to a denormal (1e-310),
+// which is still a valid, non-zero number.
+std::string vec3_shape_problem(const std::string& text)
+{
+    std::size_t start = 0;
+    for (int n = 0; n < 3; ++n) {
+        const std::size_t comma = n < 2 ? text.find(',', start) : text.size();
+        if (comma == std::string::npos || (n == 2 && text.find(',', start) != std::string::npos)) break;
+        const std::string part = text.substr(start, comma - start);
+        char* end = nullptr;
+        std::strtod(part.c_str(), &end);
+        if (end == part.c_str() || part.find_first_not_of(" \t", std::size_t(end - part.c_str())) != std::string::npos)
+            break;
+        if (n == 2) return "";
+        start = comma + 1;
+    }
+    return "expected x,y,z (three numbers), got '" + text + "'";
+}
+
 // Parsed in double, so that a direction like 1e-30,0,0 or 1e300,0,0 keeps its meaning until it
-// is normalized (unit_direction). strtod rather than stod: stod refuses a value that underflows
-// to a denormal (1e-310), which is still a valid, non-zero number.
+// is normalized (unit_direction).
 glm::dvec3 parse_dvec3(const std::string& text, const std::string& option)
 {
-    const auto malformed = [&] { return Error(option, "expected x,y,z (three numbers), got '" + text + "'"); };
+    if (const std::string problem = vec3_shape_problem(text); !problem.empty()) throw Error(option, problem);
     glm::dvec3 v(0.0);
     std::istringstream in(text);
     std::string part;
-    int n = 0;
-    while (std::getline(in, part, ',')) {
-        if (n == 3) throw malformed();
-        char* end = nullptr;
-        const double d = std::strtod(part.c_str(), &end);
-        if (end == part.c_str() || part.find_first_not_of(" \t", end - part.c_str()) != std::string::npos)
-            throw malformed();
-        if (!std::isfinite(d)) throw Error(option, "must be finite numbers, got '" + text + "'");
-        v[n++] = d;
+    for (int n = 0; n < 3 && std::getline(in, part, ','); ++n) {
+        v[n] = std::strtod(part.c_str(), nullptr);
+        if (!std::isfinite(v[n])) throw Error(option, "must be finite numbers, got '" + text + "'");
     }
-    if (n != 3) throw malformed();
     return v;
+}
+
+// The shape of a WIDTHxHEIGHT value: empty when it is two integers around an x, else what is wrong.
+std::string size_shape_problem(const std::string& text)
+{
+    long long w = 0, h = 0;
+    char x = 0, extra = 0;
+    std::istringstream in(text);
+    if (!(in >> w >> x >> h) || (x != 'x' && x != 'X') || (in >> extra))
+        return "expected WIDTHxHEIGHT, e.g. 800x600, got '" + text + "'";
+    return "";
+}
+
+// A flag's value of the wrong shape is bad usage (exit 2), as a number that is not one is in
+// CLI11's own conversions (--steps abc); a value of the right shape out of range, or one a scene
+// file gives, is bad input (exit 1), checked where it is used.
+CLI::Validator shape_validator(std::string (*problem)(const std::string&), const std::string& name)
+{
+    return CLI::Validator([problem](std::string& text) { return problem(text); }, name);
 }
 
 // A direction (light, up): any finite non-zero vector, returned at unit length.
@@ -139,14 +170,13 @@ glm::vec3 parse_vec3(const std::string& text, const std::string& option)
 
 std::pair<int, int> parse_size(const std::string& text, const std::string& option)
 {
-    int w = 0, h = 0;
-    char x = 0, extra = 0;
-    std::istringstream in(text);
-    if (!(in >> w >> x >> h) || (x != 'x' && x != 'X') || (in >> extra))
-        throw Error(option, "expected WIDTHxHEIGHT, e.g. 800x600, got '" + text + "'");
+    if (const std::string problem = size_shape_problem(text); !problem.empty()) throw Error(option, problem);
+    long long w = 0, h = 0;
+    char x = 0;
+    std::istringstream(text) >> w >> x >> h;
     if (w < 1 || h < 1 || w > 16384 || h > 16384)
         throw Error(option, "each side must be between 1 and 16384, got '" + text + "'");
-    return {w, h};
+    return {int(w), int(h)};
 }
 
 void add_scene_options(CLI::App& app, SceneOptions& o)
@@ -169,8 +199,10 @@ void add_scene_options(CLI::App& app, SceneOptions& o)
     app.add_option("--midlevel", o.midlevel,
                    "Height that stays on the base surface: 0 outward (default), 1 inward, 0.5 centred")
         ->group("Scene");
+    const CLI::Validator xyz = shape_validator(vec3_shape_problem, "x,y,z");
     app.add_option("--light", o.light,
                    "x,y,z: world direction towards the light (default: above-left of the camera)")
+        ->check(xyz)
         ->group("Scene");
     app.add_option("--max-triangles", o.max_triangles, "Refuse meshes with more triangles")
         ->group("Scene")
@@ -186,10 +218,11 @@ void add_scene_options(CLI::App& app, SceneOptions& o)
     app.add_flag("--generate-uvs", o.generate_uvs, "Ignore the mesh's UVs and generate box-projected ones")
         ->group("Scene");
 
-    app.add_option("--eye", o.eye, "x,y,z: camera position (default: auto-framing)")->group("Camera");
+    app.add_option("--eye", o.eye, "x,y,z: camera position (default: auto-framing)")->check(xyz)->group("Camera");
     app.add_option("--target", o.target, "x,y,z: point looked at (default: the shell's centre)")
+        ->check(xyz)
         ->group("Camera");
-    app.add_option("--up", o.up, "x,y,z: up direction (default 0,1,0)")->group("Camera");
+    app.add_option("--up", o.up, "x,y,z: up direction (default 0,1,0)")->check(xyz)->group("Camera");
     app.add_option("--fovy", o.fovy, "Vertical field of view, degrees (default 40)")->group("Camera");
     app.add_option("--elevation", o.elevation,
                    "Auto-framing: degrees above the horizontal plane (default 25)")
@@ -197,6 +230,7 @@ void add_scene_options(CLI::App& app, SceneOptions& o)
     app.add_option("--azimuth", o.azimuth, "Auto-framing: degrees around the up axis (default 35)")
         ->group("Camera");
     o.size_option = app.add_option("--size", o.size, "Image size WIDTHxHEIGHT")
+                        ->check(shape_validator(size_shape_problem, "WIDTHxHEIGHT"))
                         ->group("Camera")
                         ->capture_default_str();
     app.add_option("--backend", o.backend, "OpenGL backend: osmesa (default, llvmpipe) or egl (headless)")

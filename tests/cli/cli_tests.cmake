@@ -54,12 +54,24 @@ pr_cli(missing_color EXIT 1 ONE_LINE STDERR "${E}nocolor.png: " NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --color nocolor.png --out out.png)
 pr_cli(unknown_technique EXIT 1 ONE_LINE STDERR "${E}--technique: .*pom" NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --technique magic --out out.png)
-pr_cli(bad_size EXIT 1 ONE_LINE STDERR "${E}--size: " NO_FILE out.png
+# A value of the wrong shape is usage (2), as --steps many is; one of the right shape out of
+# range is bad input (1).
+pr_cli(bad_size EXIT 2 ONE_LINE STDERR "usage: --size: expected WIDTHxHEIGHT" NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --size 12 --out out.png)
+pr_cli(size_out_of_range EXIT 1 ONE_LINE STDERR "${E}--size: each side must be between 1 and 16384" NO_FILE out.png
+       ARGS render --mesh ${M}/cube.obj --size 0x12 --out out.png)
 pr_cli(image_too_large EXIT 1 ONE_LINE STDERR "${E}--size: " NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --size 20000x20000 --out out.png)
-pr_cli(bad_eye EXIT 1 ONE_LINE STDERR "${E}--eye: expected x,y,z" NO_FILE out.png
+pr_cli(bad_eye EXIT 2 ONE_LINE STDERR "usage: --eye: expected x,y,z" NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --eye 1,2 --out out.png)
+pr_cli(bad_eye_four EXIT 2 ONE_LINE STDERR "usage: --eye: expected x,y,z" NO_FILE out.png
+       ARGS render --mesh ${M}/cube.obj --eye 1,2,3,4 --out out.png)
+pr_cli(bad_target_trailing_comma EXIT 2 ONE_LINE STDERR "usage: --target: expected x,y,z" NO_FILE out.png
+       ARGS render --mesh ${M}/cube.obj --target 1,2,3, --out out.png)
+pr_cli(bad_light_words EXIT 2 ONE_LINE STDERR "usage: --light: expected x,y,z" NO_FILE out.png
+       ARGS render --mesh ${M}/cube.obj --light a,b,c --out out.png)
+pr_cli(bad_up_empty_part EXIT 2 ONE_LINE STDERR "usage: --up: expected x,y,z" NO_FILE out.png
+       ARGS render --mesh ${M}/cube.obj --up 0,,1 --out out.png)
 pr_cli(bad_steps EXIT 1 ONE_LINE STDERR "${E}--steps: " NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --steps 0 --out out.png)
 pr_cli(negative_depth EXIT 1 ONE_LINE STDERR "${E}--depth: " NO_FILE out.png
