@@ -2,6 +2,8 @@
 
 #include "core/error.hpp"
 
+#include <glm/gtc/matrix_inverse.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -55,12 +57,24 @@ Scene load_scene(const SceneSpec& spec)
             throw Error(o.depth ? "--depth" : o.mesh,
                         o.depth ? "must be a finite number >= 0"
                                 : "the default depth (4% of the bounding box's diagonal) is not a finite number");
-        // The shell spans depth * (h - midlevel) for h in [0,1] along unit normals.
-        const float reach = obj.depth * std::max(obj.midlevel, 1.0f - obj.midlevel);
-        lo = glm::min(lo, olo - glm::vec3(reach));
-        hi = glm::max(hi, ohi + glm::vec3(reach));
-        scene.object_bounds.push_back(
-            {0.5f * (olo + ohi), std::max(0.5f * glm::length(ohi - olo) + reach, 1e-6f)});
+        // The full displacement shell's box: every vertex moved to both ends of its displacement
+        // range, depth * (h - midlevel) for h in [0, 1], along its world normal (the prisms and
+        // the displaced surface lie in the hull of those points). (Was the base mesh's box grown
+        // by the reach on every side: a plane's one-sided shell was framed off centre.)
+        const glm::mat3 normal_matrix = glm::inverseTranspose(glm::mat3(o.transform));
+        glm::vec3 slo(INFINITY), shi(-INFINITY);
+        for (const MeshVertex& v : obj.mesh.vertices) {
+            const glm::vec3 p = glm::vec3(o.transform * glm::vec4(v.position, 1.0f));
+            const glm::vec3 n = glm::normalize(normal_matrix * v.normal);
+            for (const float h : {0.0f, 1.0f}) {
+                const glm::vec3 q = p + obj.depth * (h - obj.midlevel) * n;
+                slo = glm::min(slo, q);
+                shi = glm::max(shi, q);
+            }
+        }
+        lo = glm::min(lo, slo);
+        hi = glm::max(hi, shi);
+        scene.object_bounds.push_back({0.5f * (slo + shi), std::max(0.5f * glm::length(shi - slo), 1e-6f)});
         scene.objects.push_back(std::move(obj));
     }
     scene.shell_bounds.center = 0.5f * (lo + hi);
