@@ -1,0 +1,48 @@
+// Auto-framing: the scene's bounds are the full displacement shell's, so a one-sided shell (a
+// plane displaced outward) is framed on its own centre, not on the base mesh's.
+#include "render/scene.hpp"
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+namespace {
+
+pr::Scene plane_scene(float midlevel, float angle_deg = 0.0f)
+{
+    pr::SceneSpec spec;
+    pr::ObjectSpec o;
+    o.mesh = (std::filesystem::path(PR_SOURCE_DIR) / "meshes" / "plane.obj").string();
+    o.height = "builtin:const:1";
+    o.depth = 1.0f;
+    o.midlevel = midlevel;
+    o.transform = glm::rotate(glm::mat4(1.0f), glm::radians(angle_deg), glm::vec3(0, 0, 1));
+    spec.objects.push_back(o);
+    return pr::load_scene(spec);
+}
+
+} // namespace
+
+// The plane spans x, z in [-1, 1] at y = 0 with normals +y; depth 1 puts the shell at y in
+// [0, 1] (midlevel 0) or [-1, 0] (midlevel 1): a box 2 x 1 x 2, radius 1.5 around its centre.
+// (The base box grown by the reach on every side, before, gave centre y = 0 and radius 3.)
+TEST(SceneFraming, BoundsAreTheFullShells)
+{
+    for (const float midlevel : {0.0f, 1.0f}) {
+        const pr::Scene scene = plane_scene(midlevel);
+        const float y = midlevel == 0.0f ? 0.5f : -0.5f;
+        EXPECT_NEAR(glm::length(scene.shell_bounds.center - glm::vec3(0.0f, y, 0.0f)), 0.0f, 1e-5f) << midlevel;
+        EXPECT_NEAR(scene.shell_bounds.radius, 1.5f, 1e-5f) << midlevel;
+        ASSERT_EQ(scene.object_bounds.size(), 1u);
+        EXPECT_NEAR(glm::length(scene.object_bounds[0].center - scene.shell_bounds.center), 0.0f, 1e-6f);
+        const pr::Camera camera = pr::scene_camera(pr::SceneSpec{}, scene);
+        EXPECT_NEAR(glm::length(camera.target - scene.shell_bounds.center), 0.0f, 1e-5f);
+    }
+    // Turned 90 degrees about z the normals are world -x (or +x): the shell is displaced along x.
+    const pr::Scene turned = plane_scene(0.0f, 90.0f);
+    EXPECT_NEAR(std::abs(turned.shell_bounds.center.x), 0.5f, 1e-5f);
+    EXPECT_NEAR(turned.shell_bounds.center.y, 0.0f, 1e-5f);
+    EXPECT_NEAR(turned.shell_bounds.radius, 1.5f, 1e-5f);
+}
