@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstddef>
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 namespace pr {
@@ -704,12 +705,15 @@ void Renderer::upload_object(const GpuObject& o, const DrawSettings& settings, f
     glNamedBufferSubData(object_ubo_.id(), 0, sizeof(ob), &ob);
 }
 
-void Renderer::upload_frame(const Camera& camera, glm::vec3 light_dir)
+void Renderer::upload_frame(const Camera& camera, glm::vec3 light_dir, glm::vec2 pixel_offset)
 {
     const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
     shader::FrameBlock frame{};
     frame.u_view = camera.view();
-    frame.u_proj = camera.projection(aspect);
+    // A shift of the image by pixel_offset: in clip space 2 / size per pixel, after the
+    // projection (every shader reaches the screen, and back, through u_view_proj).
+    const glm::vec2 shift = 2.0f * pixel_offset / glm::vec2(width_, height_);
+    frame.u_proj = glm::translate(glm::mat4(1.0f), glm::vec3(shift, 0.0f)) * camera.projection(aspect);
     frame.u_view_proj = frame.u_proj * frame.u_view;
     frame.u_eye = glm::vec4(camera.eye, 1.0f);
     frame.u_light_dir = glm::vec4(light_dir, 0.0f);
@@ -726,7 +730,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     const AuxMap aux_map = settings.aux_map();
     ensure_aux_textures(aux_map);
     if (settings.technique == Technique::Prism) ensure_prism_data(walk);
-    upload_frame(camera, glm::normalize(light_dir));
+    upload_frame(camera, glm::normalize(light_dir), settings.pixel_offset);
     if (settings.count_samples) {
         const GLuint zero = 0;
         glClearNamedBufferData(counters_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);

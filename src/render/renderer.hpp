@@ -234,7 +234,7 @@ private:
     // Builds (or reads from the cache) and uploads the derived map each object needs.
     void ensure_aux_textures(AuxMap map);
     // Fills and binds the frame block (camera, light, viewport) and binds the object block.
-    void upload_frame(const Camera& camera, glm::vec3 light_dir);
+    void upload_frame(const Camera& camera, glm::vec3 light_dir, glm::vec2 pixel_offset = glm::vec2(0.0f));
     // Fills the object block for `o` drawn with `settings` (draw() and draw_overlay()).
     // `eye`: the prism that holds the eye, for the walk from the eye (ShellDraw::FromEye).
     void upload_object(const GpuObject& o, const DrawSettings& settings, float midlevel,

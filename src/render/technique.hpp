@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/vec2.hpp>
+
 namespace pr {
 
 // Order is the shader ids' (PR_TECH_* in shaders/common/shared.h); the listing order is technique_table()'s.
@@ -64,6 +66,9 @@ struct DrawSettings {
     Shadows shadows = Shadows::None;
     bool depth_write = false; // base-surface techniques: write the depth of what they show
     bool count_samples = false; // instrumented variant (bench)
+    // The image shifted by this much (pixels, x right, y up): one pass of multisampling
+    // (render --msaa, render/multisample.hpp). (0, 0) samples pixel centres.
+    glm::vec2 pixel_offset{0.0f};
 
     AuxMap aux_map() const;
     // The prism with the walk: its shaders, buffers (Renderer::ensure_walk_data) and overlay.

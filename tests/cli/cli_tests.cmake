@@ -72,6 +72,10 @@ pr_cli(bad_light_words EXIT 2 ONE_LINE STDERR "usage: --light: expected x,y,z" N
        ARGS render --mesh ${M}/cube.obj --light a,b,c --out out.png)
 pr_cli(bad_up_empty_part EXIT 2 ONE_LINE STDERR "usage: --up: expected x,y,z" NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --up 0,,1 --out out.png)
+pr_cli(bad_msaa EXIT 1 ONE_LINE STDERR "${E}--msaa: must be 1, 2, 4, 8 or 16, got 3" NO_FILE out.png
+       ARGS render --mesh ${M}/cube.obj --size 32x32 --msaa 3 --out out.png)
+pr_cli(render_msaa EXIT 0 STDOUT "out.png: 32x32 prism, .* ms \\(4 passes\\), coverage" EXPECT_FILE out.png
+       ARGS render --mesh ${M}/cube.obj --technique prism --size 32x32 --msaa 4 --out out.png)
 pr_cli(bad_steps EXIT 1 ONE_LINE STDERR "${E}--steps: " NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --steps 0 --out out.png)
 pr_cli(negative_depth EXIT 1 ONE_LINE STDERR "${E}--depth: " NO_FILE out.png
