@@ -4,8 +4,8 @@
 // rebuilt from the mesh buffers), or, with PR_PRISM_EXIT_VERTEX, from per-vertex distances to
 // the prism's planes in texture space, interpolated (the seed's draft; prism.geom). A ray that leaves without meeting the height field is
 // discarded: that is what makes the outline true. A hit writes its real depth.
-#define PR_HIT_EPSILON 1e-4
 #include "common/shared.h"
+#define PR_HIT_EPSILON PR_PRISM_HIT_EPSILON
 #include "common/height.glsl"
 #include "common/lighting.glsl"
 #include "common/counters.glsl"

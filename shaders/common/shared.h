@@ -40,6 +40,11 @@ using mat4 = glm::mat4;
 #define PR_IMAGE_TEARS 0    // r32ui, per pixel: 1 where a walk went into the object through a tear (prism walk, torn meshes)
 #define PR_IMAGE_TEAR_TILES 1 // r32ui, the same per tile of PR_TEAR_TILE^2 pixels (the second pass's culling)
 #define PR_TEAR_TILE 16
+// The prism's hit tolerance: a sample at most this far above the surface (texture-space height,
+// 0..1) counts as a hit, so that rays grazing a constant cap still hit despite rounding
+// (march/linear.glsl). The walk from an eye starts at least twice as far from the surface
+// (eye_prism.hpp).
+#define PR_PRISM_HIT_EPSILON 1e-4
 
 // Technique ids (PR_TECHNIQUE is defined to one of them per program variant).
 #define PR_TECH_FLAT 0

@@ -4,6 +4,8 @@
 
 #include "render/shell_bounds.hpp"
 
+#include "common/shared.h"
+
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/common.hpp>
@@ -91,9 +93,17 @@ std::optional<EyeInShell> find_eye_prism(const std::vector<glm::vec4>& corners,
         w /= std::max(w.x + w.y + w.z, 1e-30f);
         const ShellCorner c[3] = {shell_corner(corners, v[0]), shell_corner(corners, v[1]), shell_corner(corners, v[2])};
         const float top = full_shell ? 1.0f : w.x * c[0].top + w.y * c[1].top + w.z * c[2].top;
-        const float h = std::clamp(q->z, 0.0f, top);
+        float h = std::clamp(q->z, 0.0f, top);
         const glm::vec2 e_uv = w.x * c[0].uv + w.y * c[1].uv + w.z * c[2].uv;
-        return EyeInShell{std::uint32_t(t), glm::vec3(e_uv, h), h < height_at(e_uv)};
+        const float surface = height_at(e_uv);
+        const bool under = h < surface;
+        // The walk counts a sample within PR_PRISM_HIT_EPSILON above the surface as a hit: from an
+        // eye that close (on flat ground between bumps) every ray stopped at the eye, in front of
+        // the near plane, and the image was empty. The march starts twice that far off on the
+        // eye's side (the hits move by at most that much of the depth).
+        const float margin = 2.0f * float(PR_PRISM_HIT_EPSILON);
+        if (std::abs(h - surface) < margin) h = std::clamp(under ? surface - margin : surface + margin, 0.0f, top);
+        return EyeInShell{std::uint32_t(t), glm::vec3(e_uv, h), under};
     }
     return std::nullopt;
 }
