@@ -8,7 +8,22 @@ namespace pr {
 
 glm::mat4 Camera::view() const
 {
-    return glm::lookAt(eye, target, up);
+    // lookAt's frame from a view direction taken in double: glm::lookAt normalizes target - eye
+    // in float, and eye and target 1e-23 apart (a valid view: view_problem() checks in double)
+    // squared to nothing: the matrix came out NaN and the image empty.
+    const glm::vec3 f = unit_direction(glm::dvec3(target) - glm::dvec3(eye)).value_or(glm::vec3(0.0f, 0.0f, -1.0f));
+    const glm::vec3 s = glm::normalize(glm::cross(f, unit_direction(glm::dvec3(up)).value_or(glm::vec3(0.0f, 1.0f, 0.0f))));
+    const glm::vec3 u = glm::cross(s, f);
+    glm::mat4 m(1.0f);
+    for (int i = 0; i < 3; ++i) {
+        m[i][0] = s[i];
+        m[i][1] = u[i];
+        m[i][2] = -f[i];
+    }
+    m[3][0] = -glm::dot(s, eye);
+    m[3][1] = -glm::dot(u, eye);
+    m[3][2] = glm::dot(f, eye);
+    return m;
 }
 
 glm::mat4 Camera::projection(float aspect) const

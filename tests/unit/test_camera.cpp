@@ -1,7 +1,10 @@
 // Clip planes from a scene's bounds (src/core/camera.cpp).
 #include "core/camera.hpp"
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 // A far-away object keeps the near plane at the near object: with one sphere around both, the
 // near plane was kept from a fraction of the far plane (1e-4 of 1e5) and cut the near object away
@@ -27,4 +30,22 @@ TEST(Camera, FarObjectDoesNotPushTheNearPlanePastNearOnes)
     pr::fit_clip_planes(c, objects, all);
     EXPECT_GT(c.near_plane, 0.0f);
     EXPECT_LT(c.near_plane, 0.01f);
+}
+
+// The view matrix is lookAt's, but its direction is normalized in double: eye and target 1e-23
+// apart gave glm::lookAt a NaN matrix (an empty image) though the view is valid.
+TEST(Camera, ViewMatrixIsLookAtsAndStaysFiniteForNearPoints)
+{
+    pr::Camera c;
+    c.eye = {3.0f, 2.0f, 1.0f};
+    c.target = {0.0f, 0.5f, 0.0f};
+    const glm::mat4 want = glm::lookAt(c.eye, c.target, c.up), got = c.view();
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) EXPECT_NEAR(got[i][j], want[i][j], 1e-5f) << i << "," << j;
+    c.eye = {1e-23f, 0.0f, 0.0f};
+    c.target = {0.0f, 0.0f, 0.0f};
+    const glm::mat4 tiny = c.view();
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) EXPECT_TRUE(std::isfinite(tiny[i][j])) << i << "," << j;
+    EXPECT_NEAR(tiny[0][2], 1.0f, 1e-6f); // looking along -x: the view's z axis is world +x
 }
