@@ -611,6 +611,7 @@ SceneFileValues read_scene_file(const std::string& file, SceneSpec& spec)
                 else if (k == "target") spec.camera.target = position(json_dvec3(v, w), w);
                 else if (k == "up") {
                     spec.camera.up = direction(json_dvec3(v, w), w);
+                    spec.camera.up_given = true;
                     found.up = true;
                 } else if (k == "fovy") spec.camera.fovy_deg = json_checked(v, w, check_fovy);
                 else if (k == "elevation") spec.camera.elevation_deg = json_checked(v, w, check_elevation);
@@ -664,7 +665,10 @@ SceneSpec make_scene_spec(const SceneOptions& o)
     if (!o.light.empty()) spec.light = direction(parse_dvec3(o.light, "--light"), "--light");
     if (!o.eye.empty()) spec.camera.eye = position(parse_dvec3(o.eye, "--eye"), "--eye");
     if (!o.target.empty()) spec.camera.target = position(parse_dvec3(o.target, "--target"), "--target");
-    if (!o.up.empty()) spec.camera.up = direction(parse_dvec3(o.up, "--up"), "--up");
+    if (!o.up.empty()) {
+        spec.camera.up = direction(parse_dvec3(o.up, "--up"), "--up");
+        spec.camera.up_given = true;
+    }
     if (o.fovy) {
         check_fovy(*o.fovy, "--fovy");
         spec.camera.fovy_deg = *o.fovy;

@@ -96,7 +96,10 @@ Camera scene_camera(const SceneSpec& spec, const Scene& scene)
         // without one the target is the shell's centre, known only now.)
         switch (view_problem(glm::dvec3(camera.eye), glm::dvec3(camera.target), glm::dvec3(camera.up))) {
         case ViewProblem::SamePoint: throw Error("--eye", "eye and target are the same point");
-        case ViewProblem::UpAlongView: throw Error("--up", "up is parallel to the viewing direction");
+        case ViewProblem::UpAlongView:
+            if (c.up_given) throw Error("--up", "up is parallel to the viewing direction");
+            throw Error("--eye", "looks straight along the default up direction 0,1,0 at the shell's centre (give "
+                                 "--up or --target)");
         case ViewProblem::None: break;
         }
         fit_clip_planes(camera, scene.object_bounds, scene.shell_bounds);

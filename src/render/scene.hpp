@@ -28,6 +28,7 @@ struct CameraSpec {
     std::optional<glm::vec3> eye;    // with target: explicit camera
     std::optional<glm::vec3> target; // alone: auto-framed distance around this point
     glm::vec3 up{0.0f, 1.0f, 0.0f};
+    bool up_given = false;           // by --up or the scene file (else the default: messages say so)
     float fovy_deg = 40.0f;
     float elevation_deg = 25.0f; // auto-framing (no --eye)
     float azimuth_deg = 35.0f;

@@ -35,6 +35,13 @@ pr_cli(scene_light_zero EXIT 1 ONE_LINE STDERR "${E}.*light_zero.json: light: mu
        NO_FILE o.png ARGS render --scene ${OS}/light_zero.json --out o.png)
 
 # 2. Up and positions.
+# An eye straight above the shell's centre with no target: the default up is the fault, named as
+# such (it blamed --up, which the user never gave).
+pr_cli(eye_along_default_up EXIT 1 ONE_LINE
+       STDERR "${E}--eye: looks straight along the default up direction 0,1,0 at the shell's centre \\(give --up or --target\\)"
+       NO_FILE o.png ARGS render --mesh ${M}/torus.obj --eye 0,5,0 --out o.png)
+pr_cli(eye_along_given_up EXIT 1 ONE_LINE STDERR "${E}--up: up is parallel to the viewing direction"
+       NO_FILE o.png ARGS render --mesh ${M}/torus.obj --eye 0,5,0 --up 0,2,0 --out o.png)
 pr_same_image(up_huge_same_image ARGS ${T} A --up 0,3e19,0 B --up 0,1,0)
 pr_same_image(up_tiny_same_image ARGS ${T} A --up 1e-30,0,0 B --up 1,0,0)
 pr_cli(up_zero EXIT 1 ONE_LINE STDERR "${E}--up: must not be the zero vector" NO_FILE o.png
