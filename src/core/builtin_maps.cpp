@@ -265,12 +265,14 @@ Parsed parse(const std::string& spec, const ImageLimits& limits)
     const auto w = at == std::string::npos ? std::optional<int>(kDefaultSize) : parse_int(size.substr(0, x));
     const auto h = x == std::string_view::npos ? w : parse_int(size.substr(x + 1));
     const int max = limits.max_dimension;
+    if (at == std::string::npos && kDefaultSize > max)
+        throw Error(spec, fmt::format("its default size, {0}x{0}, is over the limit of {1} per side "
+                                      "(--max-image-size): give a size, e.g. {2}@{1}",
+                                      kDefaultSize, max, spec));
     if (!w || !h || *w < 1 || *h < 1 || *w > max || *h > max)
         throw Error(spec, fmt::format("size after '@' must be N or WxH with each side between 1 "
-                                      "and {}, got {}",
-                                      max, at == std::string::npos
-                                               ? fmt::format("none (the default is {})", kDefaultSize)
-                                               : fmt::format("'{}'", size)));
+                                      "and {}, got '{}'",
+                                      max, size));
     if (std::int64_t(*w) * *h > limits.max_pixels)
         throw Error(spec, fmt::format("{}x{} is more than the limit of {} pixels", *w, *h,
                                       limits.max_pixels));

@@ -36,9 +36,10 @@ pr_cli(conemap_bad_threads EXIT 1 ONE_LINE STDERR "${CM}--threads: " NO_FILE o.p
 pr_cli(conemap_out_folder_missing EXIT 1 ONE_LINE STDERR "${CM}no/dir/o.png: "
        ARGS conemap --height builtin:bumps@16 --out no/dir/o.png --no-cache)
 pr_cli(conemap_needs_out EXIT 2 STDERR "usage: .*--out" ARGS conemap --height builtin:bumps@16)
-# --max-image-size holds for a built-in map's default size (512) as for @N, with the same message.
+# --max-image-size holds for a built-in map's default size (512) as for @N; the message says it
+# is the default size, not a size after '@' the user never wrote.
 pr_cli(max_image_size_builtin_default EXIT 1 ONE_LINE
-       STDERR "${CM}builtin:bumps: size after '@' must be N or WxH with each side between 1 and 16" NO_FILE o.png
+       STDERR "${CM}builtin:bumps: its default size, 512x512, is over the limit of 16 per side \\(--max-image-size\\): give a size, e.g. builtin:bumps@16" NO_FILE o.png
        ARGS render --mesh ${M}/cube.obj --height builtin:bumps --technique cone --max-image-size 16 --size 32x32
             --cache-dir mis_cache --out o.png)
 pr_cli(conemap_builtin_too_small EXIT 1 ONE_LINE STDERR "${CM}builtin:bumps@2: too small for its pattern; at least 3"
