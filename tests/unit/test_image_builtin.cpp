@@ -166,18 +166,20 @@ TEST(BuiltinHeight, Errors)
 }
 
 // --max-image-size applies to a built-in map named without @N (its default size, 512) as to one
-// with @N, with the same message.
+// with @N; the message says which (the default size, or the size after '@').
 TEST(BuiltinHeight, DefaultSizeObeysTheLimits)
 {
     pr::ImageLimits small;
     small.max_dimension = 16;
     small.max_pixels = 16 * 16;
-    const std::string expected = "size after '@' must be N or WxH with each side between 1 and 16";
-    for (bool colour : {false, true})
-        for (const char* spec : {"builtin:bumps", "builtin:bumps@64", "builtin:noise", "builtin:const:0.5"})
-            EXPECT_NE(problem_of(spec, colour, small).find(expected), std::string::npos) << spec;
-    EXPECT_NE(problem_of("builtin:checker", true, small).find(expected), std::string::npos);
-    EXPECT_NE(problem_of("builtin:bumps", false, small).find("512"), std::string::npos); // the default named
+    const std::string after_at = "size after '@' must be N or WxH with each side between 1 and 16";
+    const std::string by_default = "its default size, 512x512, is over the limit of 16 per side";
+    for (bool colour : {false, true}) {
+        for (const char* spec : {"builtin:bumps", "builtin:noise", "builtin:const:0.5"})
+            EXPECT_NE(problem_of(spec, colour, small).find(by_default), std::string::npos) << spec;
+        EXPECT_NE(problem_of("builtin:bumps@64", colour, small).find(after_at), std::string::npos);
+    }
+    EXPECT_NE(problem_of("builtin:checker", true, small).find(by_default), std::string::npos);
     EXPECT_EQ(pr::load_height("builtin:bumps@16", small).width, 16);
     pr::ImageLimits fits;
     fits.max_dimension = 512;
