@@ -2,49 +2,188 @@
 
 #include "core/error.hpp"
 
+#include <atomic>
 #include <cctype>
 #include <cerrno>
+#include <climits>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
 #include <random>
 #include <string>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <utility>
 
 namespace pr {
+namespace {
 
-void check_output_folder(const std::filesystem::path& path)
+namespace fs = std::filesystem;
+
+// ---- The temporaries a signal removes ----
+// A signal handler may not allocate or lock, so the registry is fixed storage and lock-free
+// atomics. A slot is free, claimed (its owner is filling it in) or live (a complete path the
+// handler may unlink). A temporary is registered before it is created and released once renamed
+// or removed: a signal in between finds the name gone, which unlink shrugs off.
+enum SlotState : int { kFree, kClaimed, kLive };
+struct TempSlot {
+    std::atomic<int> state{kFree};
+    char path[PATH_MAX];
+};
+static_assert(std::atomic<int>::is_always_lock_free, "the signal handler reads the slots' states");
+// Far more than a run stages at once (two outputs, a cache entry, the viewer's map thread). A
+// temporary that finds no free slot is still written, only not removed by a signal.
+constexpr int kTempSlots = 32;
+TempSlot g_temps[kTempSlots];
+
+int register_temporary(const fs::path& tmp)
 {
-    namespace fs = std::filesystem;
-    if (path.empty()) throw Error("--out", "empty file name");
-    fs::path dir = path.parent_path();
-    if (dir.empty()) dir = ".";
-    std::error_code ec;
-    if (!fs::is_directory(dir, ec)) throw Error(path.string(), "folder " + dir.string() + " does not exist");
-    if (fs::is_directory(path, ec)) throw Error(path.string(), "is a folder");
+    const std::string& name = tmp.native();
+    if (name.size() >= PATH_MAX) return -1;
+    for (int i = 0; i < kTempSlots; ++i) {
+        int expected = kFree;
+        if (!g_temps[i].state.compare_exchange_strong(expected, kClaimed)) continue;
+        std::memcpy(g_temps[i].path, name.c_str(), name.size() + 1);
+        g_temps[i].state.store(kLive);
+        return i;
+    }
+    return -1;
 }
 
-StagedFile::StagedFile(std::filesystem::path path, std::span<const std::uint8_t> bytes) : path_(std::move(path))
+void release_temporary(int slot)
 {
-    namespace fs = std::filesystem;
+    if (slot >= 0) g_temps[slot].state.store(kFree);
+}
+
+void remove_temporaries_and_die(int sig)
+{
+    for (TempSlot& t : g_temps)
+        if (t.state.load() == kLive) ::unlink(t.path);
+    // SA_RESETHAND has restored the default action, and the signal is blocked while its handler
+    // runs: raised again, it is delivered when the handler returns, and the process dies of it
+    // (the exit status says which signal, as it would have without the handler).
+    ::raise(sig);
+}
+
+// ---- What an output replaces ----
+
+fs::path folder_of(const fs::path& file)
+{
+    return file.parent_path().empty() ? fs::path(".") : file.parent_path();
+}
+
+// The kernel's fs.protected_symlinks rule, which our own reading of links would bypass: a link in
+// a sticky folder anyone may write (/tmp) is followed only if it is ours or the folder owner's.
+// Else another user's link there could point our output at any file we may write.
+bool may_follow(const fs::path& link, const struct stat& link_stat)
+{
+    struct stat dir;
+    if (::stat(folder_of(link).c_str(), &dir) != 0) return true; // (gone: nothing is written there)
+    const bool shared = (dir.st_mode & S_ISVTX) && (dir.st_mode & S_IWOTH);
+    return !shared || link_stat.st_uid == ::geteuid() || link_stat.st_uid == dir.st_uid;
+}
+
+// The file a write to `path` replaces: `path`, or the file a symbolic link there names (through
+// further links), so that the link stays a link and its target gets the content, as a shell's `>`
+// does. A dangling link names the file to create (GNU cp refuses those; `>` and POSIX cp write
+// them). Where a link is not followed (a loop, or may_follow() says no) the link itself is
+// returned, which check_destination() refuses.
+fs::path destination_of(const fs::path& path)
+{
+    fs::path p = path;
+    for (int hops = 0; hops < 40; ++hops) { // Linux's own limit before ELOOP
+        struct stat st;
+        if (::lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode) || !may_follow(p, st)) return p;
+        std::error_code ec;
+        const fs::path to = fs::read_symlink(p, ec);
+        if (ec) return p;
+        p = to.is_absolute() ? to : p.parent_path() / to;
+    }
+    return p;
+}
+
+const char* kind_of(mode_t mode)
+{
+    if (S_ISCHR(mode)) return "a character device";
+    if (S_ISBLK(mode)) return "a block device";
+    if (S_ISFIFO(mode)) return "a FIFO";
+    if (S_ISSOCK(mode)) return "a socket";
+    return "a special file";
+}
+
+// check_output_folder() for `path`, whose write replaces `target` (destination_of(path)).
+void check_destination(const fs::path& path, const fs::path& target)
+{
+    if (path.empty()) throw Error("--out", "empty file name");
+    const std::string subject = path.string();
+    // What is said of the file replaced: "is a folder", or "links to real/t.png, which is a folder".
+    const std::string it = target == path ? "" : "links to " + target.string() + ", which ";
+    struct stat st;
+    if (::lstat(target.c_str(), &st) == 0) {
+        if (S_ISLNK(st.st_mode)) {
+            if (!may_follow(target, st))
+                throw Error(subject, it + "is another user's symbolic link in " + folder_of(target).string() +
+                                         ", a sticky folder anyone may write: not following it");
+            throw Error(subject, std::string("cannot write: ") + std::strerror(ELOOP));
+        }
+        if (S_ISDIR(st.st_mode)) throw Error(subject, it + "is a folder");
+        if (!S_ISREG(st.st_mode))
+            throw Error(subject, it + "is not a regular file (" + kind_of(st.st_mode) + "): refusing to replace it");
+    }
+    const fs::path dir = folder_of(target);
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec))
+        throw Error(subject, (target == path ? "" : "links to " + target.string() + ", but ") + "folder " +
+                                 dir.string() + " does not exist");
+    // Before the work, not at the rename after it. (Root passes this except on a read-only file
+    // system; what else fails is reported when the file is written.)
+    if (::faccessat(AT_FDCWD, dir.c_str(), W_OK, AT_EACCESS) != 0)
+        throw Error(subject, "cannot write in folder " + dir.string() + ": " + std::strerror(errno));
+}
+
+} // namespace
+
+void check_output_folder(const fs::path& path)
+{
+    check_destination(path, destination_of(path));
+}
+
+StagedFile::StagedFile(fs::path path, std::span<const std::uint8_t> bytes, OldMode old_mode)
+    : path_(std::move(path)), target_(destination_of(path_))
+{
     const std::string subject = path_.string();
-    check_output_folder(path_);
-    fs::path dir = path_.parent_path();
-    if (dir.empty()) dir = ".";
+    check_destination(path_, target_);
 
     std::random_device rd;
-    std::string name = "."; // (appended, not "." + ...: GCC 12 warns wrongly on that, -Wrestrict)
-    name += path_.filename().string();
-    name += ".tmp" + std::to_string(rd() % 1000000);
-    const fs::path tmp = dir / name;
-    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-    if (fd < 0) throw Error(subject, std::string("cannot write: ") + std::strerror(errno));
+    fs::path tmp;
+    int fd = -1;
+    // Another process's temporary of the same name (O_EXCL) is left alone: other digits are tried.
+    for (int attempt = 1; fd < 0; ++attempt) {
+        std::string name = "."; // (appended, not "." + ...: GCC 12 warns wrongly on that, -Wrestrict)
+        name += target_.filename().string();
+        name += ".tmp" + std::to_string(rd() % 1000000);
+        tmp = folder_of(target_) / name;
+        slot_ = register_temporary(tmp); // before the file exists: a signal from now on removes it
+        fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+        if (fd >= 0) break;
+        const int err = errno;
+        release_temporary(std::exchange(slot_, -1));
+        if (err != EEXIST || attempt == 10) throw Error(subject, std::string("cannot write: ") + std::strerror(err));
+    }
     const auto fail = [&](int err) {
         ::close(fd);
         ::unlink(tmp.c_str());
+        release_temporary(std::exchange(slot_, -1));
         throw Error(subject, std::string("cannot write: ") + std::strerror(err));
     };
+    struct stat old;
+    if (old_mode == OldMode::Keep && ::stat(target_.c_str(), &old) == 0 && S_ISREG(old.st_mode)) {
+        // The owner and group too where we may give them (root; a group of ours); else the new
+        // file is ours, as any rename by us makes it. Before fchmod: fchown clears set-id bits.
+        if (::fchown(fd, old.st_uid, old.st_gid) != 0 && errno != EPERM) fail(errno);
+        if (::fchmod(fd, old.st_mode & 07777) != 0) fail(errno);
+    }
     std::size_t done = 0;
     while (done < bytes.size()) {
         const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
@@ -59,38 +198,40 @@ StagedFile::StagedFile(std::filesystem::path path, std::span<const std::uint8_t>
     tmp_ = tmp;
 }
 
-StagedFile::StagedFile(std::filesystem::path path, std::string_view text)
-    : StagedFile(std::move(path), std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()))
+StagedFile::StagedFile(fs::path path, std::string_view text, OldMode old_mode)
+    : StagedFile(std::move(path), std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()), old_mode)
 {
 }
 
 StagedFile::~StagedFile()
 {
     if (!tmp_.empty()) ::unlink(tmp_.c_str());
+    release_temporary(slot_);
 }
 
 void StagedFile::commit()
 {
     if (tmp_.empty()) return;
-    const std::filesystem::path tmp = std::exchange(tmp_, {});
-    if (::rename(tmp.c_str(), path_.c_str()) != 0) {
-        const int err = errno;
-        ::unlink(tmp.c_str());
-        throw Error(path_.string(), std::string("cannot write: ") + std::strerror(err));
-    }
+    const fs::path tmp = std::exchange(tmp_, {});
+    // Onto the target: renaming onto a link would replace the link itself.
+    const bool renamed = ::rename(tmp.c_str(), target_.c_str()) == 0;
+    const int err = errno;
+    if (!renamed) ::unlink(tmp.c_str());
+    release_temporary(std::exchange(slot_, -1));
+    if (!renamed) throw Error(path_.string(), std::string("cannot write: ") + std::strerror(err));
 }
 
-void write_file_atomic(const std::filesystem::path& path, std::span<const std::uint8_t> bytes)
+void write_file_atomic(const fs::path& path, std::span<const std::uint8_t> bytes, OldMode old_mode)
 {
-    StagedFile(path, bytes).commit();
+    StagedFile(path, bytes, old_mode).commit();
 }
 
-void write_file_atomic(const std::filesystem::path& path, std::string_view text)
+void write_file_atomic(const fs::path& path, std::string_view text, OldMode old_mode)
 {
-    StagedFile(path, text).commit();
+    StagedFile(path, text, old_mode).commit();
 }
 
-void check_png_output(const std::filesystem::path& path)
+void check_png_output(const fs::path& path)
 {
     check_output_folder(path);
     std::string ext = path.extension().string();
@@ -103,13 +244,14 @@ void check_png_output(const std::filesystem::path& path)
 
 void check_distinct_outputs(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs)
 {
-    namespace fs = std::filesystem;
-    // The same file: equal once made absolute and normal, or (both existing) one file by
-    // device and inode (links, "./a" against "a/../a").
+    // The same file: equal once links are followed (a dangling link's target need not exist yet)
+    // and made absolute and normal, or (both existing) one file by device and inode (hard links,
+    // "./a" against "a/../a").
     const auto same = [](const fs::path& a, const fs::path& b) {
+        const fs::path fa = destination_of(a), fb = destination_of(b);
         std::error_code ec;
-        if (fs::absolute(a, ec).lexically_normal() == fs::absolute(b, ec).lexically_normal()) return true;
-        return fs::exists(a, ec) && fs::exists(b, ec) && fs::equivalent(a, b, ec);
+        if (fs::absolute(fa, ec).lexically_normal() == fs::absolute(fb, ec).lexically_normal()) return true;
+        return fs::exists(fa, ec) && fs::exists(fb, ec) && fs::equivalent(fa, fb, ec);
     };
     for (std::size_t i = 0; i < outputs.size(); ++i) {
         const auto& [option, path] = outputs[i];
@@ -120,6 +262,20 @@ void check_distinct_outputs(const std::vector<NamedPath>& outputs, const std::ve
         for (const auto& [in_option, in_path] : inputs)
             if (!in_path.empty() && in_path.string().rfind("builtin:", 0) != 0 && same(path, in_path))
                 throw Error(option, path.string() + " is the " + in_option + " input: it would be overwritten");
+    }
+}
+
+void remove_temporaries_on_signals()
+{
+    constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
+    struct sigaction action {};
+    action.sa_handler = remove_temporaries_and_die;
+    action.sa_flags = SA_RESETHAND;
+    sigemptyset(&action.sa_mask);
+    for (int sig : kSignals) sigaddset(&action.sa_mask, sig); // one at a time: the first says how we end
+    for (int sig : kSignals) {
+        struct sigaction old {};
+        if (::sigaction(sig, nullptr, &old) == 0 && old.sa_handler != SIG_IGN) ::sigaction(sig, &action, nullptr);
     }
 }
 

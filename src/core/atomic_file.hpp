@@ -12,10 +12,17 @@
 
 namespace pr {
 
+// What a write does to the file it replaces. A user's output keeps that file's permission bits
+// (and its owner and group where the process may set them): someone made it 0600 for a reason.
+// The cache's own entries are written afresh: one made unreadable would otherwise stay so.
+enum class OldMode { Keep, Drop };
+
 // Writes `bytes` to `path` atomically. Throws pr::Error naming `path` on failure; on failure
-// neither `path` (if it did not exist) nor a temporary file is left behind.
-void write_file_atomic(const std::filesystem::path& path, std::span<const std::uint8_t> bytes);
-void write_file_atomic(const std::filesystem::path& path, std::string_view text);
+// neither `path` (if it did not exist) nor a temporary file is left behind. A `path` that is a
+// symbolic link is written through: its target gets the new content and the link stays a link.
+void write_file_atomic(const std::filesystem::path& path, std::span<const std::uint8_t> bytes,
+                       OldMode old_mode = OldMode::Keep);
+void write_file_atomic(const std::filesystem::path& path, std::string_view text, OldMode old_mode = OldMode::Keep);
 
 // A file written now under a temporary name in its destination's folder and renamed into place
 // by commit(); if never committed, the destructor removes the temporary and the destination is
@@ -24,8 +31,8 @@ void write_file_atomic(const std::filesystem::path& path, std::string_view text)
 class StagedFile {
 public:
     // Writes `bytes` to the temporary. Throws pr::Error naming `path`.
-    StagedFile(std::filesystem::path path, std::span<const std::uint8_t> bytes);
-    StagedFile(std::filesystem::path path, std::string_view text);
+    StagedFile(std::filesystem::path path, std::span<const std::uint8_t> bytes, OldMode old_mode = OldMode::Keep);
+    StagedFile(std::filesystem::path path, std::string_view text, OldMode old_mode = OldMode::Keep);
     StagedFile(const StagedFile&) = delete;
     StagedFile& operator=(const StagedFile&) = delete;
     ~StagedFile();
@@ -33,11 +40,16 @@ public:
     void commit();
 
 private:
-    std::filesystem::path path_, tmp_;
+    std::filesystem::path path_;   // as the user named it
+    std::filesystem::path target_; // what is replaced: path_, or the file a link there names
+    std::filesystem::path tmp_;
+    int slot_ = -1; // in the registry of temporaries the signal handler removes; -1: none
 };
 
-// Fails early (before long work) when `path` could not be written: its folder is missing or it
-// names a folder. Throws pr::Error naming `path`.
+// Fails early (before long work) when `path` could not be written: its folder is missing or not
+// writable, it names a folder, or it exists and is not a regular file (a device, a FIFO, a
+// socket: renaming over it would replace, say, /dev/null). A symbolic link is judged by the file
+// it names (a dangling one by that file's folder). Throws pr::Error naming `path`.
 void check_output_folder(const std::filesystem::path& path);
 
 // check_output_folder() for a PNG output, which also refuses a name ending in another image
@@ -50,5 +62,11 @@ void check_png_output(const std::filesystem::path& path);
 // skipped. Throws pr::Error naming the later option.
 using NamedPath = std::pair<std::string, std::filesystem::path>; // option, path
 void check_distinct_outputs(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs);
+
+// Makes SIGINT, SIGTERM, SIGHUP and SIGQUIT remove every temporary file still being written
+// (by any thread) before the process dies of the signal as it would have without the handler,
+// so an interrupted run leaves no ".NAME.tmpNNNNNN" behind. Signals the process ignores (nohup)
+// stay ignored. Called once by main(); unit tests call it in a child process.
+void remove_temporaries_on_signals();
 
 } // namespace pr

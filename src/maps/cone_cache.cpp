@@ -10,7 +10,9 @@
 // rg8 entries. A bad entry is rebuilt and overwritten with a warning saying why; a cache that
 // cannot be written only warns. The cache is bounded: a hit marks its entry used (its
 // modification time), and after each write the least recently used entries go until the rest
-// fits in cone_cache_max_bytes().
+// fits in cone_cache_max_bytes(); a trim also removes temporaries more than an hour old (left by a
+// SIGKILL or a crash: a signal that can be caught removes its own). An empty cache_dir means no
+// cache (default_cache_dir() found no place for one): maps are built and kept nowhere.
 #include "maps/conemap.hpp"
 
 #include "core/atomic_file.hpp"
@@ -18,14 +20,18 @@
 #include "core/fnv.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
-#include <iterator>
+#include <fcntl.h>
 #include <limits>
+#include <string_view>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace pr {
 namespace {
@@ -123,6 +129,7 @@ std::string deserialize(const std::vector<std::uint8_t>& bytes, const HeightFiel
 std::filesystem::path entry_for_key(const HeightField& field, ConeKind kind, ConeFormat format,
                                     const std::filesystem::path& cache_dir, std::uint64_t key)
 {
+    if (cache_dir.empty()) return {}; // no cache
     char hex[17];
     std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(key));
     return cache_dir / "cone" /
@@ -130,15 +137,62 @@ std::filesystem::path entry_for_key(const HeightField& field, ConeKind kind, Con
             std::to_string(field.height) + "-" + hex + ".bin");
 }
 
+// An entry's whole content, or why it cannot be had ("cannot be read: Permission denied").
+std::string read_entry(const std::filesystem::path& path, std::vector<std::uint8_t>& bytes)
+{
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return std::string("cannot be read: ") + std::strerror(errno);
+    struct stat st;
+    if (::fstat(fd, &st) == 0) bytes.reserve(std::size_t(st.st_size));
+    std::uint8_t buffer[65536];
+    for (;;) {
+        const ssize_t n = ::read(fd, buffer, sizeof buffer);
+        if (n == 0) break;
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            const int err = errno;
+            ::close(fd);
+            return std::string("cannot be read: ") + std::strerror(err);
+        }
+        bytes.insert(bytes.end(), buffer, buffer + n);
+    }
+    ::close(fd);
+    return {};
+}
+
+// The cache's own entries (<kind>-<format>-<W>x<H>-<key>.bin).
+bool is_entry_name(std::string_view name)
+{
+    return (name.starts_with("cone-") || name.starts_with("relaxed-")) && name.ends_with(".bin");
+}
+
+// An entry's temporary, as write_file_atomic names it: ".<entry>.tmpNNNNNN".
+bool is_entry_temporary(std::string_view name)
+{
+    const std::size_t at = name.rfind(".tmp");
+    if (!name.starts_with(".") || at == std::string_view::npos || at + 4 == name.size()) return false;
+    for (const char c : name.substr(at + 4))
+        if (c < '0' || c > '9') return false;
+    return is_entry_name(name.substr(1, at - 1));
+}
+
 } // namespace
 
 std::filesystem::path default_cache_dir()
 {
-    const char* xdg = std::getenv("XDG_CACHE_HOME");
-    if (xdg && *xdg && std::filesystem::path(xdg).is_absolute()) return std::filesystem::path(xdg) / "prismrelief";
-    const char* home = std::getenv("HOME");
-    if (home && *home) return std::filesystem::path(home) / ".cache" / "prismrelief";
-    return std::filesystem::temp_directory_path() / "prismrelief-cache";
+    // Absolute places only: a relative one would put the cache wherever the command runs (the XDG
+    // specification says to ignore a relative XDG_CACHE_HOME). And no shared fallback such as
+    // /tmp: another user could plant entries there (the checksum catches accidents, not forgery).
+    const auto absolute = [](const char* variable) {
+        const char* value = std::getenv(variable);
+        return value && *value && std::filesystem::path(value).is_absolute() ? std::filesystem::path(value)
+                                                                             : std::filesystem::path();
+    };
+    if (const std::filesystem::path xdg = absolute("XDG_CACHE_HOME"); !xdg.empty()) return xdg / "prismrelief";
+    if (const std::filesystem::path home = absolute("HOME"); !home.empty()) return home / ".cache" / "prismrelief";
+    warn("no cone-map cache: neither XDG_CACHE_HOME nor HOME is an absolute path, so maps are built each time "
+         "(--cache-dir DIR keeps them in DIR)");
+    return {};
 }
 
 std::uint64_t cone_cache_max_bytes()
@@ -166,16 +220,21 @@ std::size_t trim_cone_cache(const std::filesystem::path& cache_dir, std::uint64_
         fs::file_time_type used;
         std::uint64_t bytes;
     };
+    if (cache_dir.empty()) return 0; // no cache
     std::vector<Entry> entries;
     std::uint64_t total = 0;
     std::error_code ec;
+    // A temporary written to for an hour is no longer being written (an entry takes seconds).
+    const fs::file_time_type stale = fs::file_time_type::clock::now() - std::chrono::hours(1);
     for (fs::directory_iterator it(cache_dir / "cone", ec), end; !ec && it != end; it.increment(ec)) {
-        // Only the cache's own entries (<kind>-<format>-<W>x<H>-<key>.bin): never anything else.
+        // Only the cache's own entries and their temporaries: never anything else.
         const std::string name = it->path().filename().string();
-        const bool ours = (name.rfind("cone-", 0) == 0 || name.rfind("relaxed-", 0) == 0) && name.size() > 4 &&
-                          name.compare(name.size() - 4, 4, ".bin") == 0;
         std::error_code e;
-        if (!ours || !it->is_regular_file(e)) continue;
+        if (is_entry_temporary(name)) {
+            if (it->is_regular_file(e) && it->last_write_time(e) < stale && !e) fs::remove(it->path(), e);
+            continue;
+        }
+        if (!is_entry_name(name) || !it->is_regular_file(e)) continue;
         const std::uint64_t bytes = it->file_size(e);
         const fs::file_time_type used = e ? fs::file_time_type::min() : it->last_write_time(e);
         if (e) continue; // gone meanwhile (another process trimming)
@@ -204,14 +263,17 @@ ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const s
                                 const ConeBuildOptions& options, const ConeBuilder& build)
 {
     ConeCacheResult result;
+    if (cache_dir.empty()) { // no cache
+        result.map = build(field, kind, options);
+        return result;
+    }
     const std::uint64_t key = cache_key(field, kind, options.format); // hashes every texel: once
     result.entry = entry_for_key(field, kind, options.format, cache_dir, key);
     std::error_code ec;
     if (std::filesystem::is_regular_file(result.entry, ec)) {
-        std::ifstream in(result.entry, std::ios::binary);
-        const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        const std::string why = in.bad() ? std::string("cannot be read")
-                                         : deserialize(bytes, field, kind, options.format, key, result.map);
+        std::vector<std::uint8_t> bytes;
+        std::string why = read_entry(result.entry, bytes);
+        if (why.empty()) why = deserialize(bytes, field, kind, options.format, key, result.map);
         if (why.empty()) {
             result.from_cache = true;
             // Used now: the last entries a trim removes (a read-only cache keeps its times).
@@ -225,7 +287,7 @@ ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const s
     try {
         std::filesystem::create_directories(result.entry.parent_path(), ec);
         if (ec) throw Error(result.entry.parent_path().string(), ec.message());
-        write_file_atomic(result.entry, serialize(result.map, options.format, key));
+        write_file_atomic(result.entry, serialize(result.map, options.format, key), OldMode::Drop);
         trim_cone_cache(cache_dir, cone_cache_max_bytes(), result.entry);
     } catch (const Error& e) {
         warn("cone-map cache not written: " + std::string(e.what()));

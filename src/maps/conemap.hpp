@@ -141,9 +141,11 @@ double relaxed_constraint(const HeightField& field, int px, int py, int dx, int 
                           double lower);
 
 // Derived-map cache (contract: --cache-dir, default $XDG_CACHE_HOME/prismrelief, else
-// ~/.cache/prismrelief). Entries are keyed by a hash of the height texels, size, kind, format and
-// the generator version; they are validated when read (a corrupt entry is rebuilt, never trusted)
-// and written atomically. A cache that cannot be written only warns.
+// ~/.cache/prismrelief, each only when absolute). Entries are keyed by a hash of the height texels,
+// size, kind, format and the generator version; they are validated when read (a corrupt entry is
+// rebuilt, never trusted) and written atomically. A cache that cannot be written only warns. An
+// empty cache_dir is no cache: maps are built, nothing is read or written (default_cache_dir()
+// returns it, with one warning, when neither variable is an absolute path).
 std::filesystem::path default_cache_dir();
 struct ConeCacheResult {
     ConeMap map;
@@ -161,7 +163,8 @@ ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const s
 std::uint64_t cone_cache_max_bytes();
 // Removes the least recently used entries of cache_dir/cone (by modification time: written, or
 // read by cached_cone_map) until the rest take at most max_bytes, never `keep` nor any file that is
-// not an entry; returns how many it removed. cached_cone_map() calls it after each write.
+// not an entry, and the temporaries of entries (.<entry>.tmpNNNNNN) an hour old, which a SIGKILL
+// or a crash left; returns how many entries it removed. cached_cone_map() calls it after each write.
 std::size_t trim_cone_cache(const std::filesystem::path& cache_dir, std::uint64_t max_bytes,
                             const std::filesystem::path& keep = {});
 // The entry file a map would have (cache_dir/cone/<kind>-<format>-<W>x<H>-<key>.bin).

@@ -40,3 +40,134 @@ pr_cli(compare_json_names_the_prism_configuration EXIT 0 JSON c.json
 pr_cli(bench_json_names_the_prism_configuration EXIT 0 JSON b.json
        CHECKS "results.0.marcher:STREQUAL:cone|results.0.prism_shell:STREQUAL:full"
        ARGS bench --mesh ${M}/cube.obj --techniques prism:cone --prism-shell full --size 32x32 --frames 1 --json b.json)
+
+# ---- Special destinations, links, modes, folders, scenes, signals, the cache's place ----
+# pr_cli with what these need (run_cli.cmake): SETUP, a shell command that prepares a fresh work
+# folder (exit 77: skipped, for what a machine may not allow), AFTER, a shell command that checks
+# the folder after the run, AS_NOBODY (the run without root's powers), ENV as a list, TIMEOUT.
+set(pr_output_helpers ${CMAKE_CURRENT_BINARY_DIR}/cli/output_helpers)
+file(WRITE ${pr_output_helpers}/as_nobody.sh [[
+# Runs a command without root's powers: as root through setpriv (as nobody), else as it is.
+if [ "$(id -u)" != 0 ]; then exec "$@"; fi
+exec setpriv --reuid=65534 --regid=65534 --clear-groups "$@"
+]])
+function(pr_output_cli name)
+    cmake_parse_arguments(T "ONE_LINE;AS_NOBODY" "EXIT;STDERR;NO_FILE;EXPECT_FILE;KEEP_FILE;SETUP;AFTER;TIMEOUT"
+                          "ENV;ARGS" ${ARGN})
+    string(REPLACE ";" "|" args "${T_ARGS}")
+    set(wrapper "")
+    if(T_AS_NOBODY)
+        set(wrapper "sh|${pr_output_helpers}/as_nobody.sh")
+    endif()
+    set(cmd ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:prismrelief> "-DARGS=${args}" -DWORKDIR=${PR_CLI_WORK}/${name}
+            -DEXPECT_EXIT=${T_EXIT} "-DSTDERR_REGEX=${T_STDERR}" -DNO_FILE=${T_NO_FILE} -DEXPECT_FILE=${T_EXPECT_FILE}
+            -DKEEP_FILE=${T_KEEP_FILE} -DONE_LINE=${T_ONE_LINE} "-DSETUP=${T_SETUP}" "-DAFTER=${T_AFTER}"
+            "-DWRAPPER=${wrapper}" -DTIMEOUT=${T_TIMEOUT})
+    if(T_ENV)
+        set(cmd ${CMAKE_COMMAND} -E env ${T_ENV} ${cmd})
+    endif()
+    add_test(NAME cli.${name} COMMAND ${cmd} -P ${CMAKE_CURRENT_SOURCE_DIR}/cli/run_cli.cmake)
+    set_tests_properties(cli.${name} PROPERTIES LABELS "cli" TIMEOUT 180 SKIP_REGULAR_EXPRESSION "SKIPPED: ")
+endfunction()
+
+# A destination that is not a regular file (after links) is refused before any work: renaming over
+# it made a FIFO or a device node (as root, --out /dev/null: the system's) a regular PNG.
+pr_output_cli(render_out_fifo_refused EXIT 1 ONE_LINE
+       STDERR "${E}fifo.png: is not a regular file \\(a FIFO\\): refusing to replace it"
+       SETUP "mkfifo fifo.png" AFTER "test -p fifo.png"
+       ARGS render --mesh ${M}/cube.obj --size 32x32 --out fifo.png)
+pr_output_cli(render_out_device_refused EXIT 1 ONE_LINE
+       STDERR "${E}full: is not a regular file \\(a character device\\): refusing to replace it"
+       SETUP "mknod full c 1 7 2>&1 || exit 77" AFTER "test -c full"
+       ARGS render --mesh ${M}/cube.obj --size 32x32 --out full)
+pr_output_cli(conemap_out_link_to_device_refused EXIT 1 ONE_LINE
+       STDERR "${E}null.png: links to /dev/null, which is not a regular file \\(a character device\\)"
+       SETUP "ln -s /dev/null null.png" AFTER "test -L null.png"
+       ARGS conemap --height builtin:bumps@16 --no-cache --out null.png)
+
+# A link is written through: its target gets the image and the link stays a link (it used to be
+# replaced by a regular file, the target keeping its old content). A dangling link's target is
+# created where its folder exists, as a shell's `>` does (GNU cp refuses; docs/robustness.md).
+pr_output_cli(render_out_through_symlink EXIT 0
+       SETUP "mkdir real && echo old > real/t.png && ln -s real/t.png link.png"
+       AFTER "test -L link.png && head -c 4 real/t.png | grep -q PNG && ! ls -A real | grep -q tmp"
+       ARGS render --mesh ${M}/cube.obj --size 32x32 --out link.png)
+pr_output_cli(render_out_dangling_symlink_creates_target EXIT 0
+       SETUP "mkdir real && ln -s real/new.png link.png"
+       AFTER "test -L link.png && head -c 4 real/new.png | grep -q PNG"
+       ARGS render --mesh ${M}/cube.obj --size 32x32 --out link.png)
+pr_output_cli(render_out_dangling_symlink_without_folder EXIT 1 ONE_LINE
+       STDERR "${E}link.png: links to nowhere/new.png, but folder nowhere does not exist"
+       SETUP "ln -s nowhere/new.png link.png" AFTER "test -L link.png"
+       ARGS render --mesh ${M}/cube.obj --size 32x32 --out link.png)
+
+# Replacing a file keeps its permission bits (it became 0644).
+pr_output_cli(render_out_keeps_mode EXIT 0
+       SETUP "echo old > o.png && chmod 640 o.png"
+       AFTER "stat -c %a o.png | grep -qx 640 && head -c 4 o.png | grep -q PNG"
+       ARGS render --mesh ${M}/cube.obj --size 32x32 --out o.png)
+
+# A folder that cannot be written is refused before the work (this map took 11 s to build, then
+# failed). Needs a user without root's powers (root may write anywhere but on read-only mounts).
+pr_output_cli(conemap_out_read_only_folder_refused_early EXIT 1 ONE_LINE AS_NOBODY TIMEOUT 5
+       STDERR "${E}ro/r.png: cannot write in folder ro: Permission denied"
+       SETUP "sh ${pr_output_helpers}/as_nobody.sh true 2>&1 || exit 77 && mkdir ro && chmod 555 ro"
+       ARGS conemap --height builtin:noise@1024 --kind relaxed --no-cache --out ro/r.png)
+
+# Files a --scene names are inputs too, found relative to the scene file's folder: --out used to
+# overwrite them.
+file(WRITE ${pr_output_helpers}/height.json "{\"objects\": [{\"mesh\": \"${M}/cube.obj\", \"height\": \"h.png\"}]}\n")
+file(WRITE ${pr_output_helpers}/mesh.json "{\"objects\": [{\"mesh\": \"${M}/cube.obj\"}, {\"mesh\": \"../m.obj\"}]}\n")
+pr_output_cli(render_out_over_scene_height EXIT 1 ONE_LINE KEEP_FILE h.png
+       STDERR "${E}--out: h.png is the s.json: objects\\[0\\].height input: it would be overwritten"
+       SETUP "cp ${pr_output_helpers}/height.json s.json"
+       ARGS render --scene s.json --size 32x32 --out h.png)
+pr_output_cli(compare_json_over_scene_mesh EXIT 1 ONE_LINE KEEP_FILE m.obj
+       STDERR "${E}--json: m.obj is the sub/s.json: objects\\[1\\].mesh input: it would be overwritten"
+       SETUP "mkdir sub && cp ${pr_output_helpers}/mesh.json sub/s.json"
+       ARGS compare --scene sub/s.json --techniques pom --size 32x32 --json m.obj)
+
+# Without an absolute XDG_CACHE_HOME or HOME there is no cache (there was a shared one in /tmp):
+# maps are built, with one warning that says how to keep them. TMPDIR plays no part (TMPDIR=/nonexistent
+# failed with "filesystem error: temp_directory_path: No such file or directory").
+pr_output_cli(render_cone_without_a_cache_location EXIT 0 ONE_LINE EXPECT_FILE o.png
+       STDERR "^prismrelief: warning: no cone-map cache: .*maps are built each time \\(--cache-dir DIR"
+       ENV --unset=HOME --unset=XDG_CACHE_HOME TMPDIR=/nonexistent
+       ARGS render --mesh ${M}/cube.obj --technique relaxed-cone --size 32x32 --out o.png)
+
+# SIGTERM or SIGHUP while a file is staged (strace holds every fsync for 4 s) removes the
+# temporary, in the output's folder and in the cache's, and the process still dies of the signal.
+# Skipped where strace may not trace. (Not SIGINT: a shell starts background jobs ignoring it.)
+file(WRITE ${pr_output_helpers}/signal_cleanup.sh [[
+# usage: signal_cleanup.sh EXE WORKDIR SIGNAL STATUS FOLDER ARGS... (STATUS: 128 + the signal's number)
+exe=$1 work=$2 sig=$3 expected=$4 folder=$5
+shift 5
+rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
+strace -f -qq -o /dev/null true 2>/dev/null || { echo "SKIPPED: strace cannot trace here"; exit 77; }
+strace -f -qq -o /dev/null -e trace=fsync -e inject=fsync:delay_enter=4000000 \
+    sh -c 'echo $$ > pid && exec "$0" "$@"' "$exe" "$@" &
+tracer=$!
+tries=0
+until ls -A "$folder" 2>/dev/null | grep -q '^\..*\.tmp[0-9]*$'; do
+    tries=$((tries + 1))
+    if [ $tries -gt 600 ]; then echo "no temporary appeared in $folder"; kill "$(cat pid)"; exit 1; fi
+    sleep 0.1
+done
+echo "staged: $(ls -A "$folder" | grep '\.tmp')"
+kill -s "$sig" "$(cat pid)"
+wait $tracer
+status=$?
+left=$(ls -A "$folder" | grep '\.tmp')
+if [ "$status" != "$expected" ]; then echo "exit status $status, expected $expected (SIG$sig)"; exit 1; fi
+if [ -n "$left" ]; then echo "temporary left behind: $left"; exit 1; fi
+echo "died of SIG$sig, no temporary left"
+]])
+foreach(case "output_folder;TERM;143;.;--no-cache" "cache_folder;HUP;129;c/cone;--cache-dir;c")
+    list(POP_FRONT case where sig status folder)
+    add_test(NAME cli.signal_removes_temporary_in_${where}
+             COMMAND sh ${pr_output_helpers}/signal_cleanup.sh $<TARGET_FILE:prismrelief>
+                     ${PR_CLI_WORK}/signal_${where} ${sig} ${status} ${folder}
+                     conemap --height builtin:noise@64 --out r.png ${case})
+    set_tests_properties(cli.signal_removes_temporary_in_${where}
+                         PROPERTIES LABELS "cli" TIMEOUT 180 SKIP_RETURN_CODE 77)
+endforeach()

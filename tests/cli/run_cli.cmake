@@ -5,10 +5,28 @@
 #   ONE_LINE (optional: stderr must be exactly one line), TIMEOUT (seconds, default 120),
 #   JSON_FILE + JSON_CHECKS (optional): checks "path:OP:value" separated by '|', path in dots
 #   (results.1.iou), OP one of LESS GREATER EQUAL LESS_EQUAL GREATER_EQUAL STREQUAL EXISTS TYPE (NULL, NUMBER, …)
+#   SETUP (optional): a shell command run in a fresh, empty WORKDIR before the run; exit 77 skips the
+#   test (it prints "SKIPPED: " and the command's output: register the test with that as its
+#   SKIP_REGULAR_EXPRESSION), for what a machine may not allow (another user, a device node).
+#   AFTER (optional): a shell command run in WORKDIR after the run, which must succeed.
+#   WRAPPER (optional, |-list): a command the run goes through (e.g. one that drops root).
 if(NOT TIMEOUT)
     set(TIMEOUT 120)
 endif()
+if(SETUP)
+    file(REMOVE_RECURSE ${WORKDIR})
+endif()
 file(MAKE_DIRECTORY ${WORKDIR})
+if(SETUP)
+    execute_process(COMMAND sh -c "${SETUP}" WORKING_DIRECTORY ${WORKDIR} RESULT_VARIABLE src
+                    OUTPUT_VARIABLE sout ERROR_VARIABLE sout)
+    if(src EQUAL 77)
+        message("SKIPPED: ${sout}")
+        return()
+    elseif(NOT src EQUAL 0)
+        message(FATAL_ERROR "setup failed (exit ${src}): ${SETUP}\n${sout}")
+    endif()
+endif()
 if(NO_FILE)
     file(REMOVE ${WORKDIR}/${NO_FILE})
 endif()
@@ -20,7 +38,8 @@ if(KEEP_FILE)
     file(WRITE ${WORKDIR}/${KEEP_FILE} "${keep_marker}")
 endif()
 string(REPLACE "|" ";" ARGS "${ARGS}")
-execute_process(COMMAND ${EXE} ${ARGS} WORKING_DIRECTORY ${WORKDIR} TIMEOUT ${TIMEOUT}
+string(REPLACE "|" ";" WRAPPER "${WRAPPER}")
+execute_process(COMMAND ${WRAPPER} ${EXE} ${ARGS} WORKING_DIRECTORY ${WORKDIR} TIMEOUT ${TIMEOUT}
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 set(ctx "command: prismrelief ${ARGS}\nexit: ${rc}\nstdout:\n${out}\nstderr:\n${err}")
 if(NOT "${rc}" STREQUAL "${EXPECT_EXIT}")
@@ -57,6 +76,13 @@ endif()
 file(GLOB leftovers ${WORKDIR}/.*.tmp*)
 if(leftovers)
     message(FATAL_ERROR "temporary files left behind: ${leftovers}\n${ctx}")
+endif()
+if(AFTER)
+    execute_process(COMMAND sh -c "${AFTER}" WORKING_DIRECTORY ${WORKDIR} RESULT_VARIABLE arc
+                    OUTPUT_VARIABLE aout ERROR_VARIABLE aout)
+    if(NOT arc EQUAL 0)
+        message(FATAL_ERROR "check after the run failed: ${AFTER}\n${aout}\n${ctx}")
+    endif()
 endif()
 if(JSON_FILE)
     file(READ ${WORKDIR}/${JSON_FILE} json)
