@@ -2,6 +2,7 @@
 
 #include "core/camera.hpp"
 #include "core/error.hpp"
+#include "core/input_file.hpp"
 #include "core/image.hpp"
 
 #include <nlohmann/json.hpp>
@@ -536,23 +537,10 @@ private:
 
 // The whole file, or a message that names it: an ifstream on a folder threw libstdc++'s own
 // "basic_filebuf::underflow error reading the file". Bounded, so that --scene /dev/zero ends.
+// Through core/input_file: a FIFO with no writer, a device, more than 64 MiB are refused by name.
 std::string read_scene_text(const std::string& file)
 {
-    constexpr std::size_t kMaxBytes = std::size_t(64) << 20;
-    std::error_code ec;
-    if (std::filesystem::is_directory(file, ec)) throw Error(file, "is a folder, not a scene file");
-    const std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(file.c_str(), "rb"), &std::fclose);
-    if (!f) throw Error(file, std::string("cannot open: ") + std::strerror(errno));
-    std::string text;
-    char buffer[65536];
-    for (;;) {
-        const std::size_t n = std::fread(buffer, 1, sizeof buffer, f.get());
-        text.append(buffer, n);
-        if (text.size() > kMaxBytes) throw Error(file, "is larger than 64 MiB: not a scene file");
-        if (n < sizeof buffer) break;
-    }
-    if (std::ferror(f.get())) throw Error(file, std::string("cannot be read: ") + std::strerror(errno));
-    return text;
+    return read_input_text(file, {std::uint64_t(64) << 20, "a scene file", "not a scene file"});
 }
 
 // What the scene file set that flags may override (make_scene_spec names the right source).

@@ -3,6 +3,7 @@
 #include "core/atomic_file.hpp"
 #include "core/builtin_maps.hpp"
 #include "core/error.hpp"
+#include "core/input_file.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -53,27 +54,32 @@ int wrap_index(std::int64_t i, int n)
     return static_cast<int>(r < 0 ? r + n : r);
 }
 
-std::vector<std::uint8_t> read_file(const std::string& path)
+// How many bytes an image file within `limits` may take, so that a huge file is refused by its
+// size and a pipe stops being read there, before the header can be checked. The largest pixel
+// stb_image decodes is 8 bytes (16-bit RGBA PNG or PSD; 16-bit RGB PNM is 6, BMP/TGA/HDR/PIC at
+// most 5 with their run-length codes); PNG's stored (uncompressed) deflate blocks and row filter
+// bytes add well under 1 %, and a JPEG of pure RGB noise at quality 100 takes 4.1 bytes a pixel
+// (stb_image_write, 512x512). The other 64 MiB is for what a file may carry besides pixels
+// (EXIF, ICC profiles, text chunks).
+// With the default 64 Mpixel that is 576 MiB; stb takes an int length, so never more than 2 GiB.
+std::uint64_t max_image_file_bytes(const ImageLimits& limits)
 {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw Error(path, "cannot open: is a folder");
-    std::FILE* f = std::fopen(path.c_str(), "rb");
-    if (!f) throw Error(path, std::string("cannot open: ") + std::strerror(errno));
-    std::vector<std::uint8_t> bytes;
-    std::uint8_t chunk[1 << 16];
-    std::size_t n = 0;
-    while ((n = std::fread(chunk, 1, sizeof chunk, f)) > 0) {
-        bytes.insert(bytes.end(), chunk, chunk + n);
-        // stb takes an int length; refuse early rather than reading gigabytes first.
-        if (bytes.size() > static_cast<std::size_t>(INT_MAX)) {
-            std::fclose(f);
-            throw Error(path, "cannot open: file is larger than 2 GiB");
-        }
-    }
-    const bool failed = std::ferror(f) != 0;
-    const int err = errno;
-    std::fclose(f);
-    if (failed) throw Error(path, std::string("cannot read: ") + std::strerror(err));
+    constexpr std::uint64_t kBytesPerPixel = 8, kExtra = std::uint64_t(64) << 20;
+    const std::uint64_t pixels = std::uint64_t(std::max<std::int64_t>(limits.max_pixels, 1));
+    const std::uint64_t stb_max = std::uint64_t(INT_MAX);
+    if (pixels > (stb_max - kExtra) / kBytesPerPixel) return stb_max;
+    return pixels * kBytesPerPixel + kExtra;
+}
+
+// The whole file (core/input_file: devices refused, a FIFO with no writer not waited on forever,
+// pipes and regular files capped).
+std::vector<std::uint8_t> read_file(const std::string& path, const ImageLimits& limits)
+{
+    std::vector<std::uint8_t> bytes = read_input_bytes(
+        path, {max_image_file_bytes(limits), "an image",
+               fmt::format("the most an image within the limit of {} pixels can take (8 bytes "
+                           "a pixel, and 64 MiB)", limits.max_pixels)});
+    if (bytes.empty()) throw Error(path, "is empty");
     return bytes;
 }
 
@@ -343,7 +349,7 @@ bool stb_swaps_16_bit_pnm()
 
 HeightField load_height_file(const std::string& path, const ImageLimits& limits)
 {
-    std::vector<std::uint8_t> bytes = read_file(path);
+    std::vector<std::uint8_t> bytes = read_file(path, limits);
     const Checked c = check_header(path, bytes, limits);
     HeightField hf;
     hf.name = path;
@@ -384,7 +390,7 @@ HeightField load_height_file(const std::string& path, const ImageLimits& limits)
 
 RgbaImage load_rgba_file(const std::string& path, const ImageLimits& limits)
 {
-    std::vector<std::uint8_t> bytes = read_file(path);
+    std::vector<std::uint8_t> bytes = read_file(path, limits);
     const Checked c = check_header(path, bytes, limits);
     int w = 0, h = 0, n = 0;
     StbiPtr<stbi_uc> data;

@@ -6,14 +6,19 @@
 // file is validated here first (header counts against the file size, numbers, indices), and
 // OpenMesh then reads into our own importer (SoupImporter), which records a plain polygon soup:
 // no halfedge topology means no faces rejected as non-manifold and no vertices duplicated.
+// OpenMesh parses the very bytes that were validated, from memory: it never opens the user's file
+// (which may be a pipe, read once, or change between two reads) nor, for OBJ, a material file.
 #include "mesh/quiet_openmesh.hpp"
 #include "mesh/raw_mesh.hpp"
 
 #include "core/error.hpp"
+#include "core/input_file.hpp"
 
-#include <OpenMesh/Core/IO/IOManager.hh>
 #include <OpenMesh/Core/IO/Options.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
+#include <OpenMesh/Core/IO/reader/OBJReader.hh>
+#include <OpenMesh/Core/IO/reader/OFFReader.hh>
+#include <OpenMesh/Core/IO/reader/PLYReader.hh>
 #include <OpenMesh/Core/IO/reader/STLReader.hh>
 
 #include <algorithm>
@@ -23,11 +28,17 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
+#include <istream>
 #include <limits>
 #include <mutex>
 #include <new>
+#include <optional>
+#include <streambuf>
 #include <string_view>
+
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace pr {
 namespace {
@@ -829,20 +840,111 @@ string lower(string s)
     return s;
 }
 
-string read_whole_file(const fs::path& path, const string& subject)
+// How many bytes a mesh file within `options.max_triangles` may take, so that a huge file is
+// refused by its size and a pipe stops being read there. ASCII STL is the most verbose format
+// per triangle: a facet normal, three vertex lines and five keywords, about 250 bytes with
+// %e floats (OBJ with v, vt and vn takes about 100, binary PLY with doubles less); 512 bytes
+// leaves room for more digits and indentation. At least 64 MiB, for comments and small limits.
+// The default 10,000,000 triangles give 4.8 GiB; the mesh built from them takes 3 GB or more.
+std::uint64_t max_mesh_file_bytes(const MeshOptions& options)
+{
+    constexpr std::uint64_t kBytesPerTriangle = 512, kFloor = std::uint64_t(64) << 20;
+    const std::uint64_t triangles = options.max_triangles;
+    if (triangles > (std::numeric_limits<std::uint64_t>::max() - kFloor) / kBytesPerTriangle)
+        return std::numeric_limits<std::uint64_t>::max() - 1;
+    return std::max(kFloor, triangles * kBytesPerTriangle);
+}
+
+string read_whole_file(const fs::path& path, const string& subject, const MeshOptions& options)
 {
     std::error_code ec;
     if (!fs::exists(path, ec)) fail(subject, "does not exist");
-    if (fs::is_directory(path, ec)) fail(subject, "is a folder, not a mesh file");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) fail(subject, string("cannot be read: ") + std::strerror(errno));
-    in.seekg(0, std::ios::end);
-    const std::streamoff size = in.tellg();
-    if (size < 0) fail(subject, "cannot be read (size unknown)");
-    in.seekg(0, std::ios::beg);
-    string text(static_cast<size_t>(size), '\0');
-    if (size > 0 && !in.read(text.data(), size)) fail(subject, "cannot be read completely");
-    return text;
+    return read_input_text(
+        path.string(),
+        {max_mesh_file_bytes(options), "a mesh file",
+         "the most a mesh within the limit of " + std::to_string(options.max_triangles) +
+             " triangles can take (512 bytes a triangle, and at least 64 MiB)"});
+}
+
+// A read-only, seekable stream over bytes already in memory, without a copy (the OBJ reader
+// reads its input twice, seeking back to the start in between).
+class MemoryBuffer : public std::streambuf {
+public:
+    explicit MemoryBuffer(string_view bytes)
+    {
+        char* p = const_cast<char*>(bytes.data()); // never written: no put area, no pbackfail
+        setg(p, p, p + bytes.size());
+    }
+
+protected:
+    pos_type seekoff(off_type off, std::ios_base::seekdir dir, std::ios_base::openmode which) override
+    {
+        if (!(which & std::ios_base::in)) return pos_type(off_type(-1));
+        const off_type base = dir == std::ios_base::beg   ? 0
+                              : dir == std::ios_base::cur ? gptr() - eback()
+                                                          : egptr() - eback();
+        const off_type to = base + off;
+        if (to < 0 || to > egptr() - eback()) return pos_type(off_type(-1));
+        setg(eback(), eback() + to, egptr());
+        return pos_type(to);
+    }
+    pos_type seekpos(pos_type pos, std::ios_base::openmode which) override
+    {
+        return seekoff(off_type(pos), std::ios_base::beg, which);
+    }
+};
+
+// Materials are not used (docs/mesh-input.md), but OpenMesh's OBJ reader opens the file an
+// `mtllib` line names and reads it to its end: a FIFO there hung it, /dev/zero filled memory.
+// Such lines become comments ('m' -> '#', the same length) in the bytes OpenMesh parses; the
+// test is OpenMesh's own (the first word of the line, trimmed of " \t\r", is "mtllib").
+void drop_obj_material_libraries(string& text)
+{
+    static constexpr string_view kKey = "mtllib";
+    size_t pos = 0;
+    while (pos < text.size()) {
+        size_t end = text.find('\n', pos);
+        if (end == string::npos) end = text.size();
+        size_t i = pos;
+        while (i < end && (text[i] == ' ' || text[i] == '\t' || text[i] == '\r')) ++i;
+        if (end - i >= kKey.size() && string_view(text).substr(i, kKey.size()) == kKey &&
+            (i + kKey.size() == end || is_space(text[i + kKey.size()])))
+            text[i] = '#';
+        pos = end + 1;
+    }
+}
+
+// OpenMesh's OFF reader learns a file's variant (ST, C, N, BINARY: how many numbers a vertex
+// has) only in can_u_read(filename), which reads the first line of the file it names; its stream
+// read then uses what the latest such call found. So that first line is handed to it in an
+// anonymous in-memory file (memfd), named through /proc/self/fd. The NUL and ".off" after the
+// number are for OpenMesh's extension check, which looks at the whole std::string, while the
+// open() underneath sees only the C string before the NUL. Where that is not possible (no /proc),
+// a regular file is asked by its own name, as OpenMesh's IOManager did (it is not a pipe, so it
+// can be opened again and read a second time without waiting).
+// Returns OpenMesh's answer (false: it refuses the header, as it would the file), or nothing
+// where the line could not be handed over.
+std::optional<bool> prime_off_reader(string_view text, const fs::path& path)
+{
+    const size_t newline = text.find('\n');
+    const string_view header = newline == string_view::npos ? text : text.substr(0, newline + 1);
+    const int fd = ::memfd_create("prismrelief-off-header", MFD_CLOEXEC);
+    if (fd >= 0) {
+        std::optional<bool> answer;
+        string name = "/proc/self/fd/" + std::to_string(fd);
+        if (::write(fd, header.data(), header.size()) == static_cast<ssize_t>(header.size()) &&
+            ::access(name.c_str(), R_OK) == 0) {
+            name.push_back('\0');
+            name += ".off";
+            answer = omio::OFFReader().can_u_read(name);
+        }
+        ::close(fd);
+        if (answer) return answer;
+    }
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode))
+        return omio::OFFReader().can_u_read(path.string());
+    return std::nullopt;
 }
 
 } // namespace
@@ -856,7 +958,7 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
                           (ext.empty() ? string("(no extension)") : shown(ext)) +
                           "; supported: .obj .off .ply .stl");
 
-    const string text = read_whole_file(path, subject);
+    string text = read_whole_file(path, subject, options);
     if (text.empty()) fail(subject, "is empty");
 
     Expect expect;
@@ -876,25 +978,33 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
     }
     if (expect.file_faces == 0) fail(subject, "contains no faces");
 
+    if (ext == ".obj") drop_obj_material_libraries(text); // after the scan: its line numbers
     RawMesh mesh;
     SoupImporter importer(mesh);
     bool ok = false;
+    bool handed = true; // false: OpenMesh's OFF reader could not be given the header line
     {
         // Reader modules are global singletons with per-read state: one read at a time.
         static std::mutex openmesh_mutex;
         std::lock_guard lock(openmesh_mutex);
         QuietOpenMesh quiet;
         try {
-            if (ext == ".stl") {
+            MemoryBuffer buffer(text);
+            std::istream stream(&buffer);
+            omio::Options opt = requested;
+            if (ext == ".obj") {
+                ok = omio::OBJReader().read(stream, importer, opt);
+            } else if (ext == ".off") {
+                const std::optional<bool> primed = prime_off_reader(text, path);
+                handed = primed.has_value();
+                ok = primed.value_or(false) && omio::OFFReader().read(stream, importer, opt);
+            } else if (ext == ".ply") {
+                ok = omio::PLYReader().read(stream, importer, opt);
+            } else {
                 // The STL type was decided above; the stream interface takes it as an option, so
                 // OpenMesh's own guess cannot differ from the validation.
-                std::ifstream stream(path, std::ios::binary);
-                omio::Options opt = requested;
                 if (expect.binary) opt += omio::Options::Binary;
                 ok = omio::STLReader().read(stream, importer, opt);
-            } else {
-                omio::Options opt = requested;
-                ok = omio::IOManager().read(path.string(), importer, opt);
             }
         } catch (const std::bad_alloc&) {
             fail(subject, "not enough memory to read it");
@@ -902,6 +1012,9 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
             fail(subject, string("could not be read: ") + e.what());
         }
     }
+    if (!handed)
+        fail(subject, "could not be read as off (OpenMesh's reader could not be given its header "
+                      "line: is /proc mounted?)");
     if (!ok)
         fail(subject, "could not be read as " + ext.substr(1) + " (the reader reported a failure)");
 

@@ -111,6 +111,114 @@ pr_cli(mesh_inconsistent_orientation_reference EXIT 0 JSON r.json
        ARGS compare --mesh ${BAD}/inconsistent_orientation.obj --size 64x64 --techniques prism,reference
             --json r.json)
 
+# ---- special input files: devices, FIFOs, pipes, huge files (core/input_file) ------------------
+# Made or found when the test runs, never committed: SETUP is a shell command run in the test's
+# work folder before prismrelief; the test is skipped (exit 77) when a file in REQUIRES is
+# missing. A hang is what these guard against: 20 s inside run_cli.cmake, 30 s for CTest. BASH
+# runs prismrelief through `bash -c` (for process substitution: quote "<(cat x.png)" for CMake),
+# ARGS after "$0".
+find_program(PR_BASH bash)
+function(pr_cli_special name)
+    cmake_parse_arguments(T "ONE_LINE;BASH" "EXIT;STDERR;STDOUT;NO_FILE;EXPECT_FILE;SETUP" "REQUIRES;ARGS" ${ARGN})
+    set(work ${PR_CLI_WORK}/${name})
+    set(exe $<TARGET_FILE:prismrelief>)
+    set(args ${T_ARGS})
+    if(T_BASH)
+        if(NOT PR_BASH)
+            return()
+        endif()
+        list(JOIN T_ARGS " " line)
+        set(args -c "exec \"$0\" ${line}" $<TARGET_FILE:prismrelief>)
+        set(exe ${PR_BASH})
+    endif()
+    string(REPLACE ";" "|" args "${args}")
+    # No ';' in the script: add_test would split it there.
+    set(script "mkdir -p '${work}' && cd '${work}' || exit 1")
+    foreach(required IN LISTS T_REQUIRES)
+        string(APPEND script "\ntest -e '${required}' || exit 77")
+    endforeach()
+    if(T_SETUP)
+        string(APPEND script "\n${T_SETUP} || exit 1")
+    endif()
+    string(APPEND script "\nexec \"$@\"")
+    add_test(NAME cli.${name}
+             COMMAND sh -c "${script}" pr_cli_special
+                     ${CMAKE_COMMAND} -DEXE=${exe} "-DARGS=${args}" -DWORKDIR=${work}
+                     -DEXPECT_EXIT=${T_EXIT} "-DSTDERR_REGEX=${T_STDERR}" "-DSTDOUT_REGEX=${T_STDOUT}"
+                     -DNO_FILE=${T_NO_FILE} -DEXPECT_FILE=${T_EXPECT_FILE} -DONE_LINE=${T_ONE_LINE}
+                     -DTIMEOUT=20 -P ${CMAKE_CURRENT_SOURCE_DIR}/cli/run_cli.cmake)
+    set_tests_properties(cli.${name} PROPERTIES LABELS "cli" TIMEOUT 30 SKIP_RETURN_CODE 77)
+endfunction()
+
+# Devices are refused by name before anything is read: --height /dev/zero read 2 GiB (3 s, 2.15 GB)
+# before "file is larger than 2 GiB", or said only "out of memory" under a memory limit.
+foreach(case "height_dev_zero|render|--height|/dev/zero|--mesh|${M}/cube.obj|--size|32x32"
+             "color_dev_urandom|render|--color|/dev/urandom|--mesh|${M}/cube.obj|--size|32x32"
+             "conemap_height_dev_zero|conemap|--height|/dev/zero|--no-cache"
+             "scene_dev_zero|render|--scene|/dev/zero|--size|32x32")
+    string(REPLACE "|" ";" parts "${case}")
+    list(POP_FRONT parts name)
+    list(GET parts 2 device)
+    pr_cli_special(${name} EXIT 1 ONE_LINE NO_FILE o.png REQUIRES ${device}
+                   STDERR "${E}${device}: is not a regular file \\(a character device\\)"
+                   ARGS ${parts} --out o.png)
+endforeach()
+# A mesh's extension is checked first, so the device is named through a link (it read as "is empty").
+pr_cli_special(mesh_dev_zero EXIT 1 ONE_LINE NO_FILE o.png REQUIRES /dev/zero SETUP "ln -sf /dev/zero z.obj"
+               STDERR "${E}z.obj: is not a regular file \\(a character device\\)"
+               ARGS render --mesh z.obj --size 32x32 --out o.png)
+# A FIFO with no writer: open() waited for one forever (rc 124 under timeout). Now a writer is given
+# 1 s to come.
+set(NO_WRITER "is a pipe \\(FIFO\\) with nothing writing to it \\(no writer came within 1 s\\)")
+foreach(case "height_fifo_no_writer|h.png|render|--mesh|${M}/cube.obj|--height|h.png|--size|32x32"
+             "color_fifo_no_writer|c.png|render|--mesh|${M}/cube.obj|--color|c.png|--size|32x32"
+             "conemap_fifo_no_writer|h.png|conemap|--no-cache|--height|h.png"
+             "mesh_obj_fifo_no_writer|f.obj|render|--mesh|f.obj|--size|32x32"
+             "mesh_off_fifo_no_writer|f.off|render|--mesh|f.off|--size|32x32"
+             "scene_fifo_no_writer|s.json|render|--scene|s.json|--size|32x32")
+    string(REPLACE "|" ";" parts "${case}")
+    list(POP_FRONT parts name fifo)
+    pr_cli_special(${name} EXIT 1 ONE_LINE NO_FILE o.png SETUP "rm -f ${fifo} && mkfifo ${fifo}"
+                   STDERR "${E}${fifo}: ${NO_WRITER}" ARGS ${parts} --out o.png)
+endforeach()
+# Pipes with a writer are read: bash's process substitution (worked before, must go on working)
+# and, for meshes, a named FIFO with a writer (OpenMesh opened the file again by name: "cannot be
+# read (size unknown)" before, and a hang had that been passed).
+pr_cli_special(height_process_substitution BASH EXIT 0 EXPECT_FILE o.png STDOUT "o.png: 32x32 relief"
+               ARGS render --mesh '${M}/cube.obj' --height "<(cat '${BAD}/tiny.jpg')" --size 32x32 --out o.png)
+pr_cli_special(conemap_process_substitution BASH EXIT 0 EXPECT_FILE c.png STDOUT "c.png: 32x32 cone rg16"
+               ARGS conemap --height "<(cat '${BAD}/sixteen_bit.png')" --no-cache --out c.png)
+pr_cli_special(height_process_substitution_empty BASH EXIT 1 ONE_LINE NO_FILE o.png
+               STDERR "${E}/dev/fd/[0-9]+: is a pipe \\(FIFO\\) "
+               ARGS render --mesh '${M}/cube.obj' --height "<(true)" --size 32x32 --out o.png)
+foreach(mesh cube.obj blob.off)
+    string(MAKE_C_IDENTIFIER "${mesh}" id)
+    get_filename_component(ext ${mesh} EXT)
+    pr_cli_special(mesh_fifo_with_writer_${id} EXIT 0 EXPECT_FILE o.png STDOUT "o.png: 32x32 relief"
+                   SETUP "rm -f m${ext} && mkfifo m${ext} && (timeout 25 sh -c 'cat \"${M}/${mesh}\" > m${ext}' >/dev/null 2>&1 </dev/null &)"
+                   ARGS render --mesh m${ext} --size 32x32 --out o.png)
+endforeach()
+# An OBJ's material library is not opened (materials are not used): OpenMesh opened it and read it
+# to its end, so a FIFO there hung the render and `mtllib ../../dev/zero` took 19 s and 4.2 GB.
+pr_cli_special(mesh_obj_mtllib_fifo EXIT 0 EXPECT_FILE o.png STDOUT "o.png: 32x32 relief"
+               SETUP "rm -f m.mtl && mkfifo m.mtl && (echo 'mtllib m.mtl' && cat '${M}/cube.obj') > m.obj"
+               ARGS render --mesh m.obj --size 32x32 --out o.png)
+# Beyond the limits: a regular file by its size, before reading (sparse files: nothing is
+# written); a pipe as soon as it gives more. --max-image-size 16 allows 64 MiB and 2 KiB
+# (8 bytes a pixel and 64 MiB); --max-triangles 1000 the floor of 64 MiB.
+find_program(PR_TRUNCATE truncate)
+if(PR_TRUNCATE)
+    pr_cli_special(height_file_beyond_limit EXIT 1 ONE_LINE NO_FILE o.png SETUP "truncate -s 100M big.png"
+                   STDERR "${E}big.png: is 100 MiB \\(104857600 bytes\\), more than 64.0 MiB: the most an image within the limit of 256 pixels can take \\(8 bytes a pixel, and 64 MiB\\)"
+                   ARGS render --mesh ${M}/cube.obj --height big.png --max-image-size 16 --size 32x32 --out o.png)
+    pr_cli_special(mesh_file_beyond_limit EXIT 1 ONE_LINE NO_FILE o.png SETUP "truncate -s 100M big.obj"
+                   STDERR "${E}big.obj: is 100 MiB \\(104857600 bytes\\), more than 64 MiB: the most a mesh within the limit of 1000 triangles can take \\(512 bytes a triangle, and at least 64 MiB\\)"
+                   ARGS render --mesh big.obj --max-triangles 1000 --size 32x32 --out o.png)
+endif()
+pr_cli_special(height_pipe_beyond_limit BASH EXIT 1 ONE_LINE NO_FILE o.png REQUIRES /dev/zero
+               STDERR "${E}/dev/fd/[0-9]+: is a pipe that gave more than 64.0 MiB: the most an image within the limit of 256 pixels"
+               ARGS render --mesh '${M}/cube.obj' --height "<(head -c 80000000 /dev/zero)" --max-image-size 16 --size 32x32 --out o.png)
+
 # ---- GL failures --------------------------------------------------------------------------------
 # No EGL library (the OSMesa case is cli.no_gl_context).
 if(EGL_INCLUDE_DIR)
