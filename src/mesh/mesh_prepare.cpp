@@ -417,6 +417,94 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         warn(name + ": dropped " + std::to_string(degenerate) + " degenerate (zero-area) triangle" +
              (degenerate == 1 ? "" : "s"));
 
+    // ---- faces that repeat another face --------------------------------------------------------
+    // A face whose corners are the welded positions of an earlier face in the same cyclic order
+    // (listed twice) or in the reverse order (the back of a two-sided sheet). The first listed
+    // copy is kept and the repeats are dropped (docs/mesh-input.md, "Repeated faces"). A
+    // same-winding repeat adds nothing to the picture but three faces on an edge, double weight
+    // in the welded normals and edges "of opposite orientation", and it kept a closed mesh wound
+    // inward from being reversed. An opposite-winding repeat cancelled the welded normals (a
+    // fallback direction lay in the sheet, and the displacement slid sideways), and kept, with
+    // the face's normal, it is a second copy of the same displaced surface, seen from the other
+    // side: the two fought for the same pixels (dark speckles in every technique but the prism).
+    // Every surface is drawn from both sides anyway, the back as the displaced surface's back.
+    size_t same_repeats = 0, opposite_repeats = 0;
+    {
+        std::vector<uint8_t> has_triangle(face_count, 0);
+        for (const Triangle& t : tris) has_triangle[t.face] = 1;
+        auto face_welds = [&](size_t f, std::vector<uint32_t>& ids) {
+            ids.clear();
+            for (uint32_t c = raw.face_offsets[f]; c < raw.face_offsets[f + 1]; ++c)
+                ids.push_back(weld_of[raw.corners[c]]);
+        };
+        // Faces grouped by their sorted welded positions (a hash, then the exact comparison).
+        std::vector<std::pair<uint64_t, uint32_t>> order;
+        order.reserve(face_count);
+        std::vector<uint32_t> ids, other;
+        for (size_t f = 0; f < face_count; ++f) {
+            if (!has_triangle[f]) continue;
+            face_welds(f, ids);
+            std::sort(ids.begin(), ids.end());
+            uint64_t h = mix64(ids.size());
+            for (uint32_t id : ids) h = mix64(h ^ id);
+            order.emplace_back(h, uint32_t(f));
+        }
+        std::sort(order.begin(), order.end());
+        // 0: not a repeat of `a`; 1: the same cyclic order; 2: reversed.
+        auto repeat_kind = [](const std::vector<uint32_t>& a, const std::vector<uint32_t>& b) {
+            const size_t n = a.size();
+            if (b.size() != n) return 0;
+            for (size_t r = 0; r < n; ++r) {
+                if (b[r] != a[0]) continue;
+                bool forward = true, backward = true;
+                for (size_t i = 1; i < n && (forward || backward); ++i) {
+                    forward = forward && b[(r + i) % n] == a[i];
+                    backward = backward && b[(r + n - i) % n] == a[i];
+                }
+                if (forward) return 1;
+                if (backward) return 2;
+            }
+            return 0;
+        };
+        std::vector<uint8_t> drop(face_count, 0);
+        for (size_t i = 0; i < order.size();) {
+            size_t j = i + 1;
+            while (j < order.size() && order[j].first == order[i].first) ++j;
+            // In file order within the group: each face is compared with the earlier ones that
+            // are not repeats themselves.
+            for (size_t b = i + 1; b < j; ++b) {
+                face_welds(order[b].second, ids);
+                for (size_t a = i; a < b; ++a) {
+                    const uint32_t fa = order[a].second;
+                    if (drop[fa]) continue;
+                    face_welds(fa, other);
+                    const int kind = repeat_kind(other, ids);
+                    if (kind == 1) {
+                        drop[order[b].second] = 1;
+                        ++same_repeats;
+                    } else if (kind == 2) {
+                        drop[order[b].second] = 1;
+                        ++opposite_repeats;
+                    }
+                    if (kind != 0) break;
+                }
+            }
+            i = j;
+        }
+        if (same_repeats + opposite_repeats > 0)
+            tris.erase(std::remove_if(tris.begin(), tris.end(), [&](const Triangle& t) { return drop[t.face] != 0; }),
+                       tris.end());
+    }
+    if (same_repeats > 0)
+        warn(name + ": dropped " + std::to_string(same_repeats) + " face" + (same_repeats == 1 ? "" : "s") +
+             " that repeat" + (same_repeats == 1 ? "s" : "") +
+             " another face (the same corners in the same order; the first is kept)");
+    if (opposite_repeats > 0)
+        warn(name + ": " + std::to_string(opposite_repeats) + " face" + (opposite_repeats == 1 ? "" : "s") +
+             " repeat" + (opposite_repeats == 1 ? "s" : "") +
+             " another face with the opposite winding (the back of a two-sided sheet): dropped, the first "
+             "is kept and drawn from both sides");
+
     // ---- compact weld ids to the positions that survive ----------------------------------------
     std::vector<uint32_t> compact(welds.size(), kNone);
     std::vector<dvec3> wpos;
@@ -448,7 +536,10 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     // of the angle-weighted sum (their obtuse corner would weigh almost pi); the plain sum of
     // cross products is the fallback for a position that only touches such triangles.
     std::vector<dvec3> nsum(weld_count, dvec3(0.0)), csum(weld_count, dvec3(0.0));
-    std::vector<double> angle_sum(weld_count, 0.0);
+    std::vector<double> angle_sum(weld_count, 0.0), cross_sum(weld_count, 0.0);
+    // The unit normal of the first triangle (in file order) around each position: the direction
+    // of a position whose faces cancel.
+    std::vector<dvec3> first_normal(weld_count, dvec3(0.0));
     for (const Triangle& t : tris) {
         const uint32_t w[3] = {tri_weld(t, 0), tri_weld(t, 1), tri_weld(t, 2)};
         const dvec3 &a = wpos[w[0]], &b = wpos[w[1]], &c = wpos[w[2]];
@@ -456,7 +547,11 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         const double len = glm::length(cr);
         const double longest2 =
             std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
-        for (uint32_t wi : w) csum[wi] += cr;
+        for (uint32_t wi : w) {
+            csum[wi] += cr;
+            cross_sum[wi] += len;
+            if (len > 0.0 && first_normal[wi] == dvec3(0.0)) first_normal[wi] = cr / len;
+        }
         if (len <= 1e-7 * longest2) continue;
         const dvec3 fn = cr / len;
         const double angles[3] = {corner_angle(a, b, c), corner_angle(b, c, a),
@@ -475,12 +570,19 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
             wnormal[i] = nsum[i] / l;
             continue;
         }
-        // Cancelled (opposite faces at one position) or only slivers: any finite direction.
-        ++fallback_normals;
         const double lc = glm::length(csum[i]);
+        if (angle_sum[i] == 0.0 && lc > 1e-6 * cross_sum[i] && lc > 0.0) {
+            wnormal[i] = csum[i] / lc; // only slivers around it: their summed cross products
+            continue;
+        }
+        // Cancelled (faces of opposite orientation at one position, e.g. a fin folded flat or
+        // two sheets back to back): the first face's side. Sums of cross products cancel as well,
+        // to rounding noise, and a direction radial from the box's centre lay in a flat sheet, so
+        // the displacement slid sideways.
+        ++fallback_normals;
         const dvec3 d = wpos[i] - centre;
-        if (lc > 0.0)
-            wnormal[i] = csum[i] / lc;
+        if (first_normal[i] != dvec3(0.0))
+            wnormal[i] = first_normal[i];
         else if (glm::length(d) > 0.0)
             wnormal[i] = glm::normalize(d);
         else
@@ -488,8 +590,8 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     }
     if (fallback_normals > 0)
         warn(name + ": " + std::to_string(fallback_normals) +
-             " positions have no defined normal (their faces cancel out); used a fallback "
-             "direction");
+             " positions have no defined normal (their faces cancel out); used the normal of the "
+             "first face around each");
 
     // ---- topology remarks: non-manifold edges and inconsistent orientation ---------------------
     // Edge keys pack two 31-bit weld ids and a direction bit into 64 bits.
@@ -504,7 +606,9 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
             }
         }
         std::sort(edges.begin(), edges.end());
-        size_t non_manifold = 0, flipped = 0, boundary = 0;
+        // unbalanced: edges run more often one way than the other (every edge of a closed,
+        // consistently oriented surface runs once each way per pair of faces on it).
+        size_t non_manifold = 0, flipped = 0, boundary = 0, unbalanced = 0;
         for (size_t i = 0; i < edges.size();) {
             size_t j = i, forward = 0;
             while (j < edges.size() && (edges[j] >> 1) == (edges[i] >> 1)) {
@@ -518,25 +622,68 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
                 ++flipped;
             else if (count == 1)
                 ++boundary;
+            unbalanced += 2 * forward != count;
             i = j;
         }
+        edges = {};
         // A closed, consistently oriented mesh wound the other way round (clockwise seen from
         // outside: its signed volume is negative) has every normal pointing in, so its shell and
         // bumps would go inward and the prism would show the body from inside. Such files are
         // common (a mirrored export, another convention) and meant outward: reversed, with a
-        // warning. An open mesh has no inside to tell.
-        if (non_manifold == 0 && flipped == 0 && boundary == 0) {
-            double volume = 0.0; // six times the signed volume, about the box's centre
-            for (const Triangle& t : tris) {
-                const dvec3 a = wpos[tri_weld(t, 0)] - centre, b = wpos[tri_weld(t, 1)] - centre,
-                            c = wpos[tri_weld(t, 2)] - centre;
-                volume += glm::dot(a, glm::cross(b, c));
-            }
-            if (volume < 0.0) {
+        // warning. "Closed and consistent" is: every edge runs as often one way as the other,
+        // which allows non-manifold edges where closed pieces touch (four faces on an edge, two
+        // each way); the signed volume is then the enclosed volume wherever it is taken from. An
+        // open or inconsistently oriented mesh has no inside to tell: it keeps its winding, with a
+        // warning when it is nearly closed (the faces' area vectors sum to under a fifth of their
+        // total area: a hole, a few flipped faces) and its signed volume about the box's centre
+        // is clearly negative (more than three quarters of the faces' volume turned inward), e.g.
+        // a sphere wound inward with a face missing or flipped. (A hemisphere's opening is half
+        // its area: a bowl, either winding may be meant; a spherical cap passes the fifth beyond
+        // about 127 degrees from its pole.)
+        double volume = 0.0, magnitude = 0.0; // six times the signed (and unsigned) volume about the centre
+        dvec3 area(0.0);                      // twice the summed area vectors
+        double area_total = 0.0;
+        std::vector<double> face_volume(face_count, 0.0);
+        for (const Triangle& t : tris) {
+            const dvec3 a = wpos[tri_weld(t, 0)] - centre, b = wpos[tri_weld(t, 1)] - centre,
+                        c = wpos[tri_weld(t, 2)] - centre;
+            const double v = glm::dot(a, glm::cross(b, c));
+            volume += v;
+            magnitude += std::fabs(v);
+            face_volume[t.face] += v;
+            const dvec3 cr = glm::cross(b - a, c - a);
+            area += cr;
+            area_total += glm::length(cr);
+        }
+        const bool closed = unbalanced == 0;
+        if (volume < 0.0 &&
+            (closed ? -volume > 1e-9 * magnitude : -volume > 0.5 * magnitude && glm::length(area) < 0.2 * area_total)) {
+            if (closed) {
                 for (Triangle& t : tris) std::swap(t.corner[1], t.corner[2]);
                 for (dvec3& n : wnormal) n = -n;
                 warn(name + ": the faces wind clockwise seen from outside (the closed mesh's volume is "
                             "negative): reversed, so that its normals point out");
+            } else {
+                size_t inward = 0, faces = 0;
+                std::vector<uint8_t> counted(face_count, 0);
+                for (const Triangle& t : tris) {
+                    if (counted[t.face]) continue;
+                    counted[t.face] = 1;
+                    ++faces;
+                    inward += face_volume[t.face] < 0.0;
+                }
+                std::string why;
+                auto add = [&](size_t n, const std::string& what) {
+                    if (n == 0) return;
+                    why += (why.empty() ? "" : ", ") + std::to_string(n) + " " + what;
+                };
+                add(boundary, "open edges");
+                add(flipped, "edges joining faces of opposite orientation");
+                if (boundary == 0 && flipped == 0) add(unbalanced, "non-manifold edges with more faces one way than the other");
+                warn(name + ": the faces appear to wind clockwise seen from outside (the signed volume is "
+                            "negative: " + std::to_string(inward) + " of " + std::to_string(faces) +
+                     " faces turn towards the middle), but the mesh is not closed and consistently oriented (" +
+                     why + "): not reversed, so its normals, shell and bumps may point inward; fix the file's winding");
             }
         }
         if (non_manifold > 0)
@@ -608,24 +755,62 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     }
     out.had_uvs = generated_faces == 0;
     if (generated_faces > 0 && !options.force_generated_uvs) {
+        size_t faces = 0; // that made triangles
+        std::fill(seen_face.begin(), seen_face.end(), uint8_t(0));
+        for (const Triangle& t : tris) faces += seen_face[t.face] == 0 ? (seen_face[t.face] = 1) : 0;
+        const std::string repeats = " (" + format_number(options.uv_scale) + " repeats across the largest extent)";
         if (raw.face_has_uv.empty())
-            warn(name + ": no texture coordinates; generated box-projected UVs (" +
-                 format_number(options.uv_scale) + " repeats across the largest extent)");
+            warn(name + ": no texture coordinates; generated box-projected UVs" + repeats);
+        else if (generated_faces == faces)
+            // The reader keeps face_has_uv when the file had texture coordinates that no face
+            // could use (e.g. a corner without one).
+            warn(name + ": none of the " + std::to_string(faces) +
+                 " faces has usable texture coordinates (one at every corner); generated box-projected UVs" +
+                 repeats);
         else
-            warn(name + ": " + std::to_string(generated_faces) +
-                 " faces have no usable texture coordinates; generated box-projected UVs for them");
+            warn(name + ": " + std::to_string(generated_faces) + " of " + std::to_string(faces) +
+                 " faces have no usable texture coordinates (one at every corner); generated box-projected "
+                 "UVs for them, the others keep the file's");
     }
 
     // ---- per-triangle metric frames ---------------------------------------------------------
     // dP/du and dP/dv of each triangle: P is linear in UV over a triangle, so
-    // e1 = T du1 + B dv1 and e2 = T du2 + B dv2. Triangles without UV area have no frame. The
-    // frame of a triangle that is nearly flat in UV grows without bound (dividing by its UV
-    // area), so such triangles weigh less when frames are averaged: `tri_quality` is the UV
-    // area over the product of the UV extents (about 0.5 to 1 for well-shaped triangles).
+    // e1 = T du1 + B dv1 and e2 = T du2 + B dv2. The frame of a triangle that is nearly flat in
+    // UV grows without bound (dividing by its UV area), so such triangles weigh less when frames
+    // are averaged: `tri_quality` is the UV area over the product of the UV extents (about 0.5 to
+    // 1 for well-shaped triangles).
+    //
+    // Triangles without UV area have no such frame. Over a triangle whose UVs are all equal, u
+    // and v do not change: the height is constant there, its slope zero, and a ray does not move
+    // in UV. Over one whose UVs lie on a line, only the coordinate along the line changes. Their
+    // frame is the limit of dP/du and dP/dv as the UV area shrinks to nothing: infinitely long
+    // along the directions in which the UV does not change. A frame many times longer than the
+    // face along those directions (a `limit frame`) says that to the shaders: the height's
+    // slope along it vanishes from the normal (height_normal(): dS/du = T + N depth dh/du), and the
+    // view ray, expressed in the frame, does not move in UV along it (docs/mesh-input.md).
+    // - UVs on a line with direction e (unit, in UV) and w = UV . e: g' = dP/dw (the gradient of w
+    //   over the face over its squared length) and m, the unit vector in the face perpendicular
+    //   to it; T = e.x g' + e'.x L m and B = e.y g' + e'.y L m, with e' = e turned by 90 degrees
+    //   and L = kLimitStretch |g'| (right-handed, and the same for e and -e).
+    // - UVs at one point: T and B perpendicular, kPointStretch times the mean frame length. The
+    //   shading normal is then the direction of T x B, so across the triangle it must follow the
+    //   interpolated normal: T comes from one direction in the face's plane (any, as no slope
+    //   crosses to the next face) made perpendicular to each corner's normal, and each such
+    //   triangle has render vertices of its own (a direction per vertex, shared by neighbours,
+    //   cannot be smooth on a closed surface and left a pattern of dark lines).
+    // Such triangles get render vertices of their own (averaged with a real frame, a limit frame
+    // would be neither), and they take no part in their neighbours' frames.
+    // A line's 1e4 keeps what the slope across it contributes under 1e-4 of what the slope along
+    // it does, and the finite part of its frame (1e-4 of its length at most) well above float
+    // rounding (T and B are then nearly parallel: the shaders' inverse and cross products lose
+    // about 1e4 x 6e-8). A point's frame is perpendicular and can be longer: 1e5 (a slope of 10
+    // per UV unit times the depth tilts the normal by 1e-4 of a radian).
+    constexpr double kLimitStretch = 1e4, kPointStretch = 1e5;
+    enum : uint8_t { kRealFrame, kLineFrame, kPointFrame };
     std::vector<glm::vec3> tri_t(tris.size()), tri_b(tris.size());
     std::vector<double> tri_det(tris.size());
     std::vector<float> tri_quality(tris.size(), 0.0f);
-    std::vector<uint8_t> tri_has_frame(tris.size(), 0);
+    std::vector<uint8_t> tri_kind(tris.size(), kPointFrame);
     for (size_t i = 0; i < tris.size(); ++i) {
         const Triangle& t = tris[i];
         const dvec3 &p0 = wpos[tri_weld(t, 0)], &p1 = wpos[tri_weld(t, 1)],
@@ -636,16 +821,42 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         tri_det[i] = det;
         const double scale =
             (std::fabs(d1.x) + std::fabs(d2.x)) * (std::fabs(d1.y) + std::fabs(d2.y));
-        if (det == 0.0 || !(std::fabs(det) > 1e-7 * scale)) continue;
         const dvec3 e1 = p1 - p0, e2 = p2 - p0;
-        const dvec3 T = (e1 * d2.y - e2 * d1.y) / det;
-        const dvec3 B = (e2 * d1.x - e1 * d2.x) / det;
-        const double lt = glm::length(T), lb = glm::length(B);
-        if (!std::isfinite(lt) || !std::isfinite(lb) || lt == 0.0 || lb == 0.0) continue;
+        if (det != 0.0 && std::fabs(det) > 1e-7 * scale) {
+            const dvec3 T = (e1 * d2.y - e2 * d1.y) / det;
+            const dvec3 B = (e2 * d1.x - e1 * d2.x) / det;
+            const double lt = glm::length(T), lb = glm::length(B);
+            if (std::isfinite(lt) && std::isfinite(lb) && lt > 0.0 && lb > 0.0) {
+                tri_t[i] = glm::vec3(T);
+                tri_b[i] = glm::vec3(B);
+                tri_quality[i] = float(std::fabs(det) / scale);
+                tri_kind[i] = kRealFrame;
+                continue;
+            }
+        }
+        // A limit frame: UVs on a line (its longest UV edge gives the direction) or at a point.
+        dvec2 longest = d1;
+        for (const dvec2& d : {d2, d2 - d1})
+            if (glm::dot(d, d) > glm::dot(longest, longest)) longest = d;
+        const double ell = glm::length(longest);
+        const double uv_size = std::max({1.0, std::fabs(uv0.x), std::fabs(uv0.y), std::fabs(uv1.x),
+                                         std::fabs(uv1.y), std::fabs(uv2.x), std::fabs(uv2.y)});
+        const dvec3 fn = glm::cross(e1, e2);
+        const double fn2 = glm::dot(fn, fn);
+        if (!(ell > 1e-6 * uv_size) || !(fn2 > 0.0)) continue; // a point (to float precision)
+        const dvec2 e = longest / ell, e_turned(-e.y, e.x);
+        const dvec3 g = (glm::dot(d1, e) * glm::cross(e2, fn) + glm::dot(d2, e) * glm::cross(fn, e1)) / fn2;
+        const double g2 = glm::dot(g, g);
+        if (!(g2 > 0.0) || !std::isfinite(g2)) continue;
+        const dvec3 along = g / g2; // dP/dw
+        const dvec3 m = glm::normalize(glm::cross(fn, g));
+        const double stretch = kLimitStretch * glm::length(along);
+        const dvec3 T = e.x * along + e_turned.x * stretch * m;
+        const dvec3 B = e.y * along + e_turned.y * stretch * m;
+        if (!std::isfinite(glm::length(T) + glm::length(B))) continue;
         tri_t[i] = glm::vec3(T);
         tri_b[i] = glm::vec3(B);
-        tri_quality[i] = float(std::fabs(det) / scale);
-        tri_has_frame[i] = 1;
+        tri_kind[i] = kLineFrame;
     }
 
     // ---- render vertices
@@ -654,10 +865,13 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     // degrees apart: a cube with 0..1 UVs on every face shares UV (1, 1) between perpendicular
     // faces at a corner, and averaging their frames would suit neither. Mirrored UVs flip T or B,
     // so mirror seams split too. Greedy, in triangle order: each corner joins the first cluster of
-    // its (position, UV) whose first frame is compatible.
+    // its (position, UV) whose first frame is compatible. Corners of triangles whose UVs lie on a
+    // line join clusters of their own, and those of triangles whose UVs are one point take
+    // vertices of their own (limit frames, above).
     struct Cluster {
         glm::vec3 t_dir{0.0f}, b_dir{0.0f};
         bool has_frame = false;
+        bool limit = false;
         uint32_t next = kNone;
         uint32_t vertex = kNone;
     };
@@ -665,12 +879,22 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     std::vector<uint32_t> first_cluster;
     std::vector<Cluster> clusters;
     std::vector<UvKey> vertex_keys;
-    std::vector<uint8_t> vertex_mirrored;
+    std::vector<uint8_t> vertex_mirrored, vertex_kind; // tri_kind of the triangles it belongs to
     first_cluster.reserve(weld_count + weld_count / 4);
     out.indices.resize(tris.size() * 3);
     constexpr float kCompatible = 0.25f; // cos 75 degrees
     for (size_t i = 0; i < tris.size(); ++i) {
-        const bool has = tri_has_frame[i] != 0;
+        const bool has = tri_kind[i] == kRealFrame;
+        if (tri_kind[i] == kPointFrame) {
+            for (int k = 0; k < 3; ++k) {
+                const glm::vec2 uv = tri_uv[i * 3 + size_t(k)];
+                out.indices[i * 3 + size_t(k)] = uint32_t(vertex_keys.size());
+                vertex_keys.push_back({tri_weld(tris[i], k), float_bits(uv.x), float_bits(uv.y)});
+                vertex_mirrored.push_back(0);
+                vertex_kind.push_back(kPointFrame);
+            }
+            continue;
+        }
         const glm::vec3 td = has ? glm::normalize(tri_t[i]) : glm::vec3(0.0f);
         const glm::vec3 bd = has ? glm::normalize(tri_b[i]) : glm::vec3(0.0f);
         for (int k = 0; k < 3; ++k) {
@@ -681,9 +905,9 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
             uint32_t chosen = kNone, last = kNone;
             for (uint32_t c = first_cluster[id]; c != kNone; c = clusters[c].next) {
                 const Cluster& cl = clusters[c];
-                if (!has || !cl.has_frame ||
-                    (glm::dot(td, cl.t_dir) > kCompatible &&
-                     glm::dot(bd, cl.b_dir) > kCompatible)) {
+                if (cl.limit == !has &&
+                    (!has || !cl.has_frame ||
+                     (glm::dot(td, cl.t_dir) > kCompatible && glm::dot(bd, cl.b_dir) > kCompatible))) {
                     chosen = c;
                     break;
                 }
@@ -693,6 +917,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
                 chosen = uint32_t(clusters.size());
                 Cluster c;
                 c.vertex = uint32_t(vertex_keys.size());
+                c.limit = !has;
                 clusters.push_back(c);
                 if (last == kNone)
                     first_cluster[id] = chosen;
@@ -700,6 +925,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
                     clusters[last].next = chosen;
                 vertex_keys.push_back(key);
                 vertex_mirrored.push_back(0);
+                vertex_kind.push_back(tri_kind[i]);
             }
             Cluster& c = clusters[chosen];
             if (has && !c.has_frame) {
@@ -717,17 +943,24 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     // ---- metric tangent frames ------------------------------------------------------------------
     // Triangle frames averaged over the triangles around a render vertex with corner-angle
     // weights (scaled down for triangles nearly flat in UV); lengths are kept (object units per
-    // UV unit).
+    // UV unit). Limit frames of lines the same way (their vertices have no others); a vertex of
+    // a point's triangle gets the direction in the face that its T starts from.
     std::vector<glm::vec3> tsum(vertex_count, glm::vec3(0.0f)), bsum(vertex_count, glm::vec3(0.0f));
     std::vector<float> wsum(vertex_count, 0.0f);
     for (size_t i = 0; i < tris.size(); ++i) {
-        if (!tri_has_frame[i]) continue;
         const Triangle& t = tris[i];
         const dvec3 &p0 = wpos[tri_weld(t, 0)], &p1 = wpos[tri_weld(t, 1)],
                     &p2 = wpos[tri_weld(t, 2)];
+        if (tri_kind[i] == kPointFrame) {
+            const dvec3 fn = glm::cross(p1 - p0, p2 - p0);
+            const double len = glm::length(fn);
+            const glm::vec3 dir = len > 0.0 ? glm::vec3(any_perpendicular(fn / len)) : glm::vec3(0.0f);
+            for (int k = 0; k < 3; ++k) tsum[out.indices[i * 3 + size_t(k)]] = dir;
+            continue;
+        }
         const double angles[3] = {corner_angle(p0, p1, p2), corner_angle(p1, p2, p0),
                                   corner_angle(p2, p0, p1)};
-        const float shape = std::min(1.0f, tri_quality[i] / 0.05f);
+        const float shape = tri_kind[i] == kLineFrame ? 1.0f : std::min(1.0f, tri_quality[i] / 0.05f);
         for (int k = 0; k < 3; ++k) {
             const uint32_t v = out.indices[i * 3 + size_t(k)];
             const float w = float(angles[k]) * shape;
@@ -742,7 +975,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     double mean_len = 0.0;
     size_t mean_n = 0;
     for (size_t v = 0; v < vertex_count; ++v) {
-        if (wsum[v] <= 0.0f) continue;
+        if (wsum[v] <= 0.0f || vertex_kind[v] != kRealFrame) continue;
         mean_len += 0.5 * (glm::length(tsum[v]) + glm::length(bsum[v])) / wsum[v];
         ++mean_n;
     }
@@ -768,18 +1001,33 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
             T -= n * glm::dot(n, T);
             B -= n * glm::dot(n, B);
         }
-        const double eps = 1e-6 * fallback_len;
         const double lt = glm::length(T), lb = glm::length(B);
-        const bool t_ok = lt > eps && std::isfinite(lt), b_ok = lb > eps && std::isfinite(lb);
-        if (t_ok && b_ok && glm::length(glm::cross(T / lt, B / lb)) > 1e-3) {
-            // a usable frame
-        } else if (t_ok) {
-            B = sign * (b_ok ? lb : lt) * glm::cross(n, T / lt);
-        } else if (b_ok) {
-            T = sign * lb * glm::cross(B / lb, n);
+        if (vertex_kind[v] != kRealFrame) {
+            // A line's limit frame if its average still is one (right-handed, not flat), else a
+            // point's: perpendicular, both kPointStretch times the mean frame length, T from the
+            // face's direction.
+            const bool line = vertex_kind[v] == kLineFrame && std::isfinite(lt) && std::isfinite(lb) &&
+                              lt > 0.0 && lb > 0.0 && glm::dot(glm::cross(T, B), n) > 0.1 / kLimitStretch * lt * lb;
+            if (!line) {
+                dvec3 t_dir = dvec3(tsum[v]) - n * glm::dot(n, dvec3(tsum[v]));
+                const double l = glm::length(t_dir);
+                t_dir = vertex_kind[v] == kPointFrame && l > 0.1 ? t_dir / l : any_perpendicular(n);
+                T = kPointStretch * fallback_len * t_dir;
+                B = kPointStretch * fallback_len * glm::cross(n, t_dir);
+            }
         } else {
-            T = fallback_len * any_perpendicular(n);
-            B = sign * fallback_len * glm::cross(n, T / fallback_len);
+            const double eps = 1e-6 * fallback_len;
+            const bool t_ok = lt > eps && std::isfinite(lt), b_ok = lb > eps && std::isfinite(lb);
+            if (t_ok && b_ok && glm::length(glm::cross(T / lt, B / lb)) > 1e-3) {
+                // a usable frame
+            } else if (t_ok) {
+                B = sign * (b_ok ? lb : lt) * glm::cross(n, T / lt);
+            } else if (b_ok) {
+                T = sign * lb * glm::cross(B / lb, n);
+            } else {
+                T = fallback_len * any_perpendicular(n);
+                B = sign * fallback_len * glm::cross(n, T / fallback_len);
+            }
         }
         const double handed = glm::dot(glm::cross(n, T), B) < 0.0 ? -1.0 : 1.0;
         mv.tangent = glm::vec4(glm::vec3(T), float(handed));

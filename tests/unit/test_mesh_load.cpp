@@ -390,6 +390,125 @@ TEST(MeshLoad, ClosedMeshWoundInwardIsReversed)
     }
 }
 
+namespace {
+
+// Each face turned towards `centre` (the faces' normals and the welded normals point away from it).
+void expect_outward(const pr::PreparedMesh& m, glm::vec3 centre)
+{
+    for (std::size_t t = 0; t < m.triangle_count(); ++t)
+        EXPECT_GT(glm::dot(face_normal(m, t), m.vertices[m.indices[3 * t]].position - centre), 0.0f) << t;
+    for (const pr::MeshVertex& v : m.vertices) EXPECT_GT(glm::dot(v.normal, v.position - centre), 0.0f);
+}
+
+const char* kTetPoints = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
+const char* kTetInward = "f 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n";
+
+} // namespace
+
+// A face listed twice with the same winding is a repeat, not a flip: said so, and dropped (it
+// was "4 edges join faces of opposite orientation" and a non-manifold edge, and kept).
+TEST(MeshLoad, RepeatedFaceIsDroppedAndNotCalledAFlip)
+{
+    TempDir dir;
+    ::testing::internal::CaptureStderr();
+    const pr::PreparedMesh m = pr::load_mesh(dir.write("dup.obj", std::string(kQuadObj) + "f 1 2 3 4\n"));
+    const std::string warnings = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(warnings.find("dropped 1 face that repeats another face"), std::string::npos) << warnings;
+    EXPECT_EQ(warnings.find("opposite orientation"), std::string::npos) << warnings;
+    EXPECT_EQ(warnings.find("non-manifold"), std::string::npos) << warnings;
+    expect_sane(m);
+    EXPECT_EQ(m.triangle_count(), 2u);
+}
+
+// A two-sided sheet (a quad and its reversed copy): the copy is dropped and the first side's
+// normal kept (the two sides cancelled, and the fallback direction, from the box's centre, lay in
+// the sheet: the displacement slid sideways and no technique showed relief).
+TEST(MeshLoad, TwoSidedSheetKeepsItsFirstSide)
+{
+    TempDir dir;
+    for (const bool front_first : {true, false}) {
+        const std::string faces = front_first ? "f 1 2 3 4\nf 4 3 2 1\n" : "f 2 1 4 3\nf 1 2 3 4\n";
+        ::testing::internal::CaptureStderr();
+        const pr::PreparedMesh m = pr::load_mesh(dir.write(front_first ? "two_a.obj" : "two_b.obj",
+                                                           "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n" + faces));
+        const std::string warnings = ::testing::internal::GetCapturedStderr();
+        EXPECT_NE(warnings.find("1 face repeats another face with the opposite winding"), std::string::npos)
+            << warnings;
+        EXPECT_EQ(warnings.find("no defined normal"), std::string::npos) << warnings;
+        expect_sane(m);
+        EXPECT_EQ(m.triangle_count(), 2u);
+        for (const pr::MeshVertex& v : m.vertices)
+            EXPECT_EQ(v.normal, glm::vec3(0, 0, front_first ? 1.0f : -1.0f));
+    }
+}
+
+// One stray repeated face no longer keeps a closed mesh wound inward from being reversed (it
+// made three faces on each of its edges: not reversed, every bump a dimple, and no word of it).
+TEST(MeshLoad, ClosedMeshWoundInwardWithARepeatedFaceIsReversed)
+{
+    TempDir dir;
+    ::testing::internal::CaptureStderr();
+    const pr::PreparedMesh m =
+        pr::load_mesh(dir.write("tet.obj", std::string(kTetPoints) + kTetInward + "f 1 4 2\n"));
+    const std::string warnings = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(warnings.find("wind clockwise seen from outside"), std::string::npos) << warnings;
+    EXPECT_NE(warnings.find("reversed"), std::string::npos) << warnings;
+    expect_sane(m);
+    EXPECT_EQ(m.triangle_count(), 4u);
+    expect_outward(m, glm::vec3(0.25f));
+}
+
+// Two closed tetrahedra wound inward that share an edge (four faces on it, two each way: closed
+// and consistently oriented, but not manifold) are reversed too.
+TEST(MeshLoad, ClosedPiecesWoundInwardTouchingAtAnEdgeAreReversed)
+{
+    TempDir dir;
+    ::testing::internal::CaptureStderr();
+    const pr::PreparedMesh m = pr::load_mesh(dir.write(
+        "tets.obj", std::string(kTetPoints) + "v 0 -1 0\nv 0 0 -1\n" + kTetInward +
+                        "f 1 2 5\nf 1 6 2\nf 1 5 6\nf 2 6 5\n"));
+    const std::string warnings = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(warnings.find("wind clockwise seen from outside"), std::string::npos) << warnings;
+    EXPECT_NE(warnings.find("1 edges are shared by more than two faces"), std::string::npos) << warnings;
+    expect_sane(m);
+    for (std::size_t t = 0; t < m.triangle_count(); ++t) {
+        const glm::vec3 a = m.vertices[m.indices[3 * t]].position;
+        const glm::vec3 sum = a + m.vertices[m.indices[3 * t + 1]].position + m.vertices[m.indices[3 * t + 2]].position;
+        const glm::vec3 centre = sum.y + sum.z > 0.0f ? glm::vec3(0.25f) : glm::vec3(0.25f, -0.25f, -0.25f);
+        EXPECT_GT(glm::dot(face_normal(m, t), a - centre), 0.0f) << t;
+    }
+}
+
+// An octahedron wound inward with a face missing: open, so it keeps its winding (a bowl may be
+// meant either way), but it says that it looks inside out, and how much of it.
+TEST(MeshLoad, OpenMeshWoundInwardIsNotReversedButSaidSo)
+{
+    TempDir dir;
+    const std::string points = "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n";
+    // Outward: 1 3 5, 3 2 5, 2 4 5, 4 1 5, 3 1 6, 2 3 6, 4 2 6, 1 4 6; reversed, the last left out.
+    const std::string inward = "f 1 5 3\nf 3 5 2\nf 2 5 4\nf 4 5 1\nf 3 6 1\nf 2 6 3\nf 4 6 2\n";
+    ::testing::internal::CaptureStderr();
+    const pr::PreparedMesh m = pr::load_mesh(dir.write("oct.obj", points + inward));
+    const std::string warnings = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(warnings.find("appear to wind clockwise seen from outside"), std::string::npos) << warnings;
+    EXPECT_NE(warnings.find("7 of 7 faces"), std::string::npos) << warnings;
+    EXPECT_NE(warnings.find("3 open edges"), std::string::npos) << warnings;
+    EXPECT_NE(warnings.find("not reversed"), std::string::npos) << warnings;
+    expect_sane(m);
+    for (std::size_t t = 0; t < m.triangle_count(); ++t)
+        EXPECT_LT(glm::dot(face_normal(m, t), m.vertices[m.indices[3 * t]].position), 0.0f) << t;
+    // An open mesh wound outward, a flat one, or a half wound inward (a bowl, which may be meant
+    // either way: its opening is half its faces' area) say nothing of the kind.
+    int k = 0;
+    for (const std::string& file : {points + "f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\n", std::string(kQuadObj),
+                                    points + "f 1 5 3\nf 3 5 2\nf 2 5 4\nf 4 5 1\n"}) {
+        ::testing::internal::CaptureStderr();
+        pr::load_mesh(dir.write("open" + std::to_string(k++) + ".obj", file));
+        const std::string w = ::testing::internal::GetCapturedStderr();
+        EXPECT_EQ(w.find("clockwise"), std::string::npos) << w;
+    }
+}
+
 TEST(MeshLoad, DegenerateTrianglesAndIsolatedVerticesAreDropped)
 {
     TempDir dir;
