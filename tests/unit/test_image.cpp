@@ -3,6 +3,7 @@
 // GCC 12 at -O3 reports a false -Wstringop-overflow inside std::string concatenation when an
 // Error is copied out of a lambda (GCC bug 105651); nothing in this file writes out of bounds.
 #pragma GCC diagnostic ignored "-Wstringop-overflow"
+#include "error_of.hpp"
 #include "core/error.hpp"
 #include "core/image.hpp"
 
@@ -157,22 +158,8 @@ pr::RgbaImage sample_image(int w, int h)
     return img;
 }
 
-template <typename F>
-pr::Error error_of(F&& f)
-{
-    try {
-        f();
-    } catch (const pr::Error& e) {
-        return e;
-    }
-    ADD_FAILURE() << "no pr::Error thrown";
-    return pr::Error("(no error)", "(no error)");
-}
-
-bool contains(const std::string& s, const std::string& part)
-{
-    return s.find(part) != std::string::npos;
-}
+using prtest::contains;
+using prtest::error_of;
 
 pr::HeightField field(int w, int h, std::vector<float> texels)
 {

@@ -1,6 +1,7 @@
 // Input files the user names (core/input_file, and the mesh and image readers that use it):
 // devices refused unread, FIFOs never waited on in open(), pipes read up to a limit, regular files
 // refused by their size. A hang is what these tests guard against, so each runs under an alarm.
+#include "error_of.hpp"
 #include "core/error.hpp"
 #include "core/image.hpp"
 #include "core/input_file.hpp"
@@ -46,22 +47,8 @@ private:
     void (*old_)(int);
 };
 
-template <typename F>
-pr::Error error_of(F&& f)
-{
-    try {
-        f();
-    } catch (const pr::Error& e) {
-        return e;
-    }
-    ADD_FAILURE() << "no pr::Error thrown";
-    return pr::Error("", "");
-}
-
-bool contains(const std::string& s, const std::string& part)
-{
-    return s.find(part) != std::string::npos;
-}
+using prtest::contains;
+using prtest::error_of;
 
 const pr::InputLimit kLimit{1 << 20, "a test file", "too much for a test"};
 
