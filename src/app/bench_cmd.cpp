@@ -66,8 +66,7 @@ CommandAction add_bench_command(CLI::App& app)
         if (s->frames < 1 || s->frames > 100000) throw Error("--frames", "must be between 1 and 100000");
         if (s->warmup < 0 || s->warmup > 1000) throw Error("--warmup", "must be between 0 and 1000");
         if (!s->json.empty()) check_output_folder(s->json);
-        check_distinct_outputs({{"--json", s->json}}, scene_inputs(s->scene));
-        Session session = open_session(s->scene);
+        Session session = open_session(s->scene, {{"--json", s->json}});
         Renderer& r = *session.renderer;
         for (const TechniqueRun& run : runs)
             if (run.settings.technique == Technique::Reference) {

@@ -68,8 +68,7 @@ CommandAction add_compare_command(CLI::App& app)
         const ReferenceOptions ref_options = make_reference_options(s->quality);
         if (!s->out.empty()) check_png_output(s->out);
         if (!s->json.empty()) check_output_folder(s->json);
-        check_distinct_outputs({{"--out", s->out}, {"--json", s->json}}, scene_inputs(s->scene));
-        Session session = open_session(s->scene);
+        Session session = open_session(s->scene, {{"--out", s->out}, {"--json", s->json}});
 
         const auto ref_stats = session.renderer->prepare_reference(session.scene, session.camera, ref_options);
         DrawSettings ref_settings = make_draw_settings(s->quality, "reference");

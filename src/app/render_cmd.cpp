@@ -36,8 +36,7 @@ CommandAction add_render_command(CLI::App& app)
         const ReferenceOptions ref = make_reference_options(s->technique);
         const std::span<const glm::vec2> offsets = sample_offsets(s->msaa); // refuses other counts, naming --msaa
         check_png_output(s->out);
-        check_distinct_outputs({{"--out", s->out}}, scene_inputs(s->scene));
-        Session session = open_session(s->scene);
+        Session session = open_session(s->scene, {{"--out", s->out}});
         Renderer& renderer = *session.renderer;
         if (settings.technique == Technique::Reference) {
             const auto stats = renderer.prepare_reference(session.scene, session.camera, ref);

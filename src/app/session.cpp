@@ -6,14 +6,41 @@
 
 #include <memory>
 #include <sstream>
+#include <string>
 
 namespace pr {
 
-Session open_session(const SceneOptions& options, const ContextFactory& make_context)
+namespace {
+
+// The files the spec reads: the flags', and those the scene file names, by their place in it
+// ("s.json: objects[0].height") unless a flag replaced them. From the spec already made: the scene
+// file is read once (a second read of `--scene <(cat s.json)` found the pipe empty).
+std::vector<NamedPath> scene_inputs(const SceneOptions& options, const SceneSpec& spec)
+{
+    std::vector<NamedPath> inputs = {{"--scene", options.scene_file},
+                                     {"--mesh", options.mesh},
+                                     {"--height", options.height.value_or("")},
+                                     {"--color", options.color}};
+    if (options.scene_file.empty()) return inputs;
+    for (std::size_t i = 0; i < spec.objects.size(); ++i) {
+        const ObjectSpec& o = spec.objects[i];
+        const std::string at = options.scene_file + ": objects[" + std::to_string(i) + "].";
+        if (options.mesh.empty()) inputs.emplace_back(at + "mesh", o.mesh);
+        if (!options.height) inputs.emplace_back(at + "height", o.height); // (the default is builtin:bumps)
+        if (options.color.empty()) inputs.emplace_back(at + "color", o.color);
+    }
+    return inputs;
+}
+
+} // namespace
+
+Session open_session(const SceneOptions& options, const std::vector<NamedPath>& outputs,
+                     const ContextFactory& make_context)
 {
     Session s;
     const bool cone_maps_on_gpu = parse_cone_backend_gpu(options.cone_backend, "--cone-backend");
     s.spec = make_scene_spec(options);
+    check_distinct_outputs(outputs, scene_inputs(options, s.spec));
     const Backend backend = parse_backend(options.backend);
     if (!make_context) preload_backend(backend); // loads Mesa while the scene is read
     s.scene = load_scene(s.spec);

@@ -2,6 +2,7 @@
 // What render, compare and bench share: the spec from the flags, the loaded scene, a context,
 // the renderer with the scene uploaded, the camera and the light.
 #include "app/options.hpp"
+#include "core/atomic_file.hpp"
 #include "platform/context.hpp"
 #include "render/renderer.hpp"
 
@@ -25,8 +26,12 @@ struct Session {
 // at the spec's size); empty: the headless context of --backend.
 using ContextFactory = std::function<std::unique_ptr<Context>(const SceneSpec& spec)>;
 
-// Inputs are read before any GL work, so bad files fail fast and without a context.
-Session open_session(const SceneOptions& options, const ContextFactory& make_context = {});
+// Inputs are read before any GL work, so bad files fail fast and without a context. `outputs`
+// (option, file; empty files skipped) are refused where they are one file with each other or
+// with an input: a flag's, or one the scene file names (check_distinct_outputs), once the spec
+// is made and before anything is loaded.
+Session open_session(const SceneOptions& options, const std::vector<NamedPath>& outputs,
+                     const ContextFactory& make_context = {});
 
 // A technique as listed by --techniques: its label and how it draws.
 struct TechniqueRun {

@@ -101,10 +101,7 @@ CommandAction add_view_command(CLI::App& app)
         o.reference = make_reference_options(s->technique);
         if (s->frames < 0 || s->frames > 1000000) throw Error("--frames", "must be between 0 and 1000000");
         o.frames = s->frames;
-        if (!s->screenshot.empty()) {
-            check_png_output(s->screenshot);
-            check_distinct_outputs({{"--screenshot", s->screenshot}}, scene_inputs(s->scene));
-        }
+        if (!s->screenshot.empty()) check_png_output(s->screenshot);
         o.screenshot = s->screenshot;
         o.screenshot_ui = s->screenshot_ui;
         o.panel = !s->no_panel;
@@ -118,11 +115,12 @@ CommandAction add_view_command(CLI::App& app)
         if (const char* dir = std::getenv("PRISMRELIEF_SHADER_DIR"); dir && *dir) o.shader_dir = dir;
 
         GlfwWindow* window = nullptr;
-        Session session = open_session(s->scene, [&](const SceneSpec& spec) -> std::unique_ptr<Context> {
+        const auto open_window = [&](const SceneSpec& spec) -> std::unique_ptr<Context> {
             auto w = GlfwWindow::open(spec.width, spec.height, "prismrelief view");
             window = w.get();
             return w;
-        });
+        };
+        Session session = open_session(s->scene, {{"--screenshot", s->screenshot}}, open_window);
         return view::run_viewer(session, *window, o);
 #endif
     };

@@ -186,6 +186,11 @@ endforeach()
 # read (size unknown)" before, and a hang had that been passed).
 pr_cli_special(height_process_substitution BASH EXIT 0 EXPECT_FILE o.png STDOUT "o.png: 32x32 relief"
                ARGS render --mesh '${M}/cube.obj' --height "<(cat '${BAD}/tiny.jpg')" --size 32x32 --out o.png)
+# A scene file through a pipe is read once (the output check read it first, and the scene's
+# loading then found the pipe empty: "gave no data").
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/pipe_scene.json "{\"objects\": [{\"mesh\": \"${M}/cube.obj\"}]}\n")
+pr_cli_special(scene_process_substitution BASH EXIT 0 EXPECT_FILE o.png STDOUT "o.png: 32x32 relief"
+               ARGS render --scene "<(cat '${CMAKE_CURRENT_BINARY_DIR}/pipe_scene.json')" --size 32x32 --out o.png)
 pr_cli_special(conemap_process_substitution BASH EXIT 0 EXPECT_FILE c.png STDOUT "c.png: 32x32 cone rg16"
                ARGS conemap --height "<(cat '${BAD}/sixteen_bit.png')" --no-cache --out c.png)
 pr_cli_special(height_process_substitution_empty BASH EXIT 1 ONE_LINE NO_FILE o.png
