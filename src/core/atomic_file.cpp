@@ -1,6 +1,7 @@
 #include "core/atomic_file.hpp"
 
 #include "core/error.hpp"
+#include "core/file_kind.hpp"
 
 #include <atomic>
 #include <cctype>
@@ -103,15 +104,6 @@ fs::path destination_of(const fs::path& path)
     return p;
 }
 
-const char* kind_of(mode_t mode)
-{
-    if (S_ISCHR(mode)) return "a character device";
-    if (S_ISBLK(mode)) return "a block device";
-    if (S_ISFIFO(mode)) return "a FIFO";
-    if (S_ISSOCK(mode)) return "a socket";
-    return "a special file";
-}
-
 // check_output_folder() for `path`, whose write replaces `target` (destination_of(path)).
 void check_destination(const fs::path& path, const fs::path& target)
 {
@@ -129,7 +121,7 @@ void check_destination(const fs::path& path, const fs::path& target)
         }
         if (S_ISDIR(st.st_mode)) throw Error(subject, it + "is a folder");
         if (!S_ISREG(st.st_mode))
-            throw Error(subject, it + "is not a regular file (" + kind_of(st.st_mode) + "): refusing to replace it");
+            throw Error(subject, it + "is not a regular file (" + special_file_kind(st.st_mode) + "): refusing to replace it");
     }
     const fs::path dir = folder_of(target);
     std::error_code ec;

@@ -1,6 +1,7 @@
 #include "core/input_file.hpp"
 
 #include "core/error.hpp"
+#include "core/file_kind.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -16,20 +17,6 @@
 
 namespace pr {
 namespace {
-
-// What a file that is neither regular, a folder nor a pipe is, for "is not a regular file (…)".
-const char* special_kind(mode_t mode)
-{
-    if (S_ISCHR(mode)) return "a character device";
-    if (S_ISBLK(mode)) return "a block device";
-    if (S_ISSOCK(mode)) return "a socket";
-    return "not a file that can be read";
-}
-
-[[noreturn]] void fail(const std::string& path, const std::string& problem)
-{
-    throw Error(path, problem);
-}
 
 class Fd {
 public:
@@ -52,7 +39,7 @@ constexpr int kWriterWaitMs = 1000;
 template <typename Container>
 Container read_input(const std::string& path, const InputLimit& limit)
 {
-    const auto refuse = [&path](const std::string& problem) { fail(path, problem); };
+    const auto refuse = [&path](const std::string& problem) { throw Error(path, problem); };
     const std::string cap = format_byte_size(limit.max_bytes);
     const std::string folder = limit.noun.empty() ? std::string("is a folder")
                                                   : "is a folder, not " + limit.noun;
@@ -63,7 +50,7 @@ Container read_input(const std::string& path, const InputLimit& limit)
     if (::stat(path.c_str(), &st) == 0) {
         if (S_ISDIR(st.st_mode)) refuse(folder);
         if (!S_ISREG(st.st_mode) && !S_ISFIFO(st.st_mode))
-            refuse(std::string("is not a regular file (") + special_kind(st.st_mode) + ")");
+            refuse(std::string("is not a regular file (") + special_file_kind(st.st_mode) + ")");
     }
 
     // O_NONBLOCK: a FIFO with no writer would otherwise block in open() until one comes, forever.
@@ -76,7 +63,7 @@ Container read_input(const std::string& path, const InputLimit& limit)
     if (S_ISDIR(st.st_mode)) refuse(folder);
     const bool regular = S_ISREG(st.st_mode);
     if (!regular && !S_ISFIFO(st.st_mode))
-        refuse(std::string("is not a regular file (") + special_kind(st.st_mode) + ")");
+        refuse(std::string("is not a regular file (") + special_file_kind(st.st_mode) + ")");
     // Back to blocking reads once a pipe is known to have a writer (its data may take a while to
     // come); a regular file at once.
     const auto blocking = [&] {
