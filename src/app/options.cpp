@@ -9,6 +9,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <optional>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -55,50 +56,55 @@ std::string vec_text(const glm::dvec3& v)
     return number_text(v.x) + "," + number_text(v.y) + "," + number_text(v.z);
 }
 
-// The shape of an x,y,z value: empty when it is three numbers separated by commas, else what is
-// wrong. strtod rather than stod: stod refuses a value that underflows to a denormal (1e-310),
-// which is still a valid, non-zero number.
-std::string vec3_shape_problem(const std::string& text)
+// x,y,z: three numbers separated by commas (blanks around them allowed), or nothing. strtod
+// rather than stod: stod refuses a value that underflows to a denormal (1e-310), which is still a
+// valid, non-zero number.
+std::optional<glm::dvec3> three_numbers(const std::string& text)
 {
+    glm::dvec3 v(0.0);
     std::size_t start = 0;
     for (int n = 0; n < 3; ++n) {
-        const std::size_t comma = n < 2 ? text.find(',', start) : text.size();
-        if (comma == std::string::npos || (n == 2 && text.find(',', start) != std::string::npos)) break;
-        const std::string part = text.substr(start, comma - start);
+        const std::size_t comma = n < 2 ? text.find(',', start) : std::string::npos;
+        if (n < 2 && comma == std::string::npos) return std::nullopt;
+        const std::string part = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
         char* end = nullptr;
-        std::strtod(part.c_str(), &end);
+        v[n] = std::strtod(part.c_str(), &end); // (the last part: a comma in it is left over)
         if (end == part.c_str() || part.find_first_not_of(" \t", std::size_t(end - part.c_str())) != std::string::npos)
-            break;
-        if (n == 2) return "";
+            return std::nullopt;
         start = comma + 1;
     }
-    return "expected x,y,z (three numbers), got '" + text + "'";
+    return v;
+}
+
+std::string vec3_shape_problem(const std::string& text)
+{
+    return three_numbers(text) ? "" : "expected x,y,z (three numbers), got '" + text + "'";
 }
 
 // Parsed in double, so that a direction like 1e-30,0,0 or 1e300,0,0 keeps its meaning until it
 // is normalized (unit_direction).
 glm::dvec3 parse_dvec3(const std::string& text, const std::string& option)
 {
-    if (const std::string problem = vec3_shape_problem(text); !problem.empty()) throw Error(option, problem);
-    glm::dvec3 v(0.0);
-    std::istringstream in(text);
-    std::string part;
-    for (int n = 0; n < 3 && std::getline(in, part, ','); ++n) {
-        v[n] = std::strtod(part.c_str(), nullptr);
-        if (!std::isfinite(v[n])) throw Error(option, "must be finite numbers, got '" + text + "'");
-    }
-    return v;
+    const std::optional<glm::dvec3> v = three_numbers(text);
+    if (!v) throw Error(option, vec3_shape_problem(text));
+    for (int n = 0; n < 3; ++n)
+        if (!std::isfinite((*v)[n])) throw Error(option, "must be finite numbers, got '" + text + "'");
+    return *v;
 }
 
-// The shape of a WIDTHxHEIGHT value: empty when it is two integers around an x, else what is wrong.
-std::string size_shape_problem(const std::string& text)
+// WIDTHxHEIGHT: two integers around an x, or nothing.
+std::optional<std::pair<long long, long long>> width_height(const std::string& text)
 {
     long long w = 0, h = 0;
     char x = 0, extra = 0;
     std::istringstream in(text);
-    if (!(in >> w >> x >> h) || (x != 'x' && x != 'X') || (in >> extra))
-        return "expected WIDTHxHEIGHT, e.g. 800x600, got '" + text + "'";
-    return "";
+    if (!(in >> w >> x >> h) || (x != 'x' && x != 'X') || (in >> extra)) return std::nullopt;
+    return std::pair{w, h};
+}
+
+std::string size_shape_problem(const std::string& text)
+{
+    return width_height(text) ? "" : "expected WIDTHxHEIGHT, e.g. 800x600, got '" + text + "'";
 }
 
 // A flag's value of the wrong shape is bad usage (exit 2), as a number that is not one is in
@@ -171,10 +177,9 @@ glm::vec3 parse_vec3(const std::string& text, const std::string& option)
 
 std::pair<int, int> parse_size(const std::string& text, const std::string& option)
 {
-    if (const std::string problem = size_shape_problem(text); !problem.empty()) throw Error(option, problem);
-    long long w = 0, h = 0;
-    char x = 0;
-    std::istringstream(text) >> w >> x >> h;
+    const auto size = width_height(text);
+    if (!size) throw Error(option, size_shape_problem(text));
+    const auto [w, h] = *size;
     if (w < 1 || h < 1 || w > 16384 || h > 16384)
         throw Error(option, "each side must be between 1 and 16384, got '" + text + "'");
     return {int(w), int(h)};
