@@ -12,15 +12,12 @@ namespace pr {
 
 namespace {
 
-// The files the spec reads: the flags', and those the scene file names, by their place in it
-// ("s.json: objects[0].height") unless a flag replaced them. From the spec already made: the scene
-// file is read once (a second read of `--scene <(cat s.json)` found the pipe empty).
-std::vector<NamedPath> scene_inputs(const SceneOptions& options, const SceneSpec& spec)
+// The files the scene file names, by their place in it ("s.json: objects[0].height"), unless a
+// flag replaced them: from the spec already made, so that the scene file is read once (a second
+// read of `--scene <(cat s.json)` found the pipe empty).
+std::vector<NamedPath> scene_file_inputs(const SceneOptions& options, const SceneSpec& spec)
 {
-    std::vector<NamedPath> inputs = {{"--scene", options.scene_file},
-                                     {"--mesh", options.mesh},
-                                     {"--height", options.height.value_or("")},
-                                     {"--color", options.color}};
+    std::vector<NamedPath> inputs;
     if (options.scene_file.empty()) return inputs;
     for (std::size_t i = 0; i < spec.objects.size(); ++i) {
         const ObjectSpec& o = spec.objects[i];
@@ -39,8 +36,14 @@ Session open_session(const SceneOptions& options, const std::vector<NamedPath>& 
 {
     Session s;
     const bool cone_maps_on_gpu = parse_cone_backend_gpu(options.cone_backend, "--cone-backend");
+    // The flags' files before the scene file is read (an output over it is refused unread), the
+    // files it names once it is.
+    check_distinct_outputs(outputs, {{"--scene", options.scene_file},
+                                     {"--mesh", options.mesh},
+                                     {"--height", options.height.value_or("")},
+                                     {"--color", options.color}});
     s.spec = make_scene_spec(options);
-    check_distinct_outputs(outputs, scene_inputs(options, s.spec));
+    check_distinct_outputs(outputs, scene_file_inputs(options, s.spec));
     const Backend backend = parse_backend(options.backend);
     if (!make_context) preload_backend(backend); // loads Mesa while the scene is read
     s.scene = load_scene(s.spec);
