@@ -740,12 +740,14 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
 
     std::vector<glm::vec2> tri_uv(tris.size() * 3);
     std::vector<uint8_t> seen_face(face_count, 0);
+    size_t faces = 0; // that made triangles
     for (size_t i = 0; i < tris.size(); ++i) {
         const Triangle& t = tris[i];
         const bool from_file = face_uses_file_uv(t.face);
-        if (!from_file && !seen_face[t.face]) {
+        if (!seen_face[t.face]) {
             seen_face[t.face] = 1;
-            ++generated_faces;
+            ++faces;
+            generated_faces += from_file ? 0 : 1;
         }
         for (int k = 0; k < 3; ++k) {
             tri_uv[i * 3 + size_t(k)] = from_file
@@ -755,9 +757,6 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     }
     out.had_uvs = generated_faces == 0;
     if (generated_faces > 0 && !options.force_generated_uvs) {
-        size_t faces = 0; // that made triangles
-        std::fill(seen_face.begin(), seen_face.end(), uint8_t(0));
-        for (const Triangle& t : tris) faces += seen_face[t.face] == 0 ? (seen_face[t.face] = 1) : 0;
         const std::string repeats = " (" + format_number(options.uv_scale) + " repeats across the largest extent)";
         if (raw.face_has_uv.empty())
             warn(name + ": no texture coordinates; generated box-projected UVs" + repeats);
