@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <glm/gtc/matrix_inverse.hpp>
+
 namespace pr {
 
 namespace {
@@ -68,15 +70,24 @@ std::size_t reference_bytes_per_triangle(int level)
 }
 
 ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::mat4& transform,
-                                      const HeightField& height, const Camera& camera,
-                                      int width, int height_px, std::size_t max_triangles)
+                                      const HeightField& height, float depth, float midlevel,
+                                      const Camera& camera, int height_px, std::size_t max_triangles)
 {
     ReferenceLevel r;
-    const float texels = static_cast<float>(std::max(height.width, height.height));
     // Pixels per world unit at distance 1 (vertical field of view over the image height).
     const float focal_px = 0.5f * static_cast<float>(height_px) /
                            std::tan(glm::radians(camera.fovy_deg) * 0.5f);
-    (void)width;
+    // The steepest rise between neighbouring texels: along an edge spanning s texels the height
+    // changes by at most min(1, s * step), and the displaced edge is longer by depth times that.
+    float step = 0.0f;
+    for (int y = 0; y < height.height; ++y)
+        for (int x = 0; x < height.width; ++x) {
+            const float h = height.at(x, y);
+            step = std::max({step, std::abs(height.at(x + 1, y) - h), std::abs(height.at(x, y + 1) - h)});
+        }
+    // The ends of the displacement range along the normal: depth * (h - midlevel), h in [0, 1].
+    const float reach = depth * std::max(std::abs(midlevel), std::abs(1.0f - midlevel));
+    const glm::mat3 normal_matrix = glm::inverseTranspose(glm::mat3(transform));
     float max_texel_edge = 0.0f, max_pixel_edge = 0.0f;
     const auto& v = mesh.vertices;
     for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
@@ -84,15 +95,23 @@ ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::mat4&
             const MeshVertex& p = v[mesh.indices[t + e]];
             const MeshVertex& q = v[mesh.indices[t + (e + 1) % 3]];
             const glm::vec2 duv = (q.uv - p.uv) * glm::vec2(height.width, height.height);
-            max_texel_edge = std::max(max_texel_edge, std::max(std::abs(duv.x), std::abs(duv.y)));
+            const float texel_span = std::max(std::abs(duv.x), std::abs(duv.y));
+            max_texel_edge = std::max(max_texel_edge, texel_span);
             const glm::vec3 wp = glm::vec3(transform * glm::vec4(p.position, 1.0f));
             const glm::vec3 wq = glm::vec3(transform * glm::vec4(q.position, 1.0f));
-            const float dist = std::max(std::min(glm::length(wp - camera.eye), glm::length(wq - camera.eye)),
-                                        camera.near_plane);
-            max_pixel_edge = std::max(max_pixel_edge, glm::length(wq - wp) * focal_px / dist);
+            const glm::vec3 np = glm::normalize(normal_matrix * p.normal);
+            const glm::vec3 nq = glm::normalize(normal_matrix * q.normal);
+            // An edge of the displaced surface is at most the base edge, plus the spread of the
+            // normals over the reach (a curved mesh's shell is wider at its outer end), plus the
+            // rise of the height along it (deep shells: --depth as large as the object).
+            const float displaced = glm::length(wq - wp) + reach * glm::length(nq - np) +
+                                    depth * std::min(1.0f, texel_span * step);
+            float dist = std::min(glm::length(wp - camera.eye), glm::length(wq - camera.eye));
+            for (const float s : {-reach, reach})
+                dist = std::min({dist, glm::length(wp + s * np - camera.eye), glm::length(wq + s * nq - camera.eye)});
+            max_pixel_edge = std::max(max_pixel_edge, displaced * focal_px / std::max(dist, camera.near_plane));
         }
     }
-    (void)texels;
     r.texel_level = std::max(1, static_cast<int>(std::ceil(max_texel_edge)));
     r.pixel_level = std::max(1, static_cast<int>(std::ceil(max_pixel_edge)));
     r.level = std::min(r.texel_level, r.pixel_level);

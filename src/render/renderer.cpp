@@ -430,8 +430,8 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
         if (options.level > 0) {
             lv.level = options.level;
         } else {
-            lv = choose_reference_level(so.mesh, so.transform, *so.height, camera, width_, height_,
-                                        options.max_triangles);
+            lv = choose_reference_level(so.mesh, so.transform, *so.height, so.depth, so.midlevel, camera,
+                                        height_, options.max_triangles);
         }
         if (k == 0) stats.level = lv.level;
         stats.capped = stats.capped || lv.capped;

@@ -227,3 +227,37 @@ TEST(Reference, ScaledAndMirroredObjectsMatchThePrism)
         EXPECT_NEAR(brightness[1], brightness[0], 0.2 * brightness[0]) << "the reference lit from inside";
     }
 }
+
+// The automatic level measures the displaced surface's edges on screen, not the base mesh's: a
+// shell as deep as the object (the torus at depth 5, framed from far off) took level 2, whose
+// coarse triangles put the prism at IoU 0.84 against it where a fine reference (level 24 or 64)
+// gives 0.96. Now the level rises with the depth, and the prism measures as against a fine one.
+TEST(Reference, AutomaticLevelFollowsADeepShell)
+{
+    prtest::context();
+    int levels[2] = {0, 0};
+    for (int deep = 0; deep < 2; ++deep) {
+        SceneSpec spec;
+        ObjectSpec o;
+        o.mesh = std::string(PR_SOURCE_DIR) + "/meshes/torus.obj";
+        o.height = "builtin:bumps";
+        o.depth = deep ? 5.0f : 0.1f;
+        spec.objects.push_back(o);
+        spec.width = spec.height = kSize;
+        const Scene scene = load_scene(spec);
+        Renderer r(kSize, kSize);
+        r.upload(scene);
+        const Camera c = scene_camera(spec, scene);
+        levels[deep] = r.prepare_reference(scene, c, ReferenceOptions{}).level;
+        if (!deep) continue;
+        FrameCapture frames[2];
+        for (int t = 0; t < 2; ++t) {
+            DrawSettings s;
+            s.technique = t ? Technique::Reference : Technique::Prism;
+            r.draw(c, glm::normalize(c.eye - c.target), s);
+            frames[t] = {r.read_color(), r.read_depth(), c};
+        }
+        EXPECT_GT(compare_frames(frames[0], frames[1]).iou, 0.94);
+    }
+    EXPECT_GE(levels[1], 2 * levels[0]) << "shallow " << levels[0] << ", deep " << levels[1];
+}
