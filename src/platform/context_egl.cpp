@@ -5,6 +5,7 @@
 #include "platform/context.hpp"
 
 #include "core/error.hpp"
+#include "core/file_kind.hpp"
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
@@ -28,6 +29,8 @@ EglApi& api()
     if (!a.lib) {
         // PRISMRELIEF_EGL_LIBRARY names another libEGL (like PRISMRELIEF_OSMESA_LIBRARY).
         if (const char* lib = std::getenv("PRISMRELIEF_EGL_LIBRARY"); lib && *lib) {
+            if (const std::string why = not_a_file_reason(lib); !why.empty())
+                throw Error("--backend", std::string("egl: cannot load ") + lib + ": it " + why);
             a.lib = dlopen(lib, RTLD_NOW | RTLD_LOCAL);
             if (!a.lib) throw Error("--backend", std::string("egl: cannot load ") + lib);
         }

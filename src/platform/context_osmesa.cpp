@@ -4,6 +4,7 @@
 #include "platform/context.hpp"
 
 #include "core/error.hpp"
+#include "core/file_kind.hpp"
 
 #include <GL/osmesa.h>
 #include <dlfcn.h>
@@ -34,6 +35,9 @@ OSMesaApi load_osmesa()
     OSMesaApi a;
     // PRISMRELIEF_OSMESA_LIBRARY names another build of libOSMesa (a newer Mesa, say).
     if (const char* lib = std::getenv("PRISMRELIEF_OSMESA_LIBRARY"); lib && *lib) {
+        // (dlopen would wait forever on a FIFO without a writer.)
+        if (const std::string why = not_a_file_reason(lib); !why.empty())
+            return {.error = std::string("osmesa: cannot load ") + lib + ": it " + why};
         a.lib = dlopen(lib, RTLD_NOW | RTLD_LOCAL);
         if (!a.lib) return {.error = std::string("osmesa: cannot load ") + lib};
     }

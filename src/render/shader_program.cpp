@@ -1,10 +1,11 @@
 #include "render/shader_program.hpp"
 
 #include "core/error.hpp"
+#include "core/input_file.hpp"
 #include "render/shader_sources.hpp"
 
 #include <cstdlib>
-#include <fstream>
+#include <filesystem>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -14,11 +15,12 @@ namespace pr {
 std::string shader_file(const std::string& path)
 {
     if (const char* dir = std::getenv("PRISMRELIEF_SHADER_DIR"); dir && *dir) {
-        std::ifstream in(std::string(dir) + "/" + path, std::ios::binary);
-        if (!in) throw Error("shaders/" + path, "not found in PRISMRELIEF_SHADER_DIR=" + std::string(dir));
-        std::ostringstream s;
-        s << in.rdbuf();
-        return s.str();
+        const std::string file = std::string(dir) + "/" + path;
+        std::error_code ec;
+        if (!std::filesystem::exists(file, ec))
+            throw Error("shaders/" + path, "not found in PRISMRELIEF_SHADER_DIR=" + std::string(dir));
+        // (The input reader: a FIFO there without a writer is refused after 1 s, not waited on.)
+        return read_input_text(file, InputLimit{16u << 20, "a shader", "not a shader"});
     }
     for (const EmbeddedShader& e : embedded_shaders())
         if (path == e.path) return e.source;

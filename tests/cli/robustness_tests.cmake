@@ -181,6 +181,15 @@ foreach(case "height_fifo_no_writer|h.png|render|--mesh|${M}/cube.obj|--height|h
     pr_cli_special(${name} EXIT 1 ONE_LINE NO_FILE o.png SETUP "rm -f ${fifo} && mkfifo ${fifo}"
                    STDERR "${E}${fifo}: ${NO_WRITER}" ARGS ${parts} --out o.png)
 endforeach()
+# The developer variables that name files: a FIFO as a shader under PRISMRELIEF_SHADER_DIR hung in
+# its read, and one as PRISMRELIEF_OSMESA_LIBRARY in dlopen (SETUP exports the variable).
+pr_cli_special(shader_dir_fifo EXIT 1 ONE_LINE NO_FILE o.png
+               SETUP "rm -rf sd && cp -r '${PROJECT_SOURCE_DIR}/shaders' sd && rm sd/surface.frag && mkfifo sd/surface.frag && export PRISMRELIEF_SHADER_DIR=sd"
+               STDERR "${E}sd/surface.frag: ${NO_WRITER}" ARGS render --mesh ${M}/cube.obj --size 32x32 --out o.png)
+pr_cli_special(osmesa_library_fifo EXIT 1 ONE_LINE NO_FILE o.png
+               SETUP "rm -f lib.so && mkfifo lib.so && export PRISMRELIEF_OSMESA_LIBRARY=./lib.so"
+               STDERR "${E}--backend: osmesa: cannot load ./lib.so: it is not a regular file \\(a FIFO\\)"
+               ARGS render --mesh ${M}/cube.obj --size 32x32 --out o.png)
 # Pipes with a writer are read: bash's process substitution (worked before, must go on working)
 # and, for meshes, a named FIFO with a writer (OpenMesh opened the file again by name: "cannot be
 # read (size unknown)" before, and a hang had that been passed).
