@@ -69,6 +69,7 @@ CommandAction add_compare_command(CLI::App& app)
         if (!s->out.empty()) check_png_output(s->out);
         if (!s->json.empty()) check_output_folder(s->json);
         Session session = open_session(s->scene, {{"--out", s->out}, {"--json", s->json}});
+        for (const TechniqueRun& run : runs) session.renderer->check_drawable(run.settings);
 
         const auto ref_stats = session.renderer->prepare_reference(session.scene, session.camera, ref_options);
         DrawSettings ref_settings = make_draw_settings(s->quality, "reference");

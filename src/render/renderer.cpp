@@ -23,7 +23,12 @@
 namespace pr {
 namespace {
 
-constexpr int kHistogramBins = 256;
+// Bins of the histogram of height samples per fragment (bench's p95): the last holds that many
+// or more. (256 before: every p95 above 255 read 255, at --steps 1024 on a flat map too.)
+constexpr int kHistogramBins = 8192;
+// The largest shell (radius of the sphere around it) the prism draws: its exit tests multiply three
+// world lengths in floats, which overflow (3.4e38): the torus drew right at a radius of 2.2e13, nothing at 6.5e13.
+constexpr float kPrismMaxShellRadius = 1e13f;
 
 int mip_levels(int w, int h)
 {
@@ -353,10 +358,12 @@ void Renderer::upload(const Scene& scene)
                                       [&](const SceneObject& so) { return so.height == it->second.field; });
         it = kept ? std::next(it) : cone_maps_.erase(it);
     }
-    for (const SceneObject& so : scene.objects) {
+    for (std::size_t k = 0; k < scene.objects.size(); ++k) {
+        const SceneObject& so = scene.objects[k];
         GpuObject o;
         o.depth = so.depth;
         o.midlevel = so.midlevel;
+        o.shell_radius = k < scene.object_bounds.size() ? scene.object_bounds[k].radius : 0.0f;
         o.transform = so.transform;
         o.base_color = so.base_color;
         o.base = make_geometry(so.mesh.vertices, so.mesh.indices);
@@ -723,12 +730,29 @@ void Renderer::upload_frame(const Camera& camera, glm::vec3 light_dir, glm::vec2
     glBindBufferBase(GL_UNIFORM_BUFFER, PR_UBO_OBJECT, object_ubo_.id());
 }
 
+void Renderer::check_drawable(const DrawSettings& settings) const
+{
+    if (settings.technique != Technique::Prism) return;
+    // The prism's exits multiply three world-space lengths of a prism (signed volumes, in
+    // single precision): a shell about 10^14 units across overflows them and drew nothing at all
+    // (the torus scaled by 3·10^13, or at --depth 10^14). Refused, not drawn empty.
+    for (const GpuObject& o : objects_)
+        if (!(o.shell_radius <= kPrismMaxShellRadius)) {
+            char across[32];
+            std::snprintf(across, sizeof across, "%.3g", 2.0 * double(o.shell_radius));
+            throw Error("--technique", std::string("prism: an object's displacement shell is ") + across +
+                                           " scene units across, more than the prism's single-precision "
+                                           "geometry takes (2e13): scale the scene down or use a smaller --depth");
+        }
+}
+
 double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSettings& settings)
 {
     const bool walk = settings.prism_walk();
     const GLuint program = walk ? 0 : program_for(settings); // the walk's: draw_walk_shell
     const AuxMap aux_map = settings.aux_map();
     ensure_aux_textures(aux_map);
+    check_drawable(settings);
     if (settings.technique == Technique::Prism) ensure_prism_data(walk);
     upload_frame(camera, glm::normalize(light_dir), settings.pixel_offset);
     if (settings.count_samples) {

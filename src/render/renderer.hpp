@@ -82,6 +82,11 @@ public:
     // may be dropped afterwards: the renderer keeps copies of what it draws with.
     void upload(const Scene& scene);
 
+    // Throws pr::Error where the uploaded scene cannot be drawn with `settings`: the prism with a
+    // shell too large for its single-precision geometry. draw() checks it too; commands that
+    // draw several techniques check them all first, before printing or writing anything.
+    void check_drawable(const DrawSettings& settings) const;
+
     // Clears to transparent and draws every object. Returns the wall time of the draw up to
     // glFinish in milliseconds (contract "ms"). Builds the shader variant on first use.
     double draw(const Camera& camera, glm::vec3 light_dir, const DrawSettings& settings);
@@ -187,6 +192,7 @@ private:
         // Copied from the SceneObject, so the Scene need not outlive the upload.
         float depth = 0.0f;
         float midlevel = 0.0f;
+        float shell_radius = 0.0f; // of the sphere around its displacement shell (Scene::object_bounds)
         glm::mat4 transform{1.0f};
         glm::vec3 base_color{0.8f};
     };

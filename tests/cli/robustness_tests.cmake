@@ -288,3 +288,12 @@ endif()
 # no grid image either (both are staged before either is renamed into place: StagedFile).
 pr_cli(compare_json_unwritable EXIT 1 ONE_LINE STDERR "^prismrelief: error: /proc/x.json: " NO_FILE g.png
        ARGS compare --mesh ${M}/cube.obj --techniques pom --size 32x32 --out g.png --json /proc/x.json)
+
+# A prism shell about 10^14 units across overflows the prism's single-precision exits and drew an
+# empty image (exit 0); refused now, by compare too before it prints a row.
+pr_cli(prism_shell_too_large EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}--technique: prism: an object's displacement shell is 3.4[0-9]e\\+14 scene units across, more than"
+       ARGS render --mesh ${M}/torus.obj --depth 1e14 --technique prism --size 32x32 --out o.png)
+pr_cli(compare_prism_shell_too_large EXIT 1 ONE_LINE NO_FILE c.json STDOUT "^$"
+       STDERR "${E}--technique: prism: an object's displacement shell"
+       ARGS compare --mesh ${M}/torus.obj --depth 1e14 --techniques relief,prism --size 32x32 --json c.json)
