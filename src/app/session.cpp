@@ -1,5 +1,6 @@
 #include "app/session.hpp"
 
+#include "app/commands.hpp"
 #include "app/progress.hpp"
 #include "core/error.hpp"
 #include "maps/conemap.hpp"
@@ -78,11 +79,22 @@ std::vector<TechniqueRun> parse_technique_list(const std::string& list, const Te
     std::vector<TechniqueRun> runs;
     std::istringstream in(list);
     std::string item;
+    // (getline yields no empty item after a final comma: "pom," ran pom alone.)
+    if (!list.empty() && list.back() == ',') throw Error(option, "empty entry in '" + list + "'");
     while (std::getline(in, item, ',')) {
         if (item.empty()) throw Error(option, "empty entry in '" + list + "'");
-        for (const TechniqueRun& r : runs)
+        TechniqueRun run{item, make_draw_settings(quality, item, option)};
+        for (const TechniqueRun& r : runs) {
             if (r.label == item) throw Error(option, "'" + item + "' is listed twice");
-        runs.push_back({item, make_draw_settings(quality, item, option)});
+            // Different names of one configuration ("prism" and "prism:relief:walk:tight" with
+            // the default flags) would draw the same thing twice.
+            const DrawSettings &a = r.settings, &b = run.settings;
+            const bool same = a.technique == b.technique &&
+                              (a.technique != Technique::Prism ||
+                               prism_configuration(a) == prism_configuration(b));
+            if (same) throw Error(option, "'" + item + "' draws the same as '" + r.label + "', listed before it");
+        }
+        runs.push_back(std::move(run));
     }
     if (runs.empty()) throw Error(option, "no technique given");
     return runs;

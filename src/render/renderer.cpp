@@ -13,6 +13,7 @@
 #include "common/shared.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <bit>
 #include <chrono>
 #include <cmath>
@@ -994,8 +995,10 @@ SampleCounters Renderer::read_counters() const
                             raw.data());
     SampleCounters c;
     c.fragments = raw[0];
-    c.samples = raw[1];
     c.histogram.assign(raw.begin() + 2, raw.end());
+    // The total in 64 bits from the histogram; the last bin's fragments were summed apart.
+    c.samples = raw[1];
+    for (std::size_t i = 0; i + 1 < c.histogram.size(); ++i) c.samples += std::uint64_t(i) * c.histogram[i];
     return c;
 }
 

@@ -115,6 +115,15 @@ pr_cli(compare_sphere EXIT 0 EXPECT_FILE cmp.png STDOUT "pom .*relief .*referenc
             --techniques pom,relief,reference --out cmp.png --json cmp.json)
 pr_cli(compare_bad_technique EXIT 1 ONE_LINE STDERR "${E}--techniques: unknown technique 'magic'" NO_FILE c.json
        ARGS compare --mesh ${M}/cube.obj --techniques pom,magic --json c.json)
+# A final comma was taken as no entry at all ("pom," ran pom alone), and two names of one
+# configuration drew it twice.
+pr_cli(compare_trailing_comma EXIT 1 ONE_LINE STDERR "${E}--techniques: empty entry in 'pom,'" NO_FILE c.json
+       ARGS compare --mesh ${M}/cube.obj --techniques pom, --json c.json)
+pr_cli(compare_same_configuration_twice EXIT 1 ONE_LINE NO_FILE c.json
+       STDERR "${E}--techniques: 'prism:relief:walk:tight' draws the same as 'prism', listed before it"
+       ARGS compare --mesh ${M}/cube.obj --techniques prism,prism:relief:walk:tight --json c.json)
+pr_cli(bench_same_marcher_twice EXIT 1 ONE_LINE STDERR "${E}--techniques: 'prism:cone' draws the same as 'prism'"
+       ARGS bench --mesh ${M}/cube.obj --marcher cone --techniques prism,prism:cone --frames 1)
 pr_cli(compare_out_folder_missing EXIT 1 ONE_LINE STDERR "${E}nodir/c.png: folder"
        ARGS compare --mesh ${M}/cube.obj --techniques pom --out nodir/c.png)
 
@@ -123,6 +132,12 @@ pr_cli(bench_counters EXIT 0 JSON b.json
        CHECKS "${R}.0.technique:STREQUAL:flat|${R}.0.samples_per_fragment_mean:EQUAL:0|${R}.0.fragments:GREATER:1000|${R}.1.samples_per_fragment_mean:GREATER_EQUAL:1|${R}.1.samples_per_fragment_mean:LESS_EQUAL:9|${R}.1.samples_per_fragment_p95:LESS_EQUAL:9|${R}.1.ms_median:GREATER:0|${R}.1.ms_min:EXISTS|${R}.1.ms_max:EXISTS|${R}.1.samples_per_fragment_p95:GREATER_EQUAL:1"
        ARGS bench --mesh ${M}/torus.obj --height builtin:bricks --size 96x64 --frames 2 --warmup 1
             --steps 8 --refine 0 --techniques flat,pom --json b.json)
+# Every fragment of a flat floor at height 0 takes --steps + 1 samples and --refine more: the p95
+# is that count (it read 255, the histogram's last bin, whenever fragments took more).
+pr_cli(bench_p95_above_255 EXIT 0 JSON b.json
+       CHECKS "${R}.0.samples_per_fragment_mean:EQUAL:1028|${R}.0.samples_per_fragment_p95:EQUAL:1028|${R}.0.fragments:GREATER:100"
+       ARGS bench --mesh ${M}/plane.obj --height builtin:const:0 --size 32x24 --frames 1 --warmup 0
+            --steps 1024 --refine 3 --techniques relief --json b.json)
 pr_cli(bench_bad_frames EXIT 1 ONE_LINE STDERR "${E}--frames: "
        ARGS bench --mesh ${M}/cube.obj --frames 0)
 
