@@ -111,9 +111,10 @@ CommandAction add_compare_command(CLI::App& app)
                         m.depth_error_mean ? fixed(*m.depth_error_mean, 5).c_str() : "-",
                         m.depth_error_max ? fixed(*m.depth_error_max, 5).c_str() : "-",
                         m.psnr ? fixed(*m.psnr, 2).c_str() : (m.identical ? "same" : (m.both > 0 ? "inf" : "-")), ms);
-            // The number first: a label too long for its strip is cut at the end (at 128 px the
-            // IoU of "prism:max-mip" read "IoU 0" whatever it was).
-            top.push_back({"IoU " + fixed(m.iou, 4) + "  " + run.label, frame.color});
+            // The name and the IoU on lines of their own, each cut at the strip's end where it is
+            // too long (on one line, at 128 px the IoU of "prism:max-mip" read "IoU 0"; with the
+            // number first, at 256 px "prism:relaxed-cone" read "prism:re").
+            top.push_back({run.label + "\nIoU " + fixed(m.iou, 4), frame.color});
             bottom.push_back({std::to_string(m.silhouette_wrong_px) + " px wrong",
                               silhouette_diff_tile(frame.color, reference.color)});
         }

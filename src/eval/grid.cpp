@@ -256,7 +256,12 @@ GridLayout plan_grid(const std::vector<Tile>& tiles, int columns)
     }
     // One scale for the whole figure so every strip has the same height.
     l.scale = l.cell_width >= 256 ? 2 : 1;
-    l.strip_height = (kGlyphRows + 3) * l.scale; // 2 rows of padding above the text, 1 below
+    // Lines of the longest label ('\n' separates them), one pixel row apart; 2 rows of padding
+    // above the text, 1 below.
+    int lines = 1;
+    for (const Tile& t : tiles)
+        lines = std::max(lines, 1 + static_cast<int>(std::count(t.label.begin(), t.label.end(), '\n')));
+    l.strip_height = (lines * (kGlyphRows + 1) + 2) * l.scale;
     l.margin = 4 * l.scale;
     l.width = l.columns * l.cell_width + (l.columns + 1) * l.margin;
     l.height = l.rows * (l.strip_height + l.cell_height) + (l.rows + 1) * l.margin;
@@ -295,12 +300,20 @@ RgbaImage compose_grid(const std::vector<Tile>& tiles, int columns,
 
         const int strip_y = o.y + img.height;
         fill(out, o.x, strip_y, l.cell_width, l.strip_height, kStrip);
-        // Cut the label at the last whole character that fits the strip's inner width.
+        // Line by line from the top, each cut at the last whole character that fits the strip's
+        // inner width.
         const int inner = l.cell_width - 4 * l.scale;
-        std::string_view label = tile.label;
-        while (!label.empty() && text_width(label, l.scale) > inner) label.remove_suffix(1);
-        draw_text(out, o.x + 2 * l.scale, strip_y + l.strip_height - 1 - 2 * l.scale, label,
-                  l.scale, kText);
+        std::string_view rest = tile.label;
+        for (int line = 0;; ++line) {
+            const std::size_t end = rest.find('\n');
+            std::string_view text = rest.substr(0, end);
+            while (!text.empty() && text_width(text, l.scale) > inner) text.remove_suffix(1);
+            draw_text(out, o.x + 2 * l.scale,
+                      strip_y + l.strip_height - 1 - 2 * l.scale - line * (kGlyphRows + 1) * l.scale, text,
+                      l.scale, kText);
+            if (end == std::string_view::npos) break;
+            rest.remove_prefix(end + 1);
+        }
 
         const int square = kCheckerSquare * l.scale;
         for (int y = 0; y < img.height; ++y) {

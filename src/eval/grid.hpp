@@ -31,7 +31,7 @@ inline constexpr int kDiffBothHigh = 224;
 RgbaImage silhouette_diff_tile(const RgbaImage& technique, const RgbaImage& reference);
 
 struct Tile {
-    std::string label;
+    std::string label; // lines separated by '\n'; the strips fit the most lines, each line cut to fit
     RgbaImage image;
 };
 

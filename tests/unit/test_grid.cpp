@@ -299,3 +299,39 @@ TEST(GridFont, UnknownBytesDrawAsQuestionMarkAndClipAtTheEdges)
 }
 
 } // namespace
+
+// A label of two lines ("name\nIoU …" in compare's grid) gets a strip two lines high for every
+// tile, and each line is drawn (and cut to fit) on its own: two upright T's, one above the other.
+TEST(Grid, LabelsOfTwoLinesStackTheirLines)
+{
+    const std::vector<pr::Tile> tiles{{"T\nT", solid(40, 20, {255, 255, 255, 255})},
+                                      {"T", solid(40, 20, {255, 255, 255, 255})}};
+    const pr::GridLayout l = pr::plan_grid(tiles, 2);
+    const pr::GridLayout one = pr::plan_grid({tiles[1]}, 1);
+    EXPECT_EQ(l.strip_height, one.strip_height + (pr::kGlyphRows + 1) * l.scale);
+    const pr::RgbaImage g = pr::compose_grid(tiles, 2);
+    for (int k = 0; k < 2; ++k) {
+        const glm::ivec2 o = pr::tile_origin(l, k, tiles[k]);
+        const std::vector<int> rows = dark_per_row(g, o.x, o.x + l.cell_width, o.y + 20, o.y + 20 + l.strip_height);
+        int bars = 0, stems = 0;
+        for (int n : rows) {
+            bars += n == 5;
+            stems += n == 1;
+        }
+        EXPECT_EQ(bars, k == 0 ? 2 : 1) << "tile " << k;
+        EXPECT_EQ(stems, k == 0 ? 12 : 6) << "tile " << k;
+    }
+    // A line too long for the strip is cut, and the next line still drawn in full.
+    const std::vector<pr::Tile> cut{{"TTTTTTTTTTTT\nT", solid(40, 20, {255, 255, 255, 255})}};
+    const pr::GridLayout lc = pr::plan_grid(cut, 1);
+    const pr::RgbaImage gc = pr::compose_grid(cut, 1);
+    const glm::ivec2 oc = pr::tile_origin(lc, 0, cut[0]);
+    const std::vector<int> rows = dark_per_row(gc, oc.x, oc.x + lc.cell_width, oc.y + 20, oc.y + 20 + lc.strip_height);
+    int widest = 0, bars_of_one = 0;
+    for (int n : rows) {
+        widest = std::max(widest, n);
+        bars_of_one += n == 5;
+    }
+    EXPECT_EQ(widest, 6 * 5) << "six T's fit 40 px less the padding";
+    EXPECT_EQ(bars_of_one, 1) << "the second line's one T";
+}
