@@ -108,7 +108,13 @@ vec2 height_slopes(vec2 uv)
 vec3 height_normal(vec2 uv, vec3 t, vec3 b, vec3 n_geom, float depth)
 {
     vec2 s = height_slopes(uv) * depth;
-    vec3 n = cross(t + n_geom * s.x, b + n_geom * s.y);
+    vec3 du = t + n_geom * s.x, dv = b + n_geom * s.y;
+    // Both over their largest component first: |du x dv| grows as the object's scale squared and
+    // its length() squares that again, which overflowed past a scale of about 3e9 (the shading
+    // went black) and fell under the test below for objects under about 1e-5.
+    vec3 m = max(abs(du), abs(dv));
+    float k = max(max(m.x, m.y), m.z);
+    vec3 n = cross(du / k, dv / k);
     float len = length(n);
     if (!(len > 1e-20)) return n_geom;
     n /= len;

@@ -1,9 +1,9 @@
 #include "render/reference_geometry.hpp"
 
+#include "core/transform.hpp"
+
 #include <algorithm>
 #include <cmath>
-
-#include <glm/gtc/matrix_inverse.hpp>
 
 namespace pr {
 
@@ -87,7 +87,7 @@ ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::mat4&
         }
     // The ends of the displacement range along the normal: depth * (h - midlevel), h in [0, 1].
     const float reach = depth * std::max(std::abs(midlevel), std::abs(1.0f - midlevel));
-    const glm::mat3 normal_matrix = glm::inverseTranspose(glm::mat3(transform));
+    const glm::mat3 normals = normal_matrix(transform);
     float max_texel_edge = 0.0f, max_pixel_edge = 0.0f;
     const auto& v = mesh.vertices;
     for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
@@ -99,8 +99,8 @@ ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::mat4&
             max_texel_edge = std::max(max_texel_edge, texel_span);
             const glm::vec3 wp = glm::vec3(transform * glm::vec4(p.position, 1.0f));
             const glm::vec3 wq = glm::vec3(transform * glm::vec4(q.position, 1.0f));
-            const glm::vec3 np = glm::normalize(normal_matrix * p.normal);
-            const glm::vec3 nq = glm::normalize(normal_matrix * q.normal);
+            const glm::vec3 np = glm::normalize(normals * p.normal);
+            const glm::vec3 nq = glm::normalize(normals * q.normal);
             // An edge of the displaced surface is at most the base edge, plus the spread of the
             // normals over the reach (a curved mesh's shell is wider at its outer end), plus the
             // rise of the height along it (deep shells: --depth as large as the object).
@@ -131,10 +131,10 @@ void tessellate_reference(const PreparedMesh& mesh, const glm::mat4& transform, 
     const auto& v = mesh.vertices;
     // The world unit normal of the prism's shell (make_shell_corners: the normal matrix, then
     // normalized), taken back to object space by the inverse of the transform's linear part.
-    const glm::mat3 to_object = glm::inverse(glm::mat3(transform));
-    const glm::mat3 normal_matrix = glm::transpose(to_object);
+    const glm::mat3 to_object = inverse_linear(transform);
+    const glm::mat3 normals = normal_matrix(transform);
     const auto corner = [&](std::uint32_t i) {
-        return Corner{&v[i], i, to_object * glm::normalize(normal_matrix * v[i].normal)};
+        return Corner{&v[i], i, to_object * glm::normalize(normals * v[i].normal)};
     };
     const int per_row_total = (level + 1) * (level + 2) / 2;
     std::vector<std::uint32_t> grid(static_cast<std::size_t>(per_row_total));

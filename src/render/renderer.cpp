@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "core/fnv.hpp"
+#include "core/transform.hpp"
 #include "maps/conemap.hpp"
 #include "mesh/adjacency.hpp"
 #include "mesh/flat_merge.hpp"
@@ -30,6 +31,24 @@ constexpr int kHistogramBins = 8192;
 // The largest shell (radius of the sphere around it) the prism draws: its exit tests multiply three
 // world lengths in floats, which overflow (3.4e38): the torus drew right at a radius of 2.2e13, nothing at 6.5e13.
 constexpr float kPrismMaxShellRadius = 1e13f;
+// And the smallest: the same products underflow (the torus drew right at a radius of 1.4e-9, lost
+// part of its outline at 4e-10 and nothing at 1.4e-10).
+constexpr float kPrismMinShellRadius = 1e-9f;
+
+// Without the scene's bounds (a Scene put together by hand, as tests do): the radius of the sphere
+// around the object's world box, grown by the displacement's reach.
+float shell_radius_bound(const SceneObject& so)
+{
+    glm::vec3 lo(INFINITY), hi(-INFINITY);
+    for (int i = 0; i < 8; ++i) {
+        const glm::vec3 c((i & 1) ? so.mesh.bbox_max.x : so.mesh.bbox_min.x, (i & 2) ? so.mesh.bbox_max.y : so.mesh.bbox_min.y,
+                          (i & 4) ? so.mesh.bbox_max.z : so.mesh.bbox_min.z);
+        const glm::vec3 w = glm::vec3(so.transform * glm::vec4(c, 1.0f));
+        lo = glm::min(lo, w);
+        hi = glm::max(hi, w);
+    }
+    return 0.5f * glm::length(hi - lo) + so.depth * std::max(std::abs(so.midlevel), std::abs(1.0f - so.midlevel));
+}
 
 int mip_levels(int w, int h)
 {
@@ -139,14 +158,14 @@ std::vector<glm::vec4> make_shell_corners(const std::vector<MeshVertex>& vertice
                                           const std::vector<std::uint32_t>& indices, const HeightField& height,
                                           const glm::mat4& transform, float depth, float midlevel)
 {
-    const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(transform)));
+    const glm::mat3 normals = normal_matrix(transform);
     const std::vector<float> top = shell_top_heights(vertices, indices, height, TopSlope{transform, depth});
     std::vector<glm::vec4> corners;
     corners.reserve(vertices.size() * 3);
     for (std::size_t i = 0; i < vertices.size(); ++i) {
         const MeshVertex& v = vertices[i];
         const glm::vec3 world = glm::vec3(transform * glm::vec4(v.position, 1.0f));
-        const glm::vec3 n = glm::normalize(normal_matrix * v.normal);
+        const glm::vec3 n = glm::normalize(normals * v.normal);
         const glm::vec3 dn = depth * n;
         corners.emplace_back(world - midlevel * dn, v.uv.x);
         corners.emplace_back(n, v.uv.y);
@@ -364,7 +383,7 @@ void Renderer::upload(const Scene& scene)
         GpuObject o;
         o.depth = so.depth;
         o.midlevel = so.midlevel;
-        o.shell_radius = k < scene.object_bounds.size() ? scene.object_bounds[k].radius : 0.0f;
+        o.shell_radius = k < scene.object_bounds.size() ? scene.object_bounds[k].radius : shell_radius_bound(so);
         o.transform = so.transform;
         o.base_color = so.base_color;
         o.base = make_geometry(so.mesh.vertices, so.mesh.indices);
@@ -703,7 +722,7 @@ void Renderer::upload_object(const GpuObject& o, const DrawSettings& settings, f
 {
     shader::ObjectBlock ob{};
     ob.u_model = o.transform;
-    ob.u_normal_matrix = glm::mat4(glm::transpose(glm::inverse(glm::mat3(o.transform))));
+    ob.u_normal_matrix = glm::mat4(normal_matrix(o.transform));
     ob.u_displace = glm::vec4(o.depth, midlevel, o.height_size.x, o.height_size.y);
     ob.u_march = glm::ivec4(settings.steps, settings.refine, eye ? int(eye->prism) : -1,
                             (o.color_texture ? PR_FLAG_COLOR_TEXTURE : 0) | (o.open_shell ? PR_FLAG_OPEN_SHELL : 0));
@@ -735,16 +754,20 @@ void Renderer::check_drawable(const DrawSettings& settings) const
 {
     if (settings.technique != Technique::Prism) return;
     // The prism's exits multiply three world-space lengths of a prism (signed volumes, in
-    // single precision): a shell about 10^14 units across overflows them and drew nothing at all
-    // (the torus scaled by 3·10^13, or at --depth 10^14). Refused, not drawn empty.
-    for (const GpuObject& o : objects_)
-        if (!(o.shell_radius <= kPrismMaxShellRadius)) {
-            char across[32];
-            std::snprintf(across, sizeof across, "%.3g", 2.0 * double(o.shell_radius));
-            throw Error("--technique", std::string("prism: an object's displacement shell is ") + across +
-                                           " scene units across, more than the prism's single-precision "
-                                           "geometry takes (2e13): scale the scene down or use a smaller --depth");
-        }
+    // single precision): a shell about 10^14 units across overflows them, one about 10^-10
+    // across underflows them, and either drew nothing at all (the torus at --depth 10^14, or
+    // scaled by 3·10^13 or 10^-10). Refused, not drawn empty.
+    for (const GpuObject& o : objects_) {
+        const bool large = !(o.shell_radius <= kPrismMaxShellRadius);
+        if (!large && o.shell_radius >= kPrismMinShellRadius) continue;
+        char across[32];
+        std::snprintf(across, sizeof across, "%.3g", 2.0 * double(o.shell_radius));
+        throw Error("--technique", std::string("prism: an object's displacement shell is ") + across +
+                                       (large ? " scene units across, more than the prism's single-precision geometry "
+                                                "takes (2e13): scale the scene down or use a smaller --depth"
+                                              : " scene units across, less than the prism's single-precision geometry "
+                                                "takes (2e-9): scale the scene up"));
+    }
 }
 
 double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSettings& settings)

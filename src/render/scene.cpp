@@ -1,8 +1,7 @@
 #include "render/scene.hpp"
 
 #include "core/error.hpp"
-
-#include <glm/gtc/matrix_inverse.hpp>
+#include "core/transform.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,6 +9,20 @@
 #include <utility>
 
 namespace pr {
+
+namespace {
+
+// The radius of the sphere around box [lo, hi], kept above what floats can still tell apart at its
+// centre (a millionth of its largest coordinate). The floor was 1e-6 scene units: objects smaller
+// than that (scales down to 1e-15 are allowed) were framed as 1e-6 across, a speck, or nothing.
+float bounding_radius(glm::vec3 lo, glm::vec3 hi)
+{
+    const glm::vec3 centre = 0.5f * (lo + hi);
+    const float largest = std::max({std::abs(centre.x), std::abs(centre.y), std::abs(centre.z)});
+    return std::max({0.5f * glm::length(hi - lo), 1e-6f * largest, 1e-30f});
+}
+
+} // namespace
 
 Scene load_scene(const SceneSpec& spec)
 {
@@ -61,11 +74,11 @@ Scene load_scene(const SceneSpec& spec)
         // range, depth * (h - midlevel) for h in [0, 1], along its world normal (the prisms and
         // the displaced surface lie in the hull of those points). (Was the base mesh's box grown
         // by the reach on every side: a plane's one-sided shell was framed off centre.)
-        const glm::mat3 normal_matrix = glm::inverseTranspose(glm::mat3(o.transform));
+        const glm::mat3 normals = normal_matrix(o.transform);
         glm::vec3 slo(INFINITY), shi(-INFINITY);
         for (const MeshVertex& v : obj.mesh.vertices) {
             const glm::vec3 p = glm::vec3(o.transform * glm::vec4(v.position, 1.0f));
-            const glm::vec3 n = glm::normalize(normal_matrix * v.normal);
+            const glm::vec3 n = glm::normalize(normals * v.normal);
             for (const float h : {0.0f, 1.0f}) {
                 const glm::vec3 q = p + obj.depth * (h - obj.midlevel) * n;
                 slo = glm::min(slo, q);
@@ -74,11 +87,11 @@ Scene load_scene(const SceneSpec& spec)
         }
         lo = glm::min(lo, slo);
         hi = glm::max(hi, shi);
-        scene.object_bounds.push_back({0.5f * (slo + shi), std::max(0.5f * glm::length(shi - slo), 1e-6f)});
+        scene.object_bounds.push_back({0.5f * (slo + shi), bounding_radius(slo, shi)});
         scene.objects.push_back(std::move(obj));
     }
     scene.shell_bounds.center = 0.5f * (lo + hi);
-    scene.shell_bounds.radius = std::max(0.5f * glm::length(hi - lo), 1e-6f);
+    scene.shell_bounds.radius = bounding_radius(lo, hi);
     return scene;
 }
 

@@ -294,6 +294,20 @@ pr_cli(compare_json_unwritable EXIT 1 ONE_LINE STDERR "^prismrelief: error: /pro
 pr_cli(prism_shell_too_large EXIT 1 ONE_LINE NO_FILE o.png
        STDERR "${E}--technique: prism: an object's displacement shell is 3.4[0-9]e\\+14 scene units across, more than"
        ARGS render --mesh ${M}/torus.obj --depth 1e14 --technique prism --size 32x32 --out o.png)
+pr_cli_special(prism_shell_too_small EXIT 1 ONE_LINE NO_FILE o.png
+               SETUP "printf '{\"objects\":[{\"mesh\":\"${M}/torus.obj\",\"transform\":{\"scale\":1e-10}}]}' > t.json"
+               STDERR "${E}--technique: prism: an object's displacement shell is 4.38e-10 scene units across, less than"
+               ARGS render --scene t.json --technique prism --size 32x32 --out o.png)
 pr_cli(compare_prism_shell_too_large EXIT 1 ONE_LINE NO_FILE c.json STDOUT "^$"
        STDERR "${E}--technique: prism: an object's displacement shell"
        ARGS compare --mesh ${M}/torus.obj --depth 1e14 --techniques relief,prism --size 32x32 --json c.json)
+
+# An empty height file name said only ": cannot open: No such file or directory", naming nothing.
+# (BASH: CMake's argument lists drop an empty argument.)
+pr_cli_special(height_empty_name BASH EXIT 1 ONE_LINE STDERR "${E}--height: empty file name" NO_FILE o.png
+               ARGS render --mesh '${M}/cube.obj' --height "''" --size 8x8 --out o.png)
+pr_cli_special(conemap_height_empty_name BASH EXIT 1 ONE_LINE STDERR "${E}--height: empty file name" NO_FILE c.png
+               ARGS conemap --height "''" --out c.png)
+pr_cli_special(scene_height_empty_name EXIT 1 ONE_LINE NO_FILE o.png
+               SETUP "printf '{\"objects\":[{\"mesh\":\"${M}/cube.obj\",\"height\":\"\"}]}' > e.json"
+               STDERR "${E}e.json: objects\\[0\\].height: empty file name" ARGS render --scene e.json --size 8x8 --out o.png)

@@ -261,3 +261,42 @@ TEST(Reference, AutomaticLevelFollowsADeepShell)
     }
     EXPECT_GE(levels[1], 2 * levels[0]) << "shallow " << levels[0] << ", deep " << levels[1];
 }
+
+// Scenes allow scales from 1e-15 to 1e15. The same object at scales 1e-8 to 1e12 draws the same
+// picture (auto-framed): in floats the normal matrix's inverse overflowed past 7e12 (every
+// technique drew nothing), the bump normal's cross product overflowed past 3e9 (the shading went
+// black: ambient only), and framing floored radii at 1e-6 scene units (1e-8 drew nothing).
+TEST(Reference, ObjectsDrawTheSameAtAnyScale)
+{
+    prtest::context();
+    const auto render = [](float scale, Technique t) {
+        SceneSpec spec;
+        ObjectSpec o;
+        o.mesh = std::string(PR_SOURCE_DIR) + "/meshes/torus.obj";
+        o.height = "builtin:bumps@64";
+        o.transform = glm::scale(glm::mat4(1.0f), glm::vec3(scale));
+        spec.objects.push_back(o);
+        spec.width = spec.height = kSize;
+        const Scene scene = load_scene(spec);
+        Renderer r(kSize, kSize);
+        r.upload(scene);
+        const Camera c = scene_camera(spec, scene);
+        if (t == Technique::Reference) r.prepare_reference(scene, c, ReferenceOptions{});
+        DrawSettings s;
+        s.technique = t;
+        r.draw(c, glm::normalize(glm::vec3(0.3f, 1.0f, 0.4f)), s);
+        return FrameCapture{r.read_color(), r.read_depth(), c};
+    };
+    for (const Technique t : {Technique::Flat, Technique::Relief, Technique::Prism, Technique::Reference}) {
+        const FrameCapture unit = render(1.0f, t);
+        const double unit_brightness = mean_brightness(unit.color);
+        ASSERT_GT(prtest::coverage(unit.color), 1000u);
+        for (const float scale : {1e-8f, 3e9f, 1e12f}) {
+            SCOPED_TRACE(technique_name(t) + " at scale " + std::to_string(scale));
+            const FrameCapture f = render(scale, t);
+            CompareMetrics m = compare_frames(f, unit);
+            EXPECT_GT(m.iou, 0.995);
+            EXPECT_NEAR(mean_brightness(f.color), unit_brightness, 0.03 * unit_brightness);
+        }
+    }
+}

@@ -1,0 +1,38 @@
+#pragma once
+// The linear parts of an object's transform that the renderer needs, computed in double. In
+// floats the inverse's determinant (the scale cubed) overflows past a scale of about 7e12 (and
+// underflows below about 2e-13), and every normal came out 0 or NaN: an empty image, exit 0,
+// whatever the technique (docs/scenes.md allows scales from 1e-15 to 1e15).
+#include <glm/mat3x3.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/matrix.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace pr {
+
+// The inverse of the transform's 3x3 part: world offsets back to object space.
+inline glm::mat3 inverse_linear(const glm::mat4& transform)
+{
+    return glm::mat3(glm::inverse(glm::dmat3(glm::mat3(transform))));
+}
+
+// The normal matrix (inverse transpose of the 3x3 part) scaled by a power of two to a largest
+// entry in [0.5, 1): it gives directions only (every use normalizes), and a power of two leaves
+// those bit for bit as they were while keeping the matrix in float range at any scale.
+inline glm::mat3 normal_matrix(const glm::mat4& transform)
+{
+    glm::dmat3 m = glm::transpose(glm::inverse(glm::dmat3(glm::mat3(transform))));
+    double largest = 0.0;
+    for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r) largest = std::max(largest, std::abs(m[c][r]));
+    if (largest > 0.0 && std::isfinite(largest)) {
+        int exponent = 0;
+        std::frexp(largest, &exponent);
+        m *= std::ldexp(1.0, -exponent);
+    }
+    return glm::mat3(m);
+}
+
+} // namespace pr
