@@ -52,7 +52,7 @@ CommandAction add_conemap_command(CLI::App& app)
         ->capture_default_str();
     cmd->add_option("--gl-backend", s->gl_backend, "With --backend gpu: osmesa (llvmpipe) or egl")
         ->capture_default_str();
-    cmd->add_option("--threads", s->threads, "CPU threads (0: all cores)")->capture_default_str();
+    cmd->add_option("--threads", s->threads, "CPU threads (0: all cores)")->transform(saturating<int>())->capture_default_str();
     cmd->add_option("--cache-dir", s->cache_dir,
                     "Derived-map cache (default $XDG_CACHE_HOME/prismrelief, else ~/.cache/prismrelief; the "
                     "least recently used go beyond $PRISMRELIEF_CACHE_MAX_MB, default 2048)");
@@ -68,6 +68,7 @@ CommandAction add_conemap_command(CLI::App& app)
         const Backend gl_backend = parse_backend(s->gl_backend, "--gl-backend");
         if (s->threads < 0 || s->threads > 1024) throw Error("--threads", "must be between 0 (all cores) and 1024");
         options.threads = s->threads;
+        if (s->height.empty()) throw Error("--height", "empty file name");
         check_png_output(s->out);
         if (!s->json.empty()) check_output_folder(s->json);
         check_distinct_outputs({{"--out", s->out}, {"--json", s->json}}, {{"--height", s->height}});

@@ -211,11 +211,13 @@ void add_scene_options(CLI::App& app, SceneOptions& o)
         ->check(xyz)
         ->group("Scene");
     app.add_option("--max-triangles", o.max_triangles, "Refuse meshes with more triangles")
+        ->transform(saturating<std::size_t>())
         ->group("Scene")
         ->capture_default_str();
     app.add_option("--max-image-size", o.max_image_size,
                    "Refuse height and colour images (and built-in maps) larger than N pixels per "
                    "side (default 16384 per side and 64 Mpixel in all; 1-16384)")
+        ->transform(saturating<int>())
         ->group("Scene");
     app.add_option("--uv-scale", o.uv_scale,
                    "Generated UVs (meshes without UVs): texture repeats across the largest extent")
@@ -267,9 +269,11 @@ void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_techn
             ->group("Technique")
             ->capture_default_str();
     app.add_option("--steps", o.steps, "Linear search steps over the full height range (1-1024)")
+        ->transform(saturating<int>())
         ->group("Technique")
         ->capture_default_str();
     app.add_option("--refine", o.refine, "Binary refinement steps after the linear search (0-32)")
+        ->transform(saturating<int>())
         ->group("Technique")
         ->capture_default_str();
     app.add_option("--marcher", o.marcher, "prism: ray marcher, " + marcher_names() +
@@ -303,10 +307,12 @@ void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_techn
     app.add_option("--reference-level", o.reference_level,
                    "reference: split each triangle into LEVEL^2 (0: automatic, edges about one texel "
                    "or one pixel, whichever is coarser)")
+        ->transform(saturating<int>())
         ->group("Technique")
         ->capture_default_str();
     app.add_option("--reference-max-triangles", o.reference_max_triangles,
                    "reference: lower an automatic level to stay within this many triangles")
+        ->transform(saturating<std::size_t>())
         ->group("Technique")
         ->capture_default_str();
 }
@@ -580,8 +586,10 @@ SceneFileValues read_scene_file(const std::string& file, SceneSpec& spec)
                 for (const auto& [k, v] : oj.items()) {
                     const std::string w = ow + "." + k;
                     if (k == "mesh") o.mesh = json_path(v, w, base);
-                    else if (k == "height") o.height = json_path(v, w, base);
-                    else if (k == "color") o.color = json_path(v, w, base);
+                    else if (k == "height") {
+                        o.height = json_path(v, w, base);
+                        if (o.height.empty()) throw Error(w, "empty file name"); // (said ": cannot open")
+                    } else if (k == "color") o.color = json_path(v, w, base);
                     else if (k == "depth") o.depth = json_checked(v, w, check_depth);
                     else if (k == "midlevel") o.midlevel = json_checked(v, w, check_midlevel);
                     else if (k == "base_color") {
@@ -646,6 +654,7 @@ SceneSpec make_scene_spec(const SceneOptions& o)
         spec.objects[0].mesh = o.mesh;
     }
     if (spec.objects.empty()) throw Error("--mesh", "required (or --scene FILE.json)");
+    if (o.height && o.height->empty()) throw Error("--height", "empty file name"); // (said ": cannot open")
     if (o.depth) check_depth(*o.depth, "--depth");
     if (o.midlevel) check_midlevel(*o.midlevel, "--midlevel");
     // Object flags apply to every object of the scene (for one object: override it).

@@ -6,7 +6,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include <limits>
 #include <optional>
+#include <regex>
+#include <stdexcept>
 #include <string>
 
 namespace pr {
@@ -46,6 +49,32 @@ struct TechniqueOptions {
     int reference_level = 0; // 0: automatic
     std::size_t reference_max_triangles = ReferenceOptions{}.max_triangles;
 };
+
+// For an integer flag (->transform(saturating<int>())): a whole number beyond the type's range
+// becomes the type's limit, so the flag's own range check reports it as out of range (exit 1,
+// bad input) rather than CLI11's "Could not convert" (exit 2, usage: --steps 99999999999999).
+// Anything else (12.5, 1e3, abc) is left to CLI11's conversion: the wrong shape, usage.
+template <typename T>
+CLI::Validator saturating()
+{
+    return CLI::Validator(
+        [](std::string& text) {
+            static const std::regex whole(R"(\s*[+-]?[0-9]+\s*)");
+            if (!std::regex_match(text, whole)) return std::string();
+            const bool negative = text.find('-') != std::string::npos;
+            try {
+                const long double v = std::stold(text);
+                if (v > static_cast<long double>(std::numeric_limits<T>::max()))
+                    text = std::to_string(std::numeric_limits<T>::max());
+                else if (v < static_cast<long double>(std::numeric_limits<T>::min()))
+                    text = std::to_string(std::numeric_limits<T>::min());
+            } catch (const std::out_of_range&) {
+                text = std::to_string(negative ? std::numeric_limits<T>::min() : std::numeric_limits<T>::max());
+            }
+            return std::string();
+        },
+        "", "");
+}
 
 void add_scene_options(CLI::App& app, SceneOptions& o);
 // --technique (single) or --techniques (a list), the quality flags and the reference's options.

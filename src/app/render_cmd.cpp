@@ -26,6 +26,7 @@ CommandAction add_render_command(CLI::App& app)
     cmd->add_option("--msaa", s->msaa,
                     "Samples per pixel: 1 (pixel centres), 2, 4, 8 or 16 (standard positions, one pass "
                     "each; alpha = the fraction covered)")
+        ->transform(saturating<int>())
         ->group("Output")
         ->capture_default_str();
     cmd->footer("Example:\n  prismrelief render --mesh meshes/torus.obj --height builtin:bricks "

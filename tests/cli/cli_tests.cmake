@@ -78,6 +78,14 @@ pr_cli(render_msaa EXIT 0 STDOUT "out.png: 32x32 prism, .* ms \\(4 passes\\), co
        ARGS render --mesh ${M}/cube.obj --technique prism --size 32x32 --msaa 4 --out out.png)
 pr_cli(bad_steps EXIT 1 ONE_LINE STDERR "${E}--steps: " NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --steps 0 --out out.png)
+# A whole number too large for the flag's integer type is out of range (1), as --steps 1025 is; it
+# was CLI11's "Could not convert" (usage, 2). A number that is not whole stays usage.
+pr_cli(steps_beyond_int EXIT 1 ONE_LINE STDERR "${E}--steps: must be between 1 and 1024" NO_FILE out.png
+       ARGS render --mesh ${M}/cube.obj --steps 99999999999999 --out out.png)
+pr_cli(threads_beyond_int EXIT 1 ONE_LINE STDERR "${E}--threads: must be between 0 \\(all cores\\) and 1024" NO_FILE c.png
+       ARGS conemap --height builtin:bumps@8 --threads -99999999999 --out c.png)
+pr_cli(steps_not_whole EXIT 2 STDERR "usage: Could not convert: --steps = 12.5" NO_FILE out.png
+       ARGS render --mesh ${M}/cube.obj --steps 12.5 --out out.png)
 pr_cli(negative_depth EXIT 1 ONE_LINE STDERR "${E}--depth: " NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --depth -1 --out out.png)
 pr_cli(bad_midlevel EXIT 1 ONE_LINE STDERR "${E}--midlevel: " NO_FILE out.png
