@@ -52,7 +52,9 @@ CommandAction add_conemap_command(CLI::App& app)
         ->capture_default_str();
     cmd->add_option("--gl-backend", s->gl_backend, "With --backend gpu: osmesa (llvmpipe) or egl")
         ->capture_default_str();
-    cmd->add_option("--threads", s->threads, "CPU threads (0: all cores)")->transform(saturating<int>())->capture_default_str();
+    cmd->add_option("--threads", s->threads, "CPU threads (0: all cores)")
+        ->transform(saturating<int>())
+        ->capture_default_str();
     cmd->add_option("--cache-dir", s->cache_dir,
                     "Derived-map cache (default $XDG_CACHE_HOME/prismrelief, else ~/.cache/prismrelief; the "
                     "least recently used go beyond $PRISMRELIEF_CACHE_MAX_MB, default 2048)");
