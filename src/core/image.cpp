@@ -296,7 +296,8 @@ Checked check_header(const std::string& subject, std::vector<std::uint8_t>& byte
                                              sniffed->format));
         fail_decode(subject);
     }
-    check_image_dimensions(subject, w, h, limits);
+    // (stb 2.27 reports a top-down BMP's height negative, as its header stores it: "8x-8 pixels".)
+    check_image_dimensions(subject, w, std::abs(std::int64_t(h)), limits);
     return c;
 }
 

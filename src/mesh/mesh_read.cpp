@@ -173,6 +173,9 @@ struct Expect {
     size_t file_faces = 0;           // faces in the file (for messages and collapsed faces)
     bool faces_may_collapse = false; // STL: the reader skips faces whose corners coincide
     bool binary = false;
+    // OFF whose counts line has no edge count ("4 2"): where to add " 0" in the bytes OpenMesh
+    // parses, which otherwise takes the first vertex's x for it and shifts every later value.
+    size_t off_counts_end = string_view::npos;
 };
 
 void check_triangle_budget(const string& subject, unsigned long long triangles,
@@ -352,6 +355,7 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
         fail(subject, line_prefix(lines.line()) + "expected vertex, face and edge counts");
     nv = static_cast<unsigned long long>(cv);
     nf = static_cast<unsigned long long>(cf);
+    if (n == 2) e.off_counts_end = static_cast<size_t>(tok[1].data() + tok[1].size() - text.data());
     // Shortest text a vertex ("0 0 0\n") and a triangle ("3 0 1 2\n") can take.
     const unsigned long long left = text.size() - lines.offset();
     if (nv * 6 + nf * 8 > left + 2)
@@ -533,9 +537,20 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
     if (!has_xyz[0] || !has_xyz[1] || !has_xyz[2])
         fail(subject, "PLY vertex element lacks an x, y or z property");
     if (!face || face->count == 0) fail(subject, "contains no faces");
+    // Layouts OpenMesh 9.0's reader misreads without a word (it read the file's triangle (0,1,2)
+    // as (3,0,1) or (1,3,0)): a list in any element but the face, a face property before its
+    // vertex_indices.
+    for (const PlyElement& el : elements)
+        for (const PlyProperty& p : el.properties)
+            if (&el != face && p.count_size > 0)
+                fail(subject, "PLY element '" + el.name + "' has a list property '" + p.name +
+                                  "', which the reader cannot skip (lists are read in the face element only)");
     bool has_indices = false;
     for (const PlyProperty& p : face->properties) {
         const bool indices = p.name == "vertex_indices" || p.name == "vertex_index";
+        if (!has_indices && !indices)
+            fail(subject, "PLY face property '" + p.name +
+                              "' comes before vertex_indices, which the reader cannot take (put it after)");
         if (p.count_size > 0 && indices) has_indices = true;
         // OpenMesh's reader takes a face's other lists for more indices and fails, saying a face
         // "has fewer than 3 vertices": name the list instead (MeshLab writes per-face UVs so).
@@ -979,6 +994,7 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
     if (expect.file_faces == 0) fail(subject, "contains no faces");
 
     if (ext == ".obj") drop_obj_material_libraries(text); // after the scan: its line numbers
+    if (expect.off_counts_end != string_view::npos) text.insert(expect.off_counts_end, " 0");
     RawMesh mesh;
     SoupImporter importer(mesh);
     bool ok = false;

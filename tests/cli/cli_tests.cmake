@@ -86,6 +86,11 @@ pr_cli(threads_beyond_int EXIT 1 ONE_LINE STDERR "${E}--threads: must be between
        ARGS conemap --height builtin:bumps@8 --threads -99999999999 --out c.png)
 pr_cli(steps_not_whole EXIT 2 STDERR "usage: Could not convert: --steps = 12.5" NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --steps 12.5 --out out.png)
+# --depth-write keeps the polygon's coverage: a carved point past the far plane (a grazing ray runs
+# on through the repeating uv) got depth 1.0 and failed the depth test (16.4% instead of 16.9%).
+pr_cli(depth_write_keeps_coverage EXIT 0 STDOUT "o.png: 96x72 pom, .* coverage 16.9%"
+       ARGS render --mesh ${M}/plane.obj --height builtin:const:0 --depth 0.3 --midlevel 1 --elevation 30
+            --size 96x72 --technique pom --depth-write --out o.png)
 pr_cli(negative_depth EXIT 1 ONE_LINE STDERR "${E}--depth: " NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --depth -1 --out out.png)
 pr_cli(bad_midlevel EXIT 1 ONE_LINE STDERR "${E}--midlevel: " NO_FILE out.png

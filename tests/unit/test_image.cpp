@@ -473,3 +473,29 @@ TEST_F(ImageFiles, ImageErrorOverCallerLimits)
     pixels.max_pixels = 31;
     EXPECT_TRUE(contains(error_of([&] { pr::load_color(p, pixels); }).problem(), "31"));
 }
+
+// A top-down BMP (negative height in its header) was refused: stb 2.27's header probe reports the
+// height negative ("the image is 2x-2 pixels: nothing to use"). Its top row stays on top.
+TEST_F(ImageFiles, TopDownBmpLoadsTheRightWayUp)
+{
+    Bytes b = {'B', 'M'};
+    const auto u32 = [&b](std::uint32_t v) {
+        for (int i = 0; i < 4; ++i) b.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
+    };
+    const auto u16 = [&b](std::uint16_t v) {
+        b.push_back(static_cast<std::uint8_t>(v));
+        b.push_back(static_cast<std::uint8_t>(v >> 8));
+    };
+    u32(54 + 16); u32(0); u32(54);                                  // file size, reserved, pixel offset
+    u32(40); u32(2); u32(static_cast<std::uint32_t>(-2));            // DIB header size, width, height (top-down)
+    u16(1); u16(24); u32(0); u32(16); u32(2835); u32(2835); u32(0); u32(0);
+    // Rows top first, BGR, padded to 4 bytes: red, green over blue, white.
+    for (const std::uint8_t v : {0, 0, 255, 0, 255, 0, 0, 0, 255, 0, 0, 255, 255, 255, 0, 0}) b.push_back(v);
+    const pr::RgbaImage c = pr::load_color(put("top_down.bmp", b));
+    ASSERT_EQ(c.width, 2);
+    ASSERT_EQ(c.height, 2);
+    EXPECT_EQ(c.at(0, 1), glm::u8vec4(255, 0, 0, 255)); // the file's top-left: row 1 (top), column 0
+    EXPECT_EQ(c.at(1, 1), glm::u8vec4(0, 255, 0, 255));
+    EXPECT_EQ(c.at(0, 0), glm::u8vec4(0, 0, 255, 255));
+    EXPECT_EQ(pr::load_height(put("top_down_h.bmp", b)).height, 2);
+}

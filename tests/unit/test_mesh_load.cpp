@@ -19,6 +19,7 @@
 
 namespace fs = std::filesystem;
 
+#include "error_of.hpp"
 #include "temp_dir.hpp"
 
 namespace {
@@ -716,4 +717,41 @@ TEST(MeshErrors, NotTheFormatItsNameSays)
     EXPECT_ERROR_MENTIONS(load_error(ply), ply, "'ply'");
     const fs::path stl = dir.write("x.stl", "v 0 0 0\n");
     EXPECT_ERROR_MENTIONS(load_error(stl), stl, "neither ASCII STL");
+}
+
+// An OFF counts line without the edge count ("4 2"): OpenMesh took the first vertex's x for it and
+// shifted every later value (a wrong shape, exit 0, and a warning of a repeated face).
+TEST(MeshLoad, OffWithoutAnEdgeCount)
+{
+    TempDir dir;
+    const char* body = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n";
+    const pr::PreparedMesh two = pr::load_mesh(dir.write("two.off", std::string("OFF\n4 2\n") + body));
+    const pr::PreparedMesh three = pr::load_mesh(dir.write("three.off", std::string("OFF\n4 2 0\n") + body));
+    expect_sane(two);
+    ASSERT_EQ(two.triangle_count(), 2u);
+    EXPECT_EQ(two.bbox_min, three.bbox_min);
+    EXPECT_EQ(two.bbox_max, three.bbox_max);
+    EXPECT_EQ(two.indices.size(), three.indices.size());
+}
+
+// PLY layouts OpenMesh 9.0 misread without a word (the triangle (0,1,2) drawn as (3,0,1) or
+// (1,3,0)) are refused, naming the property.
+TEST(MeshLoad, PlyLayoutsTheReaderMisreadsAreRefused)
+{
+    TempDir dir;
+    const std::string vertices = "element vertex 4\nproperty float x\nproperty float y\nproperty float z\n";
+    const std::string data = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n";
+    const pr::Error flags = prtest::error_of([&] {
+        pr::load_mesh(dir.write("flags.ply", "ply\nformat ascii 1.0\n" + vertices +
+                                                 "element face 1\nproperty uchar flags\nproperty list uchar int "
+                                                 "vertex_indices\nend_header\n" + data + "3 3 0 1 2\n"));
+    });
+    EXPECT_TRUE(prtest::contains(flags.what(), "PLY face property 'flags' comes before vertex_indices")) << flags.what();
+    const pr::Error edge = prtest::error_of([&] {
+        pr::load_mesh(dir.write("edge.ply", "ply\nformat ascii 1.0\n" + vertices +
+                                                "element edge 1\nproperty list uchar int verts\nelement face 1\n"
+                                                "property list uchar int vertex_indices\nend_header\n" + data +
+                                                "2 3 1\n3 0 1 2\n"));
+    });
+    EXPECT_TRUE(prtest::contains(edge.what(), "PLY element 'edge' has a list property 'verts'")) << edge.what();
 }
