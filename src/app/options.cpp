@@ -201,9 +201,11 @@ void add_scene_options(CLI::App& app, SceneOptions& o)
         ->group("Scene");
     app.add_option("--depth", o.depth,
                    "Displacement depth in scene units (default: 4% of the mesh's bounding-box diagonal)")
+        ->check(a_number())
         ->group("Scene");
     app.add_option("--midlevel", o.midlevel,
                    "Height that stays on the base surface: 0 outward (default), 1 inward, 0.5 centred")
+        ->check(a_number())
         ->group("Scene");
     const CLI::Validator xyz = shape_validator(vec3_shape_problem, "x,y,z");
     app.add_option("--light", o.light,
@@ -221,6 +223,7 @@ void add_scene_options(CLI::App& app, SceneOptions& o)
         ->group("Scene");
     app.add_option("--uv-scale", o.uv_scale,
                    "Generated UVs (meshes without UVs): texture repeats across the largest extent")
+        ->check(a_number())
         ->group("Scene")
         ->capture_default_str();
     app.add_flag("--generate-uvs", o.generate_uvs, "Ignore the mesh's UVs and generate box-projected ones")
@@ -231,11 +234,15 @@ void add_scene_options(CLI::App& app, SceneOptions& o)
         ->check(xyz)
         ->group("Camera");
     app.add_option("--up", o.up, "x,y,z: up direction (default 0,1,0)")->check(xyz)->group("Camera");
-    app.add_option("--fovy", o.fovy, "Vertical field of view, degrees (default 40)")->group("Camera");
+    app.add_option("--fovy", o.fovy, "Vertical field of view, degrees (default 40)")
+        ->check(a_number())
+        ->group("Camera");
     app.add_option("--elevation", o.elevation,
                    "Auto-framing: degrees above the horizontal plane (default 25)")
+        ->check(a_number())
         ->group("Camera");
     app.add_option("--azimuth", o.azimuth, "Auto-framing: degrees around the up axis (default 35)")
+        ->check(a_number())
         ->group("Camera");
     o.size_option = app.add_option("--size", o.size, "Image size WIDTHxHEIGHT")
                         ->check(shape_validator(size_shape_problem, "WIDTHxHEIGHT"))

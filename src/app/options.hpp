@@ -59,6 +59,8 @@ CLI::Validator saturating()
 {
     return CLI::Validator(
         [](std::string& text) {
+            // (CLI11 reads "" as 0 for an integer: --steps "" said "must be between 1 and 1024, got 0".)
+            if (text.empty()) return std::string("expected a whole number, got an empty value");
             static const std::regex whole(R"(\s*[+-]?[0-9]+\s*)");
             if (!std::regex_match(text, whole)) return std::string();
             const bool negative = text.find('-') != std::string::npos;
@@ -72,6 +74,17 @@ CLI::Validator saturating()
                 text = std::to_string(negative ? std::numeric_limits<T>::min() : std::numeric_limits<T>::max());
             }
             return std::string();
+        },
+        "", "");
+}
+
+// For a flag taking a number: an empty value is the wrong shape (usage, exit 2); CLI11 reads "" as
+// no value for an optional (--depth "" drew the default depth, exit 0).
+inline CLI::Validator a_number()
+{
+    return CLI::Validator(
+        [](const std::string& text) {
+            return text.empty() ? std::string("expected a number, got an empty value") : std::string();
         },
         "", "");
 }

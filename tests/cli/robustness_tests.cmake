@@ -311,3 +311,9 @@ pr_cli_special(conemap_height_empty_name BASH EXIT 1 ONE_LINE STDERR "${E}--heig
 pr_cli_special(scene_height_empty_name EXIT 1 ONE_LINE NO_FILE o.png
                SETUP "printf '{\"objects\":[{\"mesh\":\"${M}/cube.obj\",\"height\":\"\"}]}' > e.json"
                STDERR "${E}e.json: objects\\[0\\].height: empty file name" ARGS render --scene e.json --size 8x8 --out o.png)
+# An empty number is the wrong shape (usage): --depth "" drew the default depth (exit 0), --steps ""
+# read as 0 ("must be between 1 and 1024, got 0").
+pr_cli_special(depth_empty_value BASH EXIT 2 STDERR "usage: --depth: expected a number, got an empty value" NO_FILE o.png
+               ARGS render --mesh '${M}/cube.obj' --depth "''" --size 8x8 --out o.png)
+pr_cli_special(steps_empty_value BASH EXIT 2 STDERR "usage: --steps: expected a whole number, got an empty value"
+               NO_FILE o.png ARGS render --mesh '${M}/cube.obj' --steps "''" --size 8x8 --out o.png)
