@@ -909,6 +909,19 @@ protected:
     }
 };
 
+// A comment may follow a line's values ("f 1 2 3 4 # quad"): it read as a malformed face corner
+// '#', and OpenMesh's reader takes no trailing comments either. Blanked (spaces, the same length,
+// so line numbers and offsets stay) before either reads the text.
+void blank_obj_comments(string& text)
+{
+    bool comment = false;
+    for (char& c : text) {
+        if (c == '\n') comment = false;
+        else if (c == '#') comment = true;
+        if (comment && c != '\r') c = ' ';
+    }
+}
+
 // Materials are not used (docs/mesh-input.md), but OpenMesh's OBJ reader opens the file an
 // `mtllib` line names and reads it to its end: a FIFO there hung it, /dev/zero filled memory.
 // Such lines become comments ('m' -> '#', the same length) in the bytes OpenMesh parses; the
@@ -975,10 +988,18 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
 
     string text = read_whole_file(path, subject, options);
     if (text.empty()) fail(subject, "is empty");
+    // A UTF-8 byte-order mark (some Windows editors write one) is not part of any format: each
+    // reader stumbled on it ("does not start with 'ply'", "unsupported OFF variant", a vertex
+    // count one short). Not before a binary STL's header unless "solid" follows (ASCII).
+    static constexpr string_view kBom = "\xEF\xBB\xBF";
+    if (string_view(text).substr(0, 3) == kBom &&
+        (ext != ".stl" || string_view(text).substr(3, 5) == "solid"))
+        text.erase(0, 3);
 
     Expect expect;
     omio::Options requested = omio::Options::VertexNormal;
     if (ext == ".obj") {
+        blank_obj_comments(text);
         expect = scan_obj(subject, text, options);
         // OBJ texture coordinates belong to face corners; per-vertex ones would lose seams.
         requested += omio::Options::FaceTexCoord;

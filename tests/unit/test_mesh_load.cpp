@@ -755,3 +755,29 @@ TEST(MeshLoad, PlyLayoutsTheReaderMisreadsAreRefused)
     });
     EXPECT_TRUE(prtest::contains(edge.what(), "PLY element 'edge' has a list property 'verts'")) << edge.what();
 }
+
+// A UTF-8 byte-order mark before any text format, and comments after an OBJ line's values, are
+// read past (they were refused: "does not start with 'ply'", "malformed face corner '#'", ...).
+TEST(MeshLoad, ByteOrderMarksAndTrailingCommentsAreReadPast)
+{
+    TempDir dir;
+    const std::string bom = "\xEF\xBB\xBF";
+    const char* square = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n";
+    for (const auto& [name, text] :
+         std::vector<std::pair<std::string, std::string>>{
+             {"bom.obj", bom + "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n"},
+             {"comments.obj", "v 0 0 0 # origin\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4 # a quad\n"},
+             {"bom.off", bom + "OFF\n4 1 0\n" + square + "4 0 1 2 3\n"},
+             {"bom.ply", bom + "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                               "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                               "end_header\n" + square + "4 0 1 2 3\n"},
+             {"bom.stl", bom + "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 1 1 0\n"
+                               "endloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 1 0\n"
+                               "vertex 0 1 0\nendloop\nendfacet\nendsolid s\n"}}) {
+        SCOPED_TRACE(name);
+        const pr::PreparedMesh m = pr::load_mesh(dir.write(name, text));
+        expect_sane(m);
+        EXPECT_EQ(m.triangle_count(), 2u);
+        EXPECT_EQ(m.bbox_max, glm::vec3(1.0f, 1.0f, 0.0f));
+    }
+}
