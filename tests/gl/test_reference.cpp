@@ -9,6 +9,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <cmath>
+#include <optional>
 #include <string>
 
 using namespace pr;
@@ -174,6 +175,27 @@ double mean_brightness(const RgbaImage& img)
     return n ? sum / double(n) : 0.0;
 }
 
+// One object from meshes/, loaded through a SceneSpec as the command line loads it, auto-framed.
+struct FramedObject {
+    Scene scene;
+    Camera camera;
+};
+FramedObject framed_object(const std::string& mesh, const std::string& height, std::optional<float> depth,
+                           const glm::mat4& transform = glm::mat4(1.0f))
+{
+    SceneSpec spec;
+    ObjectSpec o;
+    o.mesh = std::string(PR_SOURCE_DIR) + "/meshes/" + mesh;
+    o.height = height;
+    o.depth = depth;
+    o.transform = transform;
+    spec.objects.push_back(o);
+    spec.width = spec.height = kSize;
+    FramedObject f{load_scene(spec), {}};
+    f.camera = scene_camera(spec, f.scene);
+    return f;
+}
+
 } // namespace
 
 // Scene transforms: `depth` is in world units along world unit normals for every technique, the
@@ -199,18 +221,10 @@ TEST(Reference, ScaledAndMirroredObjectsMatchThePrism)
         SCOPED_TRACE(std::string(k.mesh) + " scaled " + std::to_string(k.scale.x) + "," + std::to_string(k.scale.y));
         double brightness[2] = {0.0, 0.0};
         for (int mirrored = 0; mirrored < 2; ++mirrored) {
-            SceneSpec spec;
-            ObjectSpec o;
-            o.mesh = std::string(PR_SOURCE_DIR) + "/meshes/" + k.mesh;
-            o.height = "builtin:bumps@128";
-            o.depth = k.depth;
-            o.transform = glm::scale(glm::mat4(1.0f), mirrored ? k.scale : glm::abs(k.scale));
-            spec.objects.push_back(o);
-            spec.width = spec.height = kSize;
-            const Scene scene = load_scene(spec);
+            const auto [scene, c] = framed_object(k.mesh, "builtin:bumps@128", k.depth,
+                                                  glm::scale(glm::mat4(1.0f), mirrored ? k.scale : glm::abs(k.scale)));
             Renderer r(kSize, kSize);
             r.upload(scene);
-            const Camera c = scene_camera(spec, scene);
             r.prepare_reference(scene, c, ReferenceOptions{});
             const glm::vec3 light = glm::normalize(c.eye - c.target);
             FrameCapture frames[2];
@@ -237,17 +251,9 @@ TEST(Reference, AutomaticLevelFollowsADeepShell)
     prtest::context();
     int levels[2] = {0, 0};
     for (int deep = 0; deep < 2; ++deep) {
-        SceneSpec spec;
-        ObjectSpec o;
-        o.mesh = std::string(PR_SOURCE_DIR) + "/meshes/torus.obj";
-        o.height = "builtin:bumps";
-        o.depth = deep ? 5.0f : 0.1f;
-        spec.objects.push_back(o);
-        spec.width = spec.height = kSize;
-        const Scene scene = load_scene(spec);
+        const auto [scene, c] = framed_object("torus.obj", "builtin:bumps", deep ? 5.0f : 0.1f);
         Renderer r(kSize, kSize);
         r.upload(scene);
-        const Camera c = scene_camera(spec, scene);
         levels[deep] = r.prepare_reference(scene, c, ReferenceOptions{}).level;
         if (!deep) continue;
         FrameCapture frames[2];
@@ -270,17 +276,10 @@ TEST(Reference, ObjectsDrawTheSameAtAnyScale)
 {
     prtest::context();
     const auto render = [](float scale, Technique t) {
-        SceneSpec spec;
-        ObjectSpec o;
-        o.mesh = std::string(PR_SOURCE_DIR) + "/meshes/torus.obj";
-        o.height = "builtin:bumps@64";
-        o.transform = glm::scale(glm::mat4(1.0f), glm::vec3(scale));
-        spec.objects.push_back(o);
-        spec.width = spec.height = kSize;
-        const Scene scene = load_scene(spec);
+        const auto [scene, c] =
+            framed_object("torus.obj", "builtin:bumps@64", std::nullopt, glm::scale(glm::mat4(1.0f), glm::vec3(scale)));
         Renderer r(kSize, kSize);
         r.upload(scene);
-        const Camera c = scene_camera(spec, scene);
         if (t == Technique::Reference) r.prepare_reference(scene, c, ReferenceOptions{});
         DrawSettings s;
         s.technique = t;
