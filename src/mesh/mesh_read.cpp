@@ -597,14 +597,30 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
 
     if (ascii) {
         // OpenMesh reads ASCII values with stream extraction, which stops at "nan" or an
-        // overflowing number and then silently reads zeros: check the vertex lines.
+        // overflowing number and then silently reads zeros: check the vertex lines. And it reads
+        // values, not lines: a stray value on a face line shifted every face after it (exit 0),
+        // so each face line must hold its count, that many indices and one value per other
+        // property (vertex_indices comes first, checked above).
         for (const PlyElement& el : elements) {
             for (unsigned long long i = 0; i < el.count; ++i) {
+                size_t values = 0;
                 do {
                     if (!lines.next(line))
                         fail(subject, "file ends after " + std::to_string(i) + " of " +
                                           std::to_string(el.count) + " " + el.name + " lines");
-                } while (tokenize(line, tok, 0) == 0);
+                } while ((values = tokenize(line, tok, 1)) == 0);
+                if (&el == face) {
+                    long long corners = -1;
+                    const size_t others = face->properties.size() - 1;
+                    if (!parse_int(tok[0], corners) || corners < 0 ||
+                        values != 1 + static_cast<size_t>(corners) + others)
+                        fail(subject, line_prefix(lines.line()) + "face line has " + std::to_string(values) +
+                                          " values; its count " + shown(tok[0]) + " and " + std::to_string(others) +
+                                          " other face propert" + (others == 1 ? "y" : "ies") + " call for " +
+                                          (corners < 0 ? string("a whole count first")
+                                                       : std::to_string(1 + corners + static_cast<long long>(others))));
+                    continue;
+                }
                 if (&el != vertex) continue;
                 size_t pos = 0;
                 while (pos < line.size()) {

@@ -781,3 +781,17 @@ TEST(MeshLoad, ByteOrderMarksAndTrailingCommentsAreReadPast)
         EXPECT_EQ(m.bbox_max, glm::vec3(1.0f, 1.0f, 0.0f));
     }
 }
+
+// OpenMesh reads ASCII PLY values, not lines: a stray value on a face line ("3 0 1 2 3") made the
+// next face (0,2,4) read as (3,0,2), exit 0. Each face line must hold exactly its values.
+TEST(MeshLoad, PlyFaceLineWithAStrayValueIsRefused)
+{
+    TempDir dir;
+    const pr::Error e = prtest::error_of([&] {
+        pr::load_mesh(dir.write("stray.ply", "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\n"
+                                             "property float y\nproperty float z\nelement face 2\n"
+                                             "property list uchar int vertex_indices\nend_header\n"
+                                             "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0.5 0\n3 0 1 2 3\n3 0 2 4\n"));
+    });
+    EXPECT_TRUE(prtest::contains(e.what(), "line 15: face line has 5 values")) << e.what();
+}
