@@ -35,21 +35,6 @@ constexpr float kPrismMaxShellRadius = 1e13f;
 // part of its outline at 4e-10 and nothing at 1.4e-10).
 constexpr float kPrismMinShellRadius = 1e-9f;
 
-// Without the scene's bounds (a Scene put together by hand, as tests do): the radius of the sphere
-// around the object's world box, grown by the displacement's reach.
-float shell_radius_bound(const SceneObject& so)
-{
-    glm::vec3 lo(INFINITY), hi(-INFINITY);
-    for (int i = 0; i < 8; ++i) {
-        const glm::vec3 c((i & 1) ? so.mesh.bbox_max.x : so.mesh.bbox_min.x, (i & 2) ? so.mesh.bbox_max.y : so.mesh.bbox_min.y,
-                          (i & 4) ? so.mesh.bbox_max.z : so.mesh.bbox_min.z);
-        const glm::vec3 w = glm::vec3(so.transform * glm::vec4(c, 1.0f));
-        lo = glm::min(lo, w);
-        hi = glm::max(hi, w);
-    }
-    return 0.5f * glm::length(hi - lo) + so.depth * std::max(std::abs(so.midlevel), std::abs(1.0f - so.midlevel));
-}
-
 int mip_levels(int w, int h)
 {
     int levels = 1;
@@ -383,7 +368,9 @@ void Renderer::upload(const Scene& scene)
         GpuObject o;
         o.depth = so.depth;
         o.midlevel = so.midlevel;
-        o.shell_radius = k < scene.object_bounds.size() ? scene.object_bounds[k].radius : shell_radius_bound(so);
+        // (A Scene put together by hand, as tests do, has no bounds.)
+        o.shell_radius = k < scene.object_bounds.size() ? scene.object_bounds[k].radius
+                                                        : sphere_around(shell_box(so)).radius;
         o.transform = so.transform;
         o.base_color = so.base_color;
         o.base = make_geometry(so.mesh.vertices, so.mesh.indices);

@@ -10,19 +10,33 @@
 
 namespace pr {
 
-namespace {
-
-// The radius of the sphere around box [lo, hi], kept above what floats can still tell apart at its
-// centre (a millionth of its largest coordinate). The floor was 1e-6 scene units: objects smaller
-// than that (scales down to 1e-15 are allowed) were framed as 1e-6 across, a speck, or nothing.
-float bounding_radius(glm::vec3 lo, glm::vec3 hi)
+Box shell_box(const SceneObject& obj)
 {
-    const glm::vec3 centre = 0.5f * (lo + hi);
-    const float largest = std::max({std::abs(centre.x), std::abs(centre.y), std::abs(centre.z)});
-    return std::max({0.5f * glm::length(hi - lo), 1e-6f * largest, 1e-30f});
+    // (Was the base mesh's box grown by the reach on every side: a plane's one-sided shell was
+    // framed off centre.)
+    const glm::mat3 normals = normal_matrix(obj.transform);
+    Box b;
+    for (const MeshVertex& v : obj.mesh.vertices) {
+        const glm::vec3 p = glm::vec3(obj.transform * glm::vec4(v.position, 1.0f));
+        const glm::vec3 n = glm::normalize(normals * v.normal);
+        for (const float h : {0.0f, 1.0f}) {
+            const glm::vec3 q = p + obj.depth * (h - obj.midlevel) * n;
+            b.lo = glm::min(b.lo, q);
+            b.hi = glm::max(b.hi, q);
+        }
+    }
+    return b;
 }
 
-} // namespace
+Sphere sphere_around(const Box& box)
+{
+    // The floor was 1e-6 scene units: objects smaller than that (scales down to 1e-15 are
+    // allowed) were framed as 1e-6 across, a speck, or nothing. Now a millionth of the centre's
+    // largest coordinate.
+    const glm::vec3 centre = 0.5f * (box.lo + box.hi);
+    const float largest = std::max({std::abs(centre.x), std::abs(centre.y), std::abs(centre.z)});
+    return {centre, std::max({0.5f * glm::length(box.hi - box.lo), 1e-6f * largest, 1e-30f})};
+}
 
 Scene load_scene(const SceneSpec& spec)
 {
@@ -30,7 +44,7 @@ Scene load_scene(const SceneSpec& spec)
     Scene scene;
     std::map<std::string, std::shared_ptr<const HeightField>> heights;
     std::map<std::string, std::shared_ptr<const RgbaImage>> colors;
-    glm::vec3 lo(INFINITY), hi(-INFINITY);
+    Box all;
     for (const ObjectSpec& o : spec.objects) {
         SceneObject obj;
         obj.mesh_name = o.mesh;
@@ -70,28 +84,13 @@ Scene load_scene(const SceneSpec& spec)
             throw Error(o.depth ? "--depth" : o.mesh,
                         o.depth ? "must be a finite number >= 0"
                                 : "the default depth (4% of the bounding box's diagonal) is not a finite number");
-        // The full displacement shell's box: every vertex moved to both ends of its displacement
-        // range, depth * (h - midlevel) for h in [0, 1], along its world normal (the prisms and
-        // the displaced surface lie in the hull of those points). (Was the base mesh's box grown
-        // by the reach on every side: a plane's one-sided shell was framed off centre.)
-        const glm::mat3 normals = normal_matrix(o.transform);
-        glm::vec3 slo(INFINITY), shi(-INFINITY);
-        for (const MeshVertex& v : obj.mesh.vertices) {
-            const glm::vec3 p = glm::vec3(o.transform * glm::vec4(v.position, 1.0f));
-            const glm::vec3 n = glm::normalize(normals * v.normal);
-            for (const float h : {0.0f, 1.0f}) {
-                const glm::vec3 q = p + obj.depth * (h - obj.midlevel) * n;
-                slo = glm::min(slo, q);
-                shi = glm::max(shi, q);
-            }
-        }
-        lo = glm::min(lo, slo);
-        hi = glm::max(hi, shi);
-        scene.object_bounds.push_back({0.5f * (slo + shi), bounding_radius(slo, shi)});
+        const Box box = shell_box(obj);
+        all.lo = glm::min(all.lo, box.lo);
+        all.hi = glm::max(all.hi, box.hi);
+        scene.object_bounds.push_back(sphere_around(box));
         scene.objects.push_back(std::move(obj));
     }
-    scene.shell_bounds.center = 0.5f * (lo + hi);
-    scene.shell_bounds.radius = bounding_radius(lo, hi);
+    scene.shell_bounds = sphere_around(all);
     return scene;
 }
 

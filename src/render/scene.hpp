@@ -5,6 +5,7 @@
 #include "core/image.hpp"
 #include "mesh/mesh.hpp"
 
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <string>
@@ -60,6 +61,17 @@ struct Scene {
     Sphere shell_bounds; // world space, encloses every object's full displacement shell
     std::vector<Sphere> object_bounds; // the same per object (clip planes: fit_clip_planes)
 };
+
+// The world box of an object's full displacement shell: every vertex moved to both ends of its
+// displacement range, depth * (h - midlevel) for h in [0, 1], along its world normal (the prisms
+// and the displaced surface lie in the hull of those points).
+struct Box {
+    glm::vec3 lo{INFINITY};
+    glm::vec3 hi{-INFINITY};
+};
+Box shell_box(const SceneObject& obj);
+// The sphere around a box, its radius kept above what floats can still tell apart at its centre.
+Sphere sphere_around(const Box& box);
 
 // Loads every mesh and image (each distinct file once). Throws pr::Error naming the file.
 Scene load_scene(const SceneSpec& spec);
