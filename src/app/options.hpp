@@ -78,15 +78,18 @@ CLI::Validator saturating()
         "", "");
 }
 
-// For a flag taking a number: an empty value is the wrong shape (usage, exit 2); CLI11 reads "" as
-// no value for an optional (--depth "" drew the default depth, exit 0).
+// An empty value is usage (exit 2), with `problem` as the reason: CLI11 reads "" as no value for
+// an optional (--depth "" drew the default depth, exit 0) and as nothing to do for a file name
+// (view --screenshot "" wrote nothing).
+inline CLI::Validator non_empty(const std::string& problem)
+{
+    return CLI::Validator([problem](const std::string& text) { return text.empty() ? problem : std::string(); },
+                          "", "");
+}
+// For a flag taking a number.
 inline CLI::Validator a_number()
 {
-    return CLI::Validator(
-        [](const std::string& text) {
-            return text.empty() ? std::string("expected a number, got an empty value") : std::string();
-        },
-        "", "");
+    return non_empty("expected a number, got an empty value");
 }
 
 void add_scene_options(CLI::App& app, SceneOptions& o);

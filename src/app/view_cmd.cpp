@@ -54,9 +54,7 @@ CommandAction add_view_command(CLI::App& app)
     cmd->add_option("--screenshot", s->screenshot,
                     "PNG of the view (RGBA, alpha = coverage, framebuffer pixels): written after --frames, "
                     "and by the P key")
-        ->check(CLI::Validator(
-            [](const std::string& text) { return text.empty() ? std::string("empty file name") : std::string(); }, "",
-            ""))
+        ->check(non_empty("empty file name"))
         ->group("View");
     cmd->add_flag("--screenshot-ui", s->screenshot_ui,
                   "The screenshot shows the whole window as seen (panel, background; opaque)")
