@@ -175,27 +175,6 @@ bool uv_weights(vec2 uv, vec2 a, vec2 b, vec2 c, out vec3 w)
     return ok;
 }
 
-// Barycentric weights of the world point `p` in the current prism's slice at texture height `z`
-// (its corners moved from the bottom corners towards the top ones), for triangles whose uv
-// triangle has no area, where uv_weights cannot place a hit (docs/mesh-input.md); false when
-// the slice is degenerate too.
-bool slice_weights(vec3 p, float z, out vec3 w)
-{
-    vec3 s[3];
-    for (int i = 0; i < 3; ++i) {
-        float top = corner_tex[i + 3].z;
-        s[i] = mix(corner_world[i], corner_world[i + 3], top > 0.0 ? clamp(z / top, 0.0, 1.0) : 0.0);
-    }
-    vec3 e1 = s[1] - s[0], e2 = s[2] - s[0], d = p - s[0];
-    float d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2);
-    float den = d11 * d22 - d12 * d12;
-    bool ok = den > 1e-12 * d11 * d22;
-    w = ok ? vec3(0.0, (d22 * dot(d, e1) - d12 * dot(d, e2)) / den, (d11 * dot(d, e2) - d12 * dot(d, e1)) / den)
-           : vec3(0.0, 1.0 / 3.0, 1.0 / 3.0);
-    w.x = 1.0 - w.y - w.z;
-    return ok;
-}
-
 #ifdef PR_PRISM_WALK
 #ifdef PR_PRISM_TEARS
 // Pixels where a walk went into the object through a tear (pass 1 writes, pass 2 reads).
@@ -437,7 +416,7 @@ void main()
 
     // Frame at the hit: barycentrics of its uv in the base triangle's uv triangle.
     vec3 w;
-    if (!uv_weights(tex.xy, frame_uv[0], frame_uv[1], frame_uv[2], w)) slice_weights(hit, tex.z, w);
+    uv_weights(tex.xy, frame_uv[0], frame_uv[1], frame_uv[2], w);
     vec3 n = normalize(frame_n[0] * w.x + frame_n[1] * w.y + frame_n[2] * w.z);
     vec3 t_axis = mat3(u_model) * (frame_t[0] * w.x + frame_t[1] * w.y + frame_t[2] * w.z);
     vec3 b_axis = mat3(u_model) * (frame_b[0] * w.x + frame_b[1] * w.y + frame_b[2] * w.z);

@@ -5,7 +5,6 @@
 #include "core/error.hpp"
 #include "eval/metrics.hpp"
 #include "mesh/mesh.hpp"
-#include "mesh/raw_mesh.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -665,30 +664,5 @@ TEST(Prism, WalkStartsAtTheEyeInsideTheShell)
             std::printf("%s%s: IoU %.4f, mean depth error %.5f, PSNR %.1f dB\n", what.c_str(),
                         v.under ? " (under the surface)" : "", cm.iou, *cm.depth_error_mean, *cm.psnr);
         }
-    }
-}
-
-// A sphere whose UVs all lie at one point: its prisms' uv triangles have no area, so the hit
-// cannot be placed in its triangle by its uv; it is placed by its world point in the prism's
-// slice at its height instead. Before, each triangle was shaded with its corners' average
-// normal, faceted: 32 dB against the reference (docs/mesh-input.md), now smooth like it.
-TEST(Prism, HitsInTrianglesWithoutUvAreaShadeSmoothly)
-{
-    prtest::context();
-    RawMesh raw = read_raw_mesh(std::string(PR_SOURCE_DIR) + "/meshes/uv_sphere.obj", {});
-    for (glm::vec2& uv : raw.corner_uvs) uv = glm::vec2(0.3f, 0.3f);
-    PreparedMesh mesh = prepare_mesh(raw, {}, "uv point sphere");
-    const float depth = 0.04f * glm::length(mesh.bbox_max - mesh.bbox_min);
-    Scene scene = prtest::one_object(std::move(mesh), bumps_map(128), depth);
-    Renderer r(160, 160);
-    r.upload(scene);
-    const Camera c = framed(scene, 25.0f);
-    r.prepare_reference(scene, c, ReferenceOptions{});
-    const FrameCapture ref = capture(r, c, Technique::Reference);
-    for (const PrismExit e : kExits) {
-        const CompareMetrics m = compare_frames(capture(r, c, Technique::Prism, Marcher::Relief, e), ref);
-        EXPECT_GT(m.iou, 0.999) << exit_label(e);
-        ASSERT_TRUE(m.psnr.has_value()) << exit_label(e);
-        EXPECT_GT(*m.psnr, 42.0) << exit_label(e);
     }
 }
