@@ -176,6 +176,11 @@ struct Expect {
     // OFF whose counts line has no edge count ("4 2"): where to add " 0" in the bytes OpenMesh
     // parses, which otherwise takes the first vertex's x for it and shifts every later value.
     size_t off_counts_end = string_view::npos;
+    // OBJ faces that repeat a vertex, by the number of their importer call: OpenMesh's reader
+    // keeps only the first corner of each vertex (a polygon touching itself at a vertex became
+    // another polygon, and the corners' texture coordinates, all passed on, matched none); the
+    // importer takes their corners from here (0-based vertex indices, the file's order).
+    std::vector<std::pair<size_t, std::vector<std::uint32_t>>> repeating_faces;
 };
 
 void check_triangle_budget(const string& subject, unsigned long long triangles,
@@ -275,8 +280,14 @@ Expect scan_obj(const string& subject, string_view text, const MeshOptions& opti
             // remain; such a face has no area anyway.
             const size_t distinct = distinct_count(face);
             if (distinct >= 3) {
+                if (distinct < face.size()) {
+                    std::vector<std::uint32_t> corners(face.size());
+                    for (size_t k = 0; k < face.size(); ++k)
+                        corners[k] = static_cast<std::uint32_t>(face[k] - 1);
+                    e.repeating_faces.emplace_back(e.add_face_calls, std::move(corners));
+                }
                 ++e.add_face_calls;
-                triangles += distinct - 2;
+                triangles += face.size() - 2;
             }
         }
     }
@@ -304,13 +315,19 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
     const size_t n_head = tokenize(header, tok, 3);
     // [ST][C][N]OFF [BINARY]: the variants OpenMesh reads with 3D positions.
     string_view magic = n_head > 0 ? tok[0] : string_view();
-    bool has_c = false;
-    if (magic.substr(0, 2) == "ST") magic.remove_prefix(2);
+    bool has_st = false, has_c = false, has_n = false;
+    if (magic.substr(0, 2) == "ST") {
+        has_st = true;
+        magic.remove_prefix(2);
+    }
     if (!magic.empty() && magic[0] == 'C') {
         has_c = true;
         magic.remove_prefix(1);
     }
-    if (!magic.empty() && magic[0] == 'N') magic.remove_prefix(1);
+    if (!magic.empty() && magic[0] == 'N') {
+        has_n = true;
+        magic.remove_prefix(1);
+    }
     if (magic != "OFF") {
         if (n_head > 0 && tok[0].size() >= 3 && tok[0].substr(tok[0].size() - 3) == "OFF")
             fail(subject, "unsupported OFF variant " + shown(tok[0]) + " (only 3D [ST][C][N]OFF)");
@@ -320,6 +337,10 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
         fail(subject, "line 1: the counts must be on the line after " + shown(tok[0]) +
                           " (the reader expects the header alone on its first line)");
     e.binary = n_head == 2;
+    const string header_name(tok[0]);
+    const string vertex_layout = string("x y z") + (has_n ? " nx ny nz" : "") +
+                                 (has_c ? " [colour: 0, 1, 3 or 4 numbers]" : "") +
+                                 (has_st ? " s t" : "");
     const size_t body = lines.offset();
     const unsigned long long remaining = text.size() - body;
 
@@ -330,8 +351,15 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
         std::memcpy(counts, text.data() + body, sizeof counts);
         nv = counts[0];
         nf = counts[1];
-        // Minimum sizes: 3 floats per vertex, a count and 3 indices per face.
-        const unsigned long long need = 12 + nv * 12 + nf * 16;
+        // OpenMesh reads binary face colours only when asked for them, and misreads every face
+        // after the first colour when not; colours are not used here.
+        if (has_c)
+            fail(subject, "binary " + header_name +
+                              " (colours) is not supported; use the ASCII variant or OFF BINARY");
+        // Minimum sizes: 3 floats per vertex (and 3 for a normal, 2 for a texture coordinate),
+        // a count and 3 indices per face.
+        const unsigned long long vertex_bytes = 12 + (has_n ? 12 : 0) + (has_st ? 8 : 0);
+        const unsigned long long need = 12 + nv * vertex_bytes + nf * 16;
         if (need > remaining)
             fail(subject, "header claims " + std::to_string(nv) + " vertices and " +
                               std::to_string(nf) + " faces, more than a file of " +
@@ -375,6 +403,17 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
             !parse_finite_float(tok[2]))
             fail(subject,
                  line_prefix(lines.line()) + "vertex position is not three finite numbers");
+        // OpenMesh reads a normal's three numbers from the stream, past the line's end if it
+        // must (a NOFF line without its normal shifted every value after it), and the rest from
+        // the line: the colour (C, 0, 1, 3 or 4 numbers, told apart by their count) and the
+        // texture coordinate (ST, the last two), which a line without them left undefined.
+        const size_t fixed = has_n ? 6 : 3;
+        const size_t rest = n >= fixed ? n - fixed : 0;
+        const bool rest_ok =
+            !has_st || (has_c ? rest == 2 || rest == 3 || rest == 5 || rest == 6 : rest >= 2);
+        if (n < fixed || !rest_ok)
+            fail(subject, line_prefix(lines.line()) + "a " + header_name + " vertex needs " +
+                              vertex_layout + " (" + std::to_string(n) + " values here)");
     }
     unsigned long long triangles = 0;
     std::vector<string_view> ftok;
@@ -644,6 +683,16 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
 
 // ---- STL -----------------------------------------------------------------------------------
 
+// An ASCII STL starts with "solid", in either case ("SOLID" from some CAD exporters, whose
+// "OUTER" and "VERTEX" OpenMesh's reader reads too).
+bool starts_solid(string_view text)
+{
+    if (text.size() < 5) return false;
+    for (size_t i = 0; i < 5; ++i)
+        if (std::tolower(static_cast<unsigned char>(text[i])) != "solid"[i]) return false;
+    return true;
+}
+
 Expect scan_stl(const string& subject, string_view text, const MeshOptions& options)
 {
     Expect e;
@@ -671,7 +720,7 @@ Expect scan_stl(const string& subject, string_view text, const MeshOptions& opti
     }
     size_t first = 0;
     while (first < text.size() && is_space(text[first])) ++first;
-    if (text.substr(first, 5) != "solid") {
+    if (!starts_solid(text.substr(first))) {
         string problem = "is neither ASCII STL (it does not start with 'solid')";
         if (text.size() >= 84) {
             std::uint32_t nt = 0;
@@ -713,7 +762,10 @@ Expect scan_stl(const string& subject, string_view text, const MeshOptions& opti
 // stored; the first one is remembered for the error message.
 class SoupImporter final : public omio::BaseImporter {
 public:
-    explicit SoupImporter(RawMesh& mesh) : m_(mesh) {}
+    SoupImporter(RawMesh& mesh, const Expect& expect)
+        : m_(mesh), repeating_(expect.repeating_faces)
+    {
+    }
 
     size_t add_face_calls = 0;
     long long first_bad_face = -1;
@@ -737,6 +789,17 @@ public:
     {
         const size_t face_number = add_face_calls++;
         if (first_bad_face >= 0) return OpenMesh::FaceHandle();
+        if (next_repeating_ < repeating_.size() &&
+            repeating_[next_repeating_].first == face_number) {
+            VHandles all;
+            for (std::uint32_t v : repeating_[next_repeating_++].second)
+                all.emplace_back(int(v));
+            return store_face(face_number, all);
+        }
+        return store_face(face_number, handles);
+    }
+    OpenMesh::FaceHandle store_face(size_t face_number, const VHandles& handles)
+    {
         if (handles.size() < 3) return bad(face_number, "has fewer than 3 vertices");
         for (const OpenMesh::VertexHandle& vh : handles) {
             if (!valid(vh))
@@ -863,6 +926,8 @@ private:
     }
 
     RawMesh& m_;
+    const std::vector<std::pair<size_t, std::vector<std::uint32_t>>>& repeating_;
+    size_t next_repeating_ = 0;
 };
 
 string lower(string s)
@@ -938,6 +1003,38 @@ void blank_obj_comments(string& text)
     }
 }
 
+// A backslash at the end of a line continues it on the next ("f 1 2 \\" then "3 4"); neither
+// the scan nor OpenMesh's reader joins such lines. The joined line keeps the text's length and
+// every later line its number: each backslash and line break become a space, and the line breaks
+// follow the joined line (errors in it name its first line).
+void join_obj_continuations(string& text)
+{
+    if (text.find('\\') == string::npos) return;
+    string out;
+    out.reserve(text.size());
+    size_t pending = 0; // line breaks taken out of the current line
+    for (size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (c == '\\') {
+            size_t j = i + 1;
+            if (j < text.size() && text[j] == '\r') ++j;
+            if (j < text.size() && text[j] == '\n') {
+                out.append(j - i, ' ');
+                ++pending;
+                i = j;
+                continue;
+            }
+        }
+        out.push_back(c);
+        if (c == '\n') {
+            out.append(pending, '\n');
+            pending = 0;
+        }
+    }
+    out.append(pending, '\n');
+    text = std::move(out);
+}
+
 // Materials are not used (docs/mesh-input.md), but OpenMesh's OBJ reader opens the file an
 // `mtllib` line names and reads it to its end: a FIFO there hung it, /dev/zero filled memory.
 // Such lines become comments ('m' -> '#', the same length) in the bytes OpenMesh parses; the
@@ -1009,13 +1106,14 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
     // count one short). Not before a binary STL's header unless "solid" follows (ASCII).
     static constexpr string_view kBom = "\xEF\xBB\xBF";
     if (string_view(text).substr(0, 3) == kBom &&
-        (ext != ".stl" || string_view(text).substr(3, 5) == "solid"))
+        (ext != ".stl" || starts_solid(string_view(text).substr(3))))
         text.erase(0, 3);
 
     Expect expect;
     omio::Options requested = omio::Options::VertexNormal;
     if (ext == ".obj") {
         blank_obj_comments(text);
+        join_obj_continuations(text);
         expect = scan_obj(subject, text, options);
         // OBJ texture coordinates belong to face corners; per-vertex ones would lose seams.
         requested += omio::Options::FaceTexCoord;
@@ -1033,7 +1131,7 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
     if (ext == ".obj") drop_obj_material_libraries(text); // after the scan: its line numbers
     if (expect.off_counts_end != string_view::npos) text.insert(expect.off_counts_end, " 0");
     RawMesh mesh;
-    SoupImporter importer(mesh);
+    SoupImporter importer(mesh, expect);
     bool ok = false;
     bool handed = true; // false: OpenMesh's OFF reader could not be given the header line
     {

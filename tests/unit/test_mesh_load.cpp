@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -166,6 +167,69 @@ TEST(MeshLoad, ObjPolygonsAreTriangulatedCounterClockwise)
     EXPECT_NEAR(area, 3.0f, 1e-5f); // the L's area; overlapping or outside triangles change it
 }
 
+// A backslash at a line's end continues it ("malformed face corner '\\'" before); lines after a
+// joined one keep their numbers in messages.
+TEST(MeshLoad, ObjLineContinuationsAreJoined)
+{
+    TempDir dir;
+    const pr::PreparedMesh m = pr::load_mesh(
+        dir.write("c.obj", "v 0 0 0\nv 1 0 \\\n 0\nv 1 1 0\r\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
+                           "vt 0 1\nf 1/1 2/2 \\\r\n3/3 \\\n4/4\n"));
+    expect_sane(m);
+    EXPECT_EQ(m.triangle_count(), 2u);
+    EXPECT_TRUE(m.had_uvs);
+    for (const pr::MeshVertex& v : m.vertices) EXPECT_EQ(v.uv, glm::vec2(v.position));
+    EXPECT_EQ(prtest::error_of([&] {
+                  pr::load_mesh(dir.write("e.obj", "v 0 0 0\nv 1 \\\n0 0\nv 0 1 0\nf 1 2 \\\n9\n"));
+              }).problem(),
+              "line 5: vertex index 9 is out of range (the file has 3 vertices)");
+}
+
+// A face that repeats a corner: OpenMesh's reader keeps the first of each vertex and passes all
+// the corners' texture coordinates, which then matched no corner (the file's UVs were lost:
+// "no texture coordinates"). The face keeps its corners, and a polygon that touches itself at a
+// repeated corner (two loops through one vertex) is triangulated loop by loop, inside its outline
+// (the ear test skips corners that coincide, so the fan of what was left crossed between loops).
+TEST(MeshLoad, ObjFacesRepeatingACornerKeepTheirUvsAndOutline)
+{
+    TempDir dir;
+    const pr::PreparedMesh closed = pr::load_mesh(
+        dir.write("closed.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
+                                "vt 0 1\nf 1/1 2/2 3/3 4/4 1/1\n"));
+    expect_sane(closed);
+    EXPECT_TRUE(closed.had_uvs);
+    EXPECT_EQ(closed.triangle_count(), 2u);
+    for (const pr::MeshVertex& v : closed.vertices) EXPECT_EQ(v.uv, glm::vec2(v.position));
+
+    // Two triangles meeting at vertex 3 (1, 1), as one polygon: 1 2 3 4 5 3.
+    const std::string bowtie = "v 0 0 0\nv 2 0 0\nv 1 1 0\nv 2 2 0\nv 0 2 0\n";
+    for (const std::string& face : {"f 1 2 3 4 5 3\n", "f 3 4 5 3 1 2\n", "f 2 3 4 5 3 1\n"}) {
+        const pr::PreparedMesh m = pr::load_mesh(dir.write("bowtie.obj", bowtie + face));
+        expect_sane(m);
+        float area = 0.0f;
+        for (std::size_t t = 0; t < m.triangle_count(); ++t) {
+            const glm::vec3 n = face_normal(m, t);
+            EXPECT_GT(n.z, 0.0f) << face << "triangle " << t;
+            area += 0.5f * std::abs(n.z);
+        }
+        EXPECT_NEAR(area, 2.0f, 1e-5f) << face; // the two lobes; a triangle outside adds to it
+        EXPECT_EQ(m.triangle_count(), 2u) << face;
+    }
+    // A keyhole (a 4 x 4 square with a 2 x 2 hole, joined by a bridge from corner 1 to corner 5)
+    // passes twice through two points too, but its second loop is the hole: not cut, clipped as
+    // one polygon.
+    const pr::PreparedMesh keyhole = pr::load_mesh(
+        dir.write("keyhole.obj", "v 0 0 0\nv 4 0 0\nv 4 4 0\nv 0 4 0\nv 1 1 0\nv 1 3 0\nv 3 3 0\n"
+                                 "v 3 1 0\nf 1 2 3 4 1 5 6 7 8 5\n"));
+    float area = 0.0f;
+    for (std::size_t t = 0; t < keyhole.triangle_count(); ++t) {
+        const glm::vec3 n = face_normal(keyhole, t);
+        EXPECT_GT(n.z, 0.0f) << "keyhole triangle " << t;
+        area += 0.5f * std::abs(n.z);
+    }
+    EXPECT_NEAR(area, 12.0f, 1e-5f);
+}
+
 TEST(MeshLoad, ObjMixedFacesWithAndWithoutUvs)
 {
     TempDir dir;
@@ -215,6 +279,68 @@ TEST(MeshLoad, OffBinary)
     const pr::PreparedMesh m = pr::load_mesh(dir.write_bytes("m.off", b));
     expect_sane(m);
     EXPECT_EQ(m.triangle_count(), 1u);
+}
+
+// OpenMesh reads an ASCII OFF vertex's normal from the stream, past the line's end, and its
+// colour and texture coordinate from the rest of the line: a NOFF line without its normal shifted
+// every value after it ("face 0 has an out-of-range vertex index 32519"), an STOFF line without
+// its t read an undefined one. Each is refused with its line.
+TEST(MeshLoad, OffVertexLinesMissingValuesAreRefused)
+{
+    TempDir dir;
+    const std::string faces = "3 0 1 2\n";
+    auto message = [&](const std::string& name, const std::string& text) {
+        return prtest::error_of([&] { pr::load_mesh(dir.write(name, text + faces)); }).problem();
+    };
+    EXPECT_EQ(message("n.off", "NOFF\n3 1 0\n0 0 0 0 0 1\n1 0 0\n0 1 0 0 0 1\n"),
+              "line 4: a NOFF vertex needs x y z nx ny nz (3 values here)");
+    EXPECT_EQ(message("st.off", "STOFF\n3 1 0\n0 0 0 0 0\n1 0 0 1 0\n0 1 0 0\n"),
+              "line 5: a STOFF vertex needs x y z s t (4 values here)");
+    // With a colour (0, 1, 3 or 4 numbers) before s t: 2, 3, 5 or 6 values after x y z.
+    EXPECT_EQ(message("stc.off", "STCOFF\n3 1 0\n0 0 0 0 0\n1 0 0 9 1 0\n0 1 0 1 1 0 1\n"),
+              "line 5: a STCOFF vertex needs x y z [colour: 0, 1, 3 or 4 numbers] s t (7 values "
+              "here)");
+    const pr::PreparedMesh ok = pr::load_mesh(dir.write(
+        "ok.off", "STCNOFF\n3 1 0\n0 0 0 0 0 1 0 0\n1 0 0 0 0 1 9 1 0\n0 1 0 0 0 1 1 1 1 0 1\n" +
+                      faces));
+    EXPECT_TRUE(ok.had_uvs);
+    for (const pr::MeshVertex& v : ok.vertices) EXPECT_EQ(v.uv, glm::vec2(v.position));
+}
+
+// Binary OFF variants: a vertex is 3 floats, 3 more with N, 2 more with ST; the size check counts
+// them (a truncated NOFF BINARY passed it and OpenMesh read past the end). Binary colours are
+// refused: OpenMesh skips face colours it was not asked for and misreads every face after.
+TEST(MeshLoad, OffBinaryVariants)
+{
+    TempDir dir;
+    auto binary = [](const std::string& head, const std::vector<float>& values) {
+        std::vector<char> b(head.begin(), head.end());
+        for (std::int32_t i : {3, 1, 0}) put<std::int32_t>(b, i);
+        for (float f : values) put(b, f);
+        for (std::int32_t i : {3, 0, 1, 2}) put<std::int32_t>(b, i);
+        return b;
+    };
+    const pr::PreparedMesh n = pr::load_mesh(dir.write_bytes(
+        "n.off", binary("NOFF BINARY\n", {0, 0, 0, 0, 0, 1, 1, 0, 0, 0, 0, 1, 0, 1, 0, 0, 0, 1})));
+    expect_sane(n);
+    EXPECT_EQ(n.triangle_count(), 1u);
+    EXPECT_EQ(n.bbox_max, glm::vec3(1, 1, 0));
+    const pr::PreparedMesh st = pr::load_mesh(dir.write_bytes(
+        "st.off", binary("STOFF BINARY\n", {0, 0, 0, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1})));
+    EXPECT_TRUE(st.had_uvs);
+    for (const pr::MeshVertex& v : st.vertices) EXPECT_EQ(v.uv, glm::vec2(v.position));
+    EXPECT_TRUE(prtest::contains(
+        prtest::error_of([&] {
+            pr::load_mesh(dir.write_bytes("short.off",
+                                          binary("NOFF BINARY\n", {0, 0, 0, 1, 0, 0, 0, 1, 0})));
+        }).problem(),
+        "more than a file of"));
+    EXPECT_EQ(prtest::error_of([&] {
+                  pr::load_mesh(dir.write_bytes(
+                      "c.off", binary("COFF BINARY\n", {0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0,
+                                                          1, 0, 0, 0, 0})));
+              }).problem(),
+              "binary COFF (colours) is not supported; use the ASCII variant or OFF BINARY");
 }
 
 TEST(MeshLoad, PlyAsciiWithUvsAndNormals)
@@ -325,6 +451,17 @@ TEST(MeshLoad, StlAsciiIsWelded)
 {
     TempDir dir;
     expect_smooth_octahedron(pr::load_mesh(dir.write("o.stl", octa_stl_ascii())));
+}
+
+// Some CAD exporters write ASCII STL in capitals ("SOLID", "FACET NORMAL", "OUTER LOOP",
+// "VERTEX"), which OpenMesh reads; it was refused ("does not start with 'solid'").
+TEST(MeshLoad, StlAsciiInCapitals)
+{
+    TempDir dir;
+    std::string upper = octa_stl_ascii();
+    for (char& c : upper) c = char(std::toupper(static_cast<unsigned char>(c)));
+    expect_smooth_octahedron(pr::load_mesh(dir.write("O.STL", upper)));
+    expect_smooth_octahedron(pr::load_mesh(dir.write("bom.stl", "\xEF\xBB\xBF" + upper)));
 }
 
 TEST(MeshLoad, StlBinaryIsWelded)
