@@ -79,10 +79,25 @@ double cross2(dvec2 a, dvec2 b)
     return a.x * b.y - a.y * b.x;
 }
 
+// Twice the signed area of the ring `r` of 2D points `q`.
+double ring_area2(const std::vector<dvec2>& q, const std::vector<uint32_t>& r)
+{
+    double a = 0.0;
+    for (size_t i = 0; i < r.size(); ++i) a += cross2(q[r[i]], q[r[(i + 1) % r.size()]]);
+    return a;
+}
+
 // Triangulates polygon `face` (n >= 3 corners, positions in `p`) into local corner triples.
 // Ear clipping in the plane of the Newell normal, so concave polygons come out right; a convex
 // polygon gives the fan from its first corner. Very large or self-intersecting polygons fall
 // back to a fan.
+//
+// A polygon whose outline passes twice through one point (a corner repeated, `1 2 3 4 1`, or two
+// loops touching at a vertex, `1 2 3 4 5 3`) is first cut there into the loops it is made of,
+// where both have positive area; a loop of fewer than three corners has none and is dropped. The
+// ear test skips points that coincide with an ear's corners (so that the two sides of a keyhole
+// bridge, whose loops are an outline and a hole of negative area, clip right), which let it clip
+// across the touching point; what was left became a fan outside the outline.
 void triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uint32_t, 3>>& out)
 {
     const size_t n = p.size();
@@ -90,10 +105,10 @@ void triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
     auto fan = [&](const std::vector<uint32_t>& ring) {
         for (size_t i = 1; i + 1 < ring.size(); ++i) out.push_back({ring[0], ring[i], ring[i + 1]});
     };
-    std::vector<uint32_t> ring(n);
-    for (size_t i = 0; i < n; ++i) ring[i] = uint32_t(i);
+    std::vector<uint32_t> whole(n);
+    for (size_t i = 0; i < n; ++i) whole[i] = uint32_t(i);
     if (n == 3 || n > 64) {
-        fan(ring);
+        fan(whole);
         return;
     }
     dvec3 normal(0.0);
@@ -106,7 +121,7 @@ void triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
     const dvec3 an = glm::abs(normal);
     const int k = an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2);
     if (an[k] == 0.0) {
-        fan(ring);
+        fan(whole);
         return;
     }
     // Axes (k+1, k+2) keep the orientation when normal[k] > 0; flip the second otherwise, so
@@ -115,37 +130,63 @@ void triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
     std::vector<dvec2> q(n);
     for (size_t i = 0; i < n; ++i) q[i] = dvec2(p[i][(k + 1) % 3], flip * p[i][(k + 2) % 3]);
 
-    auto is_ear = [&](size_t i) {
-        const size_t m = ring.size();
-        const uint32_t a = ring[(i + m - 1) % m], b = ring[i], c = ring[(i + 1) % m];
-        if (cross2(q[b] - q[a], q[c] - q[b]) <= 0.0) return false; // reflex or flat
-        for (size_t j = 0; j < m; ++j) {
-            const uint32_t t = ring[j];
-            if (t == a || t == b || t == c) continue;
-            if (q[t] == q[a] || q[t] == q[b] || q[t] == q[c]) continue;
-            if (cross2(q[b] - q[a], q[t] - q[a]) >= 0.0 &&
-                cross2(q[c] - q[b], q[t] - q[b]) >= 0.0 && cross2(q[a] - q[c], q[t] - q[c]) >= 0.0)
-                return false;
+    auto clip = [&](std::vector<uint32_t> ring) {
+        auto is_ear = [&](size_t i) {
+            const size_t m = ring.size();
+            const uint32_t a = ring[(i + m - 1) % m], b = ring[i], c = ring[(i + 1) % m];
+            if (cross2(q[b] - q[a], q[c] - q[b]) <= 0.0) return false; // reflex or flat
+            for (size_t j = 0; j < m; ++j) {
+                const uint32_t t = ring[j];
+                if (t == a || t == b || t == c) continue;
+                if (q[t] == q[a] || q[t] == q[b] || q[t] == q[c]) continue;
+                if (cross2(q[b] - q[a], q[t] - q[a]) >= 0.0 &&
+                    cross2(q[c] - q[b], q[t] - q[b]) >= 0.0 &&
+                    cross2(q[a] - q[c], q[t] - q[c]) >= 0.0)
+                    return false;
+            }
+            return true;
+        };
+        size_t i = 1;
+        while (ring.size() > 3) {
+            const size_t m = ring.size();
+            bool found = false;
+            for (size_t tries = 0; tries < m; ++tries, i = (i + 1) % m) {
+                if (is_ear(i)) {
+                    out.push_back({ring[(i + m - 1) % m], ring[i], ring[(i + 1) % m]});
+                    ring.erase(ring.begin() + std::ptrdiff_t(i));
+                    if (i >= ring.size()) i = 0;
+                    if (i == 0 && ring.size() > 1) i = 1;
+                    found = true;
+                    break;
+                }
+            }
+            if (!found) break;
         }
-        return true;
+        fan(ring);
     };
-    size_t i = 1;
-    while (ring.size() > 3) {
-        const size_t m = ring.size();
-        bool found = false;
-        for (size_t tries = 0; tries < m; ++tries, i = (i + 1) % m) {
-            if (is_ear(i)) {
-                out.push_back({ring[(i + m - 1) % m], ring[i], ring[(i + 1) % m]});
-                ring.erase(ring.begin() + std::ptrdiff_t(i));
-                if (i >= ring.size()) i = 0;
-                if (i == 0 && ring.size() > 1) i = 1;
-                found = true;
-                break;
+
+    std::vector<std::vector<uint32_t>> rings{whole};
+    while (!rings.empty()) {
+        std::vector<uint32_t> r = std::move(rings.back());
+        rings.pop_back();
+        if (r.size() < 3) continue;
+        bool cut = false;
+        for (size_t i = 0; i < r.size() && !cut; ++i) {
+            for (size_t j = i + 1; j < r.size() && !cut; ++j) {
+                if (p[r[i]] != p[r[j]]) continue;
+                std::vector<uint32_t> first(r.begin() + std::ptrdiff_t(i), r.begin() + std::ptrdiff_t(j));
+                std::vector<uint32_t> second(r.begin() + std::ptrdiff_t(j), r.end());
+                second.insert(second.end(), r.begin(), r.begin() + std::ptrdiff_t(i));
+                if (first.size() < 3 || second.size() < 3 ||
+                    (ring_area2(q, first) > 0.0 && ring_area2(q, second) > 0.0)) {
+                    rings.push_back(std::move(second));
+                    rings.push_back(std::move(first));
+                    cut = true;
+                }
             }
         }
-        if (!found) break;
+        if (!cut) clip(std::move(r));
     }
-    fan(ring);
 }
 
 // Interior angle at corner `a` of triangle (a, b, c); atan2 stays accurate for thin corners.
