@@ -348,6 +348,37 @@ bool stb_swaps_16_bit_pnm()
     return swaps;
 }
 
+// Whether stb decodes these bytes as TGA: it tries TGA last, as the format without a signature,
+// so a file none of the other decoders' signatures match, whose header names a TGA image type.
+bool is_tga(const std::vector<std::uint8_t>& b)
+{
+    if (b.size() < 18) return false;
+    const auto starts = [&b](std::string_view magic) {
+        return b.size() >= magic.size() && std::memcmp(b.data(), magic.data(), magic.size()) == 0;
+    };
+    for (std::string_view magic : {"\x89PNG", "BM", "GIF8", "8BPS", "\x53\x80\xF6\x34", "P5", "P6",
+                                   "#?RADIANCE", "#?RGBE"})
+        if (starts(magic)) return false;
+    std::size_t i = 0;
+    while (i < b.size() && b[i] == 0xFF) ++i;
+    if (i > 0 && i < b.size() && b[i] == 0xD8) return false; // JPEG
+    const unsigned type = b[2];
+    return b[1] <= 1 && (type == 1 || type == 2 || type == 3 || type == 9 || type == 10 || type == 11);
+}
+
+// stb_image 2.27 reads a TGA's vertical origin (descriptor bit 5) but not its horizontal one
+// (bit 4, pixels stored right to left): such a file came out mirrored.
+template <typename T>
+void fix_tga_origin(const std::vector<std::uint8_t>& bytes, T* pixels, int w, int h, int n)
+{
+    if (!is_tga(bytes) || !(bytes[17] & 0x10)) return;
+    for (int y = 0; y < h; ++y) {
+        T* row = pixels + std::size_t(y) * w * n;
+        for (int a = 0, b = w - 1; a < b; ++a, --b)
+            for (int k = 0; k < n; ++k) std::swap(row[std::size_t(a) * n + k], row[std::size_t(b) * n + k]);
+    }
+}
+
 HeightField load_height_file(const std::string& path, const ImageLimits& limits)
 {
     std::vector<std::uint8_t> bytes = read_file(path, limits);
@@ -384,6 +415,7 @@ HeightField load_height_file(const std::string& path, const ImageLimits& limits)
         if (!data) fail_decode(path);
         check_decoded(path, hf.width, hf.height, limits);
         hf.bits = 8;
+        fix_tga_origin(bytes, data.get(), hf.width, hf.height, n);
         take_first_channel(hf, data.get(), n, [](stbi_uc v) { return float(v) / 255.0f; });
     }
     return hf;
@@ -422,6 +454,7 @@ RgbaImage load_rgba_file(const std::string& path, const ImageLimits& limits)
     }
     if (!data) fail_decode(path);
     check_decoded(path, w, h, limits);
+    fix_tga_origin(bytes, data.get(), w, h, 4);
     RgbaImage img;
     img.width = w;
     img.height = h;

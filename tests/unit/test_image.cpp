@@ -499,3 +499,41 @@ TEST_F(ImageFiles, TopDownBmpLoadsTheRightWayUp)
     EXPECT_EQ(c.at(0, 0), glm::u8vec4(0, 0, 255, 255));
     EXPECT_EQ(pr::load_height(put("top_down_h.bmp", b)).height, 2);
 }
+
+// A TGA's descriptor (byte 17) says where its first stored pixel goes: bit 5 top (else bottom),
+// bit 4 right (else left). stb 2.27 reads bit 5 and ignores bit 4, so right-to-left files came
+// out mirrored; each of the four origins now loads the same picture.
+TEST_F(ImageFiles, TgaOriginsAllLoadTheSamePicture)
+{
+    // The picture, bottom row first: (10, 20) under (30, 40), grey; and in colour (BGR in the
+    // file) red, green under blue, white.
+    const int grey[2][2] = {{10, 20}, {30, 40}};
+    const glm::u8vec4 colour[2][2] = {{{255, 0, 0, 255}, {0, 255, 0, 255}},
+                                      {{0, 0, 255, 255}, {255, 255, 255, 255}}};
+    for (const int origin : {0x00, 0x10, 0x20, 0x30}) {
+        const bool right = origin & 0x10, top = origin & 0x20;
+        Bytes g = {0, 0, 3, 0, 0, 0, 0, 0, 0, 0, 0, 0, 2, 0, 2, 0, 8, std::uint8_t(origin)};
+        Bytes c = {0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 2, 0, 2, 0, 24, std::uint8_t(origin)};
+        for (int r = 0; r < 2; ++r) {
+            const int y = top ? 1 - r : r;
+            for (int k = 0; k < 2; ++k) {
+                const int x = right ? 1 - k : k;
+                g.push_back(std::uint8_t(grey[y][x]));
+                const glm::u8vec4 p = colour[y][x];
+                c.insert(c.end(), {p.b, p.g, p.r});
+            }
+        }
+        const std::string name = "o" + std::to_string(origin);
+        const pr::HeightField h = pr::load_height(put(name + "_h.tga", g));
+        ASSERT_EQ(h.width, 2);
+        ASSERT_EQ(h.height, 2);
+        for (int y = 0; y < 2; ++y)
+            for (int x = 0; x < 2; ++x)
+                EXPECT_FLOAT_EQ(h.texels[std::size_t(y * 2 + x)], float(grey[y][x]) / 255.0f)
+                    << "origin " << origin << " texel " << x << "," << y;
+        const pr::RgbaImage img = pr::load_color(put(name + "_c.tga", c));
+        for (int y = 0; y < 2; ++y)
+            for (int x = 0; x < 2; ++x)
+                EXPECT_EQ(img.at(x, y), colour[y][x]) << "origin " << origin << " pixel " << x << "," << y;
+    }
+}
