@@ -18,20 +18,17 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/fnv.hpp"
+#include "core/input_file.hpp"
 
 #include <algorithm>
-#include <cerrno>
 #include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fcntl.h>
 #include <limits>
 #include <string_view>
-#include <sys/stat.h>
-#include <unistd.h>
 
 namespace pr {
 namespace {
@@ -135,29 +132,6 @@ std::filesystem::path entry_for_key(const HeightField& field, ConeKind kind, Con
     return cache_dir / "cone" /
            (cone_kind_name(kind) + "-" + cone_format_name(format) + "-" + std::to_string(field.width) + "x" +
             std::to_string(field.height) + "-" + hex + ".bin");
-}
-
-// An entry's whole content, or why it cannot be had ("cannot be read: Permission denied").
-std::string read_entry(const std::filesystem::path& path, std::vector<std::uint8_t>& bytes)
-{
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) return std::string("cannot be read: ") + std::strerror(errno);
-    struct stat st;
-    if (::fstat(fd, &st) == 0) bytes.reserve(std::size_t(st.st_size));
-    std::uint8_t buffer[65536];
-    for (;;) {
-        const ssize_t n = ::read(fd, buffer, sizeof buffer);
-        if (n == 0) break;
-        if (n < 0) {
-            if (errno == EINTR) continue;
-            const int err = errno;
-            ::close(fd);
-            return std::string("cannot be read: ") + std::strerror(err);
-        }
-        bytes.insert(bytes.end(), buffer, buffer + n);
-    }
-    ::close(fd);
-    return {};
 }
 
 // The cache's own entries (<kind>-<format>-<W>x<H>-<key>.bin).
@@ -271,8 +245,18 @@ ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const s
     result.entry = entry_for_key(field, kind, options.format, cache_dir, key);
     std::error_code ec;
     if (std::filesystem::is_regular_file(result.entry, ec)) {
+        // Read as the user's own files are (core/input_file.hpp): a FIFO put there in place of
+        // the entry cannot hang the read, nor a huge file fill memory (no more than twice the
+        // size of this map's entry is read; within that, deserialize() says what is wrong).
+        const std::uint64_t entry_bytes = kHeaderBytes + field.texels.size() * 6;
         std::vector<std::uint8_t> bytes;
-        std::string why = read_entry(result.entry, bytes);
+        std::string why;
+        try {
+            bytes = read_input_bytes(result.entry.string(),
+                                     {2 * entry_bytes, "a cone-map cache entry", "not this map's entry"});
+        } catch (const Error& e) {
+            why = e.problem();
+        }
         if (why.empty()) why = deserialize(bytes, field, kind, options.format, key, result.map);
         if (why.empty()) {
             result.from_cache = true;

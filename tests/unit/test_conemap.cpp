@@ -631,6 +631,23 @@ TEST(ConeMap, CacheEntryOfTheWrongSizeSaysSo)
     }
 }
 
+// An entry far larger than this map's (a 4 GiB sparse file in its place) was read whole into
+// memory before its size was looked at; now no more than twice an entry's size is read.
+TEST(ConeMap, HugeCacheEntryIsNotReadWhole)
+{
+    prtest::TempDir dir;
+    const HeightField f = smooth_map(16, 12, 24);
+    const fs::path entry = cached_cone_map(f, ConeKind::Cone, dir.path()).entry;
+    const std::uintmax_t size = fs::file_size(entry);
+    fs::resize_file(entry, std::uintmax_t(4) << 30);
+    ::testing::internal::CaptureStderr();
+    EXPECT_FALSE(cached_cone_map(f, ConeKind::Cone, dir.path()).from_cache);
+    const std::string said = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(said.find(entry.string() + ": is 4 GiB (4294967296 bytes), more than"), std::string::npos) << said;
+    EXPECT_NE(said.find("not this map's entry; rebuilding it"), std::string::npos) << said;
+    EXPECT_EQ(fs::file_size(entry), size); // rewritten
+}
+
 TEST(ConeMap, UnwritableCacheOnlyWarns)
 {
     prtest::TempDir dir;

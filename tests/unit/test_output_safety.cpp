@@ -308,7 +308,7 @@ TEST(ConeCacheLocation, UnreadableEntrySaysWhy)
     if (!status) GTEST_SKIP() << "no user without root's powers here";
     EXPECT_EQ(*status, 0);
     const std::string text = read_all(said);
-    EXPECT_TRUE(contains(text, entry.string() + ": cannot be read: Permission denied; rebuilding it")) << text;
+    EXPECT_TRUE(contains(text, entry.string() + ": cannot open: Permission denied; rebuilding it")) << text;
     EXPECT_FALSE(contains(text, "bad header")) << text;
 }
 
