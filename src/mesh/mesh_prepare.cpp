@@ -87,10 +87,19 @@ double ring_area2(const std::vector<dvec2>& q, const std::vector<uint32_t>& r)
     return a;
 }
 
+// Ear clipping takes time of the order of the square of a polygon's corners: polygons of up to
+// kEarClipCorners are clipped while the squares of those above 64 corners add up to no more than
+// kEarClipWork (a 4096-corner star takes 30-50 ms; the budget is a few seconds). A concave
+// polygon past either limit becomes a fan, which may cover area outside its outline; the caller
+// warns. A convex polygon is its fan, at any size.
+constexpr size_t kEarClipCorners = 4096;
+constexpr size_t kEarClipWork = size_t(1) << 30;
+
 // Triangulates polygon `face` (n >= 3 corners, positions in `p`) into local corner triples.
 // Ear clipping in the plane of the Newell normal, so concave polygons come out right; a convex
-// polygon gives the fan from its first corner. Very large or self-intersecting polygons fall
-// back to a fan.
+// polygon gives the fan from its first corner. Self-intersecting polygons, and concave ones past
+// the limits above (`work_left` is what is left of kEarClipWork), fall back to a fan: returns
+// false for those past the limits.
 //
 // A polygon whose outline passes twice through one point (a corner repeated, `1 2 3 4 1`, or two
 // loops touching at a vertex, `1 2 3 4 5 3`) is first cut there into the loops it is made of,
@@ -98,7 +107,8 @@ double ring_area2(const std::vector<dvec2>& q, const std::vector<uint32_t>& r)
 // ear test skips points that coincide with an ear's corners (so that the two sides of a keyhole
 // bridge, whose loops are an outline and a hole of negative area, clip right), which let it clip
 // across the touching point; what was left became a fan outside the outline.
-void triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uint32_t, 3>>& out)
+bool triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uint32_t, 3>>& out,
+                         size_t& work_left)
 {
     const size_t n = p.size();
     out.clear();
@@ -107,9 +117,9 @@ void triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
     };
     std::vector<uint32_t> whole(n);
     for (size_t i = 0; i < n; ++i) whole[i] = uint32_t(i);
-    if (n == 3 || n > 64) {
+    if (n == 3) {
         fan(whole);
-        return;
+        return true;
     }
     dvec3 normal(0.0);
     for (size_t i = 0; i < n; ++i) {
@@ -122,13 +132,27 @@ void triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
     const int k = an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2);
     if (an[k] == 0.0) {
         fan(whole);
-        return;
+        return true;
     }
     // Axes (k+1, k+2) keep the orientation when normal[k] > 0; flip the second otherwise, so
     // the polygon is counter-clockwise in 2D.
     const double flip = normal[k] > 0.0 ? 1.0 : -1.0;
     std::vector<dvec2> q(n);
     for (size_t i = 0; i < n; ++i) q[i] = dvec2(p[i][(k + 1) % 3], flip * p[i][(k + 2) % 3]);
+    if (n > 64) {
+        bool convex = true;
+        for (size_t i = 0; i < n && convex; ++i)
+            convex = cross2(q[(i + 1) % n] - q[i], q[(i + 2) % n] - q[(i + 1) % n]) >= 0.0;
+        if (convex) {
+            fan(whole);
+            return true;
+        }
+        if (n > kEarClipCorners || n * n > work_left) {
+            fan(whole);
+            return false;
+        }
+        work_left -= n * n;
+    }
 
     auto clip = [&](std::vector<uint32_t> ring) {
         auto is_ear = [&](size_t i) {
@@ -187,6 +211,7 @@ void triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
         }
         if (!cut) clip(std::move(r));
     }
+    return true;
 }
 
 // Interior angle at corner `a` of triangle (a, b, c); atan2 stays accurate for thin corners.
@@ -424,6 +449,8 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     size_t degenerate = raw.collapsed_faces;
     std::vector<dvec3> poly;
     std::vector<std::array<uint32_t, 3>> local;
+    size_t clip_work_left = kEarClipWork;
+    size_t fanned = 0; // concave polygons past the ear clipping's limits
     for (size_t f = 0; f < face_count; ++f) {
         const uint32_t begin = raw.face_offsets[f];
         const size_t n = raw.face_offsets[f + 1] - begin;
@@ -436,7 +463,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         if (n == 3) {
             local.assign(1, {0, 1, 2}); // the common case, without the polygon machinery
         } else {
-            triangulate_polygon(poly, local);
+            if (!triangulate_polygon(poly, local, clip_work_left)) ++fanned;
         }
         for (const auto& t : local) {
             const uint32_t w0 = weld_of[raw.corners[begin + t[0]]];
@@ -450,6 +477,11 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
             tris.push_back({{begin + t[0], begin + t[1], begin + t[2]}, uint32_t(f)});
         }
     }
+    if (fanned > 0)
+        warn(name + ": " + std::to_string(fanned) + " concave polygon" + (fanned == 1 ? "" : "s") +
+             " too large to clip (more than " + std::to_string(kEarClipCorners) +
+             " corners, or past the time budget) triangulated as " + (fanned == 1 ? "a fan" : "fans") +
+             ", which may cover area outside " + (fanned == 1 ? "its outline" : "their outlines"));
     out.dropped_triangles = degenerate;
     if (tris.empty())
         throw Error(name,

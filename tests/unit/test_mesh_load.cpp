@@ -230,6 +230,54 @@ TEST(MeshLoad, ObjFacesRepeatingACornerKeepTheirUvsAndOutline)
     EXPECT_NEAR(area, 12.0f, 1e-5f);
 }
 
+// Polygons of more than 64 corners were all fans, which put a concave one's triangles outside
+// its outline (a 1000-corner star: overlapping triangles of both windings). They are clipped up
+// to 4096 corners; a concave polygon past that is a fan with a warning, a convex one its fan.
+TEST(MeshLoad, LargeConcavePolygonsAreClipped)
+{
+    TempDir dir;
+    auto star = [](int n) {
+        std::string text;
+        std::vector<glm::dvec2> q;
+        for (int i = 0; i < n; ++i) {
+            const double r = i % 2 == 0 ? 1.0 : 0.5, a = 2.0 * 3.14159265358979 * i / n;
+            q.emplace_back(r * std::cos(a), r * std::sin(a));
+            text += "v " + std::to_string(q.back().x) + " " + std::to_string(q.back().y) + " 0\n";
+        }
+        text += "f";
+        for (int i = 0; i < n; ++i) text += " " + std::to_string(i + 1);
+        return text + "\n";
+    };
+    auto covered = [](const pr::PreparedMesh& m, int& negative) {
+        double area = 0.0;
+        negative = 0;
+        for (std::size_t t = 0; t < m.triangle_count(); ++t) {
+            const float z = face_normal(m, t).z;
+            area += 0.5 * std::abs(double(z));
+            negative += z < 0.0f;
+        }
+        return area;
+    };
+    // The star's own area: n triangles (centre, outer, inner corner), each r1 r2 sin(2 pi / n) / 2.
+    const int n = 1000;
+    const double star_area = n * 0.5 * 1.0 * 0.5 * std::sin(2.0 * 3.14159265358979 / n);
+    ::testing::internal::CaptureStderr();
+    const pr::PreparedMesh m = pr::load_mesh(dir.write("star.obj", star(n)));
+    const std::string said = ::testing::internal::GetCapturedStderr();
+    EXPECT_EQ(said.find("fan"), std::string::npos) << said;
+    int negative = 0;
+    EXPECT_NEAR(covered(m, negative), star_area, 1e-3 * star_area);
+    EXPECT_EQ(negative, 0);
+    EXPECT_EQ(m.triangle_count(), std::size_t(n - 2));
+
+    ::testing::internal::CaptureStderr();
+    pr::load_mesh(dir.write("big.obj", star(5000)));
+    EXPECT_NE(::testing::internal::GetCapturedStderr().find(
+                  "1 concave polygon too large to clip (more than 4096 corners, or past the time "
+                  "budget) triangulated as a fan, which may cover area outside its outline"),
+              std::string::npos);
+}
+
 TEST(MeshLoad, ObjMixedFacesWithAndWithoutUvs)
 {
     TempDir dir;
