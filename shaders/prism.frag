@@ -258,6 +258,16 @@ void main()
 
     // The ray is eye + t * dir with t = 1 at this fragment (the entry).
     vec3 dir = v_world - u_eye.xyz;
+#ifndef PR_PRISM_WALK
+    // A shell thinner than 1e-4 of the eye's distance (--depth 0, or nearly; a hundredth of a
+    // pixel at 45 degrees and 1000 pixels): the displaced surface is the base triangle within
+    // that, and the hit is the entry. Marched, such a prism gave a black or empty image: its
+    // faces coincide within rounding, so the exact exit found none beyond the entry's slack
+    // (t > 1 + 1e-5) and the vertex exit's texture-space distances divided by a thickness of 0.
+    float thickness = max(max(distance(corner_world[0], corner_world[3]), distance(corner_world[1], corner_world[4])),
+                          distance(corner_world[2], corner_world[5]));
+    bool thin = thickness < 1e-4 * length(dir);
+#endif
     float t_in = 1.0, t_out = 1.0;
     vec3 tex_in = v_tex, tex_out = v_tex;
     float s;
@@ -392,20 +402,24 @@ void main()
         frame_b[i] = vertex_texel(index[i], 3).xyz;
     }
 #else
+    if (thin) {
+        s = 0.0;
+    } else {
 #ifdef PR_PRISM_EXIT_VERTEX
-    // Interpolated distances to the texture-space prism's planes (prism.geom): the nearest is
-    // the exit. Moving lambda along v_dir_tex moves lambda * dir in the world (same frame).
-    float lambda = max(min(min(min(v_dist_sides.x, v_dist_sides.y), min(v_dist_sides.z, v_dist_sides.w)),
-                           v_dist_top), 0.0);
-    t_out = 1.0 + lambda;
-    tex_out = v_tex + lambda * v_dir_tex;
+        // Interpolated distances to the texture-space prism's planes (prism.geom): the nearest is
+        // the exit. Moving lambda along v_dir_tex moves lambda * dir in the world (same frame).
+        float lambda = max(min(min(min(v_dist_sides.x, v_dist_sides.y), min(v_dist_sides.z, v_dist_sides.w)),
+                               v_dist_top), 0.0);
+        t_out = 1.0 + lambda;
+        tex_out = v_tex + lambda * v_dir_tex;
 #else
-    prism_exit(dir, v_tex, from_a, t_out, tex_out);
+        prism_exit(dir, v_tex, from_a, t_out, tex_out);
 #endif
-    vec3 last;
-    bool below = false;
-    s = refine_segment(march_segment(tex_in, tex_out, vec3(0.0), true, false, below, last),
-                       segment_ray(tex_in, tex_out));
+        vec3 last;
+        bool below = false;
+        s = refine_segment(march_segment(tex_in, tex_out, vec3(0.0), true, false, below, last),
+                           segment_ray(tex_in, tex_out));
+    }
 #endif
     if (s < 0.0) {
         count_fragment();
