@@ -3,7 +3,9 @@
 #include "app/commands.hpp"
 #include "core/error.hpp"
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <new>
 #include <string>
@@ -38,6 +40,33 @@ std::string usage_message(CLI::App& app, const CLI::ParseError& e, int argc, cha
     return e.what();
 }
 
+// A file option given an empty value (`--json ""`, a script's unset variable): CLI11 takes it as
+// not given, so the command "succeeded" without its report (compare, bench, conemap --json,
+// compare --out), drew without its scene or colour map, or used the default cache folder.
+void refuse_empty_file_names(const CLI::App& command)
+{
+    static constexpr const char* kFileOptions[] = {"--out", "--json", "--scene", "--mesh", "--height",
+                                                   "--color", "--cache-dir", "--shader-dir"};
+    for (const char* name : kFileOptions) {
+        const CLI::Option* option = command.get_option_no_throw(name);
+        if (option == nullptr || option->count() == 0) continue;
+        for (const std::string& value : option->results())
+            if (value.empty()) throw Error(name, "empty file name");
+    }
+}
+
+// What a command printed must have reached its destination: a table sent to a full disk
+// (`> /dev/full`) was lost with exit 0.
+int check_stdout()
+{
+    errno = 0;
+    if (std::fflush(stdout) == 0 && !std::ferror(stdout)) return kExitOk;
+    const int err = errno;
+    std::fprintf(stderr, "prismrelief: error: standard output: cannot write%s%s\n", err ? ": " : "",
+                 err ? std::strerror(err) : "");
+    return kExitFailure;
+}
+
 } // namespace
 
 int run_cli(int argc, char** argv)
@@ -70,22 +99,28 @@ int run_cli(int argc, char** argv)
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
         std::fprintf(stderr, "prismrelief: usage: %s (see prismrelief --help)\n",
-                     usage_message(app, e, argc, argv).c_str());
+                     one_line(usage_message(app, e, argc, argv)).c_str());
         return kExitUsage;
     }
 
     try {
         // Subcommands were registered in the order of `actions`; run the one that was parsed.
         const std::vector<CLI::App*> all = app.get_subcommands({});
-        for (std::size_t i = 0; i < all.size(); ++i)
-            if (all[i]->parsed()) return actions[i]();
+        for (std::size_t i = 0; i < all.size(); ++i) {
+            if (!all[i]->parsed()) continue;
+            refuse_empty_file_names(*all[i]);
+            const int status = actions[i]();
+            return status == kExitOk ? check_stdout() : status;
+        }
         return kExitUsage;
     } catch (const Error& e) {
-        std::fprintf(stderr, "prismrelief: error: %s\n", e.what());
+        // One line, whatever the names it quotes hold; a compiler's log after it.
+        std::fprintf(stderr, "prismrelief: error: %s\n", one_line(e.subject() + ": " + e.problem()).c_str());
+        if (!e.detail().empty()) std::fprintf(stderr, "%s\n", e.detail().c_str());
     } catch (const std::bad_alloc&) {
         std::fprintf(stderr, "prismrelief: error: out of memory\n");
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "prismrelief: error: %s\n", e.what());
+        std::fprintf(stderr, "prismrelief: error: %s\n", one_line(e.what()).c_str());
     }
     return kExitFailure;
 }

@@ -2,31 +2,39 @@
 // Errors that reach the user as one line: "prismrelief: error: <subject>: <problem>".
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace pr {
 
 // A failure the user can act on: bad input, a resource that is missing, a GL failure.
 // `subject` is the file or option at fault; `problem` says what is wrong with it.
+// `detail`: lines to print after that one (a shader compiler's log), what() holds them too.
 class Error : public std::runtime_error {
 public:
-    Error(std::string subject, std::string problem)
-        : std::runtime_error(subject + ": " + problem), subject_(std::move(subject)),
-          problem_(std::move(problem))
+    Error(std::string subject, std::string problem, std::string detail = {})
+        : std::runtime_error(subject + ": " + problem + (detail.empty() ? "" : "\n" + detail)),
+          subject_(std::move(subject)), problem_(std::move(problem)), detail_(std::move(detail))
     {
     }
     const std::string& subject() const { return subject_; }
     const std::string& problem() const { return problem_; }
+    const std::string& detail() const { return detail_; }
 
 private:
     std::string subject_;
     std::string problem_;
+    std::string detail_;
 };
 
 // Exit codes (contract): 0 success, 1 bad input or runtime failure, 2 bad usage.
 enum ExitCode : int { kExitOk = 0, kExitFailure = 1, kExitUsage = 2 };
 
 // Non-fatal remarks about input that is only odd (non-manifold, degenerate faces, ...):
-// printed as "prismrelief: warning: ..." on stderr, once each.
+// printed as "prismrelief: warning: ..." on stderr, once each (as one line: one_line()).
 void warn(const std::string& message);
+
+// `text` with its control characters written out ("\n", "\r", "\t", else "\xNN"), so that a
+// message quoting a file name or a value that holds a line break stays one line on stderr.
+std::string one_line(std::string_view text);
 
 } // namespace pr

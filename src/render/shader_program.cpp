@@ -118,8 +118,8 @@ gl::Program build_program(const std::vector<ShaderStage>& stages, const ShaderDe
             glGetShaderInfoLog(shader.id(), len, nullptr, log.data());
             std::string variant;
             for (const auto& [name, value] : defines) variant += " " + name + "=" + value;
-            throw Error("shaders/" + s.file, "compile error (variant:" + variant + ")\n" +
-                                                 map_log(log.c_str(), pre.files));
+            throw Error("shaders/" + s.file, "compile error (variant:" + variant + ")",
+                        map_log(log.c_str(), pre.files));
         }
         glAttachShader(program.id(), shader.id());
         shaders.push_back(std::move(shader));
@@ -133,7 +133,7 @@ gl::Program build_program(const std::vector<ShaderStage>& stages, const ShaderDe
         glGetProgramiv(program.id(), GL_INFO_LOG_LENGTH, &len);
         std::string log(static_cast<std::size_t>(std::max(len, 1)), '\0');
         glGetProgramInfoLog(program.id(), len, nullptr, log.data());
-        throw Error("shaders/" + stages.front().file, "link error\n" + std::string(log.c_str()));
+        throw Error("shaders/" + stages.front().file, "link error", std::string(log.c_str()));
     }
     return program;
 }

@@ -311,6 +311,33 @@ pr_cli_special(conemap_height_empty_name BASH EXIT 1 ONE_LINE STDERR "${E}--heig
 pr_cli_special(scene_height_empty_name EXIT 1 ONE_LINE NO_FILE o.png
                SETUP "printf '{\"objects\":[{\"mesh\":\"${M}/cube.obj\",\"height\":\"\"}]}' > e.json"
                STDERR "${E}e.json: objects\\[0\\].height: empty file name" ARGS render --scene e.json --size 8x8 --out o.png)
+# The other file options given "" (a script's unset variable) were taken as not given: compare,
+# bench and conemap "succeeded" without the report or grid (exit 0), render drew without its
+# scene or colour map, --cache-dir "" used the default folder.
+foreach(case "json|compare --techniques flat --out c.png --json ''|c.png"
+             "out|compare --techniques flat --out '' --json c.json|c.json"
+             "bench_json|bench --techniques flat --frames 1 --warmup 0 --json ''|b.json"
+             "scene|render --scene '' --out o.png|o.png"
+             "color|render --color '' --out o.png|o.png"
+             "cache_dir|render --technique cone --cache-dir '' --out o.png|o.png")
+    string(REPLACE "|" ";" parts "${case}")
+    list(GET parts 0 id)
+    list(GET parts 1 line)
+    list(GET parts 2 file)
+    string(REGEX MATCH "--[a-z-]+ ''" flag "${line}")
+    string(REPLACE " ''" "" flag "${flag}")
+    string(REPLACE " " ";" line "${line}")
+    pr_cli_special(empty_file_name_${id} BASH EXIT 1 ONE_LINE STDERR "${E}${flag}: empty file name" NO_FILE ${file}
+                   ARGS ${line} --mesh '${M}/cube.obj' --size 8x8)
+endforeach()
+pr_cli_special(conemap_json_empty_name BASH EXIT 1 ONE_LINE STDERR "${E}--json: empty file name" NO_FILE c.png
+               ARGS conemap --height builtin:bumps@16 --out c.png --json "''")
+# A name holding a line break made the message two lines; it is written out ("\n").
+pr_cli_special(newline_in_name BASH EXIT 1 ONE_LINE STDERR "${E}no\\\\nsuch.obj: does not exist" NO_FILE o.png
+               ARGS render --mesh "$'no\\nsuch.obj'" --size 8x8 --out o.png)
+# A table printed to a full disk was lost with exit 0.
+pr_cli_special(stdout_full BASH EXIT 1 STDERR "${E}standard output: cannot write: No space left on device"
+               REQUIRES /dev/full ARGS render --mesh '${M}/cube.obj' --size 8x8 --out o.png ">" /dev/full)
 # An empty number is the wrong shape (usage): --depth "" drew the default depth (exit 0), --steps ""
 # read as 0 ("must be between 1 and 1024, got 0").
 pr_cli_special(depth_empty_value BASH EXIT 2 STDERR "usage: --depth: expected a number, got an empty value" NO_FILE o.png
