@@ -143,8 +143,7 @@ CommandAction add_compare_command(CLI::App& app)
             grid.emplace(s->out, encode_png_for(s->out, compose_grid(tiles, static_cast<int>(top.size()))));
         }
         if (!s->json.empty()) json.emplace(s->json, report.dump(2) + "\n");
-        if (grid) grid->commit();
-        if (json) json->commit();
+        commit_together({grid ? &*grid : nullptr, json ? &*json : nullptr});
         if (!s->out.empty()) std::printf("wrote %s\n", s->out.c_str());
         if (!s->json.empty()) std::printf("wrote %s\n", s->json.c_str());
         return kExitOk;

@@ -114,8 +114,8 @@ CommandAction add_conemap_command(CLI::App& app)
         for (float r : m.ratios) sum += r, lo = std::min(lo, double(r)), hi = std::max(hi, double(r));
         const double mean = m.ratios.empty() ? 0.0 : sum / double(m.ratios.size());
         const std::string how = result.from_cache ? "from the cache (" + result.entry.string() + ")" : "built (" + device + ")";
-        // Both outputs or neither: the report is staged first, so a failure to write either leaves
-        // both destinations as they were.
+        // Both outputs or neither: both are staged before either is renamed into place, so a
+        // failure to write either leaves both destinations as they were.
         std::optional<StagedFile> json;
         if (!s->json.empty()) {
             const nlohmann::json report = {{"height_map", s->height},
@@ -136,8 +136,8 @@ CommandAction add_conemap_command(CLI::App& app)
                                            {"ratio_max", hi}};
             json.emplace(s->json, report.dump(2) + "\n");
         }
-        write_cone_png(s->out, result.map, options.format);
-        if (json) json->commit();
+        StagedFile png(s->out, encode_cone_png(s->out, result.map, options.format));
+        commit_together({&png, json ? &*json : nullptr});
         std::printf("%s: %dx%d %s %s, %s in %.0f ms, ratio min %.4f mean %.4f max %.4f\n", s->out.c_str(), m.width,
                     m.height, cone_kind_name(kind).c_str(), cone_format_name(options.format).c_str(), how.c_str(), ms,
                     lo, mean, hi);

@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 #include "core/file_kind.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <cctype>
 #include <cerrno>
@@ -11,6 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
+#include <pthread.h>
 #include <random>
 #include <string>
 #include <sys/stat.h>
@@ -122,6 +124,13 @@ void check_destination(const fs::path& path, const fs::path& target)
         if (S_ISDIR(st.st_mode)) throw Error(subject, it + "is a folder");
         if (!S_ISREG(st.st_mode))
             throw Error(subject, it + "is not a regular file (" + special_file_kind(st.st_mode) + "): refusing to replace it");
+    } else if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+        // A link only the kernel can follow: /dev/stdout, /proc/self/fd/N and bash's >(...) name
+        // a pipe as "pipe:[N]", which is no path. Such outputs failed after the work ("cannot
+        // write: No such file or directory").
+        throw Error(subject, S_ISDIR(st.st_mode) ? std::string("is a folder")
+                                                  : "is not a regular file (" + std::string(special_file_kind(st.st_mode)) +
+                                                        "): refusing to replace it");
     }
     const fs::path dir = folder_of(target);
     std::error_code ec;
@@ -132,6 +141,30 @@ void check_destination(const fs::path& path, const fs::path& target)
     // system; what else fails is reported when the file is written.)
     if (::faccessat(AT_FDCWD, dir.c_str(), W_OK, AT_EACCESS) != 0)
         throw Error(subject, "cannot write in folder " + dir.string() + ": " + std::strerror(errno));
+    // In a sticky folder (/tmp) only the file's owner, the folder's or root may replace a file:
+    // the rename failed after the work ("Operation not permitted").
+    struct stat folder;
+    const uid_t me = ::geteuid();
+    if (me != 0 && ::lstat(target.c_str(), &st) == 0 && ::stat(dir.c_str(), &folder) == 0 &&
+        (folder.st_mode & S_ISVTX) && st.st_uid != me && folder.st_uid != me)
+        throw Error(subject, it + "is another user's file in " + dir.string() +
+                                 ", a sticky folder: only its owner may replace it");
+}
+
+// The temporary's name: ".<name>.tmpNNNNNN" beside the destination, the name cut short where the
+// whole would pass the file system's limit on a name (a legal 250-byte name failed after the work:
+// "File name too long"). Cache entries' names are short: their temporaries keep the whole name,
+// which the cache's trim recognizes.
+std::string temporary_name(const fs::path& target, unsigned number)
+{
+    const std::string suffix = ".tmp" + std::to_string(number % 1000000);
+    long max = ::pathconf(folder_of(target).c_str(), _PC_NAME_MAX);
+    if (max <= 0) max = 255;
+    std::string name = "."; // (appended, not "." + ...: GCC 12 warns wrongly on that, -Wrestrict)
+    const std::string file = target.filename().string();
+    name += file.substr(0, std::min(file.size(), std::size_t(max) - 1 - suffix.size()));
+    name += suffix;
+    return name;
 }
 
 } // namespace
@@ -152,10 +185,7 @@ StagedFile::StagedFile(fs::path path, std::span<const std::uint8_t> bytes, OldMo
     int fd = -1;
     // Another process's temporary of the same name (O_EXCL) is left alone: other digits are tried.
     for (int attempt = 1; fd < 0; ++attempt) {
-        std::string name = "."; // (appended, not "." + ...: GCC 12 warns wrongly on that, -Wrestrict)
-        name += target_.filename().string();
-        name += ".tmp" + std::to_string(rd() % 1000000);
-        tmp = folder_of(target_) / name;
+        tmp = folder_of(target_) / temporary_name(target_, rd());
         slot_ = register_temporary(tmp); // before the file exists: a signal from now on removes it
         fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
         if (fd >= 0) break;
@@ -211,6 +241,23 @@ void StagedFile::commit()
     if (!renamed) ::unlink(tmp.c_str());
     release_temporary(std::exchange(slot_, -1));
     if (!renamed) throw Error(path_.string(), std::string("cannot write: ") + std::strerror(err));
+}
+
+void commit_together(std::initializer_list<StagedFile*> files)
+{
+    // The signals remove_temporaries_on_signals() handles, held back between the renames.
+    sigset_t block, old;
+    sigemptyset(&block);
+    for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaddset(&block, sig);
+    const bool blocked = ::pthread_sigmask(SIG_BLOCK, &block, &old) == 0;
+    try {
+        for (StagedFile* f : files)
+            if (f != nullptr) f->commit();
+    } catch (...) {
+        if (blocked) ::pthread_sigmask(SIG_SETMASK, &old, nullptr);
+        throw;
+    }
+    if (blocked) ::pthread_sigmask(SIG_SETMASK, &old, nullptr);
 }
 
 void write_file_atomic(const fs::path& path, std::span<const std::uint8_t> bytes, OldMode old_mode)

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <initializer_list>
 #include <span>
 #include <string>
 #include <string_view>
@@ -45,6 +46,12 @@ private:
     std::filesystem::path tmp_;
     int slot_ = -1; // in the registry of temporaries the signal handler removes; -1: none
 };
+
+// Commits each of `files` (null: none), with the signals that end a run held back until all are
+// renamed: a SIGTERM between two renames left a new grid beside an old report. Both outputs or
+// neither (a failure of one rename still leaves those before it renamed: a rename fails only where
+// the folder changed under the run).
+void commit_together(std::initializer_list<StagedFile*> files);
 
 // Fails early (before long work) when `path` could not be written: its folder is missing or not
 // writable, it names a folder, or it exists and is not a regular file (a device, a FIFO, a

@@ -144,18 +144,21 @@ std::vector<std::uint8_t> encode(const ConeMap& map, ConeFormat format)
 
 } // namespace
 
-void write_cone_png(const std::filesystem::path& path, const ConeMap& map, ConeFormat format)
+std::vector<std::uint8_t> encode_cone_png(const std::filesystem::path& path, const ConeMap& map, ConeFormat format)
 {
     const std::size_t n = std::size_t(std::max(map.width, 0)) * std::size_t(std::max(map.height, 0));
     if (map.width < 1 || map.height < 1 || map.heights.size() != n || map.ratios.size() != n)
         throw Error(path.string(), "cannot write an empty or inconsistent cone map");
-    std::vector<std::uint8_t> bytes;
     try {
-        bytes = encode(map, format);
+        return encode(map, format);
     } catch (const Error& e) {
         throw Error(path.string(), e.problem());
     }
-    write_file_atomic(path, bytes);
+}
+
+void write_cone_png(const std::filesystem::path& path, const ConeMap& map, ConeFormat format)
+{
+    write_file_atomic(path, encode_cone_png(path, map, format));
 }
 
 ConeMap read_cone_png(const std::filesystem::path& path, ConeKind kind)

@@ -74,6 +74,8 @@ ConeMap build_cone_map_cpu(const HeightField& field, ConeKind kind, const ConeBu
 
 // Writes R = height, G = ratio as a 2-channel PNG (8 or 16 bits), atomically. Throws pr::Error.
 void write_cone_png(const std::filesystem::path& path, const ConeMap& map, ConeFormat format);
+// The bytes write_cone_png() writes (errors name `path`), for a caller that stages its outputs.
+std::vector<std::uint8_t> encode_cone_png(const std::filesystem::path& path, const ConeMap& map, ConeFormat format);
 // Reads a cone map PNG written by write_cone_png. Throws pr::Error naming the file.
 ConeMap read_cone_png(const std::filesystem::path& path, ConeKind kind);
 
