@@ -786,6 +786,18 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, clear_color);
     glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
     const bool prism = settings.technique == Technique::Prism;
+    // A shell of (nearly) no thickness (--depth 0): the displaced surface is the base mesh, which
+    // the flat program draws as the prism would shade it (no bump, no shadow at depth 0). Walked,
+    // its prisms' faces all meet at one place and some rays were lost (the rock at depth 0: 13
+    // pinholes at 256x192); the exact exit drew black (prism.frag: `thin`).
+    const auto flat_shell = [&](const GpuObject& o) {
+        return prism && double(o.depth) * std::max(std::abs(double(o.midlevel)), std::abs(1.0 - double(o.midlevel))) <=
+                            1e-6 * double(o.shell_radius);
+    };
+    DrawSettings flat_settings = settings;
+    flat_settings.technique = Technique::Flat;
+    flat_settings.shadows = Shadows::None;
+    flat_settings.depth_write = false;
     const auto set_object = [&](const GpuObject& o, const EyeInShell* eye = nullptr) {
         upload_object(o, settings, o.midlevel, eye);
         glBindTextureUnit(PR_TEX_HEIGHT, o.height_texture);
@@ -804,6 +816,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     if (walk)
         for (std::size_t k = 0; k < objects_.size(); ++k) {
             const GpuObject& o = objects_[k];
+            if (flat_shell(o)) continue;
             eye_in[k] = find_eye_prism(o.shell_corners, o.triangles, o.eye_blocks, o.depth, settings.full_shell,
                                        camera.eye,
                                        [&](glm::vec2 uv) { return o.height_field ? o.height_field->sample(uv) : 0.0f; });
@@ -813,13 +826,15 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     // torn meshes, and a closed mesh with the eye under its surface (inside a bump), whose rays
     // into the body come out on its far side.
     const auto goes_inside = [&](std::size_t k) {
-        return objects_[k].tears || (eye_in[k] && eye_in[k]->under && !objects_[k].open_shell);
+        return !flat_shell(objects_[k]) &&
+               (objects_[k].tears || (eye_in[k] && eye_in[k]->under && !objects_[k].open_shell));
     };
     // (The images are set up for any walk from under the surface, which marks pixels: on an open
     // mesh there is no second pass for them, but the images are bound.)
     bool tears = false;
     for (std::size_t k = 0; walk && k < objects_.size(); ++k)
-        tears = tears || objects_[k].tears || (eye_in[k] && eye_in[k]->under); // goes_inside(k), open meshes too
+        tears = tears || (!flat_shell(objects_[k]) &&
+                          (objects_[k].tears || (eye_in[k] && eye_in[k]->under))); // goes_inside(k), open meshes too
     if (tears) {
         if (!tear_mask_) {
             tear_mask_ = gl::Texture::create(GL_TEXTURE_2D);
@@ -900,6 +915,13 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     };
     for (std::size_t k = 0; k < objects_.size(); ++k) {
         const GpuObject& o = objects_[k];
+        if (flat_shell(o)) {
+            glUseProgram(program_for(flat_settings));
+            set_object(o);
+            glBindVertexArray(o.base.vao.id());
+            glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
+            continue;
+        }
         if (walk) {
             const WalkVariant variant =
                 o.tears ? WalkVariant::Through : (o.seamless ? WalkVariant::Seamless : WalkVariant::Plain);
