@@ -283,18 +283,18 @@ void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_techn
         ->transform(saturating<int>())
         ->group("Technique")
         ->capture_default_str();
-    app.add_option("--marcher", o.marcher, "prism: ray marcher, " + marcher_names() +
+    o.marcher_flag = app.add_option("--marcher", o.marcher, "prism: ray marcher, " + marcher_names() +
                                            " (in lists: prism:MARCHER)")
         ->group("Technique")
         ->capture_default_str();
-    app.add_option("--prism-exit", o.prism_exit,
+    o.prism_exit_flag = app.add_option("--prism-exit", o.prism_exit,
                    "prism: walk (the ray goes from prism to prism across exact exits; only the shell's "
                    "outside is drawn), exact (each front face of every prism is drawn and marched to its "
                    "exact exit) or vertex (per-vertex plane distances, interpolated). In lists: "
                    "prism:MARCHER:EXIT")
         ->group("Technique")
         ->capture_default_str();
-    app.add_option("--prism-shell", o.prism_shell,
+    o.prism_shell_flag = app.add_option("--prism-shell", o.prism_shell,
                    "prism walk: tight (each top cap at the highest the height field gets around its "
                    "corners) or full (top caps at height 1). In lists: prism:MARCHER:walk:SHELL")
         ->group("Technique")
@@ -365,6 +365,25 @@ DrawSettings make_draw_settings(const TechniqueOptions& o, const std::string& te
                 throw Error(option, "'" + technique + "': only the walk takes a shell (prism:MARCHER:walk:SHELL)");
             s.full_shell = parse_prism_shell(parts[3], option);
         }
+    }
+    // One technique (render, view) and a flag that says otherwise than its name: the name won,
+    // silently ("prism:cone --marcher relief" drew cone). In lists the flags are what entries
+    // that name nothing take, and each entry may name its own.
+    if (option == "--technique" && s.technique == Technique::Prism) {
+        const auto given = [](const CLI::Option* flag) { return flag != nullptr && flag->count() > 0; };
+        const auto conflict = [&](const CLI::Option* flag, const char* what, const std::string& named,
+                                  const std::string& flagged) {
+            if (given(flag) && named != flagged)
+                throw Error(option, "'" + technique + "' names the " + what + " " + named + ", " + flag->get_name() +
+                                        " " + flagged + ": give one");
+        };
+        if (parts.size() > 1) conflict(o.marcher_flag, "marcher", parts[1], o.marcher);
+        if (parts.size() > 2) conflict(o.prism_exit_flag, "exit", parts[2], o.prism_exit);
+        if (parts.size() > 3) conflict(o.prism_shell_flag, "shell", parts[3], o.prism_shell);
+        // A shell for an exit that takes none: the list form refuses it; the flags ignored it.
+        if (given(o.prism_shell_flag) && !s.prism_walk())
+            throw Error("--prism-shell", "only the walk takes a shell (the exit is " + prism_exit_name(s.prism_exit) +
+                                             ")");
     }
     if (o.steps < 1 || o.steps > 1024) throw Error("--steps", "must be between 1 and 1024");
     if (o.refine < 0 || o.refine > 32) throw Error("--refine", "must be between 0 and 32");

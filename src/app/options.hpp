@@ -44,6 +44,11 @@ struct TechniqueOptions {
     std::string marcher = "relief";
     std::string prism_exit = "walk";
     std::string prism_shell = "tight";
+    // The flags above, to tell given from default (CLI11's count): render refuses a technique
+    // that names another marcher, exit or shell than one given ("prism:cone --marcher relief").
+    const CLI::Option* marcher_flag = nullptr;
+    const CLI::Option* prism_exit_flag = nullptr;
+    const CLI::Option* prism_shell_flag = nullptr;
     bool depth_write = false;
     std::string shadows = "none";
     int reference_level = 0; // 0: automatic

@@ -68,7 +68,7 @@ CommandAction add_render_command(CLI::App& app)
         const double percent = 100.0 * double(covered) / double(std::size_t(image.width) * image.height);
         const std::string passes = offsets.size() > 1 ? " (" + std::to_string(offsets.size()) + " passes)" : "";
         std::printf("%s: %dx%d %s, %.1f ms%s%s, coverage %.*f%%\n", s->out.c_str(), image.width, image.height,
-                    technique_name(settings.technique).c_str(), ms, passes.c_str(),
+                    configuration_name(settings).c_str(), ms, passes.c_str(),
                     again ? "" : " (first draw, with compiling)", covered > 0 && percent < 0.1 ? 4 : 1, percent);
         return kExitOk;
     };

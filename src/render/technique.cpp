@@ -159,4 +159,12 @@ bool parse_prism_shell(const std::string& name, const std::string& option)
     throw Error(option, "unknown prism shell '" + name + "' (expected tight|full)");
 }
 
+std::string configuration_name(const DrawSettings& s)
+{
+    if (s.technique != Technique::Prism) return technique_name(s.technique);
+    std::string name = "prism:" + marcher_name(s.marcher) + ":" + prism_exit_name(s.prism_exit);
+    if (s.prism_walk()) name += s.full_shell ? ":full" : ":tight";
+    return name;
+}
+
 } // namespace pr

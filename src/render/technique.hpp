@@ -81,4 +81,7 @@ struct ReferenceOptions {
     std::size_t max_triangles = 8'000'000; // automatic levels are lowered to stay within this
 };
 
+// The technique as a list names it in full: "pom", "prism:cone:walk:tight", "prism:relief:exact".
+std::string configuration_name(const DrawSettings& s);
+
 } // namespace pr

@@ -74,7 +74,7 @@ pr_cli(bad_up_empty_part EXIT 2 ONE_LINE STDERR "usage: --up: expected x,y,z" NO
        ARGS render --mesh ${M}/cube.obj --up 0,,1 --out out.png)
 pr_cli(bad_msaa EXIT 1 ONE_LINE STDERR "${E}--msaa: must be 1, 2, 4, 8 or 16, got 3" NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --size 32x32 --msaa 3 --out out.png)
-pr_cli(render_msaa EXIT 0 STDOUT "out.png: 32x32 prism, .* ms \\(4 passes\\), coverage" EXPECT_FILE out.png
+pr_cli(render_msaa EXIT 0 STDOUT "out.png: 32x32 prism:relief:walk:tight, .* ms \\(4 passes\\), coverage" EXPECT_FILE out.png
        ARGS render --mesh ${M}/cube.obj --technique prism --size 32x32 --msaa 4 --out out.png)
 pr_cli(bad_steps EXIT 1 ONE_LINE STDERR "${E}--steps: " NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --steps 0 --out out.png)
@@ -191,8 +191,21 @@ pr_cli(prism_shell_unknown EXIT 1 ONE_LINE STDERR "${E}--prism-shell: unknown pr
        ARGS render --mesh ${M}/torus.obj --technique prism --prism-shell thin --out p.png NO_FILE p.png)
 pr_cli(prism_shell_needs_walk EXIT 1 ONE_LINE STDERR "${E}--techniques: 'prism:relief:exact:full': only the walk takes a shell"
        ARGS compare --mesh ${M}/torus.obj --techniques prism:relief:exact:full)
-pr_cli(render_prism_full_shell EXIT 0 EXPECT_FILE p.png STDOUT "p.png: 64x64 prism"
+pr_cli(render_prism_full_shell EXIT 0 EXPECT_FILE p.png STDOUT "p.png: 64x64 prism:relief:walk:full, "
        ARGS render --mesh ${M}/torus.obj --technique prism --prism-shell full --size 64x64 --out p.png)
+# A technique naming one marcher (exit, shell) and a flag naming another: the name won silently,
+# and render said only "prism". A shell flag with an exit that takes none was ignored.
+pr_cli(render_marcher_conflict EXIT 1 ONE_LINE NO_FILE p.png
+       STDERR "${E}--technique: 'prism:cone' names the marcher cone, --marcher relief: give one"
+       ARGS render --mesh ${M}/cube.obj --technique prism:cone --marcher relief --size 32x32 --out p.png)
+pr_cli(render_exit_conflict EXIT 1 ONE_LINE NO_FILE p.png
+       STDERR "${E}--technique: 'prism:relief:exact' names the exit exact, --prism-exit walk: give one"
+       ARGS render --mesh ${M}/cube.obj --technique prism:relief:exact --prism-exit walk --size 32x32 --out p.png)
+pr_cli(render_shell_without_walk EXIT 1 ONE_LINE NO_FILE p.png
+       STDERR "${E}--prism-shell: only the walk takes a shell \\(the exit is vertex\\)"
+       ARGS render --mesh ${M}/cube.obj --technique prism --prism-exit vertex --prism-shell full --size 32x32 --out p.png)
+pr_cli(render_names_the_configuration EXIT 0 EXPECT_FILE p.png STDOUT "p.png: 32x32 prism:cone:exact, "
+       ARGS render --mesh ${M}/cube.obj --technique prism:cone --marcher cone --prism-exit exact --size 32x32 --out p.png)
 pr_cli(prism_exit_unknown EXIT 1 ONE_LINE STDERR "${E}--prism-exit: unknown prism exit 'nearest'"
        ARGS render --mesh ${M}/torus.obj --technique prism --prism-exit nearest --out p.png NO_FILE p.png)
 pr_cli(marcher_on_pom EXIT 1 ONE_LINE STDERR "${E}--techniques: 'pom:relief': only prism takes options"

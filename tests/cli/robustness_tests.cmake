@@ -41,7 +41,7 @@ foreach(file one_pixel.png sixteen_bit.png paletted.png alpha.png grey_alpha.png
              fuzz_png_empty_idat.png)
     string(MAKE_C_IDENTIFIER "${file}" id)
     foreach(role height color)
-        pr_cli(image_${role}_${id} EXIT 0 EXPECT_FILE o.png STDOUT "o.png: 48x48 prism, .*${COVERED}"
+        pr_cli(image_${role}_${id} EXIT 0 EXPECT_FILE o.png STDOUT "o.png: 48x48 prism:relief:walk:tight, .*${COVERED}"
                ARGS render --mesh ${M}/torus.obj --${role} ${BAD}/${file} --technique prism
                     --size 48x48 --out o.png)
     endforeach()
@@ -104,7 +104,7 @@ pr_cli(mesh_ply_texture_uv_names EXIT 0 EXPECT_FILE o.png
 # Half the faces wound the other way: warned about, still drawn (prism and reference agree).
 pr_cli(mesh_inconsistent_orientation EXIT 0 EXPECT_FILE o.png
        STDERR "warning: .*inconsistent_orientation.obj: 4 edges join faces of opposite orientation"
-       STDOUT "o.png: 48x48 prism, .*${COVERED}"
+       STDOUT "o.png: 48x48 prism:relief:walk:tight, .*${COVERED}"
        ARGS render --mesh ${BAD}/inconsistent_orientation.obj --technique prism --size 48x48 --out o.png)
 pr_cli(mesh_inconsistent_orientation_reference EXIT 0 JSON r.json
        CHECKS "results.0.iou:GREATER:0.9"
