@@ -89,6 +89,26 @@ int run_cli(int argc, char** argv)
     actions.push_back(add_conemap_command(app));
     actions.push_back(add_view_command(app));
 
+    // "--depth=" (an empty value after "="): CLI11 took the next argument as the value ("--depth=
+    // --size 64x48": "Could not convert: --depth = --size"). Given as the flag and an empty value,
+    // the flag's own check says what is wrong ("expected a number, got an empty value").
+    std::vector<std::string> args(argv, argv + argc);
+    std::vector<std::string> split;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        if (i > 0 && a.size() > 3 && a.starts_with("--") && a.back() == '=' && a.find('=') == a.size() - 1) {
+            split.push_back(a.substr(0, a.size() - 1));
+            split.emplace_back();
+        } else {
+            split.push_back(a);
+        }
+    }
+    std::vector<char*> split_argv;
+    for (std::string& a : split) split_argv.push_back(a.data());
+    split_argv.push_back(nullptr);
+    argc = int(split.size());
+    argv = split_argv.data();
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

@@ -709,6 +709,11 @@ SceneSpec make_scene_spec(const SceneOptions& o)
         check_azimuth(*o.azimuth, "--azimuth");
         spec.camera.azimuth_deg = *o.azimuth;
     }
+    // Auto-framing's angles with an eye given: nothing frames, and they were ignored silently.
+    if (spec.camera.eye && (o.elevation || o.azimuth))
+        throw Error(o.elevation ? "--elevation" : "--azimuth",
+                    std::string("has no effect with ") + (o.eye.empty() ? "the scene's camera.eye" : "--eye") +
+                        " (it places the auto-framed camera; an eye given is where the camera is)");
     // An explicit camera is checked here, where it is known whether each value came from a flag
     // or from the file; without a target (the shell's centre), scene_camera checks it once the
     // scene is loaded (open_session names the file there).

@@ -11,6 +11,7 @@
 #include <regex>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace pr {
 
@@ -67,6 +68,8 @@ CLI::Validator saturating()
             // (CLI11 reads "" as 0 for an integer: --steps "" said "must be between 1 and 1024, got 0".)
             if (text.empty()) return std::string("expected a whole number, got an empty value");
             static const std::regex whole(R"(\s*[+-]?[0-9]+\s*)");
+            static const std::regex prefixed(R"(\s*[+-]?0[xXbBoO].*)");
+            if (std::regex_match(text, prefixed)) return "expected a decimal whole number, got '" + text + "'";
             if (!std::regex_match(text, whole)) return std::string();
             const bool negative = text.find('-') != std::string::npos;
             try {
@@ -91,10 +94,20 @@ inline CLI::Validator non_empty(const std::string& problem)
     return CLI::Validator([problem](const std::string& text) { return text.empty() ? problem : std::string(); },
                           "", "");
 }
-// For a flag taking a number.
+// For a flag taking a number: not empty, and decimal (CLI11 reads "0x10" as 16, "0b11" as 3).
 inline CLI::Validator a_number()
 {
-    return non_empty("expected a number, got an empty value");
+    return CLI::Validator(
+        [](const std::string& text) {
+            if (text.empty()) return std::string("expected a number, got an empty value");
+            std::size_t i = text.find_first_not_of(" \t");
+            if (i != std::string::npos && (text[i] == '+' || text[i] == '-')) ++i;
+            if (i + 1 < text.size() && text[i] == '0' &&
+                std::string_view("xXbBoO").find(text[i + 1]) != std::string_view::npos)
+                return "expected a decimal number, got '" + text + "'";
+            return std::string();
+        },
+        "", "");
 }
 
 void add_scene_options(CLI::App& app, SceneOptions& o);

@@ -332,6 +332,20 @@ foreach(case "json|compare --techniques flat --out c.png --json ''|c.png"
 endforeach()
 pr_cli_special(conemap_json_empty_name BASH EXIT 1 ONE_LINE STDERR "${E}--json: empty file name" NO_FILE c.png
                ARGS conemap --height builtin:bumps@16 --out c.png --json "''")
+# "--depth=" with nothing after "=" took the next argument as its value ("Could not convert:
+# --depth = --size"); hexadecimal numbers were read (--depth 0x10 was 16); auto-framing's angles
+# were ignored with an eye given.
+pr_cli(depth_equals_empty EXIT 2 STDERR "usage: --depth: expected a number, got an empty value" NO_FILE o.png
+       ARGS render --mesh ${M}/cube.obj --depth= --size 8x8 --out o.png)
+pr_cli(out_equals_empty EXIT 1 ONE_LINE STDERR "${E}--out: empty file name"
+       ARGS render --mesh ${M}/cube.obj --out= --size 8x8)
+pr_cli(depth_hexadecimal EXIT 2 STDERR "usage: --depth: expected a decimal number, got '0x10'" NO_FILE o.png
+       ARGS render --mesh ${M}/cube.obj --depth 0x10 --size 8x8 --out o.png)
+pr_cli(steps_hexadecimal EXIT 2 STDERR "usage: --steps: expected a decimal whole number, got '0x10'" NO_FILE o.png
+       ARGS render --mesh ${M}/cube.obj --steps 0x10 --size 8x8 --out o.png)
+pr_cli(elevation_with_eye EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}--elevation: has no effect with --eye"
+       ARGS render --mesh ${M}/cube.obj --eye 3,3,3 --elevation 10 --size 8x8 --out o.png)
 # A name holding a line break made the message two lines; it is written out ("\n").
 pr_cli_special(newline_in_name BASH EXIT 1 ONE_LINE STDERR "${E}no\\\\nsuch.obj: does not exist" NO_FILE o.png
                ARGS render --mesh "$'no\\nsuch.obj'" --size 8x8 --out o.png)
