@@ -611,11 +611,17 @@ SceneFileValues read_scene_file(const std::string& file, SceneSpec& spec)
                 ObjectSpec o;
                 for (const auto& [k, v] : oj.items()) {
                     const std::string w = ow + "." + k;
-                    if (k == "mesh") o.mesh = json_path(v, w, base);
-                    else if (k == "height") {
+                    if (k == "mesh") {
+                        o.mesh = json_path(v, w, base);
+                        o.mesh_place = w;
+                    } else if (k == "height") {
                         o.height = json_path(v, w, base);
+                        o.height_place = w;
                         if (o.height.empty()) throw Error(w, "empty file name"); // (said ": cannot open")
-                    } else if (k == "color") o.color = json_path(v, w, base);
+                    } else if (k == "color") {
+                        o.color = json_path(v, w, base);
+                        o.color_place = w;
+                    }
                     else if (k == "depth") o.depth = json_checked(v, w, check_depth);
                     else if (k == "midlevel") o.midlevel = json_checked(v, w, check_midlevel);
                     else if (k == "base_color") {
@@ -678,6 +684,7 @@ SceneSpec make_scene_spec(const SceneOptions& o)
             throw Error("--mesh", "cannot override the mesh of a scene with several objects");
         if (spec.objects.empty()) spec.objects.emplace_back();
         spec.objects[0].mesh = o.mesh;
+        spec.objects[0].mesh_place.clear();
     }
     if (spec.objects.empty()) throw Error("--mesh", "required (or --scene FILE.json)");
     if (o.height && o.height->empty()) throw Error("--height", "empty file name"); // (said ": cannot open")
@@ -685,8 +692,14 @@ SceneSpec make_scene_spec(const SceneOptions& o)
     if (o.midlevel) check_midlevel(*o.midlevel, "--midlevel");
     // Object flags apply to every object of the scene (for one object: override it).
     for (ObjectSpec& obj : spec.objects) {
-        if (o.height) obj.height = *o.height;
-        if (!o.color.empty()) obj.color = o.color;
+        if (o.height) {
+            obj.height = *o.height;
+            obj.height_place.clear();
+        }
+        if (!o.color.empty()) {
+            obj.color = o.color;
+            obj.color_place.clear();
+        }
         if (o.depth) obj.depth = *o.depth;
         if (o.midlevel) obj.midlevel = *o.midlevel;
     }

@@ -45,16 +45,29 @@ Scene load_scene(const SceneSpec& spec)
     std::map<std::string, std::shared_ptr<const HeightField>> heights;
     std::map<std::string, std::shared_ptr<const RgbaImage>> colors;
     Box all;
+    // A loader's error under the place the scene file gave the value, if it did.
+    const auto placed = [](const std::string& place, auto&& load) {
+        try {
+            return load();
+        } catch (const Error& e) {
+            if (place.empty()) throw;
+            throw Error(place, e.subject() + ": " + e.problem(), e.detail());
+        }
+    };
     for (const ObjectSpec& o : spec.objects) {
         SceneObject obj;
         obj.mesh_name = o.mesh;
-        obj.mesh = load_mesh(o.mesh, spec.mesh_options);
+        obj.mesh = placed(o.mesh_place, [&] { return load_mesh(o.mesh, spec.mesh_options); });
         auto& h = heights[o.height];
-        if (!h) h = std::make_shared<HeightField>(load_height(o.height, spec.image_limits));
+        if (!h)
+            h = placed(o.height_place,
+                       [&] { return std::make_shared<HeightField>(load_height(o.height, spec.image_limits)); });
         obj.height = h;
         if (!o.color.empty()) {
             auto& c = colors[o.color];
-            if (!c) c = std::make_shared<RgbaImage>(load_color(o.color, spec.image_limits));
+            if (!c)
+                c = placed(o.color_place,
+                           [&] { return std::make_shared<RgbaImage>(load_color(o.color, spec.image_limits)); });
             obj.color = c;
         }
         obj.transform = o.transform;

@@ -23,6 +23,9 @@ struct ObjectSpec {
     float midlevel = 0.0f;               // height that stays on the base surface (0: outward)
     glm::mat4 transform{1.0f};           // object to world
     glm::vec3 base_color{0.80f, 0.76f, 0.70f};
+    // Where a scene file gave the mesh, height and colour ("s.json: objects[1].height"; empty for
+    // flags), named by load_scene's errors: "builtin:nope" alone did not say which object's.
+    std::string mesh_place, height_place, color_place;
 };
 
 struct CameraSpec {

@@ -352,6 +352,11 @@ pr_cli_special(newline_in_name BASH EXIT 1 ONE_LINE STDERR "${E}no\\\\nsuch.obj:
 # A table printed to a full disk was lost with exit 0.
 pr_cli_special(stdout_full BASH EXIT 1 STDERR "${E}standard output: cannot write: No space left on device"
                REQUIRES /dev/full ARGS render --mesh '${M}/cube.obj' --size 8x8 --out o.png ">" /dev/full)
+# A loader's error names the object's place in the scene ("builtin:nah" alone did not say which).
+pr_cli_special(scene_builtin_place EXIT 1 ONE_LINE NO_FILE o.png
+               SETUP "printf '{\"objects\":[{\"mesh\":\"${M}/cube.obj\"},{\"mesh\":\"${M}/cube.obj\",\"color\":\"builtin:nah\"}]}' > b.json"
+               STDERR "${E}b.json: objects\\[1\\].color: builtin:nah: unknown built-in map 'nah'"
+               ARGS render --scene b.json --size 8x8 --out o.png)
 # An empty number is the wrong shape (usage): --depth "" drew the default depth (exit 0), --steps ""
 # read as 0 ("must be between 1 and 1024, got 0").
 pr_cli_special(depth_empty_value BASH EXIT 2 STDERR "usage: --depth: expected a number, got an empty value" NO_FILE o.png
