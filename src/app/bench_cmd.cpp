@@ -106,7 +106,9 @@ CommandAction add_bench_command(CLI::App& app)
         nlohmann::json results = nlohmann::json::array();
         std::printf("%s, %dx%d, %d frames per technique (interleaved)\n", session.context->description().c_str(),
                     session.spec.width, session.spec.height, s->frames);
-        std::printf("%-14s %9s %9s %9s %11s %9s %9s\n", "technique", "ms_median", "ms_min", "ms_max",
+        int name_width = 14; // as wide as the longest name
+        for (const BenchRow& row : rows) name_width = std::max(name_width, int(row.label.size()));
+        std::printf("%-*s %9s %9s %9s %11s %9s %9s\n", name_width, "technique", "ms_median", "ms_min", "ms_max",
                     "fragments", "spf_mean", "spf_p95");
         const double base = median(rows[0].ms);
         for (std::size_t i = 0; i < rows.size(); ++i) {
@@ -115,7 +117,7 @@ CommandAction add_bench_command(CLI::App& app)
             const double mean = row.counters.fragments ? double(row.counters.samples) / double(row.counters.fragments) : 0.0;
             const double p95 = histogram_percentile(row.counters.histogram, 0.95);
             const auto [mn, mx] = std::minmax_element(row.ms.begin(), row.ms.end());
-            std::printf("%-14s %9.2f %9.2f %9.2f %11llu %9.2f %9.0f\n", row.label.c_str(), med, *mn, *mx,
+            std::printf("%-*s %9.2f %9.2f %9.2f %11llu %9.2f %9.0f\n", name_width, row.label.c_str(), med, *mn, *mx,
                         static_cast<unsigned long long>(row.counters.fragments), mean, p95);
             results.push_back({{"technique", row.label},
                                {"ms_median", med},

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -81,7 +82,10 @@ CommandAction add_compare_command(CLI::App& app)
         bottom[0].image = reference.color;
         for (auto& p : bottom[0].image.pixels) p = 0; // an empty tile under the reference: legend only
         nlohmann::json results = nlohmann::json::array();
-        std::printf("%-14s %8s %10s %12s %12s %8s %9s\n", "technique", "iou", "sil_wrong", "depth_mean",
+        // The names' column as wide as the longest ("prism:relief:exact" pushed the row out of line).
+        int name_width = 14;
+        for (const TechniqueRun& run : runs) name_width = std::max(name_width, int(run.label.size()));
+        std::printf("%-*s %8s %10s %12s %12s %8s %9s\n", name_width, "technique", "iou", "sil_wrong", "depth_mean",
                     "depth_max", "psnr", "ms");
         for (const TechniqueRun& run : runs) {
             double ms = ref_ms;
@@ -106,7 +110,7 @@ CommandAction add_compare_command(CLI::App& app)
                                   {"depth_write", run.settings.depth_write}};
             row.update(prism_configuration(run.settings));
             results.push_back(row);
-            std::printf("%-14s %8.4f %10zu %12s %12s %8s %9.2f\n", run.label.c_str(), m.iou,
+            std::printf("%-*s %8.4f %10zu %12s %12s %8s %9.2f\n", name_width, run.label.c_str(), m.iou,
                         m.silhouette_wrong_px,
                         m.depth_error_mean ? fixed(*m.depth_error_mean, 5).c_str() : "-",
                         m.depth_error_max ? fixed(*m.depth_error_max, 5).c_str() : "-",

@@ -135,8 +135,9 @@ void check_destination(const fs::path& path, const fs::path& target)
     const fs::path dir = folder_of(target);
     std::error_code ec;
     if (!fs::is_directory(dir, ec))
-        throw Error(subject, (target == path ? "" : "links to " + target.string() + ", but ") + "folder " +
-                                 dir.string() + " does not exist");
+        throw Error(subject, (target == path ? "" : "links to " + target.string() + ", but ") +
+                                 (fs::exists(dir, ec) ? dir.string() + " is not a folder"
+                                                      : "folder " + dir.string() + " does not exist"));
     // Before the work, not at the rename after it. (Root passes this except on a read-only file
     // system; what else fails is reported when the file is written.)
     if (::faccessat(AT_FDCWD, dir.c_str(), W_OK, AT_EACCESS) != 0)
@@ -175,10 +176,12 @@ void check_output_folder(const fs::path& path)
 }
 
 StagedFile::StagedFile(fs::path path, std::span<const std::uint8_t> bytes, OldMode old_mode)
-    : path_(std::move(path)), target_(destination_of(path_))
+    : path_(std::move(path)), target_(old_mode == OldMode::Drop ? path_ : destination_of(path_))
 {
     const std::string subject = path_.string();
-    check_destination(path_, target_);
+    struct stat link;
+    if (old_mode != OldMode::Drop || ::lstat(path_.c_str(), &link) != 0 || !S_ISLNK(link.st_mode))
+        check_destination(path_, target_); // (a link the rename replaces needs no check)
 
     std::random_device rd;
     fs::path tmp;

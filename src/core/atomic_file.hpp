@@ -14,8 +14,10 @@
 namespace pr {
 
 // What a write does to the file it replaces. A user's output keeps that file's permission bits
-// (and its owner and group where the process may set them): someone made it 0600 for a reason.
-// The cache's own entries are written afresh: one made unreadable would otherwise stay so.
+// (and its owner and group where the process may set them): someone made it 0600 for a reason,
+// and a symbolic link there is written through. The cache's own entries are written afresh: one
+// made unreadable would otherwise stay so, and a link in an entry's place is replaced, not
+// followed (it would have pointed a rebuild at any file the user may write).
 enum class OldMode { Keep, Drop };
 
 // Writes `bytes` to `path` atomically. Throws pr::Error naming `path` on failure; on failure

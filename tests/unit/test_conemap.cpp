@@ -648,6 +648,24 @@ TEST(ConeMap, HugeCacheEntryIsNotReadWhole)
     EXPECT_EQ(fs::file_size(entry), size); // rewritten
 }
 
+// A link in an entry's place was written through by the rebuild: the file it named (any file the
+// user may write) became a cache entry. The link is replaced; its target keeps its content.
+TEST(ConeMap, LinkInAnEntrysPlaceIsReplacedNotFollowed)
+{
+    prtest::TempDir dir;
+    const HeightField f = smooth_map(16, 12, 24);
+    const fs::path entry = cached_cone_map(f, ConeKind::Cone, dir.path()).entry;
+    const fs::path precious = dir.write("precious.txt", "precious");
+    fs::remove(entry);
+    fs::create_symlink(precious, entry);
+    ::testing::internal::CaptureStderr();
+    EXPECT_FALSE(cached_cone_map(f, ConeKind::Cone, dir.path()).from_cache);
+    ::testing::internal::GetCapturedStderr();
+    EXPECT_EQ(fs::file_size(precious), 8u);
+    EXPECT_FALSE(fs::is_symlink(entry));
+    EXPECT_TRUE(cached_cone_map(f, ConeKind::Cone, dir.path()).from_cache);
+}
+
 TEST(ConeMap, UnwritableCacheOnlyWarns)
 {
     prtest::TempDir dir;
