@@ -134,6 +134,24 @@ std::filesystem::path entry_for_key(const HeightField& field, ConeKind kind, Con
             std::to_string(field.height) + "-" + hex + ".bin");
 }
 
+// Why `folder` could not be made: create_directories says "File exists" where a part of the path
+// is a file, or a link to nothing (a --cache-dir link whose target is missing).
+std::string folder_problem(const std::filesystem::path& folder, const std::error_code& ec)
+{
+    std::filesystem::path part;
+    for (const std::filesystem::path& name : folder) {
+        part /= name;
+        std::error_code e;
+        const std::filesystem::file_status st = std::filesystem::symlink_status(part, e);
+        if (std::filesystem::is_symlink(st) && !std::filesystem::exists(part, e))
+            return "cannot create it: " + part.string() + " is a symbolic link to " +
+                   std::filesystem::read_symlink(part, e).string() + ", which does not exist";
+        if (std::filesystem::exists(part, e) && !std::filesystem::is_directory(part, e))
+            return "cannot create it: " + part.string() + " is not a folder";
+    }
+    return ec.message();
+}
+
 // The cache's own entries (<kind>-<format>-<W>x<H>-<key>.bin).
 bool is_entry_name(std::string_view name)
 {
@@ -270,7 +288,7 @@ ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const s
     result.map = build(field, kind, options);
     try {
         std::filesystem::create_directories(result.entry.parent_path(), ec);
-        if (ec) throw Error(result.entry.parent_path().string(), ec.message());
+        if (ec) throw Error(result.entry.parent_path().string(), folder_problem(result.entry.parent_path(), ec));
         write_file_atomic(result.entry, serialize(result.map, options.format, key), OldMode::Drop);
         trim_cone_cache(cache_dir, cone_cache_max_bytes(), result.entry);
     } catch (const Error& e) {

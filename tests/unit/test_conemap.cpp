@@ -671,9 +671,22 @@ TEST(ConeMap, UnwritableCacheOnlyWarns)
     prtest::TempDir dir;
     const fs::path blocker = dir.write("file", "a file where the cache folder should be");
     const HeightField f = random_map(16, 16, 8);
+    ::testing::internal::CaptureStderr();
     const ConeCacheResult r = cached_cone_map(f, ConeKind::Cone, blocker / "cache");
+    const std::string said = ::testing::internal::GetCapturedStderr();
     EXPECT_FALSE(r.from_cache);
     EXPECT_EQ(r.map.ratios.size(), 256u);
+    // Which part of the path is in the way ("File exists" said nothing of it).
+    EXPECT_NE(said.find("cannot create it: " + blocker.string() + " is not a folder"), std::string::npos) << said;
+    const fs::path dangling = dir.path() / "gone";
+    fs::create_symlink(dir.path() / "missing", dangling);
+    ::testing::internal::CaptureStderr();
+    cached_cone_map(f, ConeKind::Cone, dangling);
+    const std::string said_link = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(said_link.find(dangling.string() + " is a symbolic link to " + (dir.path() / "missing").string() +
+                             ", which does not exist"),
+              std::string::npos)
+        << said_link;
 }
 
 TEST(ConeMap, DefaultCacheDirFollowsXdg)
