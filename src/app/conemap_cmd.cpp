@@ -8,6 +8,7 @@
 #include "maps/conemap.hpp"
 #include "platform/context.hpp"
 #include "render/conemap_gpu.hpp"
+#include "render/shader_program.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -73,7 +74,10 @@ CommandAction add_conemap_command(CLI::App& app)
         if (s->height.empty()) throw Error("--height", "empty file name");
         check_png_output(s->out);
         if (!s->json.empty()) check_output_folder(s->json);
-        check_distinct_outputs({{"--out", s->out}, {"--json", s->json}}, {{"--height", s->height}});
+        std::vector<NamedPath> inputs = {{"--height", s->height}};
+        for (const std::filesystem::path& shader : shader_override_files())
+            inputs.emplace_back("PRISMRELIEF_SHADER_DIR", shader);
+        check_distinct_outputs({{"--out", s->out}, {"--json", s->json}}, inputs);
         // A GPU build loads Mesa on another thread (about 75 ms of its fixed cost on the 2-core
         // machine) while the CPU does its share: with --no-cache, from before the height map is
         // read; else once the cache has missed (build, below), while the max pyramid is built. Not

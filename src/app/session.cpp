@@ -4,6 +4,7 @@
 #include "app/progress.hpp"
 #include "core/error.hpp"
 #include "maps/conemap.hpp"
+#include "render/shader_program.hpp"
 
 #include <memory>
 #include <sstream>
@@ -39,10 +40,13 @@ Session open_session(const SceneOptions& options, const std::vector<NamedPath>& 
     const bool cone_maps_on_gpu = parse_cone_backend_gpu(options.cone_backend, "--cone-backend");
     // The flags' files before the scene file is read (an output over it is refused unread), the
     // files it names once it is.
-    check_distinct_outputs(outputs, {{"--scene", options.scene_file},
+    std::vector<NamedPath> inputs = {{"--scene", options.scene_file},
                                      {"--mesh", options.mesh},
                                      {"--height", options.height.value_or("")},
-                                     {"--color", options.color}});
+                                     {"--color", options.color}};
+    for (const std::filesystem::path& shader : shader_override_files())
+        inputs.emplace_back("PRISMRELIEF_SHADER_DIR", shader);
+    check_distinct_outputs(outputs, inputs);
     s.spec = make_scene_spec(options);
     check_distinct_outputs(outputs, scene_file_inputs(options, s.spec));
     const Backend backend = parse_backend(options.backend);

@@ -34,6 +34,14 @@ std::vector<std::string> shader_file_list()
     return out;
 }
 
+std::vector<std::filesystem::path> shader_override_files()
+{
+    std::vector<std::filesystem::path> out;
+    if (const char* dir = std::getenv("PRISMRELIEF_SHADER_DIR"); dir && *dir)
+        for (const EmbeddedShader& e : embedded_shaders()) out.push_back(std::filesystem::path(dir) / e.path);
+    return out;
+}
+
 namespace {
 
 void append_file(const std::string& path, PreprocessedShader& out, std::set<std::string>& seen,

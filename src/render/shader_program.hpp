@@ -4,6 +4,7 @@
 // resolved once per file with `#line` directives, so compile errors name the real file and line.
 #include "gl/objects.hpp"
 
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -35,5 +36,9 @@ gl::Program build_program(const std::vector<ShaderStage>& stages, const ShaderDe
 
 // Every shader file the program table knows, for the test that compiles every variant.
 std::vector<std::string> shader_file_list();
+
+// The files a run reads under PRISMRELIEF_SHADER_DIR (none without it), which its outputs must
+// not replace: `render --out shaders/surface.frag` with the variable set broke every later run.
+std::vector<std::filesystem::path> shader_override_files();
 
 } // namespace pr

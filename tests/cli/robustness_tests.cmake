@@ -186,6 +186,11 @@ endforeach()
 pr_cli_special(shader_dir_fifo EXIT 1 ONE_LINE NO_FILE o.png
                SETUP "rm -rf sd && cp -r '${PROJECT_SOURCE_DIR}/shaders' sd && rm sd/surface.frag && mkfifo sd/surface.frag && export PRISMRELIEF_SHADER_DIR=sd"
                STDERR "${E}sd/surface.frag: ${NO_WRITER}" ARGS render --mesh ${M}/cube.obj --size 32x32 --out o.png)
+# An output over a shader the run reads (PRISMRELIEF_SHADER_DIR) broke every later run.
+pr_cli_special(out_over_shader EXIT 1 ONE_LINE
+               SETUP "rm -rf sd && cp -r '${PROJECT_SOURCE_DIR}/shaders' sd && export PRISMRELIEF_SHADER_DIR=sd"
+               STDERR "${E}--out: sd/surface.frag is the PRISMRELIEF_SHADER_DIR input: it would be overwritten"
+               ARGS render --mesh ${M}/cube.obj --size 8x8 --out sd/surface.frag)
 pr_cli_special(osmesa_library_fifo EXIT 1 ONE_LINE NO_FILE o.png
                SETUP "rm -f lib.so && mkfifo lib.so && export PRISMRELIEF_OSMESA_LIBRARY=./lib.so"
                STDERR "${E}--backend: osmesa: cannot load ./lib.so: it is not a regular file \\(a FIFO\\)"
