@@ -59,8 +59,20 @@ void release_temporary(int slot)
     if (slot >= 0) g_temps[slot].state.store(kFree);
 }
 
+// While commit_together() renames a run's outputs, a signal handled on another thread (the
+// committing thread blocks them; llvmpipe's threads do not) is deferred to its end: the outputs
+// are then both new, not one new beside one old. The committing thread raises it afterwards, or
+// the handler itself if the commit ended while it looked.
+std::atomic<int> g_committing{0};
+std::atomic<int> g_deferred_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free, "the signal handler reads the commit's state");
+
 void remove_temporaries_and_die(int sig)
 {
+    if (g_committing.load() != 0) {
+        g_deferred_signal.store(sig);
+        if (g_committing.load() != 0) return;
+    }
     for (TempSlot& t : g_temps)
         if (t.state.load() == kLive) ::unlink(t.path);
     // SA_RESETHAND has restored the default action, and the signal is blocked while its handler
@@ -248,19 +260,29 @@ void StagedFile::commit()
 
 void commit_together(std::initializer_list<StagedFile*> files)
 {
-    // The signals remove_temporaries_on_signals() handles, held back between the renames.
+    // The signals remove_temporaries_on_signals() handles, held back between the renames: blocked
+    // on this thread, deferred by the handler on any other (g_committing).
     sigset_t block, old;
     sigemptyset(&block);
     for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaddset(&block, sig);
     const bool blocked = ::pthread_sigmask(SIG_BLOCK, &block, &old) == 0;
+    g_committing.fetch_add(1);
+    const auto done = [&] {
+        g_committing.fetch_sub(1);
+        // (Delivered when the mask is restored below; the temporaries left, if a rename failed,
+        // go first.)
+        if (const int sig = g_deferred_signal.exchange(0); sig != 0 && g_committing.load() == 0)
+            remove_temporaries_and_die(sig);
+        if (blocked) ::pthread_sigmask(SIG_SETMASK, &old, nullptr);
+    };
     try {
         for (StagedFile* f : files)
             if (f != nullptr) f->commit();
     } catch (...) {
-        if (blocked) ::pthread_sigmask(SIG_SETMASK, &old, nullptr);
+        done();
         throw;
     }
-    if (blocked) ::pthread_sigmask(SIG_SETMASK, &old, nullptr);
+    done();
 }
 
 void write_file_atomic(const fs::path& path, std::span<const std::uint8_t> bytes, OldMode old_mode)
