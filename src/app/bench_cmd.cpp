@@ -117,8 +117,12 @@ CommandAction add_bench_command(CLI::App& app)
             const double mean = row.counters.fragments ? double(row.counters.samples) / double(row.counters.fragments) : 0.0;
             const double p95 = histogram_percentile(row.counters.histogram, 0.95);
             const auto [mn, mx] = std::minmax_element(row.ms.begin(), row.ms.end());
-            std::printf("%-*s %9.2f %9.2f %9.2f %11llu %9.2f %9.0f\n", name_width, row.label.c_str(), med, *mn, *mx,
-                        static_cast<unsigned long long>(row.counters.fragments), mean, p95);
+            // Per fragment, over none (nothing in view): no value, "-" and null, as compare's
+            // metrics over no pixels.
+            const bool any = row.counters.fragments > 0;
+            std::printf("%-*s %9.2f %9.2f %9.2f %11llu %9s %9s\n", name_width, row.label.c_str(), med, *mn, *mx,
+                        static_cast<unsigned long long>(row.counters.fragments), any ? fixed(mean, 2).c_str() : "-",
+                        any ? fixed(p95, 0).c_str() : "-");
             results.push_back({{"technique", row.label},
                                {"ms_median", med},
                                {"ms_min", *mn},
@@ -126,8 +130,8 @@ CommandAction add_bench_command(CLI::App& app)
                                {"ms_ratio_to_first", base > 0 ? med / base : 0.0},
                                {"fragments", row.counters.fragments},
                                {"samples", row.counters.samples},
-                               {"samples_per_fragment_mean", mean},
-                               {"samples_per_fragment_p95", p95},
+                               {"samples_per_fragment_mean", any ? nlohmann::json(mean) : nlohmann::json()},
+                               {"samples_per_fragment_p95", any ? nlohmann::json(p95) : nlohmann::json()},
                                {"frames", row.ms.size()}});
             results.back().update(prism_configuration(runs[i].settings));
         }

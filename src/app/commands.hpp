@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <cstdio>
 #include <functional>
 #include <string>
 #include <vector>
@@ -30,6 +31,14 @@ inline nlohmann::json prism_configuration(const DrawSettings& s)
     return {{"marcher", marcher_name(s.marcher)},
             {"prism_exit", prism_exit_name(s.prism_exit)},
             {"prism_shell", s.full_shell || s.prism_exit != PrismExit::Walk ? "full" : "tight"}}; // (other exits: full)
+}
+
+// A number in a table: `digits` after the point.
+inline std::string fixed(double v, int digits)
+{
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+    return buf;
 }
 
 } // namespace pr

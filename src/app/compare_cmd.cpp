@@ -35,13 +35,6 @@ nlohmann::json optional_number(const std::optional<double>& v)
     return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
 }
 
-std::string fixed(double v, int digits)
-{
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-    return buf;
-}
-
 } // namespace
 
 CommandAction add_compare_command(CLI::App& app)

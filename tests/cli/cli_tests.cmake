@@ -150,6 +150,11 @@ pr_cli(bench_same_marcher_twice EXIT 1 ONE_LINE STDERR "${E}--techniques: 'prism
 pr_cli(compare_out_folder_missing EXIT 1 ONE_LINE STDERR "${E}nodir/c.png: folder"
        ARGS compare --mesh ${M}/cube.obj --techniques pom --out nodir/c.png)
 
+# Nothing in view: no fragments, so no samples per fragment (null; it said 0, as flat's).
+pr_cli(bench_nothing_in_view EXIT 0 JSON b.json STDOUT "prism +[0-9.]+ +[0-9.]+ +[0-9.]+ +0 +- +-"
+       CHECKS "${R}.0.fragments:EQUAL:0|${R}.0.samples_per_fragment_mean:TYPE:NULL|${R}.0.samples_per_fragment_p95:TYPE:NULL"
+       ARGS bench --mesh ${M}/cube.obj --eye 0,0,50 --target 0,0,100 --size 32x24 --frames 1 --warmup 0
+            --techniques prism --json b.json)
 # bench counters: flat takes no height samples; pom with --steps 8 --refine 0 takes 1..9.
 pr_cli(bench_counters EXIT 0 JSON b.json
        CHECKS "${R}.0.technique:STREQUAL:flat|${R}.0.samples_per_fragment_mean:EQUAL:0|${R}.0.fragments:GREATER:1000|${R}.1.samples_per_fragment_mean:GREATER_EQUAL:1|${R}.1.samples_per_fragment_mean:LESS_EQUAL:9|${R}.1.samples_per_fragment_p95:LESS_EQUAL:9|${R}.1.ms_median:GREATER:0|${R}.1.ms_min:EXISTS|${R}.1.ms_max:EXISTS|${R}.1.samples_per_fragment_p95:GREATER_EQUAL:1"
