@@ -402,6 +402,7 @@ void main()
         frame_b[i] = vertex_texel(index[i], 3).xyz;
     }
 #else
+    bool below = false; // (read by the shadows below; the walk's own is declared above)
     if (thin) {
         s = 0.0;
     } else {
@@ -416,7 +417,6 @@ void main()
         prism_exit(dir, v_tex, from_a, t_out, tex_out);
 #endif
         vec3 last;
-        bool below = false;
         s = refine_segment(march_segment(tex_in, tex_out, vec3(0.0), true, false, below, last),
                            segment_ray(tex_in, tex_out));
     }

@@ -38,6 +38,32 @@ TEST(ShaderVariants, EveryTechniqueQualityAndInstrumentationCompiles)
                 }
 }
 
+// Self-shadowing in every technique that takes it, and in the prism's exact and per-vertex exits
+// with every marcher (the thin-shell change in prism.frag left the shadows reading a variable
+// those exits no longer declared: "'below' undeclared", found by a review).
+TEST(ShaderVariants, ShadowsCompileWithEveryTechniqueAndExit)
+{
+    prtest::context();
+    Renderer r(8, 8);
+    for (const TechniqueInfo& t : technique_table())
+        for (Shadows shadows : {Shadows::Hard, Shadows::Soft}) {
+            DrawSettings s;
+            s.technique = t.technique;
+            s.shadows = shadows;
+            if (t.technique != Technique::Prism) {
+                EXPECT_NO_THROW(r.program_for(s)) << t.name << " " << shadows_name(shadows);
+                continue;
+            }
+            for (Marcher m : {Marcher::Linear, Marcher::Relief, Marcher::Cone, Marcher::RelaxedCone, Marcher::MaxMip})
+                for (PrismExit e : {PrismExit::Exact, PrismExit::Vertex}) {
+                    s.marcher = m;
+                    s.prism_exit = e;
+                    EXPECT_NO_THROW(r.program_for(s)) << marcher_name(m) << " " << prism_exit_name(e) << " "
+                                                      << shadows_name(shadows);
+                }
+        }
+}
+
 // The prism walk's variants by UV seams (none at all; torn: through the tears, and the second
 // pass from inside), with every marcher, self-shadowing and instrumentation, in the programs
 // draw() builds: the caps by the vertex shader (bottoms: open meshes) and the listed prisms by
