@@ -87,13 +87,15 @@ double ring_area2(const std::vector<dvec2>& q, const std::vector<uint32_t>& r)
     return a;
 }
 
-// Ear clipping takes time of the order of the square of a polygon's corners: polygons of up to
-// kEarClipCorners are clipped while the squares of those above 64 corners add up to no more than
-// kEarClipWork (a 4096-corner star takes 30-50 ms; the budget is a few seconds). A concave
-// polygon past either limit becomes a fan, which may cover area outside its outline; the caller
-// warns. A convex polygon is its fan, at any size.
+// Ear clipping takes time of the order of the square of a polygon's corners, and of the cube at
+// worst (a spiral strip of 4096 corners: 9 s): polygons of up to kEarClipCorners are clipped
+// while the corners that polygons above 64 corners visit, in the ear tests and the search for
+// points they pass twice, add up to no more than kEarClipWork (0.3 s here; a 4096-corner star
+// takes 30-50 ms of it). What is left of a concave polygon past either limit becomes a fan, which
+// may cover area outside its outline; the caller warns. A convex polygon is its fan, at any size.
+// Polygons of up to 64 corners are clipped whatever they cost (at most 64^3 visits each).
 constexpr size_t kEarClipCorners = 4096;
-constexpr size_t kEarClipWork = size_t(1) << 30;
+constexpr size_t kEarClipWork = size_t(1) << 28;
 
 // Triangulates polygon `face` (n >= 3 corners, positions in `p`) into local corner triples.
 // Ear clipping in the plane of the Newell normal, so concave polygons come out right; a convex
@@ -147,12 +149,19 @@ bool triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
             fan(whole);
             return true;
         }
-        if (n > kEarClipCorners || n * n > work_left) {
+        if (n > kEarClipCorners) {
             fan(whole);
             return false;
         }
-        work_left -= n * n;
     }
+    // The budget, for polygons above 64 corners: false once `visits` more corners would pass it.
+    bool within_budget = true;
+    const auto charge = [&](size_t visits) {
+        if (n <= 64 || !within_budget) return within_budget;
+        if (visits > work_left) return within_budget = false;
+        work_left -= visits;
+        return true;
+    };
 
     auto clip = [&](std::vector<uint32_t> ring) {
         auto is_ear = [&](size_t i) {
@@ -175,6 +184,7 @@ bool triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
             const size_t m = ring.size();
             bool found = false;
             for (size_t tries = 0; tries < m; ++tries, i = (i + 1) % m) {
+                if (!charge(m)) break;
                 if (is_ear(i)) {
                     out.push_back({ring[(i + m - 1) % m], ring[i], ring[(i + 1) % m]});
                     ring.erase(ring.begin() + std::ptrdiff_t(i));
@@ -195,9 +205,9 @@ bool triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
         rings.pop_back();
         if (r.size() < 3) continue;
         bool cut = false;
-        for (size_t i = 0; i < r.size() && !cut; ++i) {
+        for (size_t i = 0; i < r.size() && !cut && charge(r.size()); ++i) {
             for (size_t j = i + 1; j < r.size() && !cut; ++j) {
-                if (p[r[i]] != p[r[j]]) continue;
+                if (p[r[i]] != p[r[j]] || !charge(r.size())) continue;
                 std::vector<uint32_t> first(r.begin() + std::ptrdiff_t(i), r.begin() + std::ptrdiff_t(j));
                 std::vector<uint32_t> second(r.begin() + std::ptrdiff_t(j), r.end());
                 second.insert(second.end(), r.begin(), r.begin() + std::ptrdiff_t(i));
@@ -211,7 +221,7 @@ bool triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
         }
         if (!cut) clip(std::move(r));
     }
-    return true;
+    return within_budget;
 }
 
 // Interior angle at corner `a` of triangle (a, b, c); atan2 stays accurate for thin corners.
