@@ -59,7 +59,8 @@ struct TechniqueOptions {
 // For an integer flag (->transform(saturating<int>())): a whole number beyond the type's range
 // becomes the type's limit, so the flag's own range check reports it as out of range (exit 1,
 // bad input) rather than CLI11's "Could not convert" (exit 2, usage: --steps 99999999999999).
-// Anything else (12.5, 1e3, abc) is left to CLI11's conversion: the wrong shape, usage.
+// Anything else (12.5, 1e3, abc) is left to CLI11's conversion: the wrong shape, usage. Whole
+// numbers are decimal: "0x10" is refused, "010" is ten.
 template <typename T>
 CLI::Validator saturating()
 {
@@ -78,6 +79,9 @@ CLI::Validator saturating()
                     text = std::to_string(std::numeric_limits<T>::max());
                 else if (v < static_cast<long double>(std::numeric_limits<T>::min()))
                     text = std::to_string(std::numeric_limits<T>::min());
+                else // in decimal without leading zeros: CLI11 read "010" as octal (8)
+                    text = negative ? std::to_string(static_cast<long long>(v))
+                                    : std::to_string(static_cast<unsigned long long>(v));
             } catch (const std::out_of_range&) {
                 text = std::to_string(negative ? std::numeric_limits<T>::min() : std::numeric_limits<T>::max());
             }

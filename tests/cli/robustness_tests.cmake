@@ -348,6 +348,8 @@ pr_cli(depth_hexadecimal EXIT 2 STDERR "usage: --depth: expected a decimal numbe
        ARGS render --mesh ${M}/cube.obj --depth 0x10 --size 8x8 --out o.png)
 pr_cli(steps_hexadecimal EXIT 2 STDERR "usage: --steps: expected a decimal whole number, got '0x10'" NO_FILE o.png
        ARGS render --mesh ${M}/cube.obj --steps 0x10 --size 8x8 --out o.png)
+pr_cli(steps_leading_zero_is_decimal EXIT 0 JSON b.json CHECKS "steps:EQUAL:10"
+       ARGS bench --mesh ${M}/cube.obj --size 8x8 --frames 1 --warmup 0 --steps 010 --techniques pom --json b.json)
 pr_cli(elevation_with_eye EXIT 1 ONE_LINE NO_FILE o.png
        STDERR "${E}--elevation: has no effect with --eye"
        ARGS render --mesh ${M}/cube.obj --eye 3,3,3 --elevation 10 --size 8x8 --out o.png)
