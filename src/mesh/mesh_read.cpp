@@ -176,11 +176,16 @@ struct Expect {
     // OFF whose counts line has no edge count ("4 2"): where to add " 0" in the bytes OpenMesh
     // parses, which otherwise takes the first vertex's x for it and shifts every later value.
     size_t off_counts_end = string_view::npos;
+    // ASCII [ST]C[N]OFF: the values handed to OpenMesh separated by single spaces.
+    bool off_single_spaces = false;
     // OBJ faces that repeat a vertex, by the number of their importer call: OpenMesh's reader
     // keeps only the first corner of each vertex (a polygon touching itself at a vertex became
     // another polygon, and the corners' texture coordinates, all passed on, matched none); the
-    // importer takes their corners from here (0-based vertex indices, the file's order).
-    std::vector<std::pair<size_t, std::vector<std::uint32_t>>> repeating_faces;
+    // importer takes their corners from here (0-based vertex indices, the file's order): face
+    // k's call number repeating_calls[k], its corners repeating_corners[offsets[k], offsets[k+1]).
+    std::vector<size_t> repeating_calls;
+    std::vector<size_t> repeating_offsets{0};
+    std::vector<std::uint32_t> repeating_corners;
 };
 
 void check_triangle_budget(const string& subject, unsigned long long triangles,
@@ -281,10 +286,9 @@ Expect scan_obj(const string& subject, string_view text, const MeshOptions& opti
             const size_t distinct = distinct_count(face);
             if (distinct >= 3) {
                 if (distinct < face.size()) {
-                    std::vector<std::uint32_t> corners(face.size());
-                    for (size_t k = 0; k < face.size(); ++k)
-                        corners[k] = static_cast<std::uint32_t>(face[k] - 1);
-                    e.repeating_faces.emplace_back(e.add_face_calls, std::move(corners));
+                    e.repeating_calls.push_back(e.add_face_calls);
+                    for (const long long v : face) e.repeating_corners.push_back(static_cast<std::uint32_t>(v - 1));
+                    e.repeating_offsets.push_back(e.repeating_corners.size());
                 }
                 ++e.add_face_calls;
                 triangles += face.size() - 2;
@@ -393,28 +397,38 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
     check_triangle_budget(subject, nf, options);
 
     for (unsigned long long i = 0; i < nv; ++i) {
+        string_view value[16];
         do {
             if (!lines.next(line))
                 fail(subject, "file ends after " + std::to_string(i) + " of " + std::to_string(nv) +
                                   " vertices");
-            n = tokenize(line, tok, 3);
+            n = tokenize(line, value, 16);
         } while (n == 0);
-        if (n < 3 || !parse_finite_float(tok[0]) || !parse_finite_float(tok[1]) ||
-            !parse_finite_float(tok[2]))
+        if (n < 3 || !parse_finite_float(value[0]) || !parse_finite_float(value[1]) ||
+            !parse_finite_float(value[2]))
             fail(subject,
                  line_prefix(lines.line()) + "vertex position is not three finite numbers");
         // OpenMesh reads a normal's three numbers from the stream, past the line's end if it
         // must (a NOFF line without its normal shifted every value after it), and the rest from
         // the line: the colour (C, 0, 1, 3 or 4 numbers, told apart by their count) and the
-        // texture coordinate (ST, the last two), which a line without them left undefined.
+        // texture coordinate (ST: with a colour the last two, else the first two), which a line
+        // without them, or with words there, left undefined.
         const size_t fixed = has_n ? 6 : 3;
         const size_t rest = n >= fixed ? n - fixed : 0;
         const bool rest_ok =
             !has_st || (has_c ? rest == 2 || rest == 3 || rest == 5 || rest == 6 : rest >= 2);
-        if (n < fixed || !rest_ok)
+        if (n < fixed || !rest_ok || n > 16)
             fail(subject, line_prefix(lines.line()) + "a " + header_name + " vertex needs " +
                               vertex_layout + " (" + std::to_string(n) + " values here)");
+        const size_t st = has_c ? n - 2 : fixed;
+        for (size_t k = 3; k < n; ++k)
+            if ((k < fixed || (has_st && (k == st || k == st + 1))) && !parse_finite_float(value[k]))
+                fail(subject, line_prefix(lines.line()) + "a " + header_name + " vertex needs " +
+                                  vertex_layout + ", with numbers (" + shown(value[k]) + " here)");
     }
+    // OpenMesh tells a colour's form by the line's remaining values, which it counts by single
+    // spaces: a tab or two spaces between them read the colour as the texture coordinate.
+    e.off_single_spaces = has_c;
     unsigned long long triangles = 0;
     std::vector<string_view> ftok;
     for (unsigned long long f = 0; f < nf; ++f) {
@@ -762,10 +776,7 @@ Expect scan_stl(const string& subject, string_view text, const MeshOptions& opti
 // stored; the first one is remembered for the error message.
 class SoupImporter final : public omio::BaseImporter {
 public:
-    SoupImporter(RawMesh& mesh, const Expect& expect)
-        : m_(mesh), repeating_(expect.repeating_faces)
-    {
-    }
+    SoupImporter(RawMesh& mesh, const Expect& expect) : m_(mesh), expect_(expect) {}
 
     size_t add_face_calls = 0;
     long long first_bad_face = -1;
@@ -789,11 +800,12 @@ public:
     {
         const size_t face_number = add_face_calls++;
         if (first_bad_face >= 0) return OpenMesh::FaceHandle();
-        if (next_repeating_ < repeating_.size() &&
-            repeating_[next_repeating_].first == face_number) {
+        const size_t k = next_repeating_;
+        if (k < expect_.repeating_calls.size() && expect_.repeating_calls[k] == face_number) {
             VHandles all;
-            for (std::uint32_t v : repeating_[next_repeating_++].second)
-                all.emplace_back(int(v));
+            for (size_t c = expect_.repeating_offsets[k]; c < expect_.repeating_offsets[k + 1]; ++c)
+                all.emplace_back(int(expect_.repeating_corners[c]));
+            ++next_repeating_;
             return store_face(face_number, all);
         }
         return store_face(face_number, handles);
@@ -926,7 +938,7 @@ private:
     }
 
     RawMesh& m_;
-    const std::vector<std::pair<size_t, std::vector<std::uint32_t>>>& repeating_;
+    const Expect& expect_;
     size_t next_repeating_ = 0;
 };
 
@@ -1130,6 +1142,15 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
 
     if (ext == ".obj") drop_obj_material_libraries(text); // after the scan: its line numbers
     if (expect.off_counts_end != string_view::npos) text.insert(expect.off_counts_end, " 0");
+    if (expect.off_single_spaces) {
+        size_t out = 0;
+        for (size_t i = 0; i < text.size(); ++i) {
+            const char c = text[i] == '\t' ? ' ' : text[i];
+            if (c == ' ' && out > 0 && text[out - 1] == ' ') continue;
+            text[out++] = c;
+        }
+        text.resize(out);
+    }
     RawMesh mesh;
     SoupImporter importer(mesh, expect);
     bool ok = false;

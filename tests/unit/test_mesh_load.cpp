@@ -370,6 +370,16 @@ TEST(MeshLoad, OffVertexLinesMissingValuesAreRefused)
                       faces));
     EXPECT_TRUE(ok.had_uvs);
     for (const pr::MeshVertex& v : ok.vertices) EXPECT_EQ(v.uv, glm::vec2(v.position));
+    // Words where numbers are read (found by a review: an undefined UV, a garbage index).
+    EXPECT_EQ(message("sta.off", "STOFF\n3 1 0\n0 0 0 a b\n1 0 0 1 0\n0 1 0 0 1\n"),
+              "line 3: a STOFF vertex needs x y z s t, with numbers ('a' here)");
+    EXPECT_EQ(message("nx.off", "NOFF\n3 1 0\n0 0 0 0 0 x\n1 0 0 0 0 1\n0 1 0 0 0 1\n"),
+              "line 3: a NOFF vertex needs x y z nx ny nz, with numbers ('x' here)");
+    // OpenMesh counts a line's colour values by single spaces: tabs and double spaces read the
+    // colour as the texture coordinate ((255, 0) for (0, 0)).
+    const pr::PreparedMesh spaced = pr::load_mesh(dir.write(
+        "spaced.off", "STCOFF\n3 1 0\n0 0 0\t255 0 0\t0 0\n1 0 0  255  0 0  1 0\n0 1 0 255 0 0 0 1\n" + faces));
+    for (const pr::MeshVertex& v : spaced.vertices) EXPECT_EQ(v.uv, glm::vec2(v.position));
 }
 
 // Binary OFF variants: a vertex is 3 floats, 3 more with N, 2 more with ST; the size check counts
