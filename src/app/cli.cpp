@@ -92,12 +92,24 @@ int run_cli(int argc, char** argv)
     // "--depth=" (an empty value after "="): CLI11 took the next argument as the value ("--depth=
     // --size 64x48": "Could not convert: --depth = --size"). Given as the flag and an empty value,
     // the flag's own check says what is wrong ("expected a number, got an empty value").
+    // Only for an option that takes a value (a flag given "=" is CLI11's to refuse), and not past
+    // a "--".
+    const auto takes_value = [&app](const std::string& name) {
+        for (const CLI::App* command : app.get_subcommands({}))
+            if (const CLI::Option* option = command->get_option_no_throw(name))
+                return option->get_items_expected_max() > 0;
+        return false;
+    };
     std::vector<std::string> args(argv, argv + argc);
     std::vector<std::string> split;
+    bool options_end = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
-        if (i > 0 && a.size() > 3 && a.starts_with("--") && a.back() == '=' && a.find('=') == a.size() - 1) {
-            split.push_back(a.substr(0, a.size() - 1));
+        options_end = options_end || a == "--";
+        const std::string name = a.size() > 3 && a.back() == '=' ? a.substr(0, a.size() - 1) : std::string();
+        if (i > 0 && !options_end && name.starts_with("--") && name.find('=') == std::string::npos &&
+            takes_value(name)) {
+            split.push_back(name);
             split.emplace_back();
         } else {
             split.push_back(a);

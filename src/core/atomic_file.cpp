@@ -67,10 +67,15 @@ std::atomic<int> g_committing{0};
 std::atomic<int> g_deferred_signal{0};
 static_assert(std::atomic<int>::is_always_lock_free, "the signal handler reads the commit's state");
 
+void install_handler(int sig);
+
 void remove_temporaries_and_die(int sig)
 {
     if (g_committing.load() != 0) {
         g_deferred_signal.store(sig);
+        // SA_RESETHAND restored the default action: a second signal now would end the process
+        // between the renames. (sigaction is async-signal-safe.)
+        install_handler(sig);
         if (g_committing.load() != 0) return;
     }
     for (TempSlot& t : g_temps)
@@ -329,17 +334,27 @@ void check_distinct_outputs(const std::vector<NamedPath>& outputs, const std::ve
     }
 }
 
-void remove_temporaries_on_signals()
+namespace {
+
+constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
+
+void install_handler(int sig)
 {
-    constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
     struct sigaction action {};
     action.sa_handler = remove_temporaries_and_die;
     action.sa_flags = SA_RESETHAND;
     sigemptyset(&action.sa_mask);
-    for (int sig : kSignals) sigaddset(&action.sa_mask, sig); // one at a time: the first says how we end
+    for (int s : kSignals) sigaddset(&action.sa_mask, s); // one at a time: the first says how we end
+    ::sigaction(sig, &action, nullptr);
+}
+
+} // namespace
+
+void remove_temporaries_on_signals()
+{
     for (int sig : kSignals) {
         struct sigaction old {};
-        if (::sigaction(sig, nullptr, &old) == 0 && old.sa_handler != SIG_IGN) ::sigaction(sig, &action, nullptr);
+        if (::sigaction(sig, nullptr, &old) == 0 && old.sa_handler != SIG_IGN) install_handler(sig);
     }
 }
 
