@@ -263,9 +263,11 @@ ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const s
     result.entry = entry_for_key(field, kind, options.format, cache_dir, key);
     std::error_code ec;
     if (std::filesystem::is_regular_file(result.entry, ec)) {
-        // Read as the user's own files are (core/input_file.hpp): a FIFO put there in place of
-        // the entry cannot hang the read, nor a huge file fill memory (no more than twice the
-        // size of this map's entry is read; within that, deserialize() says what is wrong).
+        // Read as the user's own files are (core/input_file.hpp): a huge file cannot fill memory
+        // (no more than twice the size of this map's entry is read; within that, deserialize()
+        // says what is wrong), and a FIFO put in the entry's place between the check above and
+        // the read is refused after a second without a writer (one with a writer that never
+        // writes could still hold it: the cache folder is the user's own, docs/robustness.md).
         const std::uint64_t entry_bytes = kHeaderBytes + field.texels.size() * 6;
         std::vector<std::uint8_t> bytes;
         std::string why;
