@@ -152,6 +152,14 @@ std::vector<Case> cases()
     return c;
 }
 
+// Looks `f` up in the cache at `dir` expecting a miss (a rebuild); returns what was said.
+std::string rebuild_said(const HeightField& f, const fs::path& dir)
+{
+    ::testing::internal::CaptureStderr();
+    EXPECT_FALSE(cached_cone_map(f, ConeKind::Cone, dir).from_cache);
+    return ::testing::internal::GetCapturedStderr();
+}
+
 } // namespace
 
 TEST(ConeMap, NamesParseAndReject)
@@ -619,9 +627,7 @@ TEST(ConeMap, CacheEntryOfTheWrongSizeSaysSo)
     const std::uintmax_t size = fs::file_size(entry);
     for (const std::uintmax_t wrong : {size + 7, size - 5}) {
         fs::resize_file(entry, wrong);
-        ::testing::internal::CaptureStderr();
-        EXPECT_FALSE(cached_cone_map(f, ConeKind::Cone, dir.path()).from_cache);
-        const std::string said = ::testing::internal::GetCapturedStderr();
+        const std::string said = rebuild_said(f, dir.path());
         EXPECT_NE(said.find("size is wrong (expected " + std::to_string(size) + " bytes, found " +
                             std::to_string(wrong) + ")"),
                   std::string::npos)
@@ -640,9 +646,7 @@ TEST(ConeMap, HugeCacheEntryIsNotReadWhole)
     const fs::path entry = cached_cone_map(f, ConeKind::Cone, dir.path()).entry;
     const std::uintmax_t size = fs::file_size(entry);
     fs::resize_file(entry, std::uintmax_t(4) << 30);
-    ::testing::internal::CaptureStderr();
-    EXPECT_FALSE(cached_cone_map(f, ConeKind::Cone, dir.path()).from_cache);
-    const std::string said = ::testing::internal::GetCapturedStderr();
+    const std::string said = rebuild_said(f, dir.path());
     EXPECT_NE(said.find(entry.string() + ": is 4 GiB (4294967296 bytes), more than"), std::string::npos) << said;
     EXPECT_NE(said.find("not this map's entry; rebuilding it"), std::string::npos) << said;
     EXPECT_EQ(fs::file_size(entry), size); // rewritten
@@ -658,9 +662,7 @@ TEST(ConeMap, LinkInAnEntrysPlaceIsReplacedNotFollowed)
     const fs::path precious = dir.write("precious.txt", "precious");
     fs::remove(entry);
     fs::create_symlink(precious, entry);
-    ::testing::internal::CaptureStderr();
-    EXPECT_FALSE(cached_cone_map(f, ConeKind::Cone, dir.path()).from_cache);
-    ::testing::internal::GetCapturedStderr();
+    rebuild_said(f, dir.path());
     EXPECT_EQ(fs::file_size(precious), 8u);
     EXPECT_FALSE(fs::is_symlink(entry));
     EXPECT_TRUE(cached_cone_map(f, ConeKind::Cone, dir.path()).from_cache);
