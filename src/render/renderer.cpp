@@ -765,6 +765,15 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     ensure_aux_textures(aux_map);
     check_drawable(settings);
     if (settings.technique == Technique::Prism) ensure_prism_data(walk);
+    // A base-surface technique writing its depth draws a closed mesh's front faces only where the
+    // eye is outside its body and shell: the depth a grazing front fragment writes may lie behind
+    // the object's own far faces, which then showed through (a cube at --depth 0.15: 478 of 3,521
+    // pixels). The back faces stay for an eye inside (the mesh seen from within) and on open or
+    // inconsistently wound meshes (no inside to tell). Whether a mesh is closed, and where its
+    // body is, come with the walk's data (built once).
+    const bool depth_writing_base = settings.depth_write && settings.technique != Technique::Prism &&
+                                    settings.technique != Technique::Reference;
+    if (depth_writing_base) ensure_walk_data();
     upload_frame(camera, glm::normalize(light_dir), settings.pixel_offset);
     if (settings.count_samples) {
         const GLuint zero = 0;
@@ -931,7 +940,17 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         }
         glUseProgram(program);
         if (settings.technique != Technique::Reference) {
+            const bool cull = depth_writing_base && !o.open_shell &&
+                              !eye_inside_body(o.shell_corners, o.triangles, o.eye_blocks, camera.eye) &&
+                              !find_eye_prism(o.shell_corners, o.triangles, o.eye_blocks, o.depth, true, camera.eye,
+                                              [](glm::vec2) { return 1.0f; });
+            if (cull) {
+                glEnable(GL_CULL_FACE);
+                glFrontFace(GL_CCW);
+                glCullFace(GL_BACK);
+            }
             draw_base(o);
+            glDisable(GL_CULL_FACE);
             continue;
         }
         if (o.reference.empty()) throw Error("reference", "prepare_reference() was not called");

@@ -187,6 +187,12 @@ if(EGL_INCLUDE_DIR)
                   A --backend osmesa B --backend egl)
 endif()
 
+# A base-surface technique writing its depth on a closed mesh seen from outside: the depth of a
+# grazing front fragment lay behind the cube's own far faces, which showed through (478 of 3,521
+# pixels changed); its back faces are culled now, and the image is the one without --depth-write.
+pr_same_image(depth_write_closed_mesh ARGS --mesh ${M}/cube.obj --depth 0.15 --color builtin:uv --eye 2.5,2.8,6
+              --target 0,0,0 --size 160x120 --technique pom A --midlevel 0 B --depth-write)
+
 # Prism options in lists and flags.
 pr_cli(compare_prism_variants EXIT 0 STDOUT "prism:linear .*prism:relief:vertex .*prism:relief:exact .*prism:relief:walk:full"
        JSON v.json CHECKS "${R}.0.iou:GREATER:0.9|${R}.1.iou:GREATER:0.9|${R}.2.iou:GREATER:0.9|${R}.3.iou:GREATER:0.9"
