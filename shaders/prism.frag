@@ -335,9 +335,14 @@ void main()
         float t_min = t_in * (1.0 - 1e-6);
 #ifdef PR_PRISM_FROM_EYE
         // The eye may lie on a face of its prism (a mesh's symmetry plane, say): a ray that goes
-        // out through that face crosses it at t = 0, give or take rounding. So the first prism's
-        // exits count from a little behind the eye (the faces the ray goes in through never count).
-        if (k == 0) t_min = -1e-4 * distance(corner_world[0], corner_world[3]) / length(dir);
+        // out through that face crosses it at t = 0, give or take rounding. So the exits count
+        // from a little behind the eye (the faces the ray goes in through never count), in the
+        // first prism and in every one the ray enters still at the eye: on a prism's edge (the
+        // normal line of a vertex: a cube seen along its diagonal, a sphere's pole from above) a
+        // ray crosses several prisms around it at t = 0, and lost its way after the first
+        // (speckles; garbage at the pole).
+        float behind = 1e-4 * distance(corner_world[0], corner_world[3]) / length(dir);
+        if (k == 0 || t_in <= behind) t_min = -behind;
 #endif
         ExitFace ex = nearest_exit(dir, t_min, from_a, 1e-5, walk_orientation, t_in, entry_face, top_entry, w_top);
         if (via_top && !top_entry) break; // it does not go in there: out of the shell

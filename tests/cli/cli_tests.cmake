@@ -193,6 +193,13 @@ endif()
 pr_same_image(depth_write_closed_mesh ARGS --mesh ${M}/cube.obj --depth 0.15 --color builtin:uv --eye 2.5,2.8,6
               --target 0,0,0 --size 160x120 --technique pom A --midlevel 0 B --depth-write)
 
+# The eye on a vertex's normal line inside the shell (the prisms around the vertex share it as an
+# edge): a ray crossing several of them at the eye lost its way after the first (the sphere's
+# pole from above: IoU 0.72, garbage; the cube along its diagonal: speckles, 0.969).
+pr_cli(prism_eye_on_a_vertex_line EXIT 0 JSON e.json CHECKS "${R}.0.iou:GREATER:0.99|${R}.1.iou:GREATER:0.99"
+       ARGS compare --mesh ${M}/uv_sphere.obj --depth 0.2 --eye 0,1.05,0 --target 0.5,0.9,0.3 --size 128x96
+            --techniques prism,prism:relaxed-cone --json e.json)
+
 # Prism options in lists and flags.
 pr_cli(compare_prism_variants EXIT 0 STDOUT "prism:linear .*prism:relief:vertex .*prism:relief:exact .*prism:relief:walk:full"
        JSON v.json CHECKS "${R}.0.iou:GREATER:0.9|${R}.1.iou:GREATER:0.9|${R}.2.iou:GREATER:0.9|${R}.3.iou:GREATER:0.9"
