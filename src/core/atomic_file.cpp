@@ -72,7 +72,8 @@ void install_handler(int sig);
 void remove_temporaries_and_die(int sig)
 {
     if (g_committing.load() != 0) {
-        g_deferred_signal.store(sig);
+        int none = 0; // the first signal says how the process ends
+        g_deferred_signal.compare_exchange_strong(none, sig);
         // SA_RESETHAND restored the default action: a second signal now would end the process
         // between the renames. (sigaction is async-signal-safe.)
         install_handler(sig);

@@ -90,12 +90,12 @@ double ring_area2(const std::vector<dvec2>& q, const std::vector<uint32_t>& r)
 // Ear clipping takes time of the order of the square of a polygon's corners, and of the cube at
 // worst (a spiral strip of 4096 corners: 9 s): polygons of up to kEarClipCorners are clipped
 // while the corners that polygons above 64 corners visit, in the ear tests and the search for
-// points they pass twice, add up to no more than kEarClipWork (0.3 s here; a 4096-corner star
+// points they pass twice, add up to no more than kEarClipWork (1.2 s here; a 4096-corner star
 // takes 30-50 ms of it). What is left of a concave polygon past either limit becomes a fan, which
 // may cover area outside its outline; the caller warns. A convex polygon is its fan, at any size.
 // Polygons of up to 64 corners are clipped whatever they cost (at most 64^3 visits each).
 constexpr size_t kEarClipCorners = 4096;
-constexpr size_t kEarClipWork = size_t(1) << 28;
+constexpr size_t kEarClipWork = size_t(1) << 30;
 
 // Triangulates polygon `face` (n >= 3 corners, positions in `p`) into local corner triples.
 // Ear clipping in the plane of the Newell normal, so concave polygons come out right; a convex
@@ -199,13 +199,18 @@ bool triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
         fan(ring);
     };
 
+    // Whether any point repeats at all, by sorting (the pairwise search below only then).
+    std::vector<dvec3> sorted(p);
+    std::sort(sorted.begin(), sorted.end(),
+              [](const dvec3& a, const dvec3& b) { return a.x != b.x ? a.x < b.x : a.y != b.y ? a.y < b.y : a.z < b.z; });
+    const bool repeats = std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end();
     std::vector<std::vector<uint32_t>> rings{whole};
     while (!rings.empty()) {
         std::vector<uint32_t> r = std::move(rings.back());
         rings.pop_back();
         if (r.size() < 3) continue;
         bool cut = false;
-        for (size_t i = 0; i < r.size() && !cut && charge(r.size()); ++i) {
+        for (size_t i = 0; repeats && i < r.size() && !cut && charge(r.size()); ++i) {
             for (size_t j = i + 1; j < r.size() && !cut; ++j) {
                 if (p[r[i]] != p[r[j]] || !charge(r.size())) continue;
                 std::vector<uint32_t> first(r.begin() + std::ptrdiff_t(i), r.begin() + std::ptrdiff_t(j));

@@ -417,11 +417,11 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
         const size_t rest = n >= fixed ? n - fixed : 0;
         const bool rest_ok =
             !has_st || (has_c ? rest == 2 || rest == 3 || rest == 5 || rest == 6 : rest >= 2);
-        if (n < fixed || !rest_ok || n > 16)
+        if (n < fixed || !rest_ok || (has_c && has_st && n > 16)) // (16: the most values read here)
             fail(subject, line_prefix(lines.line()) + "a " + header_name + " vertex needs " +
                               vertex_layout + " (" + std::to_string(n) + " values here)");
         const size_t st = has_c ? n - 2 : fixed;
-        for (size_t k = 3; k < n; ++k)
+        for (size_t k = 3; k < std::min<size_t>(n, 16); ++k)
             if ((k < fixed || (has_st && (k == st || k == st + 1))) && !parse_finite_float(value[k]))
                 fail(subject, line_prefix(lines.line()) + "a " + header_name + " vertex needs " +
                                   vertex_layout + ", with numbers (" + shown(value[k]) + " here)");

@@ -369,8 +369,9 @@ void Renderer::upload(const Scene& scene)
         o.depth = so.depth;
         o.midlevel = so.midlevel;
         // (A Scene put together by hand, as tests do, has no bounds.)
-        o.shell_radius = k < scene.object_bounds.size() ? scene.object_bounds[k].radius
-                                                        : sphere_around(shell_box(so)).radius;
+        const Sphere shell = k < scene.object_bounds.size() ? scene.object_bounds[k] : sphere_around(shell_box(so));
+        o.shell_radius = shell.radius;
+        o.shell_center = shell.center;
         o.transform = so.transform;
         o.base_color = so.base_color;
         o.base = make_geometry(so.mesh.vertices, so.mesh.indices);
@@ -940,10 +941,10 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         }
         glUseProgram(program);
         if (settings.technique != Technique::Reference) {
+            // (Outside the sphere around the shell, not by the parity of crossings: an eye inside
+            // two nested parts of one mesh counted as outside, and everything was culled.)
             const bool cull = depth_writing_base && !o.open_shell &&
-                              !eye_inside_body(o.shell_corners, o.triangles, o.eye_blocks, camera.eye) &&
-                              !find_eye_prism(o.shell_corners, o.triangles, o.eye_blocks, o.depth, true, camera.eye,
-                                              [](glm::vec2) { return 1.0f; });
+                              glm::distance(camera.eye, o.shell_center) > o.shell_radius;
             if (cull) {
                 glEnable(GL_CULL_FACE);
                 glFrontFace(GL_CCW);

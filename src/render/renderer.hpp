@@ -193,6 +193,7 @@ private:
         float depth = 0.0f;
         float midlevel = 0.0f;
         float shell_radius = 0.0f; // of the sphere around its displacement shell (Scene::object_bounds)
+        glm::vec3 shell_center{0.0f};
         glm::mat4 transform{1.0f};
         glm::vec3 base_color{0.8f};
     };
