@@ -63,14 +63,21 @@ void release_temporary(int slot)
 // committing thread blocks them; llvmpipe's threads do not) is deferred to its end: the outputs
 // are then both new, not one new beside one old. The committing thread raises it afterwards, or
 // the handler itself if the commit ended while it looked.
+// A handler that found no commit running sets g_dying first, and a commit about to start checks
+// it after announcing itself: one of the two sees the other (both are sequentially consistent),
+// so a commit never starts while a handler, which looked too early to see it, unlinks its
+// temporaries (a new file beside an old one, found by a review with an injected delay).
 std::atomic<int> g_committing{0};
 std::atomic<int> g_deferred_signal{0};
+std::atomic<int> g_dying{0};
 static_assert(std::atomic<int>::is_always_lock_free, "the signal handler reads the commit's state");
 
 void install_handler(int sig);
 
 void remove_temporaries_and_die(int sig)
 {
+    int nothing = 0;
+    g_dying.compare_exchange_strong(nothing, sig);
     if (g_committing.load() != 0) {
         int none = 0; // the first signal says how the process ends
         g_deferred_signal.compare_exchange_strong(none, sig);
@@ -273,6 +280,18 @@ void commit_together(std::initializer_list<StagedFile*> files)
     for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaddset(&block, sig);
     const bool blocked = ::pthread_sigmask(SIG_BLOCK, &block, &old) == 0;
     g_committing.fetch_add(1);
+    if (const int sig = g_dying.load(); sig != 0) {
+        // A handler is ending the process (it may not have seen this commit): rename nothing,
+        // and end with it, temporaries removed.
+        struct sigaction default_action {};
+        default_action.sa_handler = SIG_DFL;
+        sigemptyset(&default_action.sa_mask);
+        ::sigaction(sig, &default_action, nullptr);
+        for (TempSlot& t : g_temps)
+            if (t.state.load() == kLive) ::unlink(t.path);
+        ::raise(sig);
+        if (blocked) ::pthread_sigmask(SIG_SETMASK, &old, nullptr); // delivered here
+    }
     const auto done = [&] {
         g_committing.fetch_sub(1);
         // (Delivered when the mask is restored below; the temporaries left, if a rename failed,
