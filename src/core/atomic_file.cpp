@@ -59,6 +59,16 @@ void release_temporary(int slot)
     if (slot >= 0) g_temps[slot].state.store(kFree);
 }
 
+// Unlinks every temporary still being written (async-signal-safe: fixed storage, unlink).
+void unlink_live_temporaries()
+{
+    for (TempSlot& t : g_temps)
+        if (t.state.load() == kLive) ::unlink(t.path);
+}
+
+// The signals that end a run, whose handler removes the temporaries.
+constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
+
 // While commit_together() renames a run's outputs, a signal handled on another thread (the
 // committing thread blocks them; llvmpipe's threads do not) is deferred to its end: the outputs
 // are then both new, not one new beside one old. The committing thread raises it afterwards, or
@@ -86,8 +96,7 @@ void remove_temporaries_and_die(int sig)
         install_handler(sig);
         if (g_committing.load() != 0) return;
     }
-    for (TempSlot& t : g_temps)
-        if (t.state.load() == kLive) ::unlink(t.path);
+    unlink_live_temporaries();
     // SA_RESETHAND has restored the default action, and the signal is blocked while its handler
     // runs: raised again, it is delivered when the handler returns, and the process dies of it
     // (the exit status says which signal, as it would have without the handler).
@@ -277,7 +286,7 @@ void commit_together(std::initializer_list<StagedFile*> files)
     // on this thread, deferred by the handler on any other (g_committing).
     sigset_t block, old;
     sigemptyset(&block);
-    for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaddset(&block, sig);
+    for (int sig : kSignals) sigaddset(&block, sig);
     const bool blocked = ::pthread_sigmask(SIG_BLOCK, &block, &old) == 0;
     g_committing.fetch_add(1);
     if (const int sig = g_dying.load(); sig != 0) {
@@ -287,8 +296,7 @@ void commit_together(std::initializer_list<StagedFile*> files)
         default_action.sa_handler = SIG_DFL;
         sigemptyset(&default_action.sa_mask);
         ::sigaction(sig, &default_action, nullptr);
-        for (TempSlot& t : g_temps)
-            if (t.state.load() == kLive) ::unlink(t.path);
+        unlink_live_temporaries();
         ::raise(sig);
         if (blocked) ::pthread_sigmask(SIG_SETMASK, &old, nullptr); // delivered here
     }
@@ -355,8 +363,6 @@ void check_distinct_outputs(const std::vector<NamedPath>& outputs, const std::ve
 }
 
 namespace {
-
-constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
 
 void install_handler(int sig)
 {
