@@ -86,7 +86,7 @@ ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::mat4&
             step = std::max({step, std::abs(height.at(x + 1, y) - h), std::abs(height.at(x, y + 1) - h)});
         }
     // The ends of the displacement range along the normal: depth * (h - midlevel), h in [0, 1].
-    const float reach = depth * std::max(std::abs(midlevel), std::abs(1.0f - midlevel));
+    const float reach = displacement_reach(depth, midlevel);
     const glm::mat3 normals = normal_matrix(transform);
     float max_texel_edge = 0.0f, max_pixel_edge = 0.0f;
     const auto& v = mesh.vertices;

@@ -8,6 +8,8 @@
 #include "core/image.hpp"
 #include "mesh/mesh.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <functional>
 
@@ -19,6 +21,13 @@ struct ReferenceLevel {
     int pixel_level = 1;    // level at which every edge spans at most ~one pixel
     bool capped = false;    // lowered to stay within max_triangles
 };
+
+// How far the displaced surface may lie from the base surface along the normal: the larger end
+// of depth * (h - midlevel) for h in [0, 1].
+inline float displacement_reach(float depth, float midlevel)
+{
+    return depth * std::max(std::abs(midlevel), std::abs(1.0f - midlevel));
+}
 
 // Chooses the uniform level: the coarser of the texel and pixel criteria (so edges are at most
 // about one texel or one pixel, whichever is larger), then lowered until

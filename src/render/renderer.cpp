@@ -801,8 +801,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     // its prisms' faces all meet at one place and some rays were lost (the rock at depth 0: 13
     // pinholes at 256x192); the exact exit drew black (prism.frag: `thin`).
     const auto flat_shell = [&](const GpuObject& o) {
-        return prism && double(o.depth) * std::max(std::abs(double(o.midlevel)), std::abs(1.0 - double(o.midlevel))) <=
-                            1e-6 * double(o.shell_radius);
+        return prism && double(displacement_reach(o.depth, o.midlevel)) <= 1e-6 * double(o.shell_radius);
     };
     DrawSettings flat_settings = settings;
     flat_settings.technique = Technique::Flat;
