@@ -75,8 +75,7 @@ CommandAction add_conemap_command(CLI::App& app)
         check_png_output(s->out);
         if (!s->json.empty()) check_output_folder(s->json);
         std::vector<NamedPath> inputs = {{"--height", s->height}};
-        for (const std::filesystem::path& shader : shader_override_files())
-            inputs.emplace_back("PRISMRELIEF_SHADER_DIR", shader);
+        for (NamedPath& shader : shader_override_inputs()) inputs.push_back(std::move(shader));
         check_distinct_outputs({{"--out", s->out}, {"--json", s->json}}, inputs);
         // A GPU build loads Mesa on another thread (about 75 ms of its fixed cost on the 2-core
         // machine) while the CPU does its share: with --no-cache, from before the height map is

@@ -44,8 +44,7 @@ Session open_session(const SceneOptions& options, const std::vector<NamedPath>& 
                                      {"--mesh", options.mesh},
                                      {"--height", options.height.value_or("")},
                                      {"--color", options.color}};
-    for (const std::filesystem::path& shader : shader_override_files())
-        inputs.emplace_back("PRISMRELIEF_SHADER_DIR", shader);
+    for (NamedPath& shader : shader_override_inputs()) inputs.push_back(std::move(shader));
     check_distinct_outputs(outputs, inputs);
     s.spec = make_scene_spec(options);
     check_distinct_outputs(outputs, scene_file_inputs(options, s.spec));

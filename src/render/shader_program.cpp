@@ -34,11 +34,12 @@ std::vector<std::string> shader_file_list()
     return out;
 }
 
-std::vector<std::filesystem::path> shader_override_files()
+std::vector<NamedPath> shader_override_inputs()
 {
-    std::vector<std::filesystem::path> out;
+    std::vector<NamedPath> out;
     if (const char* dir = std::getenv("PRISMRELIEF_SHADER_DIR"); dir && *dir)
-        for (const EmbeddedShader& e : embedded_shaders()) out.push_back(std::filesystem::path(dir) / e.path);
+        for (const EmbeddedShader& e : embedded_shaders())
+            out.emplace_back("PRISMRELIEF_SHADER_DIR", std::filesystem::path(dir) / e.path);
     return out;
 }
 

@@ -2,6 +2,7 @@
 // Builds GL programs from the embedded shader files. Variants are chosen by #define lines placed
 // after `#version` (never by editing shader text); `#include "path"` (relative to shaders/) is
 // resolved once per file with `#line` directives, so compile errors name the real file and line.
+#include "core/atomic_file.hpp"
 #include "gl/objects.hpp"
 
 #include <filesystem>
@@ -37,8 +38,9 @@ gl::Program build_program(const std::vector<ShaderStage>& stages, const ShaderDe
 // Every shader file the program table knows, for the test that compiles every variant.
 std::vector<std::string> shader_file_list();
 
-// The files a run reads under PRISMRELIEF_SHADER_DIR (none without it), which its outputs must
-// not replace: `render --out shaders/surface.frag` with the variable set broke every later run.
-std::vector<std::filesystem::path> shader_override_files();
+// The files a run reads under PRISMRELIEF_SHADER_DIR (none without it), as inputs for
+// check_distinct_outputs() named by the variable: its outputs must not replace them (`render --out
+// shaders/surface.frag` with the variable set broke every later run).
+std::vector<NamedPath> shader_override_inputs();
 
 } // namespace pr
