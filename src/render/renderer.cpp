@@ -647,14 +647,9 @@ void Renderer::ensure_walk_data()
     // 5-million-triangle mesh it takes about 2 s). The mesh comes back from its own buffers.
     for (GpuObject& o : objects_) {
         if (o.corners) continue;
-        GLint64 vertex_bytes = 0;
-        glGetNamedBufferParameteri64v(o.base.vertices.id(), GL_BUFFER_SIZE, &vertex_bytes);
-        std::vector<MeshVertex> vertices(static_cast<std::size_t>(vertex_bytes) / sizeof(MeshVertex));
-        std::vector<std::uint32_t> base_indices(static_cast<std::size_t>(o.base.index_count));
-        glGetNamedBufferSubData(o.base.vertices.id(), 0, static_cast<GLsizeiptr>(vertices.size() * sizeof(MeshVertex)),
-                                vertices.data());
-        glGetNamedBufferSubData(o.base.indices.id(), 0,
-                                static_cast<GLsizeiptr>(base_indices.size() * sizeof(std::uint32_t)), base_indices.data());
+        std::vector<MeshVertex> vertices;
+        std::vector<std::uint32_t> base_indices;
+        read_back_mesh(o, vertices, base_indices);
         // The walk's own triangles: flat, evenly mapped stretches merged (fewer prisms to cross).
         std::vector<std::uint32_t> indices = walk_triangles_of(vertices, base_indices);
         if (indices.size() != base_indices.size()) {
@@ -665,6 +660,7 @@ void Renderer::ensure_walk_data()
         base_indices = {};
         const EdgeAdjacency adjacency = edge_adjacency(vertices, indices);
         o.open_shell = adjacency.open_edges > 0;
+        o.closed = !o.open_shell;
         o.tears = !o.open_shell && adjacency.seam_edges > 0;
         o.seamless = adjacency.seam_edges == 0;
         std::vector<glm::vec4> corners =
@@ -681,6 +677,31 @@ void Renderer::ensure_walk_data()
         o.shell_corners = std::move(corners);
     }
     if (glGetError() == GL_OUT_OF_MEMORY) throw Error("scene", "out of GPU memory while building the prism walk's buffers");
+}
+
+void Renderer::read_back_mesh(const GpuObject& o, std::vector<MeshVertex>& vertices, std::vector<std::uint32_t>& indices)
+{
+    GLint64 vertex_bytes = 0;
+    glGetNamedBufferParameteri64v(o.base.vertices.id(), GL_BUFFER_SIZE, &vertex_bytes);
+    vertices.resize(static_cast<std::size_t>(vertex_bytes) / sizeof(MeshVertex));
+    indices.resize(static_cast<std::size_t>(o.base.index_count));
+    glGetNamedBufferSubData(o.base.vertices.id(), 0, static_cast<GLsizeiptr>(vertices.size() * sizeof(MeshVertex)),
+                            vertices.data());
+    glGetNamedBufferSubData(o.base.indices.id(), 0, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)),
+                            indices.data());
+}
+
+bool Renderer::closed_shell(GpuObject& o)
+{
+    if (!o.closed) {
+        // Only the edges' pairing: not the walk's buffers, shell corners and merged stretches,
+        // which a base technique has no use for (0.5 s more on a 408k-triangle mesh).
+        std::vector<MeshVertex> vertices;
+        std::vector<std::uint32_t> indices;
+        read_back_mesh(o, vertices, indices);
+        o.closed = edge_adjacency(vertices, indices).open_edges == 0;
+    }
+    return *o.closed;
 }
 
 std::vector<std::uint32_t> Renderer::walk_triangles_of(const std::vector<MeshVertex>& vertices,
@@ -770,11 +791,17 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     // eye is outside its body and shell: the depth a grazing front fragment writes may lie behind
     // the object's own far faces, which then showed through (a cube at --depth 0.15: 478 of 3,521
     // pixels). The back faces stay for an eye inside (the mesh seen from within) and on open or
-    // inconsistently wound meshes (no inside to tell). Whether a mesh is closed, and where its
-    // body is, come with the walk's data (built once).
+    // inconsistently wound meshes (no inside to tell): closed_shell(), learnt once per object,
+    // before the frame's clock starts. (Outside the sphere around the shell, not by the parity of
+    // crossings: an eye inside two nested parts of one mesh counted as outside, and everything
+    // was culled.)
     const bool depth_writing_base = settings.depth_write && settings.technique != Technique::Prism &&
                                     settings.technique != Technique::Reference;
-    if (depth_writing_base) ensure_walk_data();
+    std::vector<char> cull_back(objects_.size(), 0);
+    if (depth_writing_base)
+        for (std::size_t k = 0; k < objects_.size(); ++k)
+            cull_back[k] = glm::distance(camera.eye, objects_[k].shell_center) > objects_[k].shell_radius &&
+                           closed_shell(objects_[k]);
     upload_frame(camera, glm::normalize(light_dir), settings.pixel_offset);
     if (settings.count_samples) {
         const GLuint zero = 0;
@@ -940,11 +967,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         }
         glUseProgram(program);
         if (settings.technique != Technique::Reference) {
-            // (Outside the sphere around the shell, not by the parity of crossings: an eye inside
-            // two nested parts of one mesh counted as outside, and everything was culled.)
-            const bool cull = depth_writing_base && !o.open_shell &&
-                              glm::distance(camera.eye, o.shell_center) > o.shell_radius;
-            if (cull) {
+            if (cull_back[k]) {
                 glEnable(GL_CULL_FACE);
                 glFrontFace(GL_CCW);
                 glCullFace(GL_BACK);

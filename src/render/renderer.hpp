@@ -14,6 +14,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -164,6 +165,9 @@ private:
         Geometry walk;
         gl::Buffer adjacency;
         bool open_shell = false;
+        // Whether the base mesh is closed (every edge paired, consistently wound), for culling
+        // a depth-writing base technique's back faces; learnt on first need (closed_shell()).
+        std::optional<bool> closed;
         bool tears = false;
         bool seamless = false; // no UV seam at all (WalkVariant::Seamless)
         gl::Buffer corners;
@@ -247,6 +251,10 @@ private:
     void upload_object(const GpuObject& o, const DrawSettings& settings, float midlevel,
                        const EyeInShell* eye = nullptr);
     void ensure_walk_data(); // adjacency, shell corners, open_shell, tears and seamless of every object
+    // The object's mesh read back from its own buffers (the walk's data and closed_shell()).
+    static void read_back_mesh(const GpuObject& o, std::vector<MeshVertex>& vertices, std::vector<std::uint32_t>& indices);
+    // Whether o's mesh is closed: from the walk's data when built, else from its edges alone.
+    static bool closed_shell(GpuObject& o);
     // merge_flat_regions() of a mesh, remembered for the last few meshes that merged: it is the
     // slow part of a large flat mesh's walk data (1.4 s for a million triangles), and the viewer
     // uploads the same meshes again whenever the depth or midlevel changes. Keyed by content.
