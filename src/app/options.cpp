@@ -651,6 +651,11 @@ SceneFileValues read_scene_file(const std::string& file, SceneSpec& spec)
                 else if (k == "azimuth") spec.camera.azimuth_deg = json_checked(v, w, check_azimuth);
                 else throw Error(where, "unknown key '" + k + "'");
             }
+            // Auto-framing's angles next to an eye: the eye wins, and they were ignored silently.
+            for (const char* angle : {"elevation", "azimuth"})
+                if (value.contains("eye") && value.contains(angle))
+                    throw Error(where + "." + angle, "has no effect with camera.eye (it places the auto-framed "
+                                                     "camera; an eye given is where the camera is)");
         } else if (key == "light") {
             spec.light = direction(json_dvec3(value, where), where);
         } else if (key == "size") {

@@ -67,6 +67,10 @@ pr_scene_refused(midlevel_two ", \"midlevel\": 2}]}" "objects\\[0\\].midlevel: m
 pr_scene_refused(fovy_zero "}], \"camera\": {\"fovy\": 0}}" "camera.fovy: must be more than 0.5")
 pr_scene_refused(elevation_high "}], \"camera\": {\"elevation\": 91}}" "camera.elevation: must be between -90 and 90")
 pr_scene_refused(eye_is_target "}], \"camera\": {\"eye\": [1, 2, 3], \"target\": [1, 2, 3]}}" "camera.eye: eye and target are the same point")
+# Auto-framing's angles next to an eye in the file: accepted and ignored before the fifteenth session.
+pr_scene_refused(eye_and_elevation "}], \"camera\": {\"eye\": [3, 2, 3], \"elevation\": 30}}"
+                 "camera.elevation: has no effect with camera.eye \\(it places the auto-framed camera")
+pr_scene_refused(azimuth_and_eye "}], \"camera\": {\"azimuth\": 20, \"eye\": [3, 2, 3]}}" "camera.azimuth: has no effect with camera.eye")
 pr_scene_refused(eye_is_centre "}], \"camera\": {\"eye\": [0, 0, 0]}}" "camera: eye and target are the same point")
 pr_scene_refused(size_zero "}], \"size\": \"0x10\"}" "size: each side must be between 1 and 16384")
 pr_scene(plain "}]}")
