@@ -143,9 +143,16 @@ std::string folder_problem(const std::filesystem::path& folder, const std::error
         part /= name;
         std::error_code e;
         const std::filesystem::file_status st = std::filesystem::symlink_status(part, e);
-        if (std::filesystem::is_symlink(st) && !std::filesystem::exists(part, e))
-            return "cannot create it: " + part.string() + " is a symbolic link to " +
-                   std::filesystem::read_symlink(part, e).string() + ", which does not exist";
+        if (std::filesystem::is_symlink(st)) {
+            std::error_code followed;
+            const bool target = std::filesystem::exists(part, followed);
+            const std::string link = "cannot create it: " + part.string() + " is a symbolic link to " +
+                                     std::filesystem::read_symlink(part, e).string();
+            // (A loop of links is no missing target: stat says ELOOP, exists() false for both.)
+            if (followed == std::errc::too_many_symbolic_link_levels)
+                return link + ", which leads back to itself (a loop of links)";
+            if (!target) return link + ", which does not exist";
+        }
         if (std::filesystem::exists(part, e) && !std::filesystem::is_directory(part, e))
             return "cannot create it: " + part.string() + " is not a folder";
     }

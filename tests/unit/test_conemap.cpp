@@ -689,6 +689,16 @@ TEST(ConeMap, UnwritableCacheOnlyWarns)
                              ", which does not exist"),
               std::string::npos)
         << said_link;
+    // Two links naming each other: a loop, not a missing target.
+    fs::create_symlink(dir.path() / "loop_b", dir.path() / "loop_a");
+    fs::create_symlink(dir.path() / "loop_a", dir.path() / "loop_b");
+    ::testing::internal::CaptureStderr();
+    cached_cone_map(f, ConeKind::Cone, dir.path() / "loop_a");
+    const std::string said_loop = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(said_loop.find((dir.path() / "loop_a").string() + " is a symbolic link to " +
+                             (dir.path() / "loop_b").string() + ", which leads back to itself (a loop of links)"),
+              std::string::npos)
+        << said_loop;
 }
 
 TEST(ConeMap, DefaultCacheDirFollowsXdg)
