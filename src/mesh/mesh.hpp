@@ -40,6 +40,9 @@ struct MeshOptions {
     // largest extent of the bounding box.
     float uv_scale = 2.0f;
     bool force_generated_uvs = false; // ignore the file's UVs
+    // Corners that ear clipping may visit in all of a mesh's concave polygons (about 1.2 s here);
+    // those left past it become fans, with a warning (mesh_prepare.cpp, docs/mesh-input.md).
+    std::size_t ear_clip_work = std::size_t(1) << 30;
 };
 
 struct PreparedMesh {

@@ -89,18 +89,19 @@ double ring_area2(const std::vector<dvec2>& q, const std::vector<uint32_t>& r)
 
 // Ear clipping takes time of the order of the square of a polygon's corners, and of the cube at
 // worst (a spiral strip of 4096 corners: 9 s): polygons of up to kEarClipCorners are clipped
-// while the corners that polygons above 64 corners visit, in the ear tests and the search for
-// points they pass twice, add up to no more than kEarClipWork (1.2 s here; a 4096-corner star
-// takes 30-50 ms of it). What is left of a concave polygon past either limit becomes a fan, which
-// may cover area outside its outline; the caller warns. A convex polygon is its fan, at any size.
-// Polygons of up to 64 corners are clipped whatever they cost (at most 64^3 visits each).
+// while the corners that all of a mesh's polygons visit, in the ear tests and the search for
+// points they pass twice, add up to no more than MeshOptions::ear_clip_work (2^30, 1.2 s here;
+// a 4096-corner star takes 30-50 ms of it). What is left of a concave polygon past either limit becomes a fan, which
+// may cover area outside its outline; the caller warns. A strictly convex polygon is its fan, at
+// any size, and costs nothing. (Before the fifteenth session polygons of up to 64 corners were
+// clipped whatever they cost: up to 64^3 visits each, and the triangle limit lets a mesh hold
+// 160,000 of them, some 4·10^10 visits at worst.)
 constexpr size_t kEarClipCorners = 4096;
-constexpr size_t kEarClipWork = size_t(1) << 30;
 
 // Triangulates polygon `face` (n >= 3 corners, positions in `p`) into local corner triples.
 // Ear clipping in the plane of the Newell normal, so concave polygons come out right; a convex
 // polygon gives the fan from its first corner. Self-intersecting polygons, and concave ones past
-// the limits above (`work_left` is what is left of kEarClipWork), fall back to a fan: returns
+// the limits above (`work_left` is what is left of the budget), fall back to a fan: returns
 // false for those past the limits.
 //
 // A polygon whose outline passes twice through one point (a corner repeated, `1 2 3 4 1`, or two
@@ -141,23 +142,23 @@ bool triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
     const double flip = normal[k] > 0.0 ? 1.0 : -1.0;
     std::vector<dvec2> q(n);
     for (size_t i = 0; i < n; ++i) q[i] = dvec2(p[i][(k + 1) % 3], flip * p[i][(k + 2) % 3]);
-    if (n > 64) {
-        bool convex = true;
-        for (size_t i = 0; i < n && convex; ++i)
-            convex = cross2(q[(i + 1) % n] - q[i], q[(i + 2) % n] - q[(i + 1) % n]) >= 0.0;
-        if (convex) {
-            fan(whole);
-            return true;
-        }
-        if (n > kEarClipCorners) {
-            fan(whole);
-            return false;
-        }
+    // Strictly convex (a flat corner is not: its fan's first triangle would have no area, and
+    // the triangles left would not share the edges on either side of it with the neighbours).
+    bool convex = true;
+    for (size_t i = 0; i < n && convex; ++i)
+        convex = cross2(q[(i + 1) % n] - q[i], q[(i + 2) % n] - q[(i + 1) % n]) > 0.0;
+    if (convex) {
+        fan(whole);
+        return true;
     }
-    // The budget, for polygons above 64 corners: false once `visits` more corners would pass it.
+    if (n > kEarClipCorners) {
+        fan(whole);
+        return false;
+    }
+    // The budget: false once `visits` more corners would pass it.
     bool within_budget = true;
     const auto charge = [&](size_t visits) {
-        if (n <= 64 || !within_budget) return within_budget;
+        if (!within_budget) return within_budget;
         if (visits > work_left) return within_budget = false;
         work_left -= visits;
         return true;
@@ -464,7 +465,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     size_t degenerate = raw.collapsed_faces;
     std::vector<dvec3> poly;
     std::vector<std::array<uint32_t, 3>> local;
-    size_t clip_work_left = kEarClipWork;
+    size_t clip_work_left = options.ear_clip_work;
     size_t fanned = 0; // concave polygons past the ear clipping's limits
     for (size_t f = 0; f < face_count; ++f) {
         const uint32_t begin = raw.face_offsets[f];

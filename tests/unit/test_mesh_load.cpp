@@ -295,6 +295,73 @@ TEST(MeshLoad, LargeConcavePolygonsAreClipped)
               std::string::npos);
 }
 
+// Small concave polygons are charged to the clipping budget too: before, polygons of up to 64
+// corners were clipped whatever the mesh held of them (up to 64^3 visits each, and 160,000 of
+// them fit under the triangle limit). Strictly convex ones cost nothing.
+TEST(MeshLoad, SmallConcavePolygonsShareTheClippingBudget)
+{
+    TempDir dir;
+    // 40 L-shaped hexagons (concave), then a square.
+    std::string text;
+    int base = 1;
+    for (int k = 0; k < 40; ++k) {
+        const double x = 3.0 * k;
+        for (const auto& [px, py] : {std::pair{0.0, 0.0}, {2.0, 0.0}, {2.0, 1.0}, {1.0, 1.0}, {1.0, 2.0}, {0.0, 2.0}})
+            text += "v " + std::to_string(x + px) + " " + std::to_string(py) + " 0\n";
+        text += "f";
+        for (int i = 0; i < 6; ++i) text += " " + std::to_string(base + i);
+        text += "\n";
+        base += 6;
+    }
+    text += "v 0 5 0\nv 1 5 0\nv 1 6 0\nv 0 6 0\nf " + std::to_string(base) + " " + std::to_string(base + 1) + " " +
+            std::to_string(base + 2) + " " + std::to_string(base + 3) + "\n";
+    const fs::path file = dir.write("ls.obj", text);
+    ::testing::internal::CaptureStderr();
+    const pr::PreparedMesh whole = pr::load_mesh(file);
+    EXPECT_EQ(::testing::internal::GetCapturedStderr().find("fan"), std::string::npos);
+    EXPECT_EQ(whole.triangle_count(), 40u * 4u + 2u);
+    pr::MeshOptions tight;
+    tight.ear_clip_work = 200; // a few hexagons' worth
+    ::testing::internal::CaptureStderr();
+    const pr::PreparedMesh cut = pr::load_mesh(file, tight);
+    const std::string said = ::testing::internal::GetCapturedStderr();
+    const std::size_t at = said.find(" concave polygons too large to clip");
+    ASSERT_NE(at, std::string::npos) << said;
+    const int fanned = std::stoi(said.substr(said.rfind(' ', at - 1) + 1));
+    EXPECT_GT(fanned, 10) << said;
+    EXPECT_LT(fanned, 40) << said;
+    EXPECT_EQ(cut.triangle_count(), 40u * 4u + 2u);
+    // A budget of nothing still fans a square without a word (convex: no clipping).
+    tight.ear_clip_work = 0;
+    ::testing::internal::CaptureStderr();
+    pr::load_mesh(dir.write("square.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n"), tight);
+    EXPECT_EQ(::testing::internal::GetCapturedStderr().find("fan"), std::string::npos);
+}
+
+// A convex polygon with a flat corner (a point on a side) is clipped, not fanned from its first
+// corner: that fan's first triangle had no area and was dropped, and the sides through the flat
+// corner were no longer shared with the neighbour's (an open edge where the mesh was closed).
+TEST(MeshLoad, FlatCornerIsNotAFansFirstTriangle)
+{
+    TempDir dir;
+    std::string text;
+    const int n = 80; // past 64 corners: this size was fanned whenever it was convex
+    for (int i = 0; i < n; ++i) {
+        const double a = 2.0 * 3.14159265358979 * i / n;
+        text += "v " + std::to_string(std::cos(a)) + " " + std::to_string(std::sin(a)) + " 0\n";
+    }
+    // Corner 2 (index 1) moved onto the chord between its neighbours: a flat corner.
+    const double a0 = 0.0, a2 = 2.0 * 3.14159265358979 * 2 / n;
+    const std::string mid = "v " + std::to_string(0.5 * (std::cos(a0) + std::cos(a2))) + " " +
+                            std::to_string(0.5 * (std::sin(a0) + std::sin(a2))) + " 0\n";
+    text = text.substr(0, text.find('\n') + 1) + mid + text.substr(text.find('\n', text.find('\n') + 1) + 1);
+    text += "f";
+    for (int i = 0; i < n; ++i) text += " " + std::to_string(i + 1);
+    const pr::PreparedMesh m = pr::load_mesh(dir.write("flat.obj", text + "\n"));
+    EXPECT_EQ(m.dropped_triangles, 0u);
+    EXPECT_EQ(m.triangle_count(), std::size_t(n - 2));
+}
+
 TEST(MeshLoad, ObjMixedFacesWithAndWithoutUvs)
 {
     TempDir dir;
