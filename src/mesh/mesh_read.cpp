@@ -186,6 +186,10 @@ struct Expect {
     std::vector<size_t> repeating_calls;
     std::vector<size_t> repeating_offsets{0};
     std::vector<std::uint32_t> repeating_corners;
+    // Binary OFF in another layout than OpenMesh's (binary_off_layout): the bytes from
+    // `off_binary_at` on, rewritten in OpenMesh's.
+    string off_binary_body;
+    size_t off_binary_at = 0;
 };
 
 void check_triangle_budget(const string& subject, unsigned long long triangles,
@@ -309,6 +313,86 @@ Expect scan_obj(const string& subject, string_view text, const MeshOptions& opti
 
 // ---- OFF -----------------------------------------------------------------------------------
 
+// Binary OFF is 32-bit words. Geomview, which defined the format, writes them big-endian and
+// follows each face's indices with a colour count and that many floats; OpenMesh reads (and
+// writes) little-endian words without the count. A layout fits when its faces, each of at least
+// three indices below the vertex count (and at most four colour values), end exactly where the
+// file does (or with only white space after).
+struct BinaryOffLayout {
+    bool big_endian = false;
+    bool colour_counts = false;
+};
+
+class BinaryOffWords {
+public:
+    BinaryOffWords(string_view body, BinaryOffLayout layout) : body_(body), layout_(layout) {}
+    size_t size() const { return body_.size() / 4; }
+    std::uint32_t operator[](size_t i) const
+    {
+        unsigned char b[4];
+        std::memcpy(b, body_.data() + 4 * i, 4);
+        if (layout_.big_endian) return std::uint32_t(b[0]) << 24 | std::uint32_t(b[1]) << 16 | std::uint32_t(b[2]) << 8 | b[3];
+        return std::uint32_t(b[3]) << 24 | std::uint32_t(b[2]) << 16 | std::uint32_t(b[1]) << 8 | b[0];
+    }
+
+    // Calls keep(first, count) for each run of words to keep (counts, vertices, each face's
+    // size and indices); false when the file does not fit the layout.
+    template <class Keep>
+    bool walk(size_t vertex_words, Keep&& keep) const
+    {
+        const size_t n = size();
+        if (n < 3) return false;
+        const std::uint64_t nv = (*this)[0], nf = (*this)[1];
+        if (nv * vertex_words > n - 3 || nf > n) return false;
+        keep(size_t(0), size_t(3) + size_t(nv) * vertex_words);
+        size_t at = 3 + size_t(nv) * vertex_words;
+        for (std::uint64_t f = 0; f < nf; ++f) {
+            if (at >= n) return false;
+            const std::uint32_t corners = (*this)[at];
+            if (corners < 3 || corners > n - at - 1) return false;
+            for (size_t c = 1; c <= corners; ++c)
+                if ((*this)[at + c] >= nv) return false;
+            keep(at, size_t(corners) + 1);
+            at += size_t(corners) + 1;
+            if (layout_.colour_counts) {
+                if (at >= n || (*this)[at] > 4 || (*this)[at] > n - at - 1) return false;
+                at += 1 + (*this)[at];
+            }
+        }
+        for (size_t i = 4 * at; i < body_.size(); ++i)
+            if (!std::isspace(static_cast<unsigned char>(body_[i]))) return false;
+        return true;
+    }
+
+private:
+    string_view body_;
+    BinaryOffLayout layout_;
+};
+
+// The body rewritten in OpenMesh's layout when it is in another one that fits and OpenMesh's
+// does not; empty otherwise (OpenMesh's own, or none: the checks after say what is wrong).
+string binary_off_in_openmesh_layout(string_view body, size_t vertex_words)
+{
+    const auto none = [](size_t, size_t) {};
+    if (BinaryOffWords(body, {}).walk(vertex_words, none)) return {};
+    for (const BinaryOffLayout layout : {BinaryOffLayout{false, true}, BinaryOffLayout{true, false},
+                                         BinaryOffLayout{true, true}}) {
+        const BinaryOffWords words(body, layout);
+        if (!words.walk(vertex_words, none)) continue;
+        string out;
+        out.reserve(body.size());
+        words.walk(vertex_words, [&](size_t first, size_t count) {
+            for (size_t i = first; i < first + count; ++i) {
+                const std::uint32_t w = words[i];
+                const char b[4] = {char(w & 0xff), char(w >> 8 & 0xff), char(w >> 16 & 0xff), char(w >> 24)};
+                out.append(b, 4);
+            }
+        });
+        return out;
+    }
+    return {};
+}
+
 Expect scan_off(const string& subject, string_view text, const MeshOptions& options)
 {
     Expect e;
@@ -351,20 +435,24 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
     unsigned long long nv = 0, nf = 0;
     if (e.binary) {
         if (remaining < 12) fail(subject, "binary OFF header is truncated");
-        std::uint32_t counts[2];
-        std::memcpy(counts, text.data() + body, sizeof counts);
-        nv = counts[0];
-        nf = counts[1];
         // OpenMesh reads binary face colours only when asked for them, and misreads every face
         // after the first colour when not; colours are not used here.
         if (has_c)
             fail(subject, "binary " + header_name +
                               " (colours) is not supported; use the ASCII variant or OFF BINARY");
+        const size_t vertex_words = 3 + (has_n ? 3 : 0) + (has_st ? 2 : 0);
+        e.off_binary_body = binary_off_in_openmesh_layout(text.substr(body), vertex_words);
+        e.off_binary_at = body;
+        const string_view words = e.off_binary_body.empty() ? text.substr(body) : string_view(e.off_binary_body);
+        std::uint32_t counts[2];
+        std::memcpy(counts, words.data(), sizeof counts);
+        nv = counts[0];
+        nf = counts[1];
         // Minimum sizes: 3 floats per vertex (and 3 for a normal, 2 for a texture coordinate),
         // a count and 3 indices per face.
-        const unsigned long long vertex_bytes = 12 + (has_n ? 12 : 0) + (has_st ? 8 : 0);
+        const unsigned long long vertex_bytes = 4 * vertex_words;
         const unsigned long long need = 12 + nv * vertex_bytes + nf * 16;
-        if (need > remaining)
+        if (need > words.size())
             fail(subject, "header claims " + std::to_string(nv) + " vertices and " +
                               std::to_string(nf) + " faces, more than a file of " +
                               std::to_string(text.size()) + " bytes can hold");
@@ -1142,6 +1230,10 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
 
     if (ext == ".obj") drop_obj_material_libraries(text); // after the scan: its line numbers
     if (expect.off_counts_end != string_view::npos) text.insert(expect.off_counts_end, " 0");
+    if (!expect.off_binary_body.empty()) {
+        text.replace(expect.off_binary_at, string::npos, expect.off_binary_body);
+        expect.off_binary_body = {};
+    }
     if (expect.off_single_spaces) {
         size_t out = 0;
         for (size_t i = 0; i < text.size(); ++i) {

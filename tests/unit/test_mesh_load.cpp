@@ -485,6 +485,57 @@ TEST(MeshLoad, OffBinaryVariants)
               "binary COFF (colours) is not supported; use the ASCII variant or OFF BINARY");
 }
 
+// Binary OFF as Geomview defines it: big-endian words, and after each face's indices a colour
+// count and that many floats. It was refused ("header claims 67108864 vertices …", the counts
+// read little-endian), and the colour counts misread ("face 1 has fewer than 3 vertices").
+TEST(MeshLoad, OffBinaryGeomviewLayouts)
+{
+    TempDir dir;
+    // A square of two faces (a triangle and a quad's worth: 3 and 4 corners), with s t.
+    const std::vector<float> vertices = {0, 0, 0, 0, 0, 1, 0, 0, 1, 0, 1, 1, 0, 1, 1, 0, 1, 0, 0, 1};
+    const std::vector<std::vector<std::int32_t>> faces = {{0, 1, 2}, {0, 2, 3}};
+    auto file = [&](bool big, bool colour_counts) {
+        std::vector<char> b;
+        const std::string head = "STOFF BINARY\n";
+        b.insert(b.end(), head.begin(), head.end());
+        auto word = [&](auto value) {
+            std::vector<char> w;
+            put(w, value);
+            if (big) std::reverse(w.begin(), w.end());
+            b.insert(b.end(), w.begin(), w.end());
+        };
+        for (std::int32_t i : {4, 2, 0}) word(i);
+        for (float f : vertices) word(f);
+        for (std::size_t f = 0; f < faces.size(); ++f) {
+            word(std::int32_t(faces[f].size()));
+            for (std::int32_t i : faces[f]) word(i);
+            if (!colour_counts) continue;
+            word(std::int32_t(f == 0 ? 0 : 3)); // the second face with an RGB colour
+            if (f == 1)
+                for (float c : {0.5f, 0.25f, 1.0f}) word(c);
+        }
+        return b;
+    };
+    const pr::PreparedMesh plain = pr::load_mesh(dir.write_bytes("le.off", file(false, false)));
+    for (const auto& [big, counts] : {std::pair{false, true}, {true, false}, {true, true}}) {
+        const std::string name = std::string(big ? "be" : "le") + (counts ? "_counts" : "") + ".off";
+        const pr::PreparedMesh m = pr::load_mesh(dir.write_bytes(name, file(big, counts)));
+        ASSERT_EQ(m.triangle_count(), 2u) << name;
+        ASSERT_EQ(m.vertices.size(), plain.vertices.size()) << name;
+        EXPECT_TRUE(m.had_uvs) << name;
+        for (std::size_t i = 0; i < m.vertices.size(); ++i) {
+            EXPECT_EQ(m.vertices[i].position, plain.vertices[i].position) << name;
+            EXPECT_EQ(m.vertices[i].uv, plain.vertices[i].uv) << name;
+        }
+        EXPECT_EQ(m.indices, plain.indices) << name;
+    }
+    // A big-endian file cut short is refused as one that does not fit.
+    std::vector<char> cut = file(true, true);
+    cut.resize(cut.size() - 6);
+    EXPECT_TRUE(prtest::contains(
+        prtest::error_of([&] { pr::load_mesh(dir.write_bytes("cut.off", cut)); }).problem(), "more than a file of"));
+}
+
 TEST(MeshLoad, PlyAsciiWithUvsAndNormals)
 {
     TempDir dir;
