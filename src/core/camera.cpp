@@ -63,8 +63,13 @@ Camera frame_sphere(const Sphere& bounds, float fovy_deg, float aspect, float el
     const float el = glm::radians(elevation_deg);
     const float az = glm::radians(azimuth_deg);
     glm::vec3 dir = std::cos(el) * (std::cos(az) * fwd + std::sin(az) * side) + std::sin(el) * c.up;
-    // Looking straight along `up` makes lookAt degenerate: tilt the up vector instead.
-    if (std::abs(glm::dot(dir, c.up)) > 0.999f) c.up = -fwd;
+    // Looking (nearly) straight along `up` makes lookAt degenerate: up becomes what lookAt makes
+    // of it below that, its part across the view, which at the pole is the azimuth's horizontal
+    // direction, away from the eye from above and towards it from below. (It was -fwd whatever
+    // the azimuth and the side: from below, the image turned by 145 degrees between elevations
+    // -87 and -88 at the default azimuth.)
+    if (std::abs(glm::dot(dir, c.up)) > 0.999f)
+        c.up = glm::normalize(std::cos(el) * c.up - std::sin(el) * (std::cos(az) * fwd + std::sin(az) * side));
     const float half_v = glm::radians(fovy_deg) * 0.5f;
     const float half_h = std::atan(std::tan(half_v) * aspect);
     const float half = std::min(half_v, half_h);

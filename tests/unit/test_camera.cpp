@@ -49,3 +49,26 @@ TEST(Camera, ViewMatrixIsLookAtsAndStaysFiniteForNearPoints)
         for (int j = 0; j < 4; ++j) EXPECT_TRUE(std::isfinite(tiny[i][j])) << i << "," << j;
     EXPECT_NEAR(tiny[0][2], 1.0f, 1e-6f); // looking along -x: the view's z axis is world +x
 }
+
+// Auto-framing near the poles: past the elevation where lookAt would degenerate (about 87.4
+// degrees) the up vector was -fwd whatever the azimuth and the side, and from below the image
+// turned by 145 degrees between -87 and -88 (the default azimuth, 35). The image's up direction
+// (the view's second row) now changes smoothly through it, and at the pole follows the azimuth.
+TEST(Camera, AutoFramingDoesNotTurnTheImageNearThePoles)
+{
+    const pr::Sphere bounds{{1, 2, 3}, 2};
+    for (const float azimuth : {0.0f, 35.0f, 100.0f, -150.0f})
+        for (const float side : {1.0f, -1.0f}) {
+            glm::vec3 last(0.0f);
+            for (float elevation = 85.0f; elevation <= 90.0f; elevation += 0.25f) {
+                const pr::Camera c = pr::frame_sphere(bounds, 40, 1.5f, side * elevation, azimuth);
+                const glm::mat4 v = c.view();
+                const glm::vec3 image_up(v[0][1], v[1][1], v[2][1]); // world direction of screen up
+                for (int i = 0; i < 3; ++i) ASSERT_TRUE(std::isfinite(image_up[i]));
+                if (elevation > 85.0f)
+                    EXPECT_GT(glm::dot(image_up, last), 0.99f)
+                        << "azimuth " << azimuth << ", elevation " << side * elevation;
+                last = image_up;
+            }
+        }
+}
