@@ -42,7 +42,10 @@ CommandAction add_view_command(CLI::App& app)
     cmd->add_option("--split", s->split,
                     "Split-screen compare: A,B (left, right), e.g. pom,prism or pom,prism:cone")
         ->group("View");
+    // (Its numbers are checked as every other command's: --frames "" read as 0, interactive, and a
+    // batch script with an unset variable never ended; "010" was octal, "0x3" three.)
     cmd->add_option("--divider", s->divider, "Split position, fraction of the width from the left")
+        ->check(a_number())
         ->group("View")
         ->capture_default_str();
     cmd->add_option("--overlay", s->overlay, "Wireframe overlay: none|base|shell")
@@ -60,6 +63,7 @@ CommandAction add_view_command(CLI::App& app)
                   "The screenshot shows the whole window as seen (panel, background; opaque)")
         ->group("View");
     cmd->add_option("--frames", s->frames, "Draw this many frames, print frame times, then exit (0: interactive)")
+        ->transform(saturating<int>())
         ->group("View")
         ->capture_default_str();
     cmd->add_option("--shader-dir", s->shader_dir,
@@ -68,6 +72,7 @@ CommandAction add_view_command(CLI::App& app)
         ->group("View");
     cmd->add_option("--render-scale", s->render_scale,
                     "Renderer pixels per window pixel (0.25-1; below 1 is faster on llvmpipe, upscaled)")
+        ->check(a_number())
         ->group("View")
         ->capture_default_str();
     cmd->add_flag("--no-panel", s->no_panel, "Start with the panel hidden (H or Tab shows it)")->group("View");
@@ -121,6 +126,11 @@ CommandAction add_view_command(CLI::App& app)
             window = w.get();
             return w;
         };
+        // A dropped file is an input too: `--drop h.png --screenshot h.png` replaced the height map
+        // just loaded with the screenshot.
+        std::vector<NamedPath> dropped;
+        for (const std::string& file : s->drops) dropped.emplace_back("--drop", file);
+        check_distinct_outputs({{"--screenshot", s->screenshot}}, dropped);
         Session session = open_session(s->scene, {{"--screenshot", s->screenshot}}, open_window);
         return view::run_viewer(session, *window, o);
 #endif

@@ -712,12 +712,15 @@ void Viewer::draw_panel()
     ImGui::Checkbox("count height samples", &count_samples_);
     ImGui::SameLine();
     ImGui::Checkbox("continuous", &continuous_);
-    static const float scales[] = {1.0f, 0.75f, 0.5f, 0.25f};
-    static const char* scale_names[] = {"100%", "75%", "50%", "25%"};
-    int si = 0;
-    for (int i = 0; i < 4; ++i)
+    // The presets, and a --render-scale between them as a fifth entry (it showed as 100%).
+    float scales[] = {1.0f, 0.75f, 0.5f, 0.25f, render_scale_};
+    char other[16];
+    std::snprintf(other, sizeof other, "%.0f%%", 100.0 * double(render_scale_));
+    const char* scale_names[] = {"100%", "75%", "50%", "25%", other};
+    int si = 4;
+    for (int i = 3; i >= 0; --i)
         if (render_scale_ == scales[i]) si = i;
-    if (ImGui::Combo("render scale", &si, scale_names, 4)) render_scale_ = scales[si];
+    if (ImGui::Combo("render scale", &si, scale_names, si == 4 ? 5 : 4)) render_scale_ = scales[si];
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("Pixels the renderer draws, upscaled to the window");
 
     if (ImGui::CollapsingHeader("Technique", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -728,8 +731,9 @@ void Viewer::draw_panel()
             if (ImGui::SliderFloat("divider", &divider_, 0.0f, 1.0f, "%.2f")) dirty_ = true;
         }
         int steps = half_[0].steps, refine = half_[0].refine;
-        bool changed = ImGui::SliderInt("steps", &steps, 1, 256);
-        changed |= ImGui::SliderInt("refine", &refine, 0, 16);
+        // The command line's ranges (--steps 1000 showed past a 1-256 slider's end).
+        bool changed = ImGui::SliderInt("steps", &steps, 1, 1024, "%d", ImGuiSliderFlags_Logarithmic);
+        changed |= ImGui::SliderInt("refine", &refine, 0, 32);
         static const char* qualities[] = {"gather", "central", "sobel"};
         int q = int(half_[0].normal_quality);
         changed |= ImGui::Combo("normals", &q, qualities, 3);

@@ -11,6 +11,22 @@ if(TARGET pr_view)
            ARGS view --mesh ${M}/torus.obj --split pom,magic)
     pr_cli(view_bad_overlay EXIT 1 ONE_LINE STDERR "${E}--overlay: " ARGS view --mesh ${M}/torus.obj --overlay all)
     pr_cli(view_bad_divider EXIT 1 ONE_LINE STDERR "${E}--divider: " ARGS view --mesh ${M}/torus.obj --divider 2)
+    # The viewer's own numbers are checked as every command's: --frames "" read as 0 (interactive:
+    # a batch script never ended), "010" as octal, "0x3" as 3; a huge one was "Could not convert".
+    pr_cli(view_frames_empty EXIT 2 STDERR "usage: --frames: expected a whole number, got an empty value"
+           ARGS view --mesh ${M}/torus.obj --frames= --screenshot s.png NO_FILE s.png)
+    pr_cli(view_frames_hexadecimal EXIT 2 STDERR "usage: --frames: expected a decimal whole number, got '0x3'"
+           ARGS view --mesh ${M}/torus.obj --frames 0x3)
+    pr_cli(view_frames_huge EXIT 1 ONE_LINE STDERR "${E}--frames: must be between 0 and 1000000"
+           ARGS view --mesh ${M}/torus.obj --frames 99999999999)
+    pr_cli(view_divider_empty EXIT 2 STDERR "usage: --divider: expected a number, got an empty value"
+           ARGS view --mesh ${M}/torus.obj --split pom,prism --divider=)
+    pr_cli(view_render_scale_hexadecimal EXIT 2 STDERR "usage: --render-scale: expected a decimal number, got '0x1'"
+           ARGS view --mesh ${M}/torus.obj --render-scale 0x1)
+    # A dropped file is an input: the screenshot replaced it.
+    pr_cli(view_drop_is_an_input EXIT 1 ONE_LINE STDERR "${E}--screenshot: .*h.png is the --drop input: it would be overwritten"
+           ARGS view --mesh ${M}/torus.obj --drop h.png --screenshot h.png)
+    pr_cli(view_drop_empty EXIT 1 ONE_LINE STDERR "${E}--drop: empty file name" ARGS view --mesh ${M}/torus.obj --drop=)
     pr_cli(view_missing_mesh EXIT 1 ONE_LINE STDERR "${E}.*nonexistent.obj: " ARGS view --mesh nonexistent.obj)
     pr_cli(view_no_display EXIT 1 ONE_LINE STDERR "${E}view: cannot open a window" ENV DISPLAY= WAYLAND_DISPLAY=
            ARGS view --mesh ${M}/torus.obj --frames 1)
