@@ -55,6 +55,18 @@ void refuse_empty_file_names(const CLI::App& command)
     }
 }
 
+// A command that draws a scene and was given neither --mesh nor --scene: usage (exit 2), as a
+// missing --out is (it was exit 1, "--mesh: required", as if an input had been bad).
+bool scene_missing(const CLI::App& command)
+{
+    const CLI::Option* mesh = command.get_option_no_throw("--mesh");
+    const CLI::Option* scene = command.get_option_no_throw("--scene");
+    if (mesh == nullptr || scene == nullptr || mesh->count() > 0 || scene->count() > 0) return false;
+    std::fprintf(stderr, "prismrelief: usage: --mesh FILE or --scene FILE.json is required (see prismrelief %s --help)\n",
+                 command.get_name().c_str());
+    return true;
+}
+
 // What a command printed must have reached its destination: a table sent to a full disk
 // (`> /dev/full`) was lost with exit 0.
 int check_stdout()
@@ -140,6 +152,7 @@ int run_cli(int argc, char** argv)
         const std::vector<CLI::App*> all = app.get_subcommands({});
         for (std::size_t i = 0; i < all.size(); ++i) {
             if (!all[i]->parsed()) continue;
+            if (scene_missing(*all[i])) return kExitUsage;
             refuse_empty_file_names(*all[i]);
             const int status = actions[i]();
             return status == kExitOk ? check_stdout() : status;

@@ -340,6 +340,11 @@ pr_cli_special(conemap_json_empty_name BASH EXIT 1 ONE_LINE STDERR "${E}--json: 
 # "--depth=" with nothing after "=" took the next argument as its value ("Could not convert:
 # --depth = --size"); hexadecimal numbers were read (--depth 0x10 was 16); auto-framing's angles
 # were ignored with an eye given.
+# Neither --mesh nor --scene: usage, as a missing --out is (it was exit 1, "--mesh: required").
+pr_cli(render_without_a_scene EXIT 2 STDERR "^prismrelief: usage: --mesh FILE or --scene FILE.json is required \\(see prismrelief render --help\\)"
+       ARGS render --size 8x8 --out o.png NO_FILE o.png)
+pr_cli(bench_without_a_scene EXIT 2 STDERR "^prismrelief: usage: --mesh FILE or --scene FILE.json is required"
+       ARGS bench --size 8x8 --techniques pom)
 pr_cli(depth_equals_empty EXIT 2 STDERR "usage: --depth: expected a number, got an empty value" NO_FILE o.png
        ARGS render --mesh ${M}/cube.obj --depth= --size 8x8 --out o.png)
 pr_cli(out_equals_empty EXIT 1 ONE_LINE STDERR "${E}--out: empty file name"
