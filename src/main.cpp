@@ -2,8 +2,14 @@
 #include "core/atomic_file.hpp"
 #include "platform/context.hpp"
 
+#include <cstdlib>
+
 int main(int argc, char** argv)
 {
+    // An empty or relative XDG_CACHE_HOME is ignored (the XDG specification; the cone-map cache
+    // does): Mesa, reading the same variable for its shader cache, printed "Failed to create  for
+    // shader cache (No such file or directory)---disabling." on every run.
+    if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg != nullptr && xdg[0] != '/') unsetenv("XDG_CACHE_HOME");
     // Ctrl-C, kill, a closed terminal: the outputs and cache entries being written are removed.
     pr::remove_temporaries_on_signals();
     const int status = pr::run_cli(argc, argv);

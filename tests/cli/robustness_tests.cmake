@@ -340,6 +340,10 @@ pr_cli_special(conemap_json_empty_name BASH EXIT 1 ONE_LINE STDERR "${E}--json: 
 # "--depth=" with nothing after "=" took the next argument as its value ("Could not convert:
 # --depth = --size"); hexadecimal numbers were read (--depth 0x10 was 16); auto-framing's angles
 # were ignored with an eye given.
+# An empty XDG_CACHE_HOME is ignored, also for Mesa's shader cache, which said "Failed to create
+# for shader cache (No such file or directory)---disabling." on every run.
+pr_cli(empty_xdg_cache_home_is_quiet EXIT 0 STDERR "^$" ENV XDG_CACHE_HOME= EXPECT_FILE o.png
+       ARGS render --mesh ${M}/torus.obj --technique flat --size 8x8 --out o.png)
 # Neither --mesh nor --scene: usage, as a missing --out is (it was exit 1, "--mesh: required").
 pr_cli(render_without_a_scene EXIT 2 STDERR "^prismrelief: usage: --mesh FILE or --scene FILE.json is required \\(see prismrelief render --help\\)"
        ARGS render --size 8x8 --out o.png NO_FILE o.png)
