@@ -100,6 +100,10 @@ pr_cli(bad_backend EXIT 1 ONE_LINE STDERR "${E}--backend: " NO_FILE out.png
 pr_cli(no_gl_context EXIT 1 ONE_LINE STDERR "${E}--backend: osmesa: cannot load" NO_FILE out.png
        ENV PRISMRELIEF_OSMESA_LIBRARY=/nonexistent/libOSMesa.so
        ARGS render --mesh ${M}/cube.obj --out out.png)
+# Mesa's OSMesa crashed (SIGSEGV) when GALLIUM_DRIVER named a driver it does not draw with.
+pr_cli(osmesa_foreign_gallium_driver EXIT 1 ONE_LINE NO_FILE out.png ENV GALLIUM_DRIVER=nonexistent
+       STDERR "${E}--backend: osmesa: GALLIUM_DRIVER=nonexistent is not a driver OSMesa draws with"
+       ARGS render --mesh ${M}/cube.obj --size 8x8 --out out.png)
 pr_cli(out_folder_missing EXIT 1 ONE_LINE STDERR "${E}no/such/dir/out.png: " 
        ARGS render --mesh ${M}/cube.obj --size 32x32 --out no/such/dir/out.png)
 pr_cli(scene_bad_value EXIT 1 ONE_LINE STDERR "${E}.*bad_scene.json: objects\\[0\\].mesh: expected a string" NO_FILE out.png
