@@ -18,7 +18,8 @@ std::string shader_file(const std::string& path)
         const std::string file = std::string(dir) + "/" + path;
         std::error_code ec;
         if (!std::filesystem::exists(file, ec))
-            throw Error("shaders/" + path, "not found in PRISMRELIEF_SHADER_DIR=" + std::string(dir));
+            throw Error("shaders/" + path, "not found in the shader folder " + std::string(dir) +
+                                               " (--shader-dir or PRISMRELIEF_SHADER_DIR)");
         // (The input reader: a FIFO there without a writer is refused after 1 s, not waited on.)
         return read_input_text(file, InputLimit{16u << 20, "a shader", "not a shader"});
     }

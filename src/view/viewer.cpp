@@ -382,8 +382,9 @@ void Viewer::poll_cone_job(bool wait)
         ConeJob::Maps maps = job.maps.get();
         for (auto& [field, map] : maps) s_.renderer->provide_cone_map(field, std::move(map));
         char line[256];
-        std::snprintf(line, sizeof line, "built the %s in %.1f s (%d frames drawn with relief meanwhile)",
-                      job.what.c_str(), seconds_since(job.start), job.frames_meanwhile);
+        std::snprintf(line, sizeof line, "built the %s in %.1f s (%d frame%s drawn with relief meanwhile)",
+                      job.what.c_str(), seconds_since(job.start), job.frames_meanwhile,
+                      job.frames_meanwhile == 1 ? "" : "s");
         note(line);
         if (o_.frames > 0) std::printf("view: %s\n", line);
     } catch (const ConeBuildCancelled&) {

@@ -245,7 +245,7 @@ if(EGL_INCLUDE_DIR)
            NO_FILE o.png ENV PRISMRELIEF_EGL_LIBRARY=/nonexistent/libEGL.so
            ARGS render --mesh ${M}/cube.obj --backend egl --size 32x32 --out o.png)
 endif()
-pr_cli(shader_dir_missing EXIT 1 ONE_LINE STDERR "${E}shaders/.*: not found in PRISMRELIEF_SHADER_DIR=/nonexistent"
+pr_cli(shader_dir_missing EXIT 1 ONE_LINE STDERR "${E}shaders/.*: not found in the shader folder /nonexistent \\(--shader-dir or PRISMRELIEF_SHADER_DIR\\)"
        NO_FILE o.png ENV PRISMRELIEF_SHADER_DIR=/nonexistent
        ARGS render --mesh ${M}/cube.obj --size 32x32 --out o.png)
 
