@@ -62,7 +62,8 @@ bool scene_missing(const CLI::App& command)
     const CLI::Option* mesh = command.get_option_no_throw("--mesh");
     const CLI::Option* scene = command.get_option_no_throw("--scene");
     if (mesh == nullptr || scene == nullptr || mesh->count() > 0 || scene->count() > 0) return false;
-    std::fprintf(stderr, "prismrelief: usage: --mesh FILE or --scene FILE.json is required (see prismrelief %s --help)\n",
+    std::fprintf(stderr,
+                 "prismrelief: usage: --mesh FILE or --scene FILE.json is required (see prismrelief %s --help)\n",
                  command.get_name().c_str());
     return true;
 }

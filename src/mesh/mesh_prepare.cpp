@@ -91,9 +91,9 @@ double ring_area2(const std::vector<dvec2>& q, const std::vector<uint32_t>& r)
 // worst (a spiral strip of 4096 corners: 9 s): polygons of up to kEarClipCorners are clipped
 // while the corners that all of a mesh's polygons visit, in the ear tests and the search for
 // points they pass twice, add up to no more than MeshOptions::ear_clip_work (2^30, 1.2 s here;
-// a 4096-corner star takes 30-50 ms of it). What is left of a concave polygon past either limit becomes a fan, which
-// may cover area outside its outline; the caller warns. A strictly convex polygon is its fan, at
-// any size, and costs nothing. (Before the fifteenth session polygons of up to 64 corners were
+// a 4096-corner star takes 30-50 ms of it). What is left of a concave polygon past either limit
+// becomes a fan, which may cover area outside its outline; the caller warns. A strictly convex
+// polygon is its fan, at any size, and costs nothing. (Before the fifteenth session polygons of up to 64 corners were
 // clipped whatever they cost: up to 64^3 visits each, and the triangle limit lets a mesh hold
 // 160,000 of them, some 4·10^10 visits at worst.)
 constexpr size_t kEarClipCorners = 4096;

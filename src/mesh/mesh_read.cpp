@@ -186,7 +186,7 @@ struct Expect {
     std::vector<size_t> repeating_calls;
     std::vector<size_t> repeating_offsets{0};
     std::vector<std::uint32_t> repeating_corners;
-    // Binary OFF in another layout than OpenMesh's (binary_off_layout): the bytes from
+    // Binary OFF in another layout than OpenMesh's (binary_off_in_openmesh_layout): the bytes from
     // `off_binary_at` on, rewritten in OpenMesh's.
     string off_binary_body;
     size_t off_binary_at = 0;
@@ -331,7 +331,7 @@ public:
     {
         unsigned char b[4];
         std::memcpy(b, body_.data() + 4 * i, 4);
-        if (layout_.big_endian) return std::uint32_t(b[0]) << 24 | std::uint32_t(b[1]) << 16 | std::uint32_t(b[2]) << 8 | b[3];
+        if (layout_.big_endian) std::reverse(b, b + 4);
         return std::uint32_t(b[3]) << 24 | std::uint32_t(b[2]) << 16 | std::uint32_t(b[1]) << 8 | b[0];
     }
 

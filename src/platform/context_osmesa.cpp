@@ -96,8 +96,9 @@ public:
         // OSMesa draws with Mesa's software rasterizers; named any other driver, Mesa 22's
         // OSMesaCreateContextAttribs crashes (SIGSEGV: swr, zink, d3d12, virpipe, swrast, a
         // misspelling). softpipe has no OpenGL 4.5 and fails cleanly below.
-        if (const char* driver = std::getenv("GALLIUM_DRIVER");
-            driver != nullptr && *driver && std::strcmp(driver, "llvmpipe") != 0 && std::strcmp(driver, "softpipe") != 0)
+        const char* driver = std::getenv("GALLIUM_DRIVER");
+        if (driver != nullptr && *driver && std::strcmp(driver, "llvmpipe") != 0 &&
+            std::strcmp(driver, "softpipe") != 0)
             throw Error("--backend", std::string("osmesa: GALLIUM_DRIVER=") + driver +
                                          " is not a driver OSMesa draws with (llvmpipe; Mesa crashes with others): "
                                          "unset it, or use --backend egl");
