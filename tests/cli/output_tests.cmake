@@ -162,6 +162,44 @@ if [ "$status" != "$expected" ]; then echo "exit status $status, expected $expec
 if [ -n "$left" ]; then echo "temporary left behind: $left"; exit 1; fi
 echo "died of SIG$sig, no temporary left"
 ]])
+# A signal while two outputs are committed together (strace holds the first rename for 4 s): it
+# waits until both are renamed, then the process dies of it; both outputs are the new ones, never
+# one new and one old (commit_together). Checked by hand before the fifteenth session.
+file(WRITE ${pr_output_helpers}/commit_deferral.sh [[
+# usage: commit_deferral.sh EXE WORKDIR
+exe=$1 work=$2
+rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
+strace -f -qq -o /dev/null true 2>/dev/null || { echo "SKIPPED: strace cannot trace here"; exit 77; }
+"$exe" conemap --height builtin:bumps@64 --out r.png --json r.json --no-cache > /dev/null || exit 1
+old=$(cat r.png r.json | cksum)
+strace -f -qq -o /dev/null -e trace=rename,renameat,renameat2 \
+    -e inject=rename,renameat,renameat2:delay_enter=4000000:when=1 \
+    sh -c 'echo $$ > pid && exec "$0" "$@"' "$exe" conemap --height builtin:noise@64 --out r.png --json r.json \
+    --no-cache > /dev/null &
+tracer=$!
+tries=0
+until [ "$(ls -A | grep -c '\.tmp[0-9]*$')" = 2 ]; do
+    tries=$((tries + 1))
+    if [ $tries -gt 1200 ]; then echo "the two temporaries did not appear"; kill "$(cat pid)"; exit 1; fi
+    sleep 0.05
+done
+sleep 1 # within the first rename's delay
+kill -s TERM "$(cat pid)"
+wait $tracer
+status=$?
+if [ "$status" != 143 ]; then echo "exit status $status, expected 143"; exit 1; fi
+if [ -n "$(ls -A | grep '\.tmp')" ]; then echo "temporary left behind"; exit 1; fi
+"$exe" conemap --height builtin:noise@64 --out n.png --json n.json --no-cache > /dev/null || exit 1
+if [ "$(cat r.png r.json | cksum)" = "$old" ]; then echo "both outputs are the old ones"; exit 1; fi
+cmp -s r.png n.png || { echo "r.png is not the new map"; exit 1; }
+sed -e 's/"n.png"/"r.png"/' -e '/"ms":/d' n.json > n.cmp && sed '/"ms":/d' r.json | cmp -s - n.cmp ||
+    { echo "r.json is not the new report"; diff n.cmp r.json; exit 1; }
+echo "both outputs new, died of SIGTERM after the commit"
+]])
+add_test(NAME cli.signal_during_commit_together_waits_for_both
+         COMMAND sh ${pr_output_helpers}/commit_deferral.sh $<TARGET_FILE:prismrelief> ${PR_CLI_WORK}/commit_deferral)
+set_tests_properties(cli.signal_during_commit_together_waits_for_both PROPERTIES LABELS "cli" TIMEOUT 180 SKIP_RETURN_CODE 77)
+
 foreach(case "output_folder;TERM;143;.;--no-cache" "cache_folder;HUP;129;c/cone;--cache-dir;c")
     list(POP_FRONT case where sig status folder)
     add_test(NAME cli.signal_removes_temporary_in_${where}
