@@ -46,7 +46,8 @@ std::string usage_message(CLI::App& app, const CLI::ParseError& e, int argc, cha
 void refuse_empty_file_names(const CLI::App& command)
 {
     static constexpr const char* kFileOptions[] = {"--out", "--json", "--scene", "--mesh", "--height",
-                                                   "--color", "--cache-dir", "--shader-dir", "--drop"};
+                                                   "--color", "--cache-dir", "--shader-dir", "--drop",
+                                                   "--tiles"};
     for (const char* name : kFileOptions) {
         const CLI::Option* option = command.get_option_no_throw(name);
         if (option == nullptr || option->count() == 0) continue;

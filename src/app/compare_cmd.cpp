@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <optional>
 
@@ -44,6 +45,7 @@ CommandAction add_compare_command(CLI::App& app)
         TechniqueOptions quality;
         std::string out;
         std::string json;
+        std::string tiles;
     };
     auto s = std::make_shared<State>();
     s->quality.techniques = "flat,pom,relief";
@@ -54,6 +56,10 @@ CommandAction add_compare_command(CLI::App& app)
     cmd->add_option("--out", s->out, "Grid PNG: each technique, and its silhouette difference to the reference")
         ->group("Output");
     cmd->add_option("--json", s->json, "JSON report (see docs/compare.md)")->group("Output");
+    cmd->add_option("--tiles", s->tiles,
+                    "Existing folder for each image alone, as render writes it (RGBA, alpha = coverage): "
+                    "reference.png and one per technique, named as in the list with ':' as '_'")
+        ->group("Output");
     cmd->footer("Silhouette-difference tiles: magenta = covered only by the technique, cyan = only by the\n"
                 "reference. Metrics are the contract's (docs/compare.md).");
 
@@ -62,7 +68,26 @@ CommandAction add_compare_command(CLI::App& app)
         const ReferenceOptions ref_options = make_reference_options(s->quality);
         if (!s->out.empty()) check_png_output(s->out);
         if (!s->json.empty()) check_output_folder(s->json);
-        Session session = open_session(s->scene, {{"--out", s->out}, {"--json", s->json}});
+        std::vector<NamedPath> outputs = {{"--out", s->out}, {"--json", s->json}};
+        // Each image alone (the grid's tiles sit over a checker, with labels): tile_files[0] is
+        // the reference's, then one per listed technique other than the reference itself.
+        std::vector<std::filesystem::path> tile_files;
+        if (!s->tiles.empty()) {
+            std::error_code ec;
+            if (!std::filesystem::is_directory(s->tiles, ec))
+                throw Error("--tiles", s->tiles + (std::filesystem::exists(s->tiles, ec) ? " is not a folder"
+                                                                                           : " does not exist"));
+            const auto tile = [&](std::string name) {
+                std::replace(name.begin(), name.end(), ':', '_');
+                tile_files.push_back(std::filesystem::path(s->tiles) / (name + ".png"));
+                check_png_output(tile_files.back());
+                outputs.emplace_back("--tiles", tile_files.back());
+            };
+            tile("reference");
+            for (const TechniqueRun& run : runs)
+                if (run.settings.technique != Technique::Reference) tile(run.label);
+        }
+        Session session = open_session(s->scene, outputs);
         for (const TechniqueRun& run : runs) session.renderer->check_drawable(run.settings);
 
         const auto ref_stats = session.renderer->prepare_reference(session.scene, session.camera, ref_options);
@@ -71,6 +96,7 @@ CommandAction add_compare_command(CLI::App& app)
         const FrameCapture reference = capture(session, ref_settings, ref_ms);
 
         std::vector<Tile> top = {{"reference", reference.color}};
+        std::vector<std::size_t> tile_images = {0}; // their images in `top`, in tile_files' order
         std::vector<Tile> bottom = {{"silhouette diff", RgbaImage{}}};
         bottom[0].image = reference.color;
         for (auto& p : bottom[0].image.pixels) p = 0; // an empty tile under the reference: legend only
@@ -112,6 +138,7 @@ CommandAction add_compare_command(CLI::App& app)
             // too long (on one line, at 128 px the IoU of "prism:max-mip" read "IoU 0"; with the
             // number first, at 256 px "prism:relaxed-cone" read "prism:re").
             top.push_back({run.label + "\nIoU " + fixed(m.iou, 4), frame.color});
+            if (run.settings.technique != Technique::Reference) tile_images.push_back(top.size() - 1);
             bottom.push_back({std::to_string(m.silhouette_wrong_px) + " px wrong",
                               silhouette_diff_tile(frame.color, reference.color)});
         }
@@ -140,9 +167,16 @@ CommandAction add_compare_command(CLI::App& app)
             grid.emplace(s->out, encode_png_for(s->out, compose_grid(tiles, static_cast<int>(top.size()))));
         }
         if (!s->json.empty()) json.emplace(s->json, report.dump(2) + "\n");
-        commit_together({grid ? &*grid : nullptr, json ? &*json : nullptr});
+        std::vector<std::unique_ptr<StagedFile>> tiles;
+        for (std::size_t i = 0; i < tile_files.size(); ++i)
+            tiles.push_back(
+                std::make_unique<StagedFile>(tile_files[i], encode_png_for(tile_files[i], top[tile_images[i]].image)));
+        std::vector<StagedFile*> staged = {grid ? &*grid : nullptr, json ? &*json : nullptr};
+        for (const auto& t : tiles) staged.push_back(t.get());
+        commit_together(staged);
         if (!s->out.empty()) std::printf("wrote %s\n", s->out.c_str());
         if (!s->json.empty()) std::printf("wrote %s\n", s->json.c_str());
+        if (!tile_files.empty()) std::printf("wrote %zu tiles in %s\n", tile_files.size(), s->tiles.c_str());
         return kExitOk;
     };
 }

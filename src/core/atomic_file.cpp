@@ -35,9 +35,10 @@ struct TempSlot {
     char path[PATH_MAX];
 };
 static_assert(std::atomic<int>::is_always_lock_free, "the signal handler reads the slots' states");
-// Far more than a run stages at once (two outputs, a cache entry, the viewer's map thread). A
-// temporary that finds no free slot is still written, only not removed by a signal.
-constexpr int kTempSlots = 32;
+// Far more than a run stages at once (two outputs and compare's tiles, a cache entry, the
+// viewer's map thread). A temporary that finds no free slot is still written, only not removed
+// by a signal.
+constexpr int kTempSlots = 256;
 TempSlot g_temps[kTempSlots];
 
 int register_temporary(const fs::path& tmp)
@@ -280,7 +281,7 @@ void StagedFile::commit()
     if (!renamed) throw Error(path_.string(), std::string("cannot write: ") + std::strerror(err));
 }
 
-void commit_together(std::initializer_list<StagedFile*> files)
+void commit_together(std::span<StagedFile* const> files)
 {
     // The signals remove_temporaries_on_signals() handles, held back between the renames: blocked
     // on this thread, deferred by the handler on any other (g_committing).

@@ -53,7 +53,11 @@ private:
 // renamed: a SIGTERM between two renames left a new grid beside an old report. Both outputs or
 // neither (a failure of one rename still leaves those before it renamed: a rename fails only where
 // the folder changed under the run).
-void commit_together(std::initializer_list<StagedFile*> files);
+void commit_together(std::span<StagedFile* const> files);
+inline void commit_together(std::initializer_list<StagedFile*> files)
+{
+    commit_together(std::span<StagedFile* const>(files.begin(), files.size()));
+}
 
 // Fails early (before long work) when `path` could not be written: its folder is missing or not
 // writable, it names a folder, or it exists and is not a regular file (a device, a FIFO, a

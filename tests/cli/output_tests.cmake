@@ -127,6 +127,20 @@ pr_output_cli(compare_json_over_scene_mesh EXIT 1 ONE_LINE KEEP_FILE m.obj
        SETUP "mkdir sub && cp ${pr_output_helpers}/mesh.json sub/s.json"
        ARGS compare --scene sub/s.json --techniques pom --size 32x32 --json m.obj)
 
+# compare --tiles: each image alone, as render writes it (byte for byte), named as listed with ':'
+# as '_'; tiles are outputs like the others (not over an input, the folder must exist).
+set(pr_tile_scene --mesh ${M}/torus.obj --height builtin:bumps@64 --size 48x40)
+string(REPLACE ";" " " pr_tile_scene_words "${pr_tile_scene}")
+pr_output_cli(compare_tiles_are_renders EXIT 0 SETUP "mkdir t"
+       AFTER "R='$<TARGET_FILE:prismrelief> render ${pr_tile_scene_words} --out r.png' && test $(ls t | wc -l) = 3 && $R --technique reference && cmp r.png t/reference.png && $R --technique pom && cmp r.png t/pom.png && $R --technique prism --marcher cone --prism-exit exact && cmp r.png t/prism_cone_exact.png"
+       ARGS compare ${pr_tile_scene} --techniques pom,prism:cone:exact,reference --tiles t)
+pr_output_cli(compare_tiles_folder_missing EXIT 1 ONE_LINE NO_FILE g.png STDERR "${E}--tiles: t does not exist"
+       ARGS compare ${pr_tile_scene} --techniques pom --tiles t --out g.png)
+pr_output_cli(compare_tiles_over_an_input EXIT 1 ONE_LINE KEEP_FILE t/pom.png
+       STDERR "${E}--tiles: t/pom.png is the --height input: it would be overwritten"
+       SETUP "mkdir t && $<TARGET_FILE:prismrelief> conemap --height builtin:bumps@16 --no-cache --out t/pom.png"
+       ARGS compare --mesh ${M}/torus.obj --height t/pom.png --size 32x32 --techniques pom --tiles t)
+
 # Without an absolute XDG_CACHE_HOME or HOME there is no cache (there was a shared one in /tmp):
 # maps are built, with one warning that says how to keep them. TMPDIR plays no part (TMPDIR=/nonexistent
 # failed with "filesystem error: temp_directory_path: No such file or directory").
