@@ -182,11 +182,6 @@ layout(binding = PR_IMAGE_TEARS, r32ui) uniform uimage2D u_tears;
 layout(binding = PR_IMAGE_TEAR_TILES, r32ui) uniform uimage2D u_tear_tiles;
 #endif
 
-// A ray that crosses more prisms than this without a hit is dropped (it runs almost parallel to
-// a very finely tessellated surface); docs/prism.md.
-#ifndef PR_WALK_MAX_PRISMS
-#define PR_WALK_MAX_PRISMS 256
-#endif
 
 void load_walk_prism(uint prim, out uint index[3], out uint weld[3], out bool from_a[3])
 {
@@ -319,7 +314,10 @@ void main()
     tex_in = u_eye_tex.xyz;
     tex_out = tex_in;
 #endif
-    for (int k = 0; k < PR_WALK_MAX_PRISMS; ++k) {
+    // A ray that crosses more prisms than u_walk.x without a hit is dropped: it runs almost
+    // parallel to a very finely tessellated surface (docs/prism.md). The renderer allows 256
+    // and twice the most prisms around one vertex, which a ray passing the vertex may cross.
+    for (int k = 0; k < u_walk.x; ++k) {
         load_walk_prism(prim, index, weld, from_a);
         if (entry_edge >= 0) {
             tex_in = entry_point(entry_edge, entry_along, tex_out.z);

@@ -101,6 +101,7 @@ PR_UNIFORM_BLOCK(ObjectBlock, PR_UBO_OBJECT)
     vec4 u_material;      // ambient, diffuse, specular, shininess
     vec4 u_base_color;    // albedo when there is no colour texture (rgb), a unused
     vec4 u_eye_tex;       // xyz: the eye in that prism's texture space (u, v, height); w unused
+    ivec4 u_walk;         // x: the most prisms a walk crosses before it gives up; yzw unused
 };
 
 #ifdef __cplusplus

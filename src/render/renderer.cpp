@@ -672,6 +672,10 @@ void Renderer::ensure_walk_data()
             o.listed[full] = gl::immutable_buffer(triangles.listed[full]);
             o.listed_count[full] = GLsizei(triangles.listed[full].size());
         }
+        std::vector<std::uint32_t> around(welded_position_count(vertices), 0);
+        for (const std::uint32_t i : indices) ++around[vertices[i].weld_id];
+        const std::uint32_t most = around.empty() ? 0 : *std::max_element(around.begin(), around.end());
+        o.walk_max_prisms = int(std::min<std::uint64_t>(256 + 2 * std::uint64_t(most), 1u << 30));
         o.eye_blocks = prism_blocks(corners, indices, o.depth);
         o.triangles = std::move(indices);
         o.shell_corners = std::move(corners);
@@ -736,6 +740,7 @@ void Renderer::upload_object(const GpuObject& o, const DrawSettings& settings, f
     ob.u_march = glm::ivec4(settings.steps, settings.refine, eye ? int(eye->prism) : -1,
                             (o.color_texture ? PR_FLAG_COLOR_TEXTURE : 0) | (o.open_shell ? PR_FLAG_OPEN_SHELL : 0));
     ob.u_eye_tex = eye ? glm::vec4(eye->tex, 0.0f) : glm::vec4(0.0f);
+    ob.u_walk = glm::ivec4(o.walk_max_prisms, 0, 0, 0);
     ob.u_material = glm::vec4(0.12f, 0.88f, 0.18f, 48.0f);
     ob.u_base_color = glm::vec4(o.base_color, 1.0f);
     glNamedBufferSubData(object_ubo_.id(), 0, sizeof(ob), &ob);
