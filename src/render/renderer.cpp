@@ -829,14 +829,15 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
     const bool prism = settings.technique == Technique::Prism;
     // A shell of (nearly) no thickness (--depth 0): the displaced surface is the base mesh, which
-    // the flat program draws as the prism would shade it (no bump, no shadow at depth 0). Walked,
+    // the reference's program draws as the reference shades it (smooth welded normals; no bump,
+    // no shadow at depth 0; the flat program's face normals were 21 dB away on the cube). Walked,
     // its prisms' faces all meet at one place and some rays were lost (the rock at depth 0: 13
     // pinholes at 256x192); the exact exit drew black (prism.frag: `thin`).
     const auto flat_shell = [&](const GpuObject& o) {
         return prism && double(displacement_reach(o.depth, o.midlevel)) <= 1e-6 * double(o.shell_radius);
     };
     DrawSettings flat_settings = settings;
-    flat_settings.technique = Technique::Flat;
+    flat_settings.technique = Technique::Reference;
     flat_settings.shadows = Shadows::None;
     flat_settings.depth_write = false;
     const auto set_object = [&](const GpuObject& o, const EyeInShell* eye = nullptr) {
