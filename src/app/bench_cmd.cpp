@@ -141,7 +141,7 @@ CommandAction add_bench_command(CLI::App& app)
                                            {"renderer", session.context->description()},
                                            {"steps", s->quality.steps},
                                            {"refine", s->quality.refine}};
-            write_file_atomic(s->json, report.dump(2) + "\n");
+            write_file_atomic(s->json, report_text(report));
             std::printf("wrote %s\n", s->json.c_str());
         }
         return kExitOk;

@@ -33,6 +33,14 @@ inline nlohmann::json prism_configuration(const DrawSettings& s)
             {"prism_shell", s.full_shell || s.prism_exit != PrismExit::Walk ? "full" : "tight"}}; // (other exits: full)
 }
 
+// A report's text. File names are bytes, not always UTF-8, and JSON strings must be: a byte that
+// is not UTF-8 becomes U+FFFD (nlohmann threw "invalid UTF-8 byte", after the work, and nothing
+// was written: `conemap --height $'n\xff.png' --json r.json`).
+inline std::string report_text(const nlohmann::json& report)
+{
+    return report.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+}
+
 // A number in a table: `digits` after the point.
 inline std::string fixed(double v, int digits)
 {

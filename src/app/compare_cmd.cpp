@@ -166,7 +166,7 @@ CommandAction add_compare_command(CLI::App& app)
             tiles.insert(tiles.end(), bottom.begin(), bottom.end());
             grid.emplace(s->out, encode_png_for(s->out, compose_grid(tiles, static_cast<int>(top.size()))));
         }
-        if (!s->json.empty()) json.emplace(s->json, report.dump(2) + "\n");
+        if (!s->json.empty()) json.emplace(s->json, report_text(report));
         std::vector<std::unique_ptr<StagedFile>> tiles;
         for (std::size_t i = 0; i < tile_files.size(); ++i)
             tiles.push_back(

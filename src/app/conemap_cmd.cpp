@@ -137,7 +137,7 @@ CommandAction add_conemap_command(CLI::App& app)
                                            {"ratio_min", lo},
                                            {"ratio_mean", mean},
                                            {"ratio_max", hi}};
-            json.emplace(s->json, report.dump(2) + "\n");
+            json.emplace(s->json, report_text(report));
         }
         StagedFile png(s->out, encode_cone_png(s->out, result.map, options.format));
         commit_together({&png, json ? &*json : nullptr});

@@ -344,6 +344,11 @@ pr_cli_special(conemap_json_empty_name BASH EXIT 1 ONE_LINE STDERR "${E}--json: 
 # for shader cache (No such file or directory)---disabling." on every run.
 pr_cli(empty_xdg_cache_home_is_quiet EXIT 0 STDERR "^$" ENV XDG_CACHE_HOME= EXPECT_FILE o.png
        ARGS render --mesh ${M}/torus.obj --technique flat --size 8x8 --out o.png)
+# A file name that is not UTF-8 goes into a JSON report as U+FFFD: nlohmann threw "invalid UTF-8
+# byte" after the work, exit 1, and nothing was written.
+pr_cli_special(conemap_json_non_utf8_name BASH EXIT 0 EXPECT_FILE q.json
+               SETUP "$<TARGET_FILE:prismrelief> conemap --height builtin:bumps@16 --no-cache --out h.png > /dev/null && cp h.png $(printf 'n\\377.png')"
+               ARGS conemap --height "$'n\\377.png'" --no-cache --out q.png --json q.json)
 # Neither --mesh nor --scene: usage, as a missing --out is (it was exit 1, "--mesh: required").
 pr_cli(render_without_a_scene EXIT 2 STDERR "^prismrelief: usage: --mesh FILE or --scene FILE.json is required \\(see prismrelief render --help\\)"
        ARGS render --size 8x8 --out o.png NO_FILE o.png)
