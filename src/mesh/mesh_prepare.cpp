@@ -620,6 +620,123 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     const dvec3 centre = 0.5 * (lo + hi);
     const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
 
+    // ---- faces wound against their neighbours, turned to agree ---------------------------------
+    // An edge that two triangles run the same way joins faces of opposite orientation: their
+    // welded normals cancel there and the shell folds (the walk lost whole triangles: two quads,
+    // one reversed, IoU 0.63). Across the edges of exactly two triangles, each connected piece is
+    // oriented one way, the way most of its area already winds; a piece that cannot be (a
+    // Moebius strip) keeps its winding. Edges of three or more triangles are not crossed.
+    // Edge keys pack two 31-bit weld ids and a direction bit into 64 bits, sorted (here and for
+    // the topology remarks below).
+    const auto sorted_edge_keys = [&] {
+        std::vector<uint64_t> keys;
+        keys.reserve(tris.size() * 3);
+        for (const Triangle& t : tris) {
+            for (int k = 0; k < 3; ++k) {
+                const uint64_t a = tri_weld(t, k), b = tri_weld(t, (k + 1) % 3);
+                keys.push_back((std::min(a, b) << 32 | std::max(a, b)) << 1 | (a < b ? 0u : 1u));
+            }
+        }
+        std::sort(keys.begin(), keys.end());
+        return keys;
+    };
+    std::vector<uint64_t> edges;
+    bool any_against = false; // an edge two triangles run the same way
+    if (weld_count < (size_t(1) << 31)) {
+        edges = sorted_edge_keys();
+        for (size_t i = 0; i + 1 < edges.size() && !any_against; ++i)
+            any_against = edges[i] == edges[i + 1] && (i + 2 == edges.size() || (edges[i + 2] >> 1) != (edges[i] >> 1)) &&
+                          (i == 0 || (edges[i - 1] >> 1) != (edges[i] >> 1));
+    }
+    if (any_against) {
+        struct Side {
+            uint64_t key; // lower weld id, upper weld id, direction bit
+            uint32_t tri;
+        };
+        std::vector<Side> sides;
+        sides.reserve(tris.size() * 3);
+        for (size_t i = 0; i < tris.size(); ++i)
+            for (int k = 0; k < 3; ++k) {
+                const uint64_t a = tri_weld(tris[i], k), b = tri_weld(tris[i], (k + 1) % 3);
+                if (a == b) continue;
+                sides.push_back({(std::min(a, b) << 32 | std::max(a, b)) << 1 | (a < b ? 0u : 1u), uint32_t(i)});
+            }
+        std::sort(sides.begin(), sides.end(), [](const Side& x, const Side& y) { return x.key < y.key; });
+        // Per triangle, up to three neighbours across edges of two triangles: (neighbour << 1) |
+        // whether the two run that edge the same way (one of them must turn).
+        std::vector<uint64_t> across(tris.size() * 3, ~uint64_t(0));
+        std::vector<uint8_t> count(tris.size(), 0);
+        for (size_t i = 0; i < sides.size();) {
+            size_t j = i;
+            while (j < sides.size() && (sides[j].key >> 1) == (sides[i].key >> 1)) ++j;
+            if (j - i == 2 && sides[i].tri != sides[i + 1].tri) {
+                const uint32_t x = sides[i].tri, y = sides[i + 1].tri;
+                const uint64_t same = (sides[i].key & 1u) == (sides[i + 1].key & 1u);
+                if (count[x] < 3) across[3 * x + count[x]++] = uint64_t(y) << 1 | same;
+                if (count[y] < 3) across[3 * y + count[y]++] = uint64_t(x) << 1 | same;
+            }
+            i = j;
+        }
+        sides = {};
+        {
+            std::vector<int8_t> turn(tris.size(), -1); // -1: not reached; 0 keep, 1 turn
+            std::vector<uint32_t> piece, stack;
+            std::vector<uint8_t> turned_face(face_count, 0);
+            size_t turned_faces = 0, pieces_left = 0;
+            const auto area = [&](const Triangle& t) {
+                const dvec3 &a = wpos[tri_weld(t, 0)], &b = wpos[tri_weld(t, 1)], &c = wpos[tri_weld(t, 2)];
+                return glm::length(glm::cross(b - a, c - a));
+            };
+            for (size_t seed = 0; seed < tris.size(); ++seed) {
+                if (turn[seed] >= 0) continue;
+                piece.clear();
+                turn[seed] = 0;
+                stack.assign(1, uint32_t(seed));
+                bool orientable = true, disagrees = false;
+                while (!stack.empty()) {
+                    const uint32_t t = stack.back();
+                    stack.pop_back();
+                    piece.push_back(t);
+                    for (int k = 0; k < count[t]; ++k) {
+                        const uint32_t n = uint32_t(across[3 * t + k] >> 1);
+                        const int8_t want = int8_t(turn[t] ^ int8_t(across[3 * t + k] & 1u));
+                        disagrees = disagrees || (across[3 * t + k] & 1u) != 0;
+                        if (turn[n] < 0) {
+                            turn[n] = want;
+                            stack.push_back(n);
+                        } else if (turn[n] != want) {
+                            orientable = false;
+                        }
+                    }
+                }
+                if (!disagrees) continue;
+                if (!orientable) {
+                    ++pieces_left;
+                    for (uint32_t t : piece) turn[t] = 0;
+                    continue;
+                }
+                double kept = 0.0, turned = 0.0;
+                for (uint32_t t : piece) (turn[t] ? turned : kept) += area(tris[t]);
+                const int8_t flip = turned > kept ? 1 : 0; // most of the area keeps its winding
+                for (uint32_t t : piece) {
+                    turn[t] = int8_t(turn[t] ^ flip);
+                    if (!turn[t]) continue;
+                    std::swap(tris[t].corner[1], tris[t].corner[2]);
+                    if (!turned_face[tris[t].face]) ++turned_faces;
+                    turned_face[tris[t].face] = 1;
+                }
+            }
+            if (turned_faces > 0) edges = sorted_edge_keys(); // (for the remarks below)
+            if (turned_faces > 0)
+                warn(name + ": " + std::to_string(turned_faces) + " face" + (turned_faces == 1 ? "" : "s") +
+                     " wound against " + (turned_faces == 1 ? "its" : "their") +
+                     " neighbours (the welded normals cancel there) turned to wind as most of the surface around");
+            if (pieces_left > 0)
+                warn(name + ": " + std::to_string(pieces_left) + " piece" + (pieces_left == 1 ? "" : "s") +
+                     " cannot be wound one way (a Moebius strip?): kept as in the file");
+        }
+    }
+
     // ---- angle-weighted welded normals ---------------------------------------------------------
     // Triangles so thin that float rounding of their corners decides their normal are left out
     // of the angle-weighted sum (their obtuse corner would weigh almost pi); the plain sum of
@@ -683,18 +800,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
              "first face around each");
 
     // ---- topology remarks: non-manifold edges and inconsistent orientation ---------------------
-    // Edge keys pack two 31-bit weld ids and a direction bit into 64 bits.
     if (weld_count < (size_t(1) << 31)) {
-        std::vector<uint64_t> edges;
-        edges.reserve(tris.size() * 3);
-        for (const Triangle& t : tris) {
-            for (int k = 0; k < 3; ++k) {
-                const uint64_t a = tri_weld(t, k), b = tri_weld(t, (k + 1) % 3);
-                const uint64_t lo_id = std::min(a, b), hi_id = std::max(a, b);
-                edges.push_back((lo_id << 32 | hi_id) << 1 | (a < b ? 0u : 1u));
-            }
-        }
-        std::sort(edges.begin(), edges.end());
         // unbalanced: edges run more often one way than the other (every edge of a closed,
         // consistently oriented surface runs once each way per pair of faces on it).
         size_t non_manifold = 0, flipped = 0, boundary = 0, unbalanced = 0;

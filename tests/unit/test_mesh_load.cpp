@@ -695,10 +695,66 @@ TEST(MeshLoad, WarnsAboutInconsistentOrientationAndGeneratedUvs)
     const pr::PreparedMesh m = pr::load_mesh(
         dir.write("flip.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 -1 0\nf 1 2 3\nf 1 2 4\n"));
     const std::string warnings = ::testing::internal::GetCapturedStderr();
-    EXPECT_NE(warnings.find("opposite orientation"), std::string::npos) << warnings;
+    EXPECT_NE(warnings.find("1 face wound against its neighbours (the welded normals cancel there) turned to "
+                            "wind as most of the surface around"),
+              std::string::npos)
+        << warnings;
     EXPECT_NE(warnings.find("generated box-projected UVs"), std::string::npos) << warnings;
     EXPECT_EQ(warnings.find("prismrelief: warning: " + (dir.path() / "flip.obj").string()), 0u);
     expect_sane(m);
+    // Turned: both now face one way, and the welded normals agree with them.
+    EXPECT_GT(face_normal(m, 0).z * face_normal(m, 1).z, 0.0f);
+    for (const pr::MeshVertex& v : m.vertices) EXPECT_NEAR(std::abs(v.normal.z), 1.0f, 1e-6f);
+}
+
+// Faces wound against their neighbours are turned, piece by piece, to the winding of most of the
+// piece's area (a grid with every third quad reversed drew its welded normals cancelling, and the
+// walk lost whole triangles: IoU 0.78); a piece that cannot be wound one way keeps its winding.
+TEST(MeshLoad, FacesWoundAgainstTheirNeighboursAreTurned)
+{
+    TempDir dir;
+    std::string grid;
+    const int n = 6;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) grid += "v " + std::to_string(i) + " 0 " + std::to_string(-j) + "\n";
+    int reversed = 0;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const int a = j * (n + 1) + i + 1, b = a + 1, c = a + n + 2, d = a + n + 1;
+            const bool flip = (j * n + i) % 3 == 0;
+            reversed += flip;
+            grid += flip ? "f " + std::to_string(a) + " " + std::to_string(d) + " " + std::to_string(c) + " " + std::to_string(b) + "\n"
+                         : "f " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(c) + " " + std::to_string(d) + "\n";
+        }
+    ::testing::internal::CaptureStderr();
+    const pr::PreparedMesh m = pr::load_mesh(dir.write("grid.obj", grid));
+    const std::string said = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(said.find(std::to_string(reversed) + " faces wound against their neighbours"), std::string::npos) << said;
+    for (std::size_t t = 0; t < m.triangle_count(); ++t) EXPECT_GT(face_normal(m, t).y, 0.0f) << t;
+    for (const pr::MeshVertex& v : m.vertices) EXPECT_NEAR(v.normal.y, 1.0f, 1e-6f);
+
+    // A Moebius strip of 12 quads: no winding suits every face; kept as in the file.
+    std::string strip;
+    const int q = 12;
+    for (int k = 0; k < q; ++k)
+        for (const int side : {-1, 1}) {
+            const double a = 2.0 * 3.14159265358979 * k / q, w = 0.3 * side;
+            const double r = 1.0 + w * std::cos(a / 2);
+            strip += "v " + std::to_string(r * std::cos(a)) + " " + std::to_string(w * std::sin(a / 2)) + " " +
+                     std::to_string(r * std::sin(a)) + "\n";
+        }
+    for (int k = 0; k < q; ++k) {
+        const int a0 = 2 * k + 1, a1 = 2 * k + 2;
+        // The last quad joins the strip's ends with the sides exchanged (the half twist).
+        const int b0 = k + 1 < q ? 2 * k + 3 : 2, b1 = k + 1 < q ? 2 * k + 4 : 1;
+        strip += "f " + std::to_string(a0) + " " + std::to_string(b0) + " " + std::to_string(b1) + " " + std::to_string(a1) + "\n";
+    }
+    ::testing::internal::CaptureStderr();
+    pr::load_mesh(dir.write("moebius.obj", strip));
+    const std::string said_strip = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(said_strip.find("1 piece cannot be wound one way (a Moebius strip?): kept as in the file"),
+              std::string::npos)
+        << said_strip;
 }
 
 // A closed tetrahedron wound clockwise seen from outside (negative volume): reversed with a
