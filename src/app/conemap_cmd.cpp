@@ -129,7 +129,9 @@ CommandAction add_conemap_command(CLI::App& app)
                                            {"backend", s->backend},
                                            {"device", result.from_cache ? std::string("cache") : device},
                                            {"from_cache", result.from_cache},
-                                           {"cache_entry", s->no_cache ? std::string() : result.entry.string()},
+                                           // null without a cache (--no-cache, or no cache location), as search_ms is without a GPU
+                                           {"cache_entry", s->no_cache || result.entry.empty() ? nlohmann::json()
+                                                                                              : nlohmann::json(result.entry.string())},
                                            {"ms", ms},
                                            // GPU only: the dispatches and read-back, without creating
                                            // the context, uploading and compiling; null otherwise.

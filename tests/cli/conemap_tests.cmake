@@ -2,7 +2,7 @@
 # (Included by tests/CMakeLists.txt after cli_tests.cmake, which defines pr_cli, E and BAD.)
 set(CM "^prismrelief: error: ")
 pr_cli(conemap_cone EXIT 0 EXPECT_FILE c.png STDOUT "c.png: 64x64 cone rg16, built \\(cpu.*ratio min [0-9.]+ mean"
-       JSON c.json CHECKS "width:EQUAL:64|kind:STREQUAL:cone|format:STREQUAL:rg16|from_cache:STREQUAL:OFF|ratio_min:GREATER:0|ratio_max:LESS_EQUAL:1"
+       JSON c.json CHECKS "width:EQUAL:64|kind:STREQUAL:cone|format:STREQUAL:rg16|from_cache:STREQUAL:OFF|ratio_min:GREATER:0|ratio_max:LESS_EQUAL:1|cache_entry:TYPE:NULL"
        ARGS conemap --height builtin:bumps@64 --out c.png --no-cache --json c.json)
 pr_cli(conemap_relaxed_rg8 EXIT 0 EXPECT_FILE r.png STDOUT "r.png: 48x48 relaxed rg8"
        ARGS conemap --height builtin:boxes@48 --kind relaxed --format rg8 --threads 1 --out r.png --cache-dir cache)
@@ -13,7 +13,7 @@ pr_cli(conemap_gpu EXIT 0 EXPECT_FILE g.png STDOUT "g.png: 48x48 cone rg16, buil
 pr_cli(conemap_cache_miss EXIT 0 EXPECT_FILE m.png STDOUT "m.png: 40x40 cone rg16, built"
        ARGS conemap --height builtin:pyramids@40 --out m.png --cache-dir ${PR_CLI_WORK}/conemap_cache/c)
 pr_cli(conemap_cache_hit EXIT 0 EXPECT_FILE m.png STDOUT "m.png: 40x40 cone rg16, from the cache"
-       JSON m.json CHECKS "from_cache:STREQUAL:ON"
+       JSON m.json CHECKS "from_cache:STREQUAL:ON|cache_entry:TYPE:STRING"
        ARGS conemap --height builtin:pyramids@40 --out m.png --cache-dir ${PR_CLI_WORK}/conemap_cache/c --json m.json)
 set_tests_properties(cli.conemap_cache_hit PROPERTIES DEPENDS cli.conemap_cache_miss)
 add_test(NAME cli.conemap_cache_reset COMMAND ${CMAKE_COMMAND} -E rm -rf ${PR_CLI_WORK}/conemap_cache/c)
