@@ -152,8 +152,13 @@ bool triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
         return true;
     }
     if (n > kEarClipCorners) {
+        // Convex but for corners on a straight side: no triangle of the fan lies outside it (those
+        // of no area are dropped), so no warning.
+        bool weakly_convex = true;
+        for (size_t i = 0; i < n && weakly_convex; ++i)
+            weakly_convex = cross2(q[(i + 1) % n] - q[i], q[(i + 2) % n] - q[(i + 1) % n]) >= 0.0;
         fan(whole);
-        return false;
+        return weakly_convex;
     }
     // The budget: false once `visits` more corners would pass it.
     bool within_budget = true;
@@ -624,8 +629,9 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     // An edge that two triangles run the same way joins faces of opposite orientation: their
     // welded normals cancel there and the shell folds (the walk lost whole triangles: two quads,
     // one reversed, IoU 0.63). Across the edges of exactly two triangles, each connected piece is
-    // oriented one way, the way most of its area already winds; a piece that cannot be (a
-    // Moebius strip) keeps its winding. Edges of three or more triangles are not crossed.
+    // oriented one way: a closed one outward, an open one the way most of its area already
+    // winds; a piece that cannot be (a Moebius strip) keeps its winding. Edges of three or more
+    // triangles are not crossed.
     // Edge keys pack two 31-bit weld ids and a direction bit into 64 bits, sorted (here and for
     // the topology remarks below).
     const auto sorted_edge_keys = [&] {
@@ -715,9 +721,19 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
                     for (uint32_t t : piece) turn[t] = 0;
                     continue;
                 }
-                double kept = 0.0, turned = 0.0;
-                for (uint32_t t : piece) (turn[t] ? turned : kept) += area(tris[t]);
-                const int8_t flip = turned > kept ? 1 : 0; // most of the area keeps its winding
+                // A closed piece (every edge of it joins two of its triangles) winds so that its
+                // signed volume is positive, its normals out; an open one as most of its area does.
+                bool closed_piece = true;
+                double kept = 0.0, turned = 0.0, volume = 0.0;
+                const dvec3 origin = wpos[tri_weld(tris[piece[0]], 0)];
+                for (uint32_t t : piece) {
+                    closed_piece = closed_piece && count[t] == 3;
+                    (turn[t] ? turned : kept) += area(tris[t]);
+                    const dvec3 a = wpos[tri_weld(tris[t], 0)] - origin, b = wpos[tri_weld(tris[t], 1)] - origin,
+                                c = wpos[tri_weld(tris[t], 2)] - origin;
+                    volume += (turn[t] ? -1.0 : 1.0) * glm::dot(a, glm::cross(b, c));
+                }
+                const int8_t flip = closed_piece ? (volume < 0.0 ? 1 : 0) : (turned > kept ? 1 : 0);
                 for (uint32_t t : piece) {
                     turn[t] = int8_t(turn[t] ^ flip);
                     if (!turn[t]) continue;

@@ -452,6 +452,12 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
         // a count and 3 indices per face.
         const unsigned long long vertex_bytes = 4 * vertex_words;
         const unsigned long long need = 12 + nv * vertex_bytes + nf * 16;
+        // Counts that fit only read big-endian: Geomview's layout, with faces that do not fit it.
+        const BinaryOffWords big(text.substr(body), {true, false});
+        if (need > words.size() && 12 + std::uint64_t(big[0]) * vertex_bytes + std::uint64_t(big[1]) * 16 <= words.size())
+            fail(subject, "big-endian binary OFF (Geomview's layout) whose faces do not end where the file does (a "
+                          "face of fewer than 3 corners, an index out of range, more than 4 colour values, or "
+                          "bytes after the last face)");
         if (need > words.size())
             fail(subject, "header claims " + std::to_string(nv) + " vertices and " +
                               std::to_string(nf) + " faces, more than a file of " +

@@ -101,7 +101,7 @@ public:
             std::strcmp(driver, "softpipe") != 0)
             throw Error("--backend", std::string("osmesa: GALLIUM_DRIVER=") + driver +
                                          " is not a driver OSMesa draws with (llvmpipe; Mesa crashes with others): "
-                                         "unset it, or use --backend egl");
+                                         "unset it, or draw with the egl backend");
         const OSMesaApi& a = api();
         const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24,
                                OSMESA_PROFILE, OSMESA_CORE_PROFILE,

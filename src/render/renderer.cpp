@@ -675,7 +675,9 @@ void Renderer::ensure_walk_data()
         std::vector<std::uint32_t> around(welded_position_count(vertices), 0);
         for (const std::uint32_t i : indices) ++around[vertices[i].weld_id];
         const std::uint32_t most = around.empty() ? 0 : *std::max_element(around.begin(), around.end());
-        o.walk_max_prisms = int(std::min<std::uint64_t>(256 + 2 * std::uint64_t(most), 1u << 30));
+        // (At most 256 + 8192: a vertex of a million triangles must not let every ray that misses
+        // walk a million prisms.)
+        o.walk_max_prisms = int(256 + 2 * std::min<std::uint32_t>(most, 4096));
         o.eye_blocks = prism_blocks(corners, indices, o.depth);
         o.triangles = std::move(indices);
         o.shell_corners = std::move(corners);

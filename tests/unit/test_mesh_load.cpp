@@ -344,22 +344,20 @@ TEST(MeshLoad, SmallConcavePolygonsShareTheClippingBudget)
 TEST(MeshLoad, FlatCornerIsNotAFansFirstTriangle)
 {
     TempDir dir;
+    // A rectangle whose bottom side runs through 69 corners (exactly on the line: whole numbers),
+    // 73 corners in all: past 64, where a convex-looking polygon was fanned from corner 0.
     std::string text;
-    const int n = 80; // past 64 corners: this size was fanned whenever it was convex
-    for (int i = 0; i < n; ++i) {
-        const double a = 2.0 * 3.14159265358979 * i / n;
-        text += "v " + std::to_string(std::cos(a)) + " " + std::to_string(std::sin(a)) + " 0\n";
-    }
-    // Corner 2 (index 1) moved onto the chord between its neighbours: a flat corner.
-    const double a0 = 0.0, a2 = 2.0 * 3.14159265358979 * 2 / n;
-    const std::string mid = "v " + std::to_string(0.5 * (std::cos(a0) + std::cos(a2))) + " " +
-                            std::to_string(0.5 * (std::sin(a0) + std::sin(a2))) + " 0\n";
-    text = text.substr(0, text.find('\n') + 1) + mid + text.substr(text.find('\n', text.find('\n') + 1) + 1);
-    text += "f";
+    const int bottom = 70;
+    for (int i = 0; i <= bottom; ++i) text += "v " + std::to_string(i) + " 0 0\n";
+    text += "v " + std::to_string(bottom) + " 1 0\nv 0 1 0\nf";
+    const int n = bottom + 3;
     for (int i = 0; i < n; ++i) text += " " + std::to_string(i + 1);
     const pr::PreparedMesh m = pr::load_mesh(dir.write("flat.obj", text + "\n"));
     EXPECT_EQ(m.dropped_triangles, 0u);
     EXPECT_EQ(m.triangle_count(), std::size_t(n - 2));
+    double area = 0.0;
+    for (std::size_t t = 0; t < m.triangle_count(); ++t) area += 0.5 * double(face_normal(m, t).z);
+    EXPECT_NEAR(area, double(bottom), 1e-3);
 }
 
 TEST(MeshLoad, ObjMixedFacesWithAndWithoutUvs)
@@ -529,11 +527,16 @@ TEST(MeshLoad, OffBinaryGeomviewLayouts)
         }
         EXPECT_EQ(m.indices, plain.indices) << name;
     }
-    // A big-endian file cut short is refused as one that does not fit.
+    // A big-endian file cut short, or with bytes after its last face, is refused as one whose
+    // faces do not fit (it said "header claims 67108864 vertices …", the counts read the other way).
     std::vector<char> cut = file(true, true);
     cut.resize(cut.size() - 6);
-    EXPECT_TRUE(prtest::contains(
-        prtest::error_of([&] { pr::load_mesh(dir.write_bytes("cut.off", cut)); }).problem(), "more than a file of"));
+    std::vector<char> padded = file(true, true);
+    padded.insert(padded.end(), 8, '\0');
+    for (const auto& [name, bytes] : {std::pair{"cut.off", cut}, {"padded.off", padded}})
+        EXPECT_TRUE(prtest::contains(prtest::error_of([&] { pr::load_mesh(dir.write_bytes(name, bytes)); }).problem(),
+                                     "big-endian binary OFF (Geomview's layout) whose faces do not end where the file does"))
+            << name;
 }
 
 TEST(MeshLoad, PlyAsciiWithUvsAndNormals)
@@ -732,6 +735,30 @@ TEST(MeshLoad, FacesWoundAgainstTheirNeighboursAreTurned)
     EXPECT_NE(said.find(std::to_string(reversed) + " faces wound against their neighbours"), std::string::npos) << said;
     for (std::size_t t = 0; t < m.triangle_count(); ++t) EXPECT_GT(face_normal(m, t).y, 0.0f) << t;
     for (const pr::MeshVertex& v : m.vertices) EXPECT_NEAR(v.normal.y, 1.0f, 1e-6f);
+
+    // Two closed pieces: a large tetrahedron wound outward and a small one with three of its four
+    // faces wound inward (most of its area). A closed piece winds outward whatever most of its
+    // area does: by area the small one turned inward, and the mesh's positive total volume did
+    // not reverse it back (found by a review).
+    const std::string tets = "v 0 0 0\nv 4 0 0\nv 0 4 0\nv 0 0 4\n"
+                             "v 10 0 0\nv 11 0 0\nv 10 1 0\nv 10 0 1\n"
+                             "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
+                             "f 5 7 6\nf 5 8 6\nf 5 7 8\nf 6 8 7\n";
+    ::testing::internal::CaptureStderr();
+    const pr::PreparedMesh two = pr::load_mesh(dir.write("tets.obj", tets));
+    const std::string said_tets = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(said_tets.find("3 faces wound against their neighbours"), std::string::npos) << said_tets;
+    for (const bool small : {false, true}) {
+        double volume = 0.0;
+        for (std::size_t t = 0; t < two.triangle_count(); ++t) {
+            const glm::vec3 a = two.vertices[two.indices[3 * t]].position;
+            if ((a.x >= 10.0f) != small) continue;
+            const glm::vec3 b = two.vertices[two.indices[3 * t + 1]].position;
+            const glm::vec3 c = two.vertices[two.indices[3 * t + 2]].position;
+            volume += double(glm::dot(a, glm::cross(b, c))) / 6.0;
+        }
+        EXPECT_NEAR(volume, small ? 1.0 / 6.0 : 64.0 / 6.0, 1e-4) << (small ? "small" : "large");
+    }
 
     // A Moebius strip of 12 quads: no winding suits every face; kept as in the file.
     std::string strip;
