@@ -746,7 +746,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
             if (turned_faces > 0)
                 warn(name + ": " + std::to_string(turned_faces) + " face" + (turned_faces == 1 ? "" : "s") +
                      " wound against " + (turned_faces == 1 ? "its" : "their") +
-                     " neighbours (the welded normals cancel there) turned to wind as most of the surface around");
+                     " neighbours (the welded normals cancel there) turned so that each piece winds one way (a closed one outward)");
             if (pieces_left > 0)
                 warn(name + ": " + std::to_string(pieces_left) + " piece" + (pieces_left == 1 ? "" : "s") +
                      " cannot be wound one way (a Moebius strip?): kept as in the file");

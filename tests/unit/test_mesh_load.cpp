@@ -698,8 +698,8 @@ TEST(MeshLoad, WarnsAboutInconsistentOrientationAndGeneratedUvs)
     const pr::PreparedMesh m = pr::load_mesh(
         dir.write("flip.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 -1 0\nf 1 2 3\nf 1 2 4\n"));
     const std::string warnings = ::testing::internal::GetCapturedStderr();
-    EXPECT_NE(warnings.find("1 face wound against its neighbours (the welded normals cancel there) turned to "
-                            "wind as most of the surface around"),
+    EXPECT_NE(warnings.find("1 face wound against its neighbours (the welded normals cancel there) turned so "
+                            "that each piece winds one way (a closed one outward)"),
               std::string::npos)
         << warnings;
     EXPECT_NE(warnings.find("generated box-projected UVs"), std::string::npos) << warnings;
