@@ -651,7 +651,8 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     if (weld_count < (size_t(1) << 31)) {
         edges = sorted_edge_keys();
         for (size_t i = 0; i + 1 < edges.size() && !any_against; ++i)
-            any_against = edges[i] == edges[i + 1] && (i + 2 == edges.size() || (edges[i + 2] >> 1) != (edges[i] >> 1)) &&
+            any_against = edges[i] == edges[i + 1] &&                                          // one way twice,
+                          (i + 2 == edges.size() || (edges[i + 2] >> 1) != (edges[i] >> 1)) && // only these two
                           (i == 0 || (edges[i - 1] >> 1) != (edges[i] >> 1));
     }
     if (any_against) {
@@ -746,7 +747,8 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
             if (turned_faces > 0)
                 warn(name + ": " + std::to_string(turned_faces) + " face" + (turned_faces == 1 ? "" : "s") +
                      " wound against " + (turned_faces == 1 ? "its" : "their") +
-                     " neighbours (the welded normals cancel there) turned so that each piece winds one way (a closed one outward)");
+                     " neighbours (the welded normals cancel there) turned so that each piece winds one way "
+                     "(a closed one outward)");
             if (pieces_left > 0)
                 warn(name + ": " + std::to_string(pieces_left) + " piece" + (pieces_left == 1 ? "" : "s") +
                      " cannot be wound one way (a Moebius strip?): kept as in the file");
