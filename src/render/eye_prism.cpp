@@ -132,8 +132,12 @@ PrismBlocks prism_blocks(const std::vector<glm::vec4>& corners, const std::vecto
 bool eye_inside_body(const std::vector<glm::vec4>& corners, const std::vector<std::uint32_t>& indices,
                      const PrismBlocks& blocks, glm::vec3 eye)
 {
-    // Crossings of the bottom caps by a ray from the eye: odd inside. A ray through an edge or a
-    // corner may count a crossing twice or not at all, so three rays in unrelated directions vote.
+    // Crossings of the bottom caps by a ray from the eye, signed: +1 where the ray leaves through
+    // a cap (an outward face seen from behind), -1 where it enters; the sum is how many bodies
+    // hold the eye, inside when positive. (By parity, an eye inside two closed pieces of one mesh
+    // nested one in the other counted as outside: the prism drew nothing at all.) A ray through
+    // an edge or a corner may count a crossing twice or not at all, so three rays in unrelated
+    // directions vote.
     const glm::dvec3 e(eye);
     const glm::dvec3 dirs[3] = {glm::normalize(glm::dvec3(0.5377, 0.7219, 0.4353)),
                                 glm::normalize(glm::dvec3(-0.6513, 0.2291, -0.7233)),
@@ -142,7 +146,7 @@ bool eye_inside_body(const std::vector<glm::vec4>& corners, const std::vector<st
     int votes = 0;
     for (const glm::dvec3& d : dirs) {
         const glm::dvec3 inv = 1.0 / d;
-        bool odd = false;
+        int winding = 0;
         for (std::size_t block = 0; block < blocks.lo.size(); ++block) {
             // Slab test of the ray against the block's box.
             const glm::dvec3 t0 = (glm::dvec3(blocks.lo[block]) - e) * inv, t1 = (glm::dvec3(blocks.hi[block]) - e) * inv;
@@ -164,10 +168,11 @@ bool eye_inside_body(const std::vector<glm::vec4>& corners, const std::vector<st
                 const glm::dvec3 q = glm::cross(s, ab);
                 const double v = glm::dot(d, q) / det;
                 if (v < 0.0 || u + v > 1.0) continue;
-                if (glm::dot(ac, q) / det > 0.0) odd = !odd;
+                // (det = -d . (ab x ac): negative where the ray goes out through the face.)
+                if (glm::dot(ac, q) / det > 0.0) winding += det < 0.0 ? 1 : -1;
             }
         }
-        votes += odd ? 1 : 0;
+        votes += winding > 0 ? 1 : 0;
     }
     return votes >= 2;
 }

@@ -48,8 +48,9 @@ std::optional<EyeInShell> find_eye_prism(const std::vector<glm::vec4>& corners,
                                          float depth, bool full_shell, glm::vec3 eye, HeightAt height_at);
 
 // Whether `eye` lies inside the closed surface of the walk's bottom caps (the object's body under
-// its displacement shell), by the parity of a ray's crossings (three rays vote). Meaningful for
-// closed meshes only; `blocks` as for find_eye_prism.
+// its displacement shell), by the winding number of a ray's crossings (three rays vote): inside
+// any of its closed pieces, nested or not. Meaningful for closed meshes only; `blocks` as for
+// find_eye_prism.
 bool eye_inside_body(const std::vector<glm::vec4>& corners, const std::vector<std::uint32_t>& indices,
                      const PrismBlocks& blocks, glm::vec3 eye);
 

@@ -108,7 +108,7 @@ TEST(EyePrism, SaysWhetherTheEyeIsUnderTheSurface)
 // A closed body: the unit cube's twelve triangles as bottom caps (normals outward). Inside it,
 // and on the line through its centre and a corner or an edge (where a ray may meet an edge),
 // the eye is in the body; outside it, not; a ray along a face plane leaves the vote to the others.
-TEST(EyePrism, EyeInsideTheBodyByTheParityOfBottomCrossings)
+TEST(EyePrism, EyeInsideTheBodyByItsBottomCrossings)
 {
     std::vector<glm::vec4> corners;
     const glm::vec3 p[8] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
@@ -126,4 +126,38 @@ TEST(EyePrism, EyeInsideTheBodyByTheParityOfBottomCrossings)
     for (const glm::vec3 eye : {glm::vec3(1.5f, 0.5f, 0.5f), glm::vec3(-0.01f, 0.5f, 0.5f), glm::vec3(0.5f, 0.5f, -3.0f),
                                 glm::vec3(5.0f)})
         EXPECT_FALSE(pr::eye_inside_body(corners, indices, blocks, eye)) << eye.x << "," << eye.y << "," << eye.z;
+}
+
+// Closed pieces of one mesh nested one in the other: an eye inside both counted two crossings,
+// even, and was taken for outside (the prism drew nothing at all: IoU 0). Counted by winding, it
+// is inside; inside a hollow solid's cavity (the inner piece wound inward) it is outside.
+TEST(EyePrism, EyeInsideNestedBodiesByTheWindingOfBottomCrossings)
+{
+    const glm::vec3 p[8] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    const std::uint32_t cube[36] = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                                    3, 7, 6, 3, 6, 2, 0, 4, 7, 0, 7, 3, 1, 2, 6, 1, 6, 5};
+    for (const bool hollow : {false, true}) {
+        std::vector<glm::vec4> corners;
+        std::vector<std::uint32_t> indices;
+        for (int piece = 0; piece < 2; ++piece) {
+            const float scale = piece == 0 ? 1.0f : 0.4f, offset = piece == 0 ? 0.0f : 0.3f;
+            for (std::uint32_t i = 0; i < 8; ++i) {
+                const std::uint32_t id = std::uint32_t(corners.size() / 3);
+                corners.emplace_back(offset + scale * p[i], 0.0f);
+                corners.emplace_back(glm::normalize(p[i] - glm::vec3(0.5f)), 0.0f);
+                corners.emplace_back(1.0f, std::bit_cast<float>(id), 0.0f, 0.0f);
+            }
+            for (int t = 0; t < 12; ++t) {
+                const std::uint32_t base = 8u * std::uint32_t(piece);
+                const bool inward = hollow && piece == 1;
+                indices.insert(indices.end(), {base + cube[3 * t], base + cube[3 * t + (inward ? 2 : 1)],
+                                               base + cube[3 * t + (inward ? 1 : 2)]});
+            }
+        }
+        const pr::PrismBlocks blocks = pr::prism_blocks(corners, indices, 0.1f);
+        EXPECT_EQ(pr::eye_inside_body(corners, indices, blocks, glm::vec3(0.5f, 0.45f, 0.55f)), !hollow)
+            << (hollow ? "in the cavity" : "inside both");
+        EXPECT_TRUE(pr::eye_inside_body(corners, indices, blocks, glm::vec3(0.1f, 0.2f, 0.15f))) << "between them";
+        EXPECT_FALSE(pr::eye_inside_body(corners, indices, blocks, glm::vec3(1.5f, 0.5f, 0.5f))) << "outside";
+    }
 }
