@@ -629,9 +629,10 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     // An edge that two triangles run the same way joins faces of opposite orientation: their
     // welded normals cancel there and the shell folds (the walk lost whole triangles: two quads,
     // one reversed, IoU 0.63). Across the edges of exactly two triangles, each connected piece is
-    // oriented one way: a closed one outward, an open one the way most of its area already
-    // winds; a piece that cannot be (a Moebius strip) keeps its winding. Edges of three or more
-    // triangles are not crossed.
+    // oriented one way: a closed one (no edge of one triangle) outward, or inward inside an odd
+    // number of other closed pieces; an open one the way most of its area already winds; a piece
+    // that cannot be (a Moebius strip) keeps its winding. Edges of three or more triangles are
+    // not crossed, and do not open a piece (a fin on a closed body).
     // Edge keys pack two 31-bit weld ids and a direction bit into 64 bits, sorted (here and for
     // the topology remarks below).
     const auto sorted_edge_keys = [&] {
@@ -647,15 +648,8 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         return keys;
     };
     std::vector<uint64_t> edges;
-    bool any_against = false; // an edge two triangles run the same way
-    if (weld_count < (size_t(1) << 31)) {
-        edges = sorted_edge_keys();
-        for (size_t i = 0; i + 1 < edges.size() && !any_against; ++i)
-            any_against = edges[i] == edges[i + 1] &&                                          // one way twice,
-                          (i + 2 == edges.size() || (edges[i + 2] >> 1) != (edges[i] >> 1)) && // only these two
-                          (i == 0 || (edges[i - 1] >> 1) != (edges[i] >> 1));
-    }
-    if (any_against) {
+    if (weld_count < (size_t(1) << 31)) edges = sorted_edge_keys();
+    if (weld_count < (size_t(1) << 31) && !tris.empty()) {
         struct Side {
             uint64_t key; // lower weld id, upper weld id, direction bit
             uint32_t tri;
@@ -670,12 +664,14 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
             }
         std::sort(sides.begin(), sides.end(), [](const Side& x, const Side& y) { return x.key < y.key; });
         // Per triangle, up to three neighbours across edges of two triangles: (neighbour << 1) |
-        // whether the two run that edge the same way (one of them must turn).
+        // whether the two run that edge the same way (one of them must turn); and whether it has
+        // an edge of its own (a boundary: its piece is open).
         std::vector<uint64_t> across(tris.size() * 3, ~uint64_t(0));
-        std::vector<uint8_t> count(tris.size(), 0);
+        std::vector<uint8_t> count(tris.size(), 0), boundary(tris.size(), 0);
         for (size_t i = 0; i < sides.size();) {
             size_t j = i;
             while (j < sides.size() && (sides[j].key >> 1) == (sides[i].key >> 1)) ++j;
+            if (j - i == 1) boundary[sides[i].tri] = 1;
             if (j - i == 2 && sides[i].tri != sides[i + 1].tri) {
                 const uint32_t x = sides[i].tri, y = sides[i + 1].tri;
                 const uint64_t same = (sides[i].key & 1u) == (sides[i + 1].key & 1u);
@@ -685,74 +681,135 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
             i = j;
         }
         sides = {};
-        {
-            std::vector<int8_t> turn(tris.size(), -1); // -1: not reached; 0 keep, 1 turn
-            std::vector<uint32_t> piece, stack;
-            std::vector<uint8_t> turned_face(face_count, 0);
-            size_t turned_faces = 0, pieces_left = 0;
-            const auto area = [&](const Triangle& t) {
-                const dvec3 &a = wpos[tri_weld(t, 0)], &b = wpos[tri_weld(t, 1)], &c = wpos[tri_weld(t, 2)];
-                return glm::length(glm::cross(b - a, c - a));
-            };
-            for (size_t seed = 0; seed < tris.size(); ++seed) {
-                if (turn[seed] >= 0) continue;
-                piece.clear();
-                turn[seed] = 0;
-                stack.assign(1, uint32_t(seed));
-                bool orientable = true, disagrees = false;
-                while (!stack.empty()) {
-                    const uint32_t t = stack.back();
-                    stack.pop_back();
-                    piece.push_back(t);
-                    for (int k = 0; k < count[t]; ++k) {
-                        const uint32_t n = uint32_t(across[3 * t + k] >> 1);
-                        const int8_t want = int8_t(turn[t] ^ int8_t(across[3 * t + k] & 1u));
-                        disagrees = disagrees || (across[3 * t + k] & 1u) != 0;
-                        if (turn[n] < 0) {
-                            turn[n] = want;
-                            stack.push_back(n);
-                        } else if (turn[n] != want) {
-                            orientable = false;
-                        }
+        // The pieces: triangles joined by edges of two triangles, each wound one way by `turn`
+        // relative to its first triangle where it can be.
+        struct Piece {
+            size_t first, last; // in `order`
+            bool orientable = true, disagrees = false, closed = true;
+            double volume = 0.0; // six times the signed volume, as wound after `turn`
+            dvec3 lo{std::numeric_limits<double>::max()}, hi{-std::numeric_limits<double>::max()};
+        };
+        std::vector<int8_t> turn(tris.size(), -1); // -1: not reached; 0 keep, 1 turn
+        std::vector<uint32_t> order, stack;
+        order.reserve(tris.size());
+        std::vector<Piece> pieces;
+        for (size_t seed = 0; seed < tris.size(); ++seed) {
+            if (turn[seed] >= 0) continue;
+            Piece piece;
+            piece.first = order.size();
+            turn[seed] = 0;
+            stack.assign(1, uint32_t(seed));
+            while (!stack.empty()) {
+                const uint32_t t = stack.back();
+                stack.pop_back();
+                order.push_back(t);
+                piece.closed = piece.closed && !boundary[t];
+                for (int k = 0; k < count[t]; ++k) {
+                    const uint32_t n = uint32_t(across[3 * t + k] >> 1);
+                    const int8_t want = int8_t(turn[t] ^ int8_t(across[3 * t + k] & 1u));
+                    piece.disagrees = piece.disagrees || (across[3 * t + k] & 1u) != 0;
+                    if (turn[n] < 0) {
+                        turn[n] = want;
+                        stack.push_back(n);
+                    } else if (turn[n] != want) {
+                        piece.orientable = false;
                     }
                 }
-                if (!disagrees) continue;
-                if (!orientable) {
-                    ++pieces_left;
-                    for (uint32_t t : piece) turn[t] = 0;
-                    continue;
-                }
-                // A closed piece (every edge of it joins two of its triangles) winds so that its
-                // signed volume is positive, its normals out; an open one as most of its area does.
-                bool closed_piece = true;
-                double kept = 0.0, turned = 0.0, volume = 0.0;
-                const dvec3 origin = wpos[tri_weld(tris[piece[0]], 0)];
-                for (uint32_t t : piece) {
-                    closed_piece = closed_piece && count[t] == 3;
-                    (turn[t] ? turned : kept) += area(tris[t]);
-                    const dvec3 a = wpos[tri_weld(tris[t], 0)] - origin, b = wpos[tri_weld(tris[t], 1)] - origin,
-                                c = wpos[tri_weld(tris[t], 2)] - origin;
-                    volume += (turn[t] ? -1.0 : 1.0) * glm::dot(a, glm::cross(b, c));
-                }
-                const int8_t flip = closed_piece ? (volume < 0.0 ? 1 : 0) : (turned > kept ? 1 : 0);
-                for (uint32_t t : piece) {
-                    turn[t] = int8_t(turn[t] ^ flip);
-                    if (!turn[t]) continue;
-                    std::swap(tris[t].corner[1], tris[t].corner[2]);
-                    if (!turned_face[tris[t].face]) ++turned_faces;
-                    turned_face[tris[t].face] = 1;
-                }
             }
-            if (turned_faces > 0) edges = sorted_edge_keys(); // (for the remarks below)
-            if (turned_faces > 0)
-                warn(name + ": " + std::to_string(turned_faces) + " face" + (turned_faces == 1 ? "" : "s") +
-                     " wound against " + (turned_faces == 1 ? "its" : "their") +
-                     " neighbours (the welded normals cancel there) turned so that each piece winds one way "
-                     "(a closed one outward)");
-            if (pieces_left > 0)
-                warn(name + ": " + std::to_string(pieces_left) + " piece" + (pieces_left == 1 ? "" : "s") +
-                     " cannot be wound one way (a Moebius strip?): kept as in the file");
+            piece.last = order.size();
+            const dvec3 origin = wpos[tri_weld(tris[seed], 0)];
+            for (size_t i = piece.first; i < piece.last; ++i) {
+                const Triangle& t = tris[order[i]];
+                const dvec3 a = wpos[tri_weld(t, 0)], b = wpos[tri_weld(t, 1)], c = wpos[tri_weld(t, 2)];
+                piece.volume += (turn[order[i]] ? -1.0 : 1.0) * glm::dot(a - origin, glm::cross(b - origin, c - origin));
+                piece.lo = glm::min(piece.lo, glm::min(a, glm::min(b, c)));
+                piece.hi = glm::max(piece.hi, glm::max(a, glm::max(b, c)));
+            }
+            pieces.push_back(piece);
         }
+        // Whether `p` lies inside closed piece q (by the parity of three rays' crossings: a ray
+        // through an edge may count one twice), for how deep a closed piece is nested.
+        const auto inside = [&](const dvec3& p, const Piece& q) {
+            if (glm::any(glm::lessThan(p, q.lo)) || glm::any(glm::greaterThan(p, q.hi))) return false;
+            static const dvec3 dirs[3] = {glm::normalize(dvec3(0.5377, 0.7219, 0.4353)),
+                                          glm::normalize(dvec3(-0.6513, 0.2291, -0.7233)),
+                                          glm::normalize(dvec3(0.1847, -0.8966, 0.4025))};
+            int votes = 0;
+            for (const dvec3& d : dirs) {
+                bool odd = false;
+                for (size_t i = q.first; i < q.last; ++i) {
+                    const Triangle& t = tris[order[i]];
+                    const dvec3 a = wpos[tri_weld(t, 0)], ab = wpos[tri_weld(t, 1)] - a, ac = wpos[tri_weld(t, 2)] - a;
+                    const dvec3 pv = glm::cross(d, ac);
+                    const double det = glm::dot(ab, pv);
+                    if (std::abs(det) < 1e-300) continue;
+                    const dvec3 sv = p - a;
+                    const double u = glm::dot(sv, pv) / det;
+                    if (u < 0.0 || u > 1.0) continue;
+                    const dvec3 qv = glm::cross(sv, ab);
+                    const double v = glm::dot(d, qv) / det;
+                    if (v < 0.0 || u + v > 1.0) continue;
+                    if (glm::dot(ac, qv) / det > 0.0) odd = !odd;
+                }
+                votes += odd;
+            }
+            return votes >= 2;
+        };
+        size_t closed_pieces = 0;
+        for (const Piece& q : pieces) closed_pieces += q.closed && q.orientable;
+        std::vector<uint8_t> turned_face(face_count, 0);
+        size_t turned_faces = 0, pieces_left = 0, pieces_turned = 0;
+        for (const Piece& piece : pieces) {
+            if (!piece.orientable) {
+                pieces_left += piece.disagrees;
+                for (size_t i = piece.first; i < piece.last; ++i) turn[order[i]] = 0;
+                continue;
+            }
+            // A closed piece winds outward (its signed volume positive), or inward where it lies
+            // inside an odd number of other closed pieces (a hollow solid's cavity). A single
+            // closed piece wound one way throughout is left to the whole mesh's reversal below.
+            // An open piece with faces against their neighbours winds as most of its area does.
+            int8_t flip = 0;
+            if (piece.closed && (piece.disagrees || closed_pieces > 1)) {
+                const Triangle& t0 = tris[order[piece.first]];
+                const dvec3 probe = (wpos[tri_weld(t0, 0)] + wpos[tri_weld(t0, 1)] + wpos[tri_weld(t0, 2)]) / 3.0;
+                int depth = 0;
+                if (closed_pieces > 1)
+                    for (const Piece& q : pieces)
+                        if (&q != &piece && q.closed && q.orientable) depth += inside(probe, q);
+                flip = (piece.volume < 0.0) == (depth % 2 == 0) ? 1 : 0;
+                if (!piece.disagrees) pieces_turned += flip;
+            } else if (piece.disagrees) {
+                double kept = 0.0, turned = 0.0;
+                for (size_t i = piece.first; i < piece.last; ++i) {
+                    const Triangle& t = tris[order[i]];
+                    const dvec3 a = wpos[tri_weld(t, 0)], b = wpos[tri_weld(t, 1)], c = wpos[tri_weld(t, 2)];
+                    (turn[order[i]] ? turned : kept) += glm::length(glm::cross(b - a, c - a));
+                }
+                flip = turned > kept ? 1 : 0;
+            }
+            for (size_t i = piece.first; i < piece.last; ++i) {
+                const uint32_t t = order[i];
+                turn[t] = int8_t(turn[t] ^ flip);
+                if (!turn[t]) continue;
+                std::swap(tris[t].corner[1], tris[t].corner[2]);
+                if (piece.disagrees && !turned_face[tris[t].face]) ++turned_faces;
+                turned_face[tris[t].face] = 1;
+            }
+        }
+        if (turned_faces + pieces_turned > 0) edges = sorted_edge_keys(); // (for the remarks below)
+        if (turned_faces > 0)
+            warn(name + ": " + std::to_string(turned_faces) + " face" + (turned_faces == 1 ? "" : "s") +
+                 " wound against " + (turned_faces == 1 ? "its" : "their") +
+                 " neighbours (the welded normals cancel there) turned so that each piece winds one way "
+                 "(a closed one outward)");
+        if (pieces_turned > 0)
+            warn(name + ": " + std::to_string(pieces_turned) + " of its " + std::to_string(closed_pieces) +
+                 " closed pieces wound the other way round turned (outward, or inward inside another piece: a "
+                 "hollow solid's cavity)");
+        if (pieces_left > 0)
+            warn(name + ": " + std::to_string(pieces_left) + " piece" + (pieces_left == 1 ? "" : "s") +
+                 " cannot be wound one way (a Moebius strip?): kept as in the file");
     }
 
     // ---- angle-weighted welded normals ---------------------------------------------------------

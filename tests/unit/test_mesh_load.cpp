@@ -873,7 +873,7 @@ TEST(MeshLoad, ClosedMeshWoundInwardWithARepeatedFaceIsReversed)
 }
 
 // Two closed tetrahedra wound inward that share an edge (four faces on it, two each way: closed
-// and consistently oriented, but not manifold) are reversed too.
+// and consistently oriented, but not manifold) are reversed too, each as a closed piece.
 TEST(MeshLoad, ClosedPiecesWoundInwardTouchingAtAnEdgeAreReversed)
 {
     TempDir dir;
@@ -882,7 +882,8 @@ TEST(MeshLoad, ClosedPiecesWoundInwardTouchingAtAnEdgeAreReversed)
         "tets.obj", std::string(kTetPoints) + "v 0 -1 0\nv 0 0 -1\n" + kTetInward +
                         "f 1 2 5\nf 1 6 2\nf 1 5 6\nf 2 6 5\n"));
     const std::string warnings = ::testing::internal::GetCapturedStderr();
-    EXPECT_NE(warnings.find("wind clockwise seen from outside"), std::string::npos) << warnings;
+    EXPECT_NE(warnings.find("2 of its 2 closed pieces wound the other way round turned"), std::string::npos)
+        << warnings;
     EXPECT_NE(warnings.find("1 edges are shared by more than two faces"), std::string::npos) << warnings;
     expect_sane(m);
     for (std::size_t t = 0; t < m.triangle_count(); ++t) {
@@ -1207,4 +1208,66 @@ TEST(MeshLoad, PlyFaceLineWithAStrayValueIsRefused)
                                              "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0.5 0\n3 0 1 2 3\n3 0 2 4\n"));
     });
     EXPECT_TRUE(prtest::contains(e.what(), "line 15: face line has 5 values")) << e.what();
+}
+
+// Several closed pieces in one mesh (multi-body STL exports mix windings): each is wound outward,
+// or inward where it lies inside another (a hollow solid's cavity), whether or not it had faces
+// against their neighbours. Before, only the whole mesh was reversed, by its total volume: a cube
+// wound inward beside a sphere wound outward stayed inward (or, the larger one, turned the other
+// inward), and a body with one non-manifold fin counted as open and kept most faces' way.
+TEST(MeshLoad, ClosedPiecesAreWoundOutwardOrInwardInsideAnother)
+{
+    TempDir dir;
+    // An axis-aligned cube from lo to hi, wound outward or inward, its corners numbered from base.
+    const auto cube = [](glm::vec3 lo, glm::vec3 hi, bool inward, int base, std::string& v, std::string& f) {
+        for (int i = 0; i < 8; ++i)
+            v += "v " + std::to_string(i & 1 ? hi.x : lo.x) + " " + std::to_string(i & 2 ? hi.y : lo.y) + " " +
+                 std::to_string(i & 4 ? hi.z : lo.z) + "\n";
+        const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+        for (const auto& q : quads) {
+            f += "f";
+            for (int k = 0; k < 4; ++k) f += " " + std::to_string(base + q[inward ? 3 - k : k] + 1);
+            f += "\n";
+        }
+    };
+    // Every triangle's normal against the direction from `centre` of its own cube (the nearer).
+    const auto expect_winding = [](const pr::PreparedMesh& m, glm::vec3 centre_a, glm::vec3 centre_b, bool b_inward,
+                                   const char* what) {
+        for (std::size_t t = 0; t < m.triangle_count(); ++t) {
+            const glm::vec3 a = m.vertices[m.indices[3 * t]].position;
+            const glm::vec3 mid = (a + m.vertices[m.indices[3 * t + 1]].position + m.vertices[m.indices[3 * t + 2]].position) / 3.0f;
+            const bool on_b = glm::length(mid - centre_b) < glm::length(mid - centre_a) ||
+                              glm::all(glm::lessThan(glm::abs(mid - centre_b), glm::vec3(0.21f)));
+            const float out = glm::dot(face_normal(m, t), mid - (on_b ? centre_b : centre_a));
+            EXPECT_TRUE(on_b && b_inward ? out < 0.0f : out > 0.0f) << what << " triangle " << t;
+        }
+    };
+    const glm::vec3 c0(0.5f), c1(3.5f, 0.5f, 0.5f);
+    struct Case {
+        const char* name;
+        bool first_inward, second_inward, nested;
+        const char* said; // nullptr: no word
+        bool second_ends_inward;
+    };
+    const Case cases[] = {
+        {"side by side, the small one inward", false, true, false, "1 of its 2 closed pieces wound the other way round turned", false},
+        {"side by side, the large one inward", true, false, false, "1 of its 2 closed pieces wound the other way round turned", false},
+        {"a hollow solid", false, true, true, nullptr, true},
+        {"a hollow solid whose cavity faces out", false, false, true, "1 of its 2 closed pieces wound the other way round turned", true},
+    };
+    int file = 0; // (a warning said once for a file is not said again: a name per case)
+    for (const Case& c : cases) {
+        std::string v, f;
+        cube(glm::vec3(0.0f), glm::vec3(1.0f), c.first_inward, 0, v, f);
+        if (c.nested)
+            cube(glm::vec3(0.3f), glm::vec3(0.7f), c.second_inward, 8, v, f);
+        else
+            cube(glm::vec3(3.3f, 0.3f, 0.3f), glm::vec3(3.7f, 0.7f, 0.7f), c.second_inward, 8, v, f);
+        ::testing::internal::CaptureStderr();
+        const pr::PreparedMesh m = pr::load_mesh(dir.write("cubes" + std::to_string(file++) + ".obj", v + f));
+        const std::string said = ::testing::internal::GetCapturedStderr();
+        if (c.said) EXPECT_NE(said.find(c.said), std::string::npos) << c.name << ": " << said;
+        else EXPECT_EQ(said.find("turned"), std::string::npos) << c.name << ": " << said;
+        expect_winding(m, c0, c.nested ? c0 : c1, c.second_ends_inward, c.name);
+    }
 }
