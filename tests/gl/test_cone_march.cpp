@@ -321,7 +321,9 @@ TEST(Shadows, EveryTechniqueStartsTheLightMarchOnTheSurface)
 // The cone marchers' refinement may end a little under the surface, which on a box's steep wall
 // is far under the height at that uv: under a light straight overhead the wall itself shadowed
 // its own pixels (0.4 % of builtin:boxes seen at an angle, on the walls facing the eye; relief
-// none). The light march starts on the surface at the hit's uv (common/shadow.glsl).
+// none). The light march starts on the surface at the hit's uv (common/shadow.glsl). So does the
+// prism's linear marcher, whose hit, interpolated between the samples on either side of a wall,
+// lies inside it (430 of 8712 pixels shadowed, found by an exploratory session; prism.frag).
 TEST(Shadows, ConeMarchersLeaveBoxWallsLitUnderALightOverhead)
 {
     prtest::context();
@@ -334,7 +336,9 @@ TEST(Shadows, ConeMarchersLeaveBoxWallsLitUnderALightOverhead)
     c.up = {0.0f, 0.0f, 1.0f};
     const glm::vec3 overhead(0.0f, 0.0f, 1.0f);
     for (const bool prism : {false, true})
-        for (const Marcher m : {Marcher::Cone, Marcher::RelaxedCone}) {
+        for (const Marcher m : {Marcher::Cone, Marcher::RelaxedCone, Marcher::Linear, Marcher::Relief, Marcher::MaxMip}) {
+            const bool cone = m == Marcher::Cone || m == Marcher::RelaxedCone;
+            if (!prism && !cone) continue;
             DrawSettings s = settings(cone_technique(prism, m), m);
             r.draw(c, overhead, s);
             const RgbaImage lit = r.read_color();
