@@ -759,26 +759,47 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         for (const Piece& q : pieces) closed_pieces += q.closed && q.orientable;
         std::vector<uint8_t> turned_face(face_count, 0);
         size_t turned_faces = 0, pieces_left = 0, pieces_turned = 0;
+        size_t nesting_work_left = size_t(1) << 28; // triangle tests for how deep pieces are nested
+        bool nesting_unknown = false;
         for (const Piece& piece : pieces) {
             if (!piece.orientable) {
                 pieces_left += piece.disagrees;
                 for (size_t i = piece.first; i < piece.last; ++i) turn[order[i]] = 0;
                 continue;
             }
-            // A closed piece winds outward (its signed volume positive), or inward where it lies
-            // inside an odd number of other closed pieces (a hollow solid's cavity). A single
-            // closed piece wound one way throughout is left to the whole mesh's reversal below.
-            // An open piece with faces against their neighbours winds as most of its area does.
+            // A closed piece with faces against their neighbours winds outward (its signed volume
+            // positive), or inward where it lies inside an odd number of other closed pieces (a
+            // hollow solid's cavity). One wound one way throughout keeps the file's winding but
+            // where it is wound inward and lies inside no other piece (a body the wrong way
+            // round beside others; a single closed piece is left to the whole mesh's reversal
+            // below); nested, either winding may be meant (a cavity, or a body inside a
+            // transparent one). An open piece with faces against their neighbours winds as most
+            // of its area does.
             int8_t flip = 0;
-            if (piece.closed && (piece.disagrees || closed_pieces > 1)) {
+            if (piece.closed && (piece.disagrees || (closed_pieces > 1 && piece.volume < 0.0))) {
                 const Triangle& t0 = tris[order[piece.first]];
                 const dvec3 probe = (wpos[tri_weld(t0, 0)] + wpos[tri_weld(t0, 1)] + wpos[tri_weld(t0, 2)]) / 3.0;
                 int depth = 0;
                 if (closed_pieces > 1)
-                    for (const Piece& q : pieces)
-                        if (&q != &piece && q.closed && q.orientable) depth += inside(probe, q);
-                flip = (piece.volume < 0.0) == (depth % 2 == 0) ? 1 : 0;
-                if (!piece.disagrees) pieces_turned += flip;
+                    for (const Piece& q : pieces) {
+                        if (&q == &piece || !q.closed || !q.orientable) continue;
+                        // Three rays over q's triangles, within a budget: a body of a million
+                        // triangles holding ten thousand small ones would take 3·10^10 tests.
+                        // Past it, pieces count as nested in none (outward), with a warning.
+                        const size_t cost = 3 * (q.last - q.first);
+                        if (glm::any(glm::lessThan(probe, q.lo)) || glm::any(glm::greaterThan(probe, q.hi))) continue;
+                        if (cost > nesting_work_left) {
+                            nesting_unknown = true;
+                            continue;
+                        }
+                        nesting_work_left -= cost;
+                        depth += inside(probe, q);
+                    }
+                if (piece.disagrees)
+                    flip = (piece.volume < 0.0) == (depth % 2 == 0) ? 1 : 0;
+                else
+                    flip = depth == 0 ? 1 : 0; // (wound inward, here)
+                pieces_turned += piece.disagrees ? 0 : flip;
             } else if (piece.disagrees) {
                 double kept = 0.0, turned = 0.0;
                 for (size_t i = piece.first; i < piece.last; ++i) {
@@ -802,14 +823,16 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
             warn(name + ": " + std::to_string(turned_faces) + " face" + (turned_faces == 1 ? "" : "s") +
                  " wound against " + (turned_faces == 1 ? "its" : "their") +
                  " neighbours (the welded normals cancel there) turned so that each piece winds one way "
-                 "(a closed one outward)");
+                 "(a closed one outward, or inward as a cavity)");
         if (pieces_turned > 0)
             warn(name + ": " + std::to_string(pieces_turned) + " of its " + std::to_string(closed_pieces) +
-                 " closed pieces wound the other way round turned (outward, or inward inside another piece: a "
-                 "hollow solid's cavity)");
+                 " closed pieces wound inward, and inside no other piece, turned outward");
         if (pieces_left > 0)
             warn(name + ": " + std::to_string(pieces_left) + " piece" + (pieces_left == 1 ? "" : "s") +
                  " cannot be wound one way (a Moebius strip?): kept as in the file");
+        if (nesting_unknown)
+            warn(name + ": too many closed pieces inside one another to tell every cavity in time; those not "
+                        "told were wound outward");
     }
 
     // ---- angle-weighted welded normals ---------------------------------------------------------

@@ -104,7 +104,7 @@ pr_cli(mesh_ply_texture_uv_names EXIT 0 EXPECT_FILE o.png
 # Half the faces wound the other way: turned to agree with the others, with a warning (they were
 # drawn as they were, the welded normals cancelling where they met).
 pr_cli(mesh_inconsistent_orientation EXIT 0 EXPECT_FILE o.png
-       STDERR "warning: .*inconsistent_orientation.obj: 4 faces wound against their neighbours \\(the welded normals cancel there\\) turned so that each piece winds one way \\(a closed one outward\\)"
+       STDERR "warning: .*inconsistent_orientation.obj: 4 faces wound against their neighbours \\(the welded normals cancel there\\) turned so that each piece winds one way \\(a closed one outward, or inward as a cavity\\)"
        STDOUT "o.png: 48x48 prism:relief:walk:tight, .*${COVERED}"
        ARGS render --mesh ${BAD}/inconsistent_orientation.obj --technique prism --size 48x48 --out o.png)
 pr_cli(mesh_inconsistent_orientation_reference EXIT 0 JSON r.json

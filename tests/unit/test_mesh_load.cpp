@@ -699,7 +699,7 @@ TEST(MeshLoad, WarnsAboutInconsistentOrientationAndGeneratedUvs)
         dir.write("flip.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 -1 0\nf 1 2 3\nf 1 2 4\n"));
     const std::string warnings = ::testing::internal::GetCapturedStderr();
     EXPECT_NE(warnings.find("1 face wound against its neighbours (the welded normals cancel there) turned so "
-                            "that each piece winds one way (a closed one outward)"),
+                            "that each piece winds one way (a closed one outward, or inward as a cavity)"),
               std::string::npos)
         << warnings;
     EXPECT_NE(warnings.find("generated box-projected UVs"), std::string::npos) << warnings;
@@ -882,7 +882,8 @@ TEST(MeshLoad, ClosedPiecesWoundInwardTouchingAtAnEdgeAreReversed)
         "tets.obj", std::string(kTetPoints) + "v 0 -1 0\nv 0 0 -1\n" + kTetInward +
                         "f 1 2 5\nf 1 6 2\nf 1 5 6\nf 2 6 5\n"));
     const std::string warnings = ::testing::internal::GetCapturedStderr();
-    EXPECT_NE(warnings.find("2 of its 2 closed pieces wound the other way round turned"), std::string::npos)
+    EXPECT_NE(warnings.find("2 of its 2 closed pieces wound inward, and inside no other piece, turned outward"),
+              std::string::npos)
         << warnings;
     EXPECT_NE(warnings.find("1 edges are shared by more than two faces"), std::string::npos) << warnings;
     expect_sane(m);
@@ -1210,23 +1211,25 @@ TEST(MeshLoad, PlyFaceLineWithAStrayValueIsRefused)
     EXPECT_TRUE(prtest::contains(e.what(), "line 15: face line has 5 values")) << e.what();
 }
 
-// Several closed pieces in one mesh (multi-body STL exports mix windings): each is wound outward,
-// or inward where it lies inside another (a hollow solid's cavity), whether or not it had faces
-// against their neighbours. Before, only the whole mesh was reversed, by its total volume: a cube
-// wound inward beside a sphere wound outward stayed inward (or, the larger one, turned the other
-// inward), and a body with one non-manifold fin counted as open and kept most faces' way.
-TEST(MeshLoad, ClosedPiecesAreWoundOutwardOrInwardInsideAnother)
+// Several closed pieces in one mesh (multi-body STL exports mix windings): one wound inward that
+// lies inside no other is turned outward; one with faces against their neighbours is wound
+// outward, or inward where it lies inside an odd number of others (a hollow solid's cavity).
+// Before, only the whole mesh was reversed, by its total volume: a cube wound inward beside a
+// sphere wound outward stayed inward (or, the larger one, turned the other inward).
+TEST(MeshLoad, ClosedPiecesAreWoundOutwardOrAsCavities)
 {
     TempDir dir;
     // An axis-aligned cube from lo to hi, wound outward or inward, its corners numbered from base.
-    const auto cube = [](glm::vec3 lo, glm::vec3 hi, bool inward, int base, std::string& v, std::string& f) {
+    const auto cube = [](glm::vec3 lo, glm::vec3 hi, bool inward, int base, std::string& v, std::string& f,
+                         bool one_face_against = false) {
         for (int i = 0; i < 8; ++i)
             v += "v " + std::to_string(i & 1 ? hi.x : lo.x) + " " + std::to_string(i & 2 ? hi.y : lo.y) + " " +
                  std::to_string(i & 4 ? hi.z : lo.z) + "\n";
         const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
         for (const auto& q : quads) {
+            const bool against = one_face_against && &q == &quads[0];
             f += "f";
-            for (int k = 0; k < 4; ++k) f += " " + std::to_string(base + q[inward ? 3 - k : k] + 1);
+            for (int k = 0; k < 4; ++k) f += " " + std::to_string(base + q[inward != against ? 3 - k : k] + 1);
             f += "\n";
         }
     };
@@ -1245,24 +1248,33 @@ TEST(MeshLoad, ClosedPiecesAreWoundOutwardOrInwardInsideAnother)
     const glm::vec3 c0(0.5f), c1(3.5f, 0.5f, 0.5f);
     struct Case {
         const char* name;
-        bool first_inward, second_inward, nested;
+        bool first_inward, second_inward, nested, second_one_face_against;
         const char* said; // nullptr: no word
         bool second_ends_inward;
     };
+    const char* turned = "1 of its 2 closed pieces wound inward, and inside no other piece, turned outward";
     const Case cases[] = {
-        {"side by side, the small one inward", false, true, false, "1 of its 2 closed pieces wound the other way round turned", false},
-        {"side by side, the large one inward", true, false, false, "1 of its 2 closed pieces wound the other way round turned", false},
-        {"a hollow solid", false, true, true, nullptr, true},
-        {"a hollow solid whose cavity faces out", false, false, true, "1 of its 2 closed pieces wound the other way round turned", true},
+        {"side by side, the small one inward", false, true, false, false, turned, false},
+        {"side by side, the large one inward", true, false, false, false, turned, false},
+        {"a hollow solid", false, true, true, false, nullptr, true},
+        // Wound one way throughout and nested: the file's winding is kept (a body inside a
+        // transparent one is as likely as a cavity).
+        {"a body inside another", false, false, true, false, nullptr, false},
+        // With a face against its neighbours, the piece must be wound anew: nested once, inward.
+        {"a hollow solid with a face of its cavity turned", false, true, true, true,
+         "1 face wound against its neighbours", true},
+        {"a body inside another with one face turned", false, false, true, true, "5 faces wound against their neighbours",
+         true},
     };
     int file = 0; // (a warning said once for a file is not said again: a name per case)
     for (const Case& c : cases) {
         std::string v, f;
         cube(glm::vec3(0.0f), glm::vec3(1.0f), c.first_inward, 0, v, f);
         if (c.nested)
-            cube(glm::vec3(0.3f), glm::vec3(0.7f), c.second_inward, 8, v, f);
+            cube(glm::vec3(0.3f), glm::vec3(0.7f), c.second_inward, 8, v, f, c.second_one_face_against);
         else
-            cube(glm::vec3(3.3f, 0.3f, 0.3f), glm::vec3(3.7f, 0.7f, 0.7f), c.second_inward, 8, v, f);
+            cube(glm::vec3(3.3f, 0.3f, 0.3f), glm::vec3(3.7f, 0.7f, 0.7f), c.second_inward, 8, v, f,
+                 c.second_one_face_against);
         ::testing::internal::CaptureStderr();
         const pr::PreparedMesh m = pr::load_mesh(dir.write("cubes" + std::to_string(file++) + ".obj", v + f));
         const std::string said = ::testing::internal::GetCapturedStderr();
