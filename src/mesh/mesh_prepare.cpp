@@ -649,6 +649,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     };
     std::vector<uint64_t> edges;
     if (weld_count < (size_t(1) << 31)) edges = sorted_edge_keys();
+    size_t closed_pieces = 0; // closed, orientable pieces (the whole mesh's reversal below needs it)
     if (weld_count < (size_t(1) << 31) && !tris.empty()) {
         struct Side {
             uint64_t key; // lower weld id, upper weld id, direction bit
@@ -686,6 +687,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         struct Piece {
             size_t first, last; // in `order`
             bool orientable = true, disagrees = false, closed = true;
+            size_t on_fins = 0; // triangles with an edge of three or more triangles
             double volume = 0.0; // six times the signed volume, as wound after `turn`
             dvec3 lo{std::numeric_limits<double>::max()}, hi{-std::numeric_limits<double>::max()};
         };
@@ -704,6 +706,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
                 stack.pop_back();
                 order.push_back(t);
                 piece.closed = piece.closed && !boundary[t];
+                piece.on_fins += count[t] < 3 && !boundary[t];
                 for (int k = 0; k < count[t]; ++k) {
                     const uint32_t n = uint32_t(across[3 * t + k] >> 1);
                     const int8_t want = int8_t(turn[t] ^ int8_t(across[3 * t + k] & 1u));
@@ -717,6 +720,11 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
                 }
             }
             piece.last = order.size();
+            // Closed: no edge of one triangle, and at most a few triangles (2 %) on edges of three
+            // or more (a fin on a body). Pieces cut off by such edges (two cubes sharing a face: each
+            // an open box, the face's triangles alone) have no inside to tell.
+            const size_t size = piece.last - piece.first;
+            piece.closed = piece.closed && size >= 4 && piece.on_fins * 50 <= size;
             const dvec3 origin = wpos[tri_weld(tris[seed], 0)];
             for (size_t i = piece.first; i < piece.last; ++i) {
                 const Triangle& t = tris[order[i]];
@@ -755,7 +763,6 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
             }
             return votes >= 2;
         };
-        size_t closed_pieces = 0;
         for (const Piece& q : pieces) closed_pieces += q.closed && q.orientable;
         std::vector<uint8_t> turned_face(face_count, 0);
         size_t turned_faces = 0, pieces_left = 0, pieces_turned = 0;
@@ -777,24 +784,42 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
             // of its area does.
             int8_t flip = 0;
             if (piece.closed && (piece.disagrees || (closed_pieces > 1 && piece.volume < 0.0))) {
-                const Triangle& t0 = tris[order[piece.first]];
-                const dvec3 probe = (wpos[tri_weld(t0, 0)] + wpos[tri_weld(t0, 1)] + wpos[tri_weld(t0, 2)]) / 3.0;
+                // Nested in q: the piece's box strictly inside q's, and three of its triangles'
+                // centres (the first, middle and last) inside q. (One centre alone lay on a face
+                // q shares a plane with — a table's leg under its top — or inside a body it only
+                // runs through.) Within a budget of box and triangle tests: a body of a million
+                // triangles holding ten thousand small ones took 3·10^10; past it, a piece is
+                // nested in none (wound outward), with a warning.
+                const size_t size = piece.last - piece.first;
+                const auto centre = [&](size_t i) {
+                    const Triangle& t = tris[order[piece.first + i]];
+                    return (wpos[tri_weld(t, 0)] + wpos[tri_weld(t, 1)] + wpos[tri_weld(t, 2)]) / 3.0;
+                };
+                const dvec3 probes[3] = {centre(0), centre(size / 2), centre(size - 1)};
                 int depth = 0;
+                bool told = true;
                 if (closed_pieces > 1)
                     for (const Piece& q : pieces) {
+                        if (nesting_work_left == 0) {
+                            told = false;
+                            break;
+                        }
+                        --nesting_work_left;
                         if (&q == &piece || !q.closed || !q.orientable) continue;
-                        // Three rays over q's triangles, within a budget: a body of a million
-                        // triangles holding ten thousand small ones would take 3·10^10 tests.
-                        // Past it, pieces count as nested in none (outward), with a warning.
-                        const size_t cost = 3 * (q.last - q.first);
-                        if (glm::any(glm::lessThan(probe, q.lo)) || glm::any(glm::greaterThan(probe, q.hi))) continue;
-                        if (cost > nesting_work_left) {
-                            nesting_unknown = true;
+                        if (!glm::all(glm::greaterThan(piece.lo, q.lo)) || !glm::all(glm::lessThan(piece.hi, q.hi)))
                             continue;
+                        const size_t cost = 9 * (q.last - q.first);
+                        if (cost > nesting_work_left) {
+                            told = false;
+                            break;
                         }
                         nesting_work_left -= cost;
-                        depth += inside(probe, q);
+                        depth += inside(probes[0], q) && inside(probes[1], q) && inside(probes[2], q);
                     }
+                if (!told) {
+                    nesting_unknown = true;
+                    depth = 0;
+                }
                 if (piece.disagrees)
                     flip = (piece.volume < 0.0) == (depth % 2 == 0) ? 1 : 0;
                 else
@@ -948,7 +973,8 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
             area += cr;
             area_total += glm::length(cr);
         }
-        const bool closed = unbalanced == 0;
+        // (Several closed pieces were each wound above: the total volume must not undo that.)
+        const bool closed = unbalanced == 0 && closed_pieces < 2;
         if (volume < 0.0 &&
             (closed ? -volume > 1e-9 * magnitude : -volume > 0.5 * magnitude && glm::length(area) < 0.2 * area_total)) {
             if (closed) {
