@@ -856,7 +856,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
             warn(name + ": " + std::to_string(pieces_left) + " piece" + (pieces_left == 1 ? "" : "s") +
                  " cannot be wound one way (a Moebius strip?): kept as in the file");
         if (nesting_unknown)
-            warn(name + ": too many closed pieces inside one another to tell every cavity in time; those not "
+            warn(name + ": too many closed pieces to tell every cavity among them in time; those not "
                         "told were wound outward");
     }
 
