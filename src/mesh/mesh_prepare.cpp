@@ -778,12 +778,13 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
             // positive), or inward where it lies inside an odd number of other closed pieces (a
             // hollow solid's cavity). One wound one way throughout keeps the file's winding but
             // where it is wound inward and lies inside no other piece (a body the wrong way
-            // round beside others; a single closed piece is left to the whole mesh's reversal
-            // below); nested, either winding may be meant (a cavity, or a body inside a
+            // round beside others, closed or open: a sheet beside it kept the whole mesh's
+            // reversal below from seeing it closed; a mesh of that one piece alone is left to
+            // that reversal); nested, either winding may be meant (a cavity, or a body inside a
             // transparent one). An open piece with faces against their neighbours winds as most
             // of its area does.
             int8_t flip = 0;
-            if (piece.closed && (piece.disagrees || (closed_pieces > 1 && piece.volume < 0.0))) {
+            if (piece.closed && (piece.disagrees || (pieces.size() > 1 && piece.volume < 0.0))) {
                 // Nested in q: the piece's box strictly inside q's, and three of its triangles'
                 // centres (the first, middle and last) inside q. (One centre alone lay on a face
                 // q shares a plane with — a table's leg under its top — or inside a body it only

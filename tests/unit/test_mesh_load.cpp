@@ -1309,6 +1309,26 @@ TEST(MeshLoad, ClosedPiecesAreWoundOutwardOrAsCavities)
             EXPECT_GT(glm::dot(face_normal(m, t), mid - glm::vec3(0.5f)), 0.0f) << (bar ? "bar " : "box ") << t;
         }
     }
+    // A closed body wound inward beside an open sheet: the sheet kept the whole mesh from counting
+    // as closed, so the body was reversed neither by itself nor with the mesh (a review).
+    {
+        std::string v, f;
+        cube(glm::vec3(0.0f), glm::vec3(1.0f), true, 0, v, f);
+        v += "v 3 0 0\nv 4 0 0\nv 4 0 1\nv 3 0 1\n";
+        f += "f 9 12 11 10\n";
+        ::testing::internal::CaptureStderr();
+        const pr::PreparedMesh m = pr::load_mesh(dir.write("cube_and_sheet.obj", v + f));
+        const std::string said = ::testing::internal::GetCapturedStderr();
+        EXPECT_NE(said.find("1 of its 1 closed pieces wound inward, and inside no other piece, turned outward"),
+                  std::string::npos)
+            << said;
+        for (std::size_t t = 0; t < m.triangle_count(); ++t) {
+            const glm::vec3 a = m.vertices[m.indices[3 * t]].position;
+            if (a.x > 2.0f) continue; // the sheet
+            const glm::vec3 mid = (a + m.vertices[m.indices[3 * t + 1]].position + m.vertices[m.indices[3 * t + 2]].position) / 3.0f;
+            EXPECT_GT(glm::dot(face_normal(m, t), mid - glm::vec3(0.5f)), 0.0f) << "cube " << t;
+        }
+    }
     int file = 0; // (a warning said once for a file is not said again: a name per case)
     for (const Case& c : cases) {
         std::string v, f;
