@@ -5,6 +5,7 @@
 #include "mesh/raw_mesh.hpp"
 
 #include "core/error.hpp"
+#include "core/ray_crossing.hpp"
 
 #include <algorithm>
 #include <array>
@@ -633,22 +634,12 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     // number of other closed pieces; an open one the way most of its area already winds; a piece
     // that cannot be (a Moebius strip) keeps its winding. Edges of three or more triangles are
     // not crossed, and do not open a piece (a fin on a closed body).
-    // Edge keys pack two 31-bit weld ids and a direction bit into 64 bits, sorted (here and for
-    // the topology remarks below).
-    const auto sorted_edge_keys = [&] {
-        std::vector<uint64_t> keys;
-        keys.reserve(tris.size() * 3);
-        for (const Triangle& t : tris) {
-            for (int k = 0; k < 3; ++k) {
-                const uint64_t a = tri_weld(t, k), b = tri_weld(t, (k + 1) % 3);
-                keys.push_back((std::min(a, b) << 32 | std::max(a, b)) << 1 | (a < b ? 0u : 1u));
-            }
-        }
-        std::sort(keys.begin(), keys.end());
-        return keys;
+    // Edge keys pack two 31-bit weld ids and a direction bit into 64 bits (here and for the
+    // topology remarks below).
+    const auto edge_key = [&](const Triangle& t, int k) {
+        const uint64_t a = tri_weld(t, k), b = tri_weld(t, (k + 1) % 3);
+        return (std::min(a, b) << 32 | std::max(a, b)) << 1 | (a < b ? 0u : 1u);
     };
-    std::vector<uint64_t> edges;
-    if (weld_count < (size_t(1) << 31)) edges = sorted_edge_keys();
     size_t closed_pieces = 0; // closed, orientable pieces (the whole mesh's reversal below needs it)
     if (weld_count < (size_t(1) << 31) && !tris.empty()) {
         struct Side {
@@ -658,11 +649,8 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         std::vector<Side> sides;
         sides.reserve(tris.size() * 3);
         for (size_t i = 0; i < tris.size(); ++i)
-            for (int k = 0; k < 3; ++k) {
-                const uint64_t a = tri_weld(tris[i], k), b = tri_weld(tris[i], (k + 1) % 3);
-                if (a == b) continue;
-                sides.push_back({(std::min(a, b) << 32 | std::max(a, b)) << 1 | (a < b ? 0u : 1u), uint32_t(i)});
-            }
+            for (int k = 0; k < 3; ++k)
+                if (tri_weld(tris[i], k) != tri_weld(tris[i], (k + 1) % 3)) sides.push_back({edge_key(tris[i], k), uint32_t(i)});
         std::sort(sides.begin(), sides.end(), [](const Side& x, const Side& y) { return x.key < y.key; });
         // Per triangle, up to three neighbours across edges of two triangles: (neighbour << 1) |
         // whether the two run that edge the same way (one of them must turn); and whether it has
@@ -739,25 +727,12 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         // through an edge may count one twice), for how deep a closed piece is nested.
         const auto inside = [&](const dvec3& p, const Piece& q) {
             if (glm::any(glm::lessThan(p, q.lo)) || glm::any(glm::greaterThan(p, q.hi))) return false;
-            static const dvec3 dirs[3] = {glm::normalize(dvec3(0.5377, 0.7219, 0.4353)),
-                                          glm::normalize(dvec3(-0.6513, 0.2291, -0.7233)),
-                                          glm::normalize(dvec3(0.1847, -0.8966, 0.4025))};
             int votes = 0;
-            for (const dvec3& d : dirs) {
+            for (const dvec3& d : vote_ray_directions()) {
                 bool odd = false;
                 for (size_t i = q.first; i < q.last; ++i) {
                     const Triangle& t = tris[order[i]];
-                    const dvec3 a = wpos[tri_weld(t, 0)], ab = wpos[tri_weld(t, 1)] - a, ac = wpos[tri_weld(t, 2)] - a;
-                    const dvec3 pv = glm::cross(d, ac);
-                    const double det = glm::dot(ab, pv);
-                    if (std::abs(det) < 1e-300) continue;
-                    const dvec3 sv = p - a;
-                    const double u = glm::dot(sv, pv) / det;
-                    if (u < 0.0 || u > 1.0) continue;
-                    const dvec3 qv = glm::cross(sv, ab);
-                    const double v = glm::dot(d, qv) / det;
-                    if (v < 0.0 || u + v > 1.0) continue;
-                    if (glm::dot(ac, qv) / det > 0.0) odd = !odd;
+                    odd = odd != (ray_crossing(p, d, wpos[tri_weld(t, 0)], wpos[tri_weld(t, 1)], wpos[tri_weld(t, 2)]) != 0);
                 }
                 votes += odd;
             }
@@ -844,7 +819,6 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
                 turned_face[tris[t].face] = 1;
             }
         }
-        if (turned_faces + pieces_turned > 0) edges = sorted_edge_keys(); // (for the remarks below)
         if (turned_faces > 0)
             warn(name + ": " + std::to_string(turned_faces) + " face" + (turned_faces == 1 ? "" : "s") +
                  " wound against " + (turned_faces == 1 ? "its" : "their") +
@@ -925,6 +899,11 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
 
     // ---- topology remarks: non-manifold edges and inconsistent orientation ---------------------
     if (weld_count < (size_t(1) << 31)) {
+        std::vector<uint64_t> edges;
+        edges.reserve(tris.size() * 3);
+        for (const Triangle& t : tris)
+            for (int k = 0; k < 3; ++k) edges.push_back(edge_key(t, k));
+        std::sort(edges.begin(), edges.end());
         // unbalanced: edges run more often one way than the other (every edge of a closed,
         // consistently oriented surface runs once each way per pair of faces on it).
         size_t non_manifold = 0, flipped = 0, boundary = 0, unbalanced = 0;

@@ -1,6 +1,8 @@
 // The prism that holds the eye (eye_prism.hpp).
 #include "render/eye_prism.hpp"
 
+#include "core/ray_crossing.hpp"
+
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/vec2.hpp>
@@ -139,12 +141,9 @@ bool eye_inside_body(const std::vector<glm::vec4>& corners, const std::vector<st
     // an edge or a corner may count a crossing twice or not at all, so three rays in unrelated
     // directions vote.
     const glm::dvec3 e(eye);
-    const glm::dvec3 dirs[3] = {glm::normalize(glm::dvec3(0.5377, 0.7219, 0.4353)),
-                                glm::normalize(glm::dvec3(-0.6513, 0.2291, -0.7233)),
-                                glm::normalize(glm::dvec3(0.1847, -0.8966, 0.4025))};
     const std::size_t triangles = indices.size() / 3;
     int votes = 0;
-    for (const glm::dvec3& d : dirs) {
+    for (const glm::dvec3& d : vote_ray_directions()) {
         const glm::dvec3 inv = 1.0 / d;
         int winding = 0;
         for (std::size_t block = 0; block < blocks.lo.size(); ++block) {
@@ -154,23 +153,10 @@ bool eye_inside_body(const std::vector<glm::vec4>& corners, const std::vector<st
             if (std::max({near.x, near.y, near.z}) > std::min({far.x, far.y, far.z}) || std::min({far.x, far.y, far.z}) < 0.0)
                 continue;
             const std::size_t end = std::min(triangles, (block + 1) * PrismBlocks::kSize);
-            for (std::size_t t = block * PrismBlocks::kSize; t < end; ++t) {
-                // Moller-Trumbore on the bottom cap.
-                const glm::dvec3 a(shell_corner(corners, indices[3 * t]).bottom);
-                const glm::dvec3 ab = glm::dvec3(shell_corner(corners, indices[3 * t + 1]).bottom) - a;
-                const glm::dvec3 ac = glm::dvec3(shell_corner(corners, indices[3 * t + 2]).bottom) - a;
-                const glm::dvec3 p = glm::cross(d, ac);
-                const double det = glm::dot(ab, p);
-                if (std::abs(det) < 1e-300) continue;
-                const glm::dvec3 s = e - a;
-                const double u = glm::dot(s, p) / det;
-                if (u < 0.0 || u > 1.0) continue;
-                const glm::dvec3 q = glm::cross(s, ab);
-                const double v = glm::dot(d, q) / det;
-                if (v < 0.0 || u + v > 1.0) continue;
-                // (det = -d . (ab x ac): negative where the ray goes out through the face.)
-                if (glm::dot(ac, q) / det > 0.0) winding += det < 0.0 ? 1 : -1;
-            }
+            for (std::size_t t = block * PrismBlocks::kSize; t < end; ++t)
+                winding += ray_crossing(e, d, glm::dvec3(shell_corner(corners, indices[3 * t]).bottom),
+                                        glm::dvec3(shell_corner(corners, indices[3 * t + 1]).bottom),
+                                        glm::dvec3(shell_corner(corners, indices[3 * t + 2]).bottom));
         }
         votes += winding > 0 ? 1 : 0;
     }
