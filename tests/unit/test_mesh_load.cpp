@@ -70,6 +70,14 @@ glm::vec3 face_normal(const pr::PreparedMesh& m, std::size_t t)
     return glm::cross(b - a, c - a);
 }
 
+// The centre of triangle t.
+glm::vec3 triangle_centre(const pr::PreparedMesh& m, std::size_t t)
+{
+    return (m.vertices[m.indices[3 * t]].position + m.vertices[m.indices[3 * t + 1]].position +
+            m.vertices[m.indices[3 * t + 2]].position) /
+           3.0f;
+}
+
 // Loads and returns the error it throws; fails the test if there is none.
 pr::Error load_error(const fs::path& path, const pr::MeshOptions& options = {})
 {
@@ -1236,8 +1244,7 @@ TEST(MeshLoad, ClosedPiecesAreWoundOutwardOrAsCavities)
     const auto expect_winding = [](const pr::PreparedMesh& m, glm::vec3 centre_a, glm::vec3 centre_b, bool b_inward,
                                    const char* what) {
         for (std::size_t t = 0; t < m.triangle_count(); ++t) {
-            const glm::vec3 a = m.vertices[m.indices[3 * t]].position;
-            const glm::vec3 mid = (a + m.vertices[m.indices[3 * t + 1]].position + m.vertices[m.indices[3 * t + 2]].position) / 3.0f;
+            const glm::vec3 mid = triangle_centre(m, t);
             const bool on_b = glm::length(mid - centre_b) < glm::length(mid - centre_a) ||
                               glm::all(glm::lessThan(glm::abs(mid - centre_b), glm::vec3(0.21f)));
             const float out = glm::dot(face_normal(m, t), mid - (on_b ? centre_b : centre_a));
@@ -1303,8 +1310,7 @@ TEST(MeshLoad, ClosedPiecesAreWoundOutwardOrAsCavities)
                   std::string::npos)
             << said;
         for (std::size_t t = 0; t < m.triangle_count(); ++t) {
-            const glm::vec3 a = m.vertices[m.indices[3 * t]].position;
-            const glm::vec3 mid = (a + m.vertices[m.indices[3 * t + 1]].position + m.vertices[m.indices[3 * t + 2]].position) / 3.0f;
+            const glm::vec3 mid = triangle_centre(m, t);
             const bool bar = std::abs(mid.y - 0.5f) <= 0.1001f && std::abs(mid.z - 0.5f) <= 0.1001f;
             EXPECT_GT(glm::dot(face_normal(m, t), mid - glm::vec3(0.5f)), 0.0f) << (bar ? "bar " : "box ") << t;
         }
@@ -1323,9 +1329,8 @@ TEST(MeshLoad, ClosedPiecesAreWoundOutwardOrAsCavities)
                   std::string::npos)
             << said;
         for (std::size_t t = 0; t < m.triangle_count(); ++t) {
-            const glm::vec3 a = m.vertices[m.indices[3 * t]].position;
-            if (a.x > 2.0f) continue; // the sheet
-            const glm::vec3 mid = (a + m.vertices[m.indices[3 * t + 1]].position + m.vertices[m.indices[3 * t + 2]].position) / 3.0f;
+            if (m.vertices[m.indices[3 * t]].position.x > 2.0f) continue; // the sheet
+            const glm::vec3 mid = triangle_centre(m, t);
             EXPECT_GT(glm::dot(face_normal(m, t), mid - glm::vec3(0.5f)), 0.0f) << "cube " << t;
         }
     }
