@@ -275,11 +275,13 @@ void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_techn
                            "; prism:MARCHER[:EXIT] for the prism's options)")
             ->group("Technique")
             ->capture_default_str();
-    app.add_option("--steps", o.steps, "Linear search steps over the full height range (1-1024)")
+    app.add_option("--steps", o.steps,
+                   "Linear search steps over the full height range (1-" + std::to_string(kMaxSteps) + ")")
         ->transform(saturating<int>())
         ->group("Technique")
         ->capture_default_str();
-    app.add_option("--refine", o.refine, "Binary refinement steps after the linear search (0-32)")
+    app.add_option("--refine", o.refine,
+                   "Binary refinement steps after the linear search (0-" + std::to_string(kMaxRefine) + ")")
         ->transform(saturating<int>())
         ->group("Technique")
         ->capture_default_str();
@@ -385,8 +387,10 @@ DrawSettings make_draw_settings(const TechniqueOptions& o, const std::string& te
             throw Error("--prism-shell", "only the walk takes a shell (the exit is " + prism_exit_name(s.prism_exit) +
                                              ")");
     }
-    if (o.steps < 1 || o.steps > 1024) throw Error("--steps", "must be between 1 and 1024");
-    if (o.refine < 0 || o.refine > 32) throw Error("--refine", "must be between 0 and 32");
+    if (o.steps < 1 || o.steps > kMaxSteps)
+        throw Error("--steps", "must be between 1 and " + std::to_string(kMaxSteps));
+    if (o.refine < 0 || o.refine > kMaxRefine)
+        throw Error("--refine", "must be between 0 and " + std::to_string(kMaxRefine));
     s.steps = o.steps;
     s.refine = o.refine;
     s.normal_quality = parse_normal_quality(o.normal_quality);

@@ -55,10 +55,15 @@ enum class AuxMap { None, Cone, Relaxed, MaxMip };
 
 // How one technique draws: quality knobs shared by every marcher (contract: equal --steps means
 // equal step length in any comparison).
+// The ranges of DrawSettings::steps and ::refine the command line takes and the viewer's panel
+// offers.
+constexpr int kMaxSteps = 1024;
+constexpr int kMaxRefine = 32;
+
 struct DrawSettings {
     Technique technique = Technique::Relief;
-    int steps = 32;  // linear steps over the full height range
-    int refine = 6;  // binary refinement steps (relief)
+    int steps = 32;  // linear steps over the full height range, 1..kMaxSteps
+    int refine = 6;  // binary refinement steps (relief), 0..kMaxRefine
     Marcher marcher = Marcher::Relief; // prism only
     PrismExit prism_exit = PrismExit::Walk; // prism only
     bool full_shell = false; // walk: top caps at height 1, not at the field's local maximum (shell_bounds.hpp)

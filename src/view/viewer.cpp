@@ -733,8 +733,8 @@ void Viewer::draw_panel()
         }
         int steps = half_[0].steps, refine = half_[0].refine;
         // The command line's ranges (--steps 1000 showed past a 1-256 slider's end).
-        bool changed = ImGui::SliderInt("steps", &steps, 1, 1024, "%d", ImGuiSliderFlags_Logarithmic);
-        changed |= ImGui::SliderInt("refine", &refine, 0, 32);
+        bool changed = ImGui::SliderInt("steps", &steps, 1, kMaxSteps, "%d", ImGuiSliderFlags_Logarithmic);
+        changed |= ImGui::SliderInt("refine", &refine, 0, kMaxRefine);
         static const char* qualities[] = {"gather", "central", "sobel"};
         int q = int(half_[0].normal_quality);
         changed |= ImGui::Combo("normals", &q, qualities, 3);
