@@ -25,9 +25,10 @@ in float v_dist_top;
 #endif
 
 layout(location = 0) out vec4 o_color;
-// The hit is never in front of the face that was rasterized: depth only grows, which keeps
-// early depth rejection against what is already drawn.
-layout(depth_greater) out float gl_FragDepth;
+// The hit is never in front of the face that was rasterized: depth (reversed: 1 at the near
+// plane, Camera::projection) only falls, which keeps early depth rejection against what is
+// already drawn.
+layout(depth_less) out float gl_FragDepth;
 
 // MeshVertex (src/mesh/mesh.hpp) is 16 floats: four texels (floats as bits).
 layout(binding = PR_TEX_VERTICES) uniform usamplerBuffer t_vertices;
@@ -463,7 +464,7 @@ void main()
     o_color = vec4(shade_blinn_phong(albedo_at(tex.xy, g), shading_n, light_dir, -normalize(dir), visibility), 1.0);
     vec4 clip = u_view_proj * vec4(hit, 1.0);
 #ifdef PR_PRISM_FROM_EYE
-    if (clip.z < -clip.w) discard; // between the eye and the near plane: clipped, as geometry is
+    if (clip.z > clip.w) discard; // between the eye and the near plane (or behind the eye): clipped, as geometry is
 #endif
-    gl_FragDepth = clamp(clip.z / clip.w * 0.5 + 0.5, gl_FragCoord.z, 1.0);
+    gl_FragDepth = clamp(clip.z / clip.w, 0.0, gl_FragCoord.z);
 }

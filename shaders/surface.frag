@@ -113,10 +113,11 @@ void main()
     // Depth of what is shown (--depth-write). A variant of its own: writing gl_FragDepth at all
     // turns off early depth rejection, so the plain variants never touch it.
     vec4 clip = u_view_proj * vec4(v_world_pos + t_hit * view, 1.0);
-    // At most the largest float under 1: the carved point can lie past the far plane (a grazing
-    // ray runs on through the repeating uv, beyond the shell's sphere), and a depth of 1.0 failed
-    // the depth test against the clear value: pixels of the polygon went missing.
-    gl_FragDepth = clamp(clip.z / clip.w * 0.5 + 0.5, 0.0, uintBitsToFloat(0x3F7FFFFFu));
+    // At least the smallest normal float: the carved point can lie past the far plane (a grazing
+    // ray runs on through the repeating uv, beyond the shell's sphere), and a depth of 0 (the far
+    // plane's, reversed: Camera::projection) failed the depth test against the clear value:
+    // pixels of the polygon went missing.
+    gl_FragDepth = clamp(clip.z / clip.w, uintBitsToFloat(0x00800000u), 1.0);
 #endif
 
     count_fragment();

@@ -18,14 +18,16 @@ in vec3 g_world[];
 in vec3 g_normal[];
 flat in uint g_weld[];
 
-// Lines lie on the surfaces they outline; pull them towards the eye by this much of window
-// depth so the depth test does not hide them behind the faces they bound (z fighting).
-const float kDepthBias = 2e-4;
+// Lines lie on the surfaces they outline; pull them towards the eye by this fraction of their
+// distance so the depth test does not hide them behind the faces they bound (z fighting).
+// Window depth is near / distance (reversed, Camera::projection): scaled up by 1 + k, the
+// distance shrinks by about k.
+const float kDepthBias = 5e-4;
 
 void put(vec3 world)
 {
     vec4 clip = u_view_proj * vec4(world, 1.0);
-    clip.z -= 2.0 * kDepthBias * clip.w; // NDC z spans 2 units of window depth's 1
+    clip.z *= 1.0 + kDepthBias;
     gl_Position = clip;
     EmitVertex();
 }

@@ -28,7 +28,12 @@ glm::mat4 Camera::view() const
 
 glm::mat4 Camera::projection(float aspect) const
 {
-    return glm::perspective(glm::radians(fovy_deg), aspect, near_plane, far_plane);
+    // Reversed depth: clip z from 0 to w (glClipControl's GL_ZERO_TO_ONE, set by the renderer),
+    // window depth 1 at the near plane and 0 at the far one, into a float depth buffer. Floats
+    // are as fine near 0 as the distance n/d needs, so the depth keeps about 7 digits of the
+    // distance everywhere, whatever far / near is (with the usual mapping it kept
+    // 7 - log10(far / near) digits at the far side, and near had to stay above 10^-4 of far).
+    return glm::perspectiveRH_ZO(glm::radians(fovy_deg), aspect, far_plane, near_plane);
 }
 
 std::optional<glm::vec3> unit_direction(const glm::dvec3& v)
@@ -85,7 +90,7 @@ void fit_clip_planes(Camera& camera, const Sphere& bounds)
     const float d = glm::length(camera.eye - bounds.center);
     const float r = bounds.radius * 1.05f;
     camera.far_plane = d + r;
-    camera.near_plane = std::max(d - r, camera.far_plane * 1e-4f);
+    camera.near_plane = std::max(d - r, camera.far_plane * kNearFraction);
 }
 
 void fit_clip_planes(Camera& camera, const std::vector<Sphere>& objects, const Sphere& all)
@@ -96,7 +101,7 @@ void fit_clip_planes(Camera& camera, const std::vector<Sphere>& objects, const S
         const float d = glm::length(camera.eye - b.center);
         const float r = b.radius * 1.05f;
         far = std::max(far, d + r);
-        near = std::min(near, std::max(d - r, (d + r) * 1e-4f));
+        near = std::min(near, std::max(d - r, (d + r) * kNearFraction));
     }
     camera.far_plane = far;
     camera.near_plane = std::min(near, far * 0.5f);
@@ -106,8 +111,8 @@ float depth_to_distance(const Camera& camera, int width, int height, float x, fl
 {
     const float aspect = static_cast<float>(width) / static_cast<float>(height);
     const glm::mat4 inv = glm::inverse(camera.projection(aspect));
-    const glm::vec4 ndc((x + 0.5f) / width * 2.0f - 1.0f, (y + 0.5f) / height * 2.0f - 1.0f,
-                        window_depth * 2.0f - 1.0f, 1.0f);
+    const glm::vec4 ndc((x + 0.5f) / width * 2.0f - 1.0f, (y + 0.5f) / height * 2.0f - 1.0f, window_depth,
+                        1.0f); // clip z from 0 to w (Camera::projection)
     const glm::vec4 v = inv * ndc;
     return glm::length(glm::vec3(v) / v.w);
 }

@@ -1,6 +1,7 @@
 #pragma once
 // Perspective camera (contract): vertical field of view in degrees, eye/target/up, and
-// auto-framing on a bounding sphere. World space throughout; OpenGL clip conventions.
+// auto-framing on a bounding sphere. World space throughout; clip z from 0 to w
+// (glClipControl GL_ZERO_TO_ONE) with reversed depth: 1 at the near plane, 0 at the far one.
 #include <glm/glm.hpp>
 
 #include <optional>
@@ -45,8 +46,15 @@ ViewProblem view_problem(const glm::dvec3& eye, const glm::dvec3& target, const 
 Camera frame_sphere(const Sphere& bounds, float fovy_deg, float aspect, float elevation_deg,
                     float azimuth_deg, glm::vec3 up = {0.0f, 1.0f, 0.0f});
 
-// Near and far planes that enclose `bounds` as seen from the camera (near never below a small
-// fraction of the distance, so depth precision holds).
+// The nearest the near plane comes to the eye, as a fraction of the far plane's distance: where
+// the eye is inside an object's bounding sphere, near is this fraction of far (the reversed
+// float depth of Camera::projection keeps its precision at any fraction; near must only stay
+// above 0). At 10^-4 (before the sixteenth session, with the usual depth mapping) a floor 10^5
+// units wide, seen from 1 unit above it, lost everything nearer than 15 units.
+inline constexpr float kNearFraction = 1e-6f;
+
+// Near and far planes that enclose `bounds` as seen from the camera (near never below
+// kNearFraction of far).
 void fit_clip_planes(Camera& camera, const Sphere& bounds);
 // The same for several objects' bounds: far encloses them all, near comes from the nearest
 // (each object's near is kept from a small fraction of its own far side, not the scene's, so
@@ -54,7 +62,8 @@ void fit_clip_planes(Camera& camera, const Sphere& bounds);
 // (the result is fit_clip_planes(camera, all) for one object).
 void fit_clip_planes(Camera& camera, const std::vector<Sphere>& objects, const Sphere& all);
 
-// Distance from the eye along the pixel's ray for a window-space depth value (0..1) at pixel
+// Distance from the eye along the pixel's ray for a window-space depth value (1 at the near plane,
+// 0 at the far one: Camera::projection) at pixel
 // centre (x + 0.5, y + 0.5) of a width x height image: the contract's depth-error measure.
 float depth_to_distance(const Camera& camera, int width, int height, float x, float y, float window_depth);
 

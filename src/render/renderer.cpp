@@ -748,6 +748,13 @@ void Renderer::upload_object(const GpuObject& o, const DrawSettings& settings, f
     glNamedBufferSubData(object_ubo_.id(), 0, sizeof(ob), &ob);
 }
 
+void Renderer::use_reversed_depth()
+{
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+}
+
 void Renderer::upload_frame(const Camera& camera, glm::vec3 light_dir, glm::vec2 pixel_offset)
 {
     const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
@@ -820,13 +827,12 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     const auto start = std::chrono::steady_clock::now();
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
     glViewport(0, 0, width_, height_);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
+    use_reversed_depth();
     glDepthMask(GL_TRUE);
     glDisable(GL_CULL_FACE); // open meshes are seen from both sides
     glDisable(GL_BLEND);
     const GLfloat clear_color[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    const GLfloat clear_depth = 1.0f;
+    const GLfloat clear_depth = 0.0f; // the far plane's (Camera::projection)
     glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, clear_color);
     glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
     const bool prism = settings.technique == Technique::Prism;

@@ -248,6 +248,9 @@ private:
     GLint64 texture_buffer_limit_ = 0;
     // Builds (or reads from the cache) and uploads the derived map each object needs.
     void ensure_aux_textures(AuxMap map);
+    // Depth as Camera::projection makes it: clip z from 0 to w, nearer is greater (depth test
+    // GL_GREATER, cleared to 0). Set before every draw: the viewer's panel shares the context.
+    static void use_reversed_depth();
     // Fills and binds the frame block (camera, light, viewport) and binds the object block.
     void upload_frame(const Camera& camera, glm::vec3 light_dir, glm::vec2 pixel_offset = glm::vec2(0.0f));
     // Fills the object block for `o` drawn with `settings` (draw() and draw_overlay()).

@@ -41,8 +41,8 @@ void Renderer::draw_overlay(const Camera& camera, Overlay overlay, glm::vec4 col
 
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
     glViewport(0, 0, width_, height_);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LEQUAL);
+    use_reversed_depth();
+    glDepthFunc(GL_GEQUAL);
     glDepthMask(GL_FALSE);
     glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_FALSE);
     glDisable(GL_CULL_FACE);
@@ -67,7 +67,7 @@ void Renderer::draw_overlay(const Camera& camera, Overlay overlay, glm::vec4 col
     glUseProgram(0);
     glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDepthMask(GL_TRUE);
-    glDepthFunc(GL_LESS);
+    glDepthFunc(GL_GREATER);
     if (const GLenum err = glGetError(); err != GL_NO_ERROR)
         throw Error("overlay", "OpenGL error " + std::to_string(err));
 }

@@ -54,7 +54,7 @@ std::vector<float> distances(const Renderer& r, const Camera& c)
     for (int y = 0; y < r.height(); ++y)
         for (int x = 0; x < r.width(); ++x) {
             const float w = depth[std::size_t(y) * r.width() + x];
-            if (w < 1.0f) d[std::size_t(y) * r.width() + x] = depth_to_distance(c, r.width(), r.height(), x, y, w);
+            if (w > 0.0f) d[std::size_t(y) * r.width() + x] = depth_to_distance(c, r.width(), r.height(), x, y, w);
         }
     return d;
 }

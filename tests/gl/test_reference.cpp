@@ -58,7 +58,7 @@ TEST(Reference, PlaneMatchesTheAnalyticDisplacedSurface)
         for (int x = 8; x < kSize - 8; ++x) {
             const std::size_t p = std::size_t(y) * kSize + x;
             if (f.color.pixels[4 * p + 3] < 128) continue;
-            const glm::vec4 ndc((x + 0.5f) / kSize * 2 - 1, (y + 0.5f) / kSize * 2 - 1, f.depth[p] * 2 - 1, 1);
+            const glm::vec4 ndc((x + 0.5f) / kSize * 2 - 1, (y + 0.5f) / kSize * 2 - 1, f.depth[p], 1); // clip z 0..w
             glm::vec4 w = inv * ndc;
             w /= w.w;
             const float u = (w.x + 1.0f) * 0.5f;
@@ -296,6 +296,41 @@ TEST(Reference, ObjectsDrawTheSameAtAnyScale)
             CompareMetrics m = compare_frames(f, unit);
             EXPECT_GT(m.iou, 0.995);
             EXPECT_NEAR(mean_brightness(f.color), unit_brightness, 0.03 * unit_brightness);
+        }
+    }
+}
+
+// A floor far larger than the eye's distance to it: the near plane was kept at 10^-4 of the far
+// one (the usual depth mapping lost precision below that), which put it 15 units from an eye 1
+// unit above a floor 10^5 wide, and every technique drew only a strip at the horizon (coverage
+// 10 % against 96 %); at 10^4 wide the prism lost the nearest rows, whose shell the near plane cut
+// (IoU 0.945). With reversed float depth (Camera::projection) the near plane comes to 10^-6 of
+// the far one.
+TEST(Reference, AFloorMuchWiderThanTheEyesHeightIsNotClipped)
+{
+    prtest::context();
+    for (const float width : {1e4f, 1e5f}) {
+        SceneSpec spec;
+        ObjectSpec o;
+        o.mesh = std::string(PR_SOURCE_DIR) + "/meshes/plane.obj";
+        o.height = "builtin:bricks@64";
+        o.depth = 0.05f;
+        o.transform = glm::scale(glm::mat4(1.0f), glm::vec3(width, 1.0f, width));
+        spec.objects.push_back(o);
+        spec.camera.eye = glm::vec3(0.0f, 0.8f, 3.0f);
+        spec.camera.target = glm::vec3(0.0f);
+        spec.width = spec.height = kSize;
+        const Scene scene = load_scene(spec);
+        const Camera c = scene_camera(spec, scene);
+        Renderer r(kSize, kSize);
+        r.upload(scene);
+        r.prepare_reference(scene, c, ReferenceOptions{});
+        const FrameCapture ref = capture(r, c, Technique::Reference);
+        // Below the horizon (a little over half the image at this height) all is floor.
+        EXPECT_GT(prtest::coverage(ref.color), std::size_t(0.85 * kSize * kSize)) << width;
+        for (const Technique t : {Technique::Flat, Technique::Relief, Technique::Prism}) {
+            const CompareMetrics m = compare_frames(capture(r, c, t), ref);
+            EXPECT_GT(m.iou, 0.999) << technique_name(t) << " " << width;
         }
     }
 }

@@ -178,11 +178,12 @@ TEST(Metrics, AlphaAndUncoveredColourDoNotAffectPsnr)
     EXPECT_FALSE(m.psnr.has_value());
 }
 
-// Eye distance of window depth d on the optical axis: z_eye from the inverse of the OpenGL
-// perspective depth mapping, 2nf / (f + n - (2d - 1)(f - n)).
+// Eye distance of window depth d on the optical axis: -z_eye from the inverse of the reversed
+// depth mapping (Camera::projection: d = n (f - D) / ((f - n) D), 1 at D = n, 0 at D = f),
+// D = nf / (n + d (f - n)).
 double axis_distance(double n, double f, double d)
 {
-    return 2.0 * n * f / (f + n - (2.0 * d - 1.0) * (f - n));
+    return n * f / (n + d * (f - n));
 }
 
 TEST(Metrics, DepthErrorOnTheAxisMatchesTheClosedForm)
@@ -194,7 +195,7 @@ TEST(Metrics, DepthErrorOnTheAxisMatchesTheClosedForm)
     cover(a, 0, 0, 1, 1, 0.9f);
     cover(b, 0, 0, 1, 1, 0.8f);
     const pr::CompareMetrics m = pr::compare_frames(a, b);
-    const double expected = axis_distance(1.0, 10.0, 0.9) - axis_distance(1.0, 10.0, 0.8);
+    const double expected = axis_distance(1.0, 10.0, 0.8) - axis_distance(1.0, 10.0, 0.9); // b lies behind a
     ASSERT_TRUE(m.depth_error_mean.has_value());
     EXPECT_GT(expected, 0.0);
     EXPECT_NEAR(*m.depth_error_mean, expected, 1e-4 * expected);
@@ -217,8 +218,8 @@ TEST(Metrics, DepthErrorOfAConstantWindowOffsetIsMeasuredAlongEachRay)
     double max = 0.0;
     for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
-            const double e = pr::depth_to_distance(a.camera, w, h, float(x), float(y), 0.95f) -
-                             pr::depth_to_distance(a.camera, w, h, float(x), float(y), 0.90f);
+            const double e = pr::depth_to_distance(a.camera, w, h, float(x), float(y), 0.90f) -
+                             pr::depth_to_distance(a.camera, w, h, float(x), float(y), 0.95f);
             sum += e;
             max = std::max(max, e);
         }
@@ -228,7 +229,7 @@ TEST(Metrics, DepthErrorOfAConstantWindowOffsetIsMeasuredAlongEachRay)
     EXPECT_NEAR(*m.depth_error_mean, sum / (w * h), 1e-9);
     EXPECT_NEAR(*m.depth_error_max, max, 1e-9);
     // Off-axis rays are longer than the axis for the same window depth: the corners give the max.
-    const double axis = axis_distance(0.5, 20.0, 0.95) - axis_distance(0.5, 20.0, 0.90);
+    const double axis = axis_distance(0.5, 20.0, 0.90) - axis_distance(0.5, 20.0, 0.95);
     EXPECT_GT(*m.depth_error_max, axis);
     EXPECT_GT(*m.depth_error_mean, 0.0);
 }
