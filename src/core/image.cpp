@@ -1,4 +1,5 @@
 #include "core/image.hpp"
+#include "core/image_checks.hpp"
 
 #include "core/atomic_file.hpp"
 #include "core/builtin_maps.hpp"
@@ -298,7 +299,34 @@ Checked check_header(const std::string& subject, std::vector<std::uint8_t>& byte
     }
     // (stb 2.27 reports a top-down BMP's height negative, as its header stores it: "8x-8 pixels".)
     check_image_dimensions(subject, w, std::abs(std::int64_t(h)), limits);
+    check_image_data(subject, bytes);
     return c;
+}
+
+// stb's decode of `c` by `decode` (stbi_load_from_memory's arguments). Where a decoder could
+// read past the end without failing (needs_padding_check: every format but PNG, JPEG and HDR),
+// it decodes the bytes followed by kPadding zeros and again followed by as many 0xFF bytes: a
+// file that ends before its pixels do gives two different images (stb read zeros past the end,
+// and such rows came out black: BMP, GIF, PSD, run-length TGA cut short).
+template <typename T, typename Decode>
+StbiPtr<T> decode_image(const std::string& subject, const std::vector<std::uint8_t>& bytes, const Checked& c,
+                        int* w, int* h, int* n, int channels, Decode decode)
+{
+    constexpr std::size_t kPadding = 64;
+    if (!needs_padding_check(bytes) || c.len > INT_MAX - int(kPadding))
+        return StbiPtr<T>(decode(c.data, c.len, w, h, n, channels));
+    std::vector<stbi_uc> padded(c.data, c.data + c.len);
+    padded.resize(std::size_t(c.len) + kPadding, 0x00);
+    StbiPtr<T> zeros(decode(padded.data(), int(padded.size()), w, h, n, channels));
+    std::fill(padded.begin() + c.len, padded.end(), stbi_uc(0xFF));
+    int w2 = 0, h2 = 0, n2 = 0;
+    StbiPtr<T> ones(decode(padded.data(), int(padded.size()), &w2, &h2, &n2, channels));
+    if (!zeros && !ones) return zeros;
+    const std::size_t count = zeros ? std::size_t(*w) * std::size_t(*h) * std::size_t(channels ? channels : *n) : 0;
+    if (!zeros || !ones || w2 != *w || h2 != *h || n2 != *n ||
+        std::memcmp(zeros.get(), ones.get(), count * sizeof(T)) != 0)
+        throw Error(subject, "not a supported image (truncated or corrupt data: the file ends before its pixels do)");
+    return zeros;
 }
 
 // Decoders that learn the size late (JPEG's DNL marker) could disagree with the header.
@@ -348,24 +376,6 @@ bool stb_swaps_16_bit_pnm()
     return swaps;
 }
 
-// Whether stb decodes these bytes as TGA: it tries TGA last, as the format without a signature,
-// so a file none of the other decoders' signatures match, whose header names a TGA image type.
-bool is_tga(const std::vector<std::uint8_t>& b)
-{
-    if (b.size() < 18) return false;
-    const auto starts = [&b](std::string_view magic) {
-        return b.size() >= magic.size() && std::memcmp(b.data(), magic.data(), magic.size()) == 0;
-    };
-    for (std::string_view magic : {"\x89PNG", "BM", "GIF8", "8BPS", "\x53\x80\xF6\x34", "P5", "P6",
-                                   "#?RADIANCE", "#?RGBE"})
-        if (starts(magic)) return false;
-    std::size_t i = 0;
-    while (i < b.size() && b[i] == 0xFF) ++i;
-    if (i > 0 && i < b.size() && b[i] == 0xD8) return false; // JPEG
-    const unsigned type = b[2];
-    return b[1] <= 1 && (type == 1 || type == 2 || type == 3 || type == 9 || type == 10 || type == 11);
-}
-
 // stb_image 2.27 reads a TGA's vertical origin (descriptor bit 5) but not its horizontal one
 // (bit 4, pixels stored right to left): such a file came out mirrored.
 template <typename T>
@@ -386,16 +396,18 @@ HeightField load_height_file(const std::string& path, const ImageLimits& limits)
     HeightField hf;
     hf.name = path;
     int n = 0;
+    // A PNM's samples run from 0 to its maxval (stb returns them as stored).
+    const std::optional<int> maxval = pnm_maxval(bytes);
     if (stbi_is_16_bit_from_memory(c.data, c.len)) {
-        StbiPtr<stbi_us> data(
-            stbi_load_16_from_memory(c.data, c.len, &hf.width, &hf.height, &n, 0));
+        StbiPtr<stbi_us> data = decode_image<stbi_us>(path, bytes, c, &hf.width, &hf.height, &n, 0, stbi_load_16_from_memory);
         if (!data) fail_decode(path);
         check_decoded(path, hf.width, hf.height, limits);
         hf.bits = 16;
         const bool swap = is_pnm(bytes) && stb_swaps_16_bit_pnm();
-        take_first_channel(hf, data.get(), n, [swap](stbi_us v) {
+        const float top = float(maxval.value_or(65535));
+        take_first_channel(hf, data.get(), n, [swap, top](stbi_us v) {
             if (swap) v = stbi_us(v >> 8 | v << 8);
-            return float(v) / 65535.0f;
+            return std::min(float(v) / top, 1.0f);
         });
     } else if (stbi_is_hdr_from_memory(c.data, c.len)) {
         // Radiance HDR holds floats: clamp to the height range and keep 16 bits, which is what
@@ -411,12 +423,17 @@ HeightField load_height_file(const std::string& path, const ImageLimits& limits)
         });
         if (clamped) warn(path + ": HDR heights outside [0,1] were clamped");
     } else {
-        StbiPtr<stbi_uc> data(stbi_load_from_memory(c.data, c.len, &hf.width, &hf.height, &n, 0));
+        StbiPtr<stbi_uc> data = decode_image<stbi_uc>(path, bytes, c, &hf.width, &hf.height, &n, 0, stbi_load_from_memory);
         if (!data) fail_decode(path);
         check_decoded(path, hf.width, hf.height, limits);
-        hf.bits = 8;
+        // 8 bits, or a PNM's maxval under 255 taken at 16 (maxval 100: steps of 1/100).
+        hf.bits = maxval.value_or(255) == 255 ? 8 : 16;
         fix_tga_origin(bytes, data.get(), hf.width, hf.height, n);
-        take_first_channel(hf, data.get(), n, [](stbi_uc v) { return float(v) / 255.0f; });
+        const float top = float(maxval.value_or(255));
+        take_first_channel(hf, data.get(), n, [top, quantize = hf.bits == 16](stbi_uc v) {
+            const float x = std::min(float(v) / top, 1.0f);
+            return quantize ? quantize16(x) : x;
+        });
     }
     return hf;
 }
@@ -431,11 +448,15 @@ RgbaImage load_rgba_file(const std::string& path, const ImageLimits& limits)
         // stb 2.27 mangles 16-bit PNM on the way to 8-bit RGBA (an 8-bit channel conversion on
         // 16-bit samples, after the byte-order slip above): take the samples as they are and
         // expand grey or RGB to RGBA here.
-        StbiPtr<stbi_us> wide(stbi_load_16_from_memory(c.data, c.len, &w, &h, &n, 0));
+        StbiPtr<stbi_us> wide = decode_image<stbi_us>(path, bytes, c, &w, &h, &n, 0, stbi_load_16_from_memory);
         if (!wide) fail_decode(path);
         check_decoded(path, w, h, limits);
         const bool swap = stb_swaps_16_bit_pnm();
-        const auto high_byte = [swap](stbi_us v) { return stbi_uc(swap ? v & 0xFF : v >> 8); };
+        const float top = float(pnm_maxval(bytes).value_or(65535));
+        const auto high_byte = [swap, top](stbi_us v) {
+            if (swap) v = stbi_us(v >> 8 | v << 8);
+            return top == 65535.0f ? stbi_uc(v >> 8) : stbi_uc(std::lround(std::min(float(v) / top, 1.0f) * 255.0f));
+        };
         const std::size_t count = std::size_t(w) * h;
         data.reset(static_cast<stbi_uc*>(STBI_MALLOC(count * 4)));
         if (!data) throw Error(path, "out of memory");
@@ -450,7 +471,11 @@ RgbaImage load_rgba_file(const std::string& path, const ImageLimits& limits)
     } else {
         // Asking for 4 channels makes stb replicate grey into RGB, add opaque alpha where there
         // is none, expand palettes and reduce 16-bit input to 8 bits.
-        data.reset(stbi_load_from_memory(c.data, c.len, &w, &h, &n, 4));
+        data = decode_image<stbi_uc>(path, bytes, c, &w, &h, &n, 4, stbi_load_from_memory);
+        // A PNM's maxval under 255 (stb returns its samples as stored).
+        if (const std::optional<int> maxval = pnm_maxval(bytes); data && maxval && *maxval < 255)
+            for (std::size_t k = 0; k < std::size_t(w) * h * 4; ++k)
+                if (k % 4 != 3) data.get()[k] = stbi_uc(std::lround(std::min(data.get()[k] / float(*maxval), 1.0f) * 255.0f));
     }
     if (!data) fail_decode(path);
     check_decoded(path, w, h, limits);

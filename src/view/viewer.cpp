@@ -319,12 +319,14 @@ void Viewer::handle_drop(const std::string& path)
             spec.camera.eye.reset();
             spec.camera.target.reset();
             reload_scene(std::move(spec), true);
-        } else if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".tga") {
+        } else if (const auto images = {".png", ".jpg", ".jpeg", ".bmp", ".tga", ".pgm", ".ppm", ".pnm", ".hdr",
+                                        ".gif", ".psd", ".pic"};
+                   std::find(images.begin(), images.end(), ext) != images.end()) {
             for (ObjectSpec& obj : spec.objects) obj.height = path;
             reload_scene(std::move(spec), false);
         } else {
             throw Error(path, "cannot load this file type (drop a mesh: OBJ, OFF, PLY, STL; or a height "
-                              "image: PNG, JPG, BMP, TGA)");
+                              "image: PNG, JPEG, BMP, TGA, PNM, HDR, GIF, PSD, PIC)");
         }
         note("loaded " + path);
     } catch (const Error& e) {

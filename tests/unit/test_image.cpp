@@ -537,3 +537,75 @@ TEST_F(ImageFiles, TgaOriginsAllLoadTheSamePicture)
                 EXPECT_EQ(img.at(x, y), colour[y][x]) << "origin " << origin << " pixel " << x << "," << y;
     }
 }
+
+// Files that end before their pixels do (found by an exploratory session, sixteenth session):
+// stb_image returned uninitialised memory for a truncated PNM (a different map each run), zeros
+// for the missing rows of BMP, GIF and run-length TGA, and looped forever on a run-length HDR
+// scanline cut short. Each is refused now, with one line; the whole files load.
+TEST_F(ImageFiles, FilesThatEndBeforeTheirPixelsAreRefused)
+{
+    const auto text = [](const std::string& s) { return Bytes(s.begin(), s.end()); };
+    const auto refused = [&](const std::string& name, const Bytes& bytes, const std::string& why) {
+        const std::string p = put(name, bytes);
+        for (const bool colour : {false, true}) {
+            const pr::Error e = error_of([&] { colour ? (void)pr::load_color(p) : (void)pr::load_height(p); });
+            EXPECT_EQ(e.subject(), p);
+            EXPECT_TRUE(contains(e.problem(), why)) << name << ": " << e.problem();
+        }
+    };
+    // PGM 64x64 with 100 of its 4096 samples.
+    Bytes pgm = text("P5\n64 64\n255\n");
+    const Bytes whole_pgm = [&] { Bytes b = pgm; b.resize(b.size() + 4096, 0x80); return b; }();
+    pgm.resize(pgm.size() + 100, 0x80);
+    refused("short.pgm", pgm, "truncated PNM: it needs at least 4109 bytes, the file has 113");
+    EXPECT_FLOAT_EQ(pr::load_height(put("whole.pgm", whole_pgm)).at(5, 5), 128.0f / 255.0f);
+    // A run-length HDR scanline of 64 pixels cut after its first dump's count: stb read a count
+    // of 0 past the end and never advanced.
+    Bytes hdr = text("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 64\n");
+    hdr.insert(hdr.end(), {2, 2, 0, 64});
+    refused("cut.hdr", hdr, "truncated HDR");
+    hdr.push_back(0); // a dump of no bytes: the same loop, within the file
+    refused("zero.hdr", hdr, "a run-length count of 0");
+    // A 24-bit BMP 4x4, rows of 12 bytes: two rows kept.
+    Bytes bmp = bmp_header(4, 4);
+    bmp.resize(54 + 24, 0x40);
+    refused("cut.bmp", bmp, "truncated BMP: it needs at least 102 bytes, the file has 78");
+    // A run-length grey TGA 4x2: one run of 4 pixels (0x83, value), then a cut.
+    Bytes tga = {0, 0, 11, 0, 0, 0, 0, 0, 0, 0, 0, 0, 4, 0, 2, 0, 8, 0, 0x83, 200};
+    refused("cut.tga", tga, "truncated run-length TGA");
+    tga.insert(tga.end(), {0x83, 100});
+    EXPECT_FLOAT_EQ(pr::load_height(put("whole.tga", tga)).at(0, 0), 200.0f / 255.0f);
+    // GIF 2x2 (one LZW block) cut inside its image data: the padding check (decoded twice, the
+    // missing bytes read as zeros and as 0xFF) tells.
+    const Bytes gif = {'G', 'I', 'F', '8', '9', 'a', 2, 0, 2, 0, 0x80, 0, 0, 0, 0, 0, 255, 255, 255,
+                       0x2C, 0, 0, 0, 0, 2, 0, 2, 0, 0, 2, 3, 0x84, 0x1D, 0x05, 0, 0x3B};
+    const pr::HeightField whole_gif = pr::load_height(put("whole.gif", gif));
+    EXPECT_EQ(whole_gif.width, 2);
+    refused("cut.gif", Bytes(gif.begin(), gif.begin() + 33), "the file ends before its pixels do");
+    // PSD, RGB 1x1, 16 bits, run-length: stb decodes it as 8-bit data (garbage).
+    Bytes psd = text("8BPS");
+    psd.insert(psd.end(), {0, 1, 0, 0, 0, 0, 0, 0, 0, 3, 0, 0, 0, 1, 0, 0, 0, 1, 0, 16, 0, 3});
+    psd.insert(psd.end(), {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 3, 0, 3, 0, 3});
+    for (int channel = 0; channel < 3; ++channel) psd.insert(psd.end(), {1, 0x12, 0x34});
+    refused("rle16.psd", psd, "16-bit PSD with run-length compression");
+}
+
+// A PNM's samples run from 0 to its maxval: stb returns them as stored, so maxval 127 gave
+// heights of at most 127/255, and 4095 (12-bit data in 16-bit samples) 1/16 of the range.
+TEST_F(ImageFiles, PnmSamplesAreScaledByTheirMaxval)
+{
+    Bytes p7 = {'P', '5', '\n', '2', ' ', '1', '\n', '1', '2', '7', '\n', 127, 64};
+    const pr::HeightField h7 = pr::load_height(put("m7.pgm", p7));
+    EXPECT_FLOAT_EQ(h7.at(0, 0), 1.0f);
+    EXPECT_NEAR(h7.at(1, 0), 64.0f / 127.0f, 1.0f / 65535.0f);
+    EXPECT_EQ(pr::load_color(path("m7.pgm")).at(1, 0), glm::u8vec4(129, 129, 129, 255)); // 64 * 255 / 127
+    Bytes p12 = {'P', '5', '\n', '2', ' ', '1', '\n', '4', '0', '9', '5', '\n', 0x0F, 0xFF, 0x08, 0x00};
+    const pr::HeightField h12 = pr::load_height(put("m12.pgm", p12));
+    EXPECT_EQ(h12.bits, 16);
+    EXPECT_FLOAT_EQ(h12.at(0, 0), 1.0f);
+    EXPECT_NEAR(h12.at(1, 0), 2048.0f / 4095.0f, 1e-6f);
+    EXPECT_EQ(pr::load_color(path("m12.pgm")).at(1, 0), glm::u8vec4(128, 128, 128, 255));
+    const Bytes p0 = {'P', '5', '\n', '1', ' ', '1', '\n', '0', '\n', 0};
+    const std::string zero = put("m0.pgm", p0);
+    EXPECT_TRUE(contains(error_of([&] { pr::load_height(zero); }).problem(), "PNM maxval 0: must be 1 to 65535"));
+}

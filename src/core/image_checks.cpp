@@ -1,0 +1,263 @@
+#include "core/image_checks.hpp"
+
+#include "core/error.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstring>
+#include <string_view>
+
+namespace pr {
+namespace {
+
+using Bytes = std::vector<std::uint8_t>;
+
+bool starts_with(const Bytes& b, std::string_view magic)
+{
+    return b.size() >= magic.size() && std::memcmp(b.data(), magic.data(), magic.size()) == 0;
+}
+
+std::uint32_t le16(const Bytes& b, std::size_t o) { return std::uint32_t(b[o]) | std::uint32_t(b[o + 1]) << 8; }
+std::uint32_t le32(const Bytes& b, std::size_t o) { return le16(b, o) | le16(b, o + 2) << 16; }
+std::uint32_t be16(const Bytes& b, std::size_t o) { return std::uint32_t(b[o]) << 8 | std::uint32_t(b[o + 1]); }
+std::uint32_t be32(const Bytes& b, std::size_t o) { return be16(b, o) << 16 | be16(b, o + 2); }
+
+[[noreturn]] void cut_short(const std::string& subject, const char* format, std::uint64_t needed, std::size_t size)
+{
+    throw Error(subject, fmt::format("not a supported image (truncated {}: it needs at least {} bytes, "
+                                     "the file has {})",
+                                     format, needed, size));
+}
+
+struct PnmHeader {
+    std::uint64_t width = 0, height = 0, maxval = 0;
+    int channels = 0;
+    std::size_t data = 0; // offset of the first sample
+};
+
+// A binary PNM header as stb_image reads it: P5 or P6, then width, height and maxval separated by
+// whitespace and '#' comments, then one whitespace character before the samples.
+std::optional<PnmHeader> parse_pnm(const Bytes& b)
+{
+    if (b.size() < 2 || b[0] != 'P' || (b[1] != '5' && b[1] != '6')) return std::nullopt;
+    PnmHeader h;
+    h.channels = b[1] == '6' ? 3 : 1;
+    std::size_t i = 2;
+    const auto space = [](std::uint8_t c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; };
+    const auto skip = [&] {
+        while (i < b.size() && (space(b[i]) || b[i] == '#')) {
+            if (b[i] == '#')
+                while (i < b.size() && b[i] != '\n' && b[i] != '\r') ++i;
+            else
+                ++i;
+        }
+    };
+    const auto number = [&](std::uint64_t& v) {
+        if (i >= b.size() || b[i] < '0' || b[i] > '9') return false;
+        v = 0;
+        while (i < b.size() && b[i] >= '0' && b[i] <= '9') {
+            v = std::min<std::uint64_t>(v * 10 + (b[i] - '0'), std::uint64_t(1) << 40);
+            ++i;
+        }
+        return true;
+    };
+    skip();
+    if (!number(h.width)) return std::nullopt;
+    skip();
+    if (!number(h.height)) return std::nullopt;
+    skip();
+    if (!number(h.maxval)) return std::nullopt;
+    h.data = i + 1;
+    return h;
+}
+
+void check_pnm(const std::string& subject, const Bytes& b)
+{
+    const std::optional<PnmHeader> h = parse_pnm(b);
+    if (!h) return; // stb refuses it
+    if (h->maxval == 0 || h->maxval > 65535)
+        throw Error(subject, fmt::format("not a supported image (PNM maxval {}: must be 1 to 65535)", h->maxval));
+    const std::uint64_t sample = h->maxval > 255 ? 2 : 1;
+    const std::uint64_t needed = h->data + h->width * h->height * std::uint64_t(h->channels) * sample;
+    if (needed > b.size()) cut_short(subject, "PNM", needed, b.size());
+}
+
+// A TGA's pixel data: raw (types 1-3) or run-length (9-11) packets, each a header byte and then
+// one pixel (a run) or 1-128 pixels (raw).
+void check_tga(const std::string& subject, const Bytes& b)
+{
+    if (b.size() < 18) return;
+    const unsigned type = b[2];
+    const bool rle = type >= 9;
+    const std::uint64_t cmap_bytes = b[1] ? std::uint64_t(le16(b, 5)) * ((b[7] + 7u) / 8u) : 0;
+    const std::uint64_t pixel = (b[16] + 7u) / 8u;
+    const std::uint64_t count = std::uint64_t(le16(b, 12)) * le16(b, 14);
+    std::uint64_t at = 18 + std::uint64_t(b[0]) + cmap_bytes;
+    if (pixel == 0) return; // stb refuses it
+    if (!rle) {
+        if (at + count * pixel > b.size()) cut_short(subject, "TGA", at + count * pixel, b.size());
+        return;
+    }
+    for (std::uint64_t done = 0; done < count;) {
+        if (at >= b.size()) cut_short(subject, "run-length TGA", at + 1, b.size());
+        const unsigned head = b[at++];
+        const std::uint64_t n = (head & 0x7Fu) + 1u;
+        at += head & 0x80u ? pixel : n * pixel;
+        done += n;
+        if (at > b.size()) cut_short(subject, "run-length TGA", at, b.size());
+    }
+}
+
+// An uncompressed BMP (BI_RGB, BI_BITFIELDS): rows padded to 4 bytes from the data offset; stb
+// reads the last row without its padding.
+void check_bmp(const std::string& subject, const Bytes& b)
+{
+    if (b.size() < 30) return;
+    const std::uint32_t header = le32(b, 14);
+    std::uint64_t w = 0, h = 0, bpp = 0, compression = 0;
+    if (header == 12) {
+        w = le16(b, 18);
+        h = le16(b, 20);
+        bpp = le16(b, 24);
+    } else if (header >= 40 && b.size() >= 34) {
+        w = std::uint64_t(std::abs(std::int64_t(std::int32_t(le32(b, 18)))));
+        h = std::uint64_t(std::abs(std::int64_t(std::int32_t(le32(b, 22)))));
+        bpp = le16(b, 28);
+        compression = le32(b, 30);
+    } else {
+        return;
+    }
+    if ((compression != 0 && compression != 3) || w == 0 || h == 0 || bpp == 0) return;
+    const std::uint64_t stride = (w * bpp + 31) / 32 * 4;
+    const std::uint64_t needed = le32(b, 10) + stride * (h - 1) + (w * bpp + 7) / 8;
+    if (needed > b.size()) cut_short(subject, "BMP", needed, b.size());
+}
+
+// PSD: after the header, three blocks each led by its length, then the compression and the
+// image data: raw planes, or (RLE) a table of every row's byte count and the rows. stb reads the
+// first four channels.
+void check_psd(const std::string& subject, const Bytes& b)
+{
+    if (b.size() < 26) return;
+    const std::uint64_t channels = be16(b, 12), h = be32(b, 14), w = be32(b, 18), depth = be16(b, 22);
+    std::uint64_t at = 26;
+    for (int block = 0; block < 3; ++block) {
+        if (at + 4 > b.size()) cut_short(subject, "PSD", at + 4, b.size());
+        at += 4 + std::uint64_t(be32(b, at));
+    }
+    if (at + 2 > b.size()) cut_short(subject, "PSD", at + 2, b.size());
+    const unsigned compression = be16(b, at);
+    at += 2;
+    const std::uint64_t used = std::min<std::uint64_t>(channels, 4);
+    if (compression == 0) {
+        const std::uint64_t needed = at + used * w * h * (depth / 8);
+        if (needed > b.size()) cut_short(subject, "PSD", needed, b.size());
+        return;
+    }
+    if (compression != 1) return; // stb refuses it
+    if (depth == 16)
+        throw Error(subject, "not a supported image (16-bit PSD with run-length compression, which stb_image "
+                             "decodes wrongly: save it uncompressed, or as a 16-bit PNG)");
+    const std::uint64_t table = at, rows = channels * h;
+    at += 2 * rows;
+    if (at > b.size()) cut_short(subject, "PSD", at, b.size());
+    for (std::uint64_t r = 0; r < used * h; ++r) at += be16(b, table + 2 * r);
+    if (at > b.size()) cut_short(subject, "run-length PSD", at, b.size());
+}
+
+// Radiance HDR, as stb_image reads it: text lines up to an empty one, the resolution line
+// "-Y H +X W", then per scanline either run-length data (2, 2, W as two bytes, then four
+// channels of runs and dumps) or, from the first scanline that does not start so, flat RGBE
+// pixels to the end. stb's scanline loop makes no progress on a count of 0 (a dump of 0 bytes,
+// or a run of 128 + 0): such a file (any one cut short, whose missing bytes read as 0) hung it.
+void check_hdr(const std::string& subject, const Bytes& b)
+{
+    std::size_t i = 0;
+    const auto line = [&] {
+        const std::size_t start = i;
+        while (i < b.size() && b[i] != '\n') ++i;
+        std::string text(b.begin() + std::ptrdiff_t(start), b.begin() + std::ptrdiff_t(i));
+        if (i < b.size()) ++i;
+        return text;
+    };
+    line(); // #?RADIANCE
+    while (i < b.size() && !line().empty()) {
+    }
+    long long height = 0, width = 0;
+    if (std::sscanf(line().c_str(), "-Y %lld +X %lld", &height, &width) != 2 || height <= 0 || width <= 0)
+        return; // stb refuses it
+    const auto need = [&](std::uint64_t n) {
+        if (i + n > b.size()) cut_short(subject, "HDR", i + n, b.size());
+    };
+    const std::uint64_t w = std::uint64_t(width);
+    for (long long y = 0; y < height; ++y) {
+        if (w < 8 || w >= 32768 || i + 4 > b.size() || b[i] != 2 || b[i + 1] != 2 || (b[i + 2] & 0x80)) {
+            need(std::uint64_t(height - y) * w * 4); // flat from here to the end
+            return;
+        }
+        if ((std::uint64_t(b[i + 2]) << 8 | b[i + 3]) != w) return; // stb refuses it
+        i += 4;
+        for (int k = 0; k < 4; ++k) {
+            for (std::uint64_t x = 0; x < w;) {
+                need(1);
+                unsigned count = b[i++];
+                const bool run = count > 128;
+                if (run) count -= 128;
+                if (count == 0 || count > w - x)
+                    throw Error(subject, "not a supported image (corrupt HDR: a run-length count of "
+                                         "0 or past the scanline's end)");
+                need(run ? 1 : count);
+                i += run ? 1 : count;
+                x += count;
+            }
+        }
+    }
+}
+
+bool is_hdr(const Bytes& b) { return starts_with(b, "#?RADIANCE\n") || starts_with(b, "#?RGBE\n"); }
+
+} // namespace
+
+bool is_tga(const std::vector<std::uint8_t>& b)
+{
+    if (b.size() < 18) return false;
+    for (std::string_view magic : {"\x89PNG", "BM", "GIF8", "8BPS", "\x53\x80\xF6\x34", "P5", "P6", "#?RADIANCE", "#?RGBE"})
+        if (starts_with(b, magic)) return false;
+    std::size_t i = 0;
+    while (i < b.size() && b[i] == 0xFF) ++i;
+    if (i > 0 && i < b.size() && b[i] == 0xD8) return false; // JPEG
+    const unsigned type = b[2];
+    return b[1] <= 1 && (type == 1 || type == 2 || type == 3 || type == 9 || type == 10 || type == 11);
+}
+
+void check_image_data(const std::string& subject, const std::vector<std::uint8_t>& bytes)
+{
+    if (parse_pnm(bytes))
+        check_pnm(subject, bytes);
+    else if (starts_with(bytes, "BM"))
+        check_bmp(subject, bytes);
+    else if (starts_with(bytes, "8BPS"))
+        check_psd(subject, bytes);
+    else if (is_hdr(bytes))
+        check_hdr(subject, bytes);
+    else if (is_tga(bytes))
+        check_tga(subject, bytes);
+}
+
+bool needs_padding_check(const std::vector<std::uint8_t>& bytes)
+{
+    if (starts_with(bytes, "\x89PNG") || is_hdr(bytes)) return false;
+    std::size_t i = 0;
+    while (i < bytes.size() && bytes[i] == 0xFF) ++i;
+    return !(i > 0 && i < bytes.size() && bytes[i] == 0xD8); // JPEG
+}
+
+std::optional<int> pnm_maxval(const std::vector<std::uint8_t>& bytes)
+{
+    const std::optional<PnmHeader> h = parse_pnm(bytes);
+    if (!h || h->maxval == 0 || h->maxval > 65535) return std::nullopt;
+    return int(h->maxval);
+}
+
+} // namespace pr

@@ -1,0 +1,35 @@
+#pragma once
+// Checks of an image file's data against its own header, for the formats whose stb_image decoder
+// does not notice that the file ends early (sixteenth session, found by an exploratory session):
+// a truncated PNM, raw TGA or PIC came out as uninitialised memory (a different map each run),
+// BMP, GIF, PSD and run-length TGA rows past the end as zeros, and a truncated run-length Radiance
+// HDR file hung stb's scanline loop forever. PNG and JPEG are left to stb, which refuses them.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace pr {
+
+// Throws Error(subject, ...) when the header of `bytes` claims more pixel data than the file
+// holds (PNM, raw and run-length TGA, uncompressed BMP, PSD), when a Radiance HDR file's
+// run-length scanlines are cut short or hold a run stb's decoder would loop on, and for PSD
+// run-length data of 16 bits, which stb decodes as 8 (garbage).
+void check_image_data(const std::string& subject, const std::vector<std::uint8_t>& bytes);
+
+// Whether stb could read past the end of these bytes without failing: every format but PNG,
+// JPEG and HDR (whose readers check, or check_image_data() did). Such files are decoded twice,
+// padded with zeros and with 0xFF bytes (image.cpp): a decoder that reads past the end gives
+// two different images.
+bool needs_padding_check(const std::vector<std::uint8_t>& bytes);
+
+// Whether stb decodes these bytes as TGA: it tries TGA last, as the format without a signature,
+// so a file none of the other decoders' signatures match, whose header names a TGA image type.
+bool is_tga(const std::vector<std::uint8_t>& bytes);
+
+// A binary PNM's (P5, P6) largest sample value, from its header; nullopt for other formats.
+// stb_image returns the samples as stored, so values of a maxval other than 255 or 65535 must
+// be scaled by the caller (stb took 127 for a full 8-bit sample, and 4095 for a 16-bit one).
+std::optional<int> pnm_maxval(const std::vector<std::uint8_t>& bytes);
+
+} // namespace pr
