@@ -166,7 +166,11 @@ uint s_list[PR_CONE_MAX_LEVELS];
 // distance over its rise above h_p; -1 when it has no texel above h_p.
 double node_bound(int level, int i, int j, float nmax, int px, int py, float hp, double inv_w2, double inv_h2)
 {
-    precise double dmax = double(nmax) - double(hp);
+    // The rise in the format's height steps, as the map stores R (src/maps/conemap.cpp, rise():
+    // cone_height_steps, lround of the float product; floor(x + 0.5) is that for x < 2^23).
+    precise float kn = floor(clamp(nmax, 0.0, 1.0) * float(u_steps) + 0.5);
+    precise float kp = floor(clamp(hp, 0.0, 1.0) * float(u_steps) + 0.5);
+    precise double dmax = double(int(kn) - int(kp)) / double(u_steps);
     if (!(dmax > 0.0lf)) return -1.0lf;
     int x0 = i << level, y0 = j << level;
     int x1 = min((i + 1) << level, u_size.x) - 1, y1 = min((j + 1) << level, u_size.y) - 1;

@@ -85,6 +85,16 @@ double uv_distance(const HeightField& f, int dx, int dy)
 
 float texel(const HeightField& f, int x, int y) { return f.texels[std::size_t(y) * std::size_t(f.width) + std::size_t(x)]; }
 
+// h_q - h_p as the map stores heights: whole 16-bit steps (an 8-bit step is 257 of them), exactly.
+// (The difference of the float texels is off by up to 6e-8, 0.4 % of a one-step rise: the
+// generator and these checks used it, and a map 1.1e-6 above the exact ratio passed them.)
+double stored_rise(const HeightField& f, int qx, int qy, int px, int py)
+{
+    return double(std::int64_t(cone_height_steps(texel(f, qx, qy), ConeFormat::Rg16)) -
+                  std::int64_t(cone_height_steps(texel(f, px, py), ConeFormat::Rg16))) /
+           65535.0;
+}
+
 // O(n^2): every pair of texels.
 std::vector<int> brute_force(const HeightField& f, ConeKind kind, ConeFormat format)
 {
@@ -95,7 +105,7 @@ std::vector<int> brute_force(const HeightField& f, ConeKind kind, ConeFormat for
             for (int qy = 0; qy < f.height; ++qy)
                 for (int qx = 0; qx < f.width; ++qx) {
                     const int dx = signed_offset(qx - px, f.width), dy = signed_offset(qy - py, f.height);
-                    const double dh = double(texel(f, qx, qy)) - double(texel(f, px, py));
+                    const double dh = stored_rise(f, qx, qy, px, py);
                     if (!(dh > 0)) continue;
                     const double v = kind == ConeKind::Cone
                                          ? uv_distance(f, dx, dy) / dh
@@ -121,7 +131,7 @@ void expect_conservative(const HeightField& f, const ConeMap& m)
             const double r = m.ratios[std::size_t(py) * std::size_t(f.width) + std::size_t(px)];
             for (int qy = 0; qy < f.height; ++qy)
                 for (int qx = 0; qx < f.width; ++qx) {
-                    const double dh = double(texel(f, qx, qy)) - double(texel(f, px, py));
+                    const double dh = stored_rise(f, qx, qy, px, py);
                     if (dh > 0 && uv_distance(f, signed_offset(qx - px, f.width), signed_offset(qy - py, f.height)) < r * r * dh)
                         ++bad;
                 }
@@ -711,4 +721,20 @@ TEST(ConeMap, DefaultCacheDirFollowsXdg)
     EXPECT_NE(default_cache_dir(), fs::path("relative/ignored/prismrelief"));
     if (old) ::setenv("XDG_CACHE_HOME", saved.c_str(), 1);
     else ::unsetenv("XDG_CACHE_HOME");
+}
+
+// The rise from one texel to another is taken in the map's own height steps (R), not as the
+// difference of the float texels, whose rounding (up to 6e-8 together) is 4e-3 of a one-step
+// rise: texel 0 (63370) of this map stored G = 62670 where the exact floor(sqrt(c) * 65535) with
+// c = (2/96) / (1493/65535) is 62669, and texel 2 (64863) lay inside its cone (found by an
+// exploratory session, sixteenth session). CPU and GPU agree (test_conemap_gpu).
+TEST(ConeMap, RatiosAreConservativeAgainstTheStoredSteps)
+{
+    const HeightField f = make(96, 1, [](int x, int) {
+        return x == 0 ? 63370.0f / 65535.0f : x == 2 ? 64863.0f / 65535.0f : 0.0f;
+    });
+    const ConeMap m = build_cone_map_cpu(f, ConeKind::Cone, ConeBuildOptions{});
+    const double c = (2.0 / 96.0) / (1493.0 / 65535.0);
+    EXPECT_EQ(steps_of(m, 0, ConeFormat::Rg16), int(std::floor(std::sqrt(c) * 65535.0)));
+    expect_conservative(f, m);
 }
