@@ -82,8 +82,8 @@ ConeMap read_cone_png(const std::filesystem::path& path, ConeKind kind);
 // ---- generator details shared by the CPU and GPU paths (docs/cone-maps.md) ----
 
 // Bumped whenever the generator's output changes: part of every cache key. (3: rg8 maps are
-// built from their 8-bit heights.)
-inline constexpr std::uint32_t kConeGeneratorVersion = 3;
+// built from their 8-bit heights; 4: rises in the stored height steps, exactly.)
+inline constexpr std::uint32_t kConeGeneratorVersion = 4;
 
 // 255 (rg8) or 65535 (rg16): the ratio is stored as k / steps, k an integer.
 int cone_format_steps(ConeFormat format);
