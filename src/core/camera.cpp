@@ -6,7 +6,9 @@
 
 namespace pr {
 
-glm::mat4 Camera::view() const
+glm::mat4 Camera::view() const { return view_from(glm::dvec3(0.0)); }
+
+glm::mat4 Camera::view_from(const glm::dvec3& origin) const
 {
     // lookAt's frame from a view direction taken in double: glm::lookAt normalizes target - eye
     // in float, and eye and target 1e-23 apart (a valid view: view_problem() checks in double)
@@ -20,9 +22,11 @@ glm::mat4 Camera::view() const
         m[i][1] = u[i];
         m[i][2] = -f[i];
     }
-    m[3][0] = -glm::dot(s, eye);
-    m[3][1] = -glm::dot(u, eye);
-    m[3][2] = glm::dot(f, eye);
+    // The eye relative to the origin, in double: world coordinates of 10^6 cancel exactly.
+    const glm::dvec3 e = glm::dvec3(eye) - origin;
+    m[3][0] = float(-glm::dot(glm::dvec3(s), e));
+    m[3][1] = float(-glm::dot(glm::dvec3(u), e));
+    m[3][2] = float(glm::dot(glm::dvec3(f), e));
     return m;
 }
 

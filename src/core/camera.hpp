@@ -23,6 +23,10 @@ struct Camera {
     float far_plane = 100.0f;
 
     glm::mat4 view() const;
+    // The view of a frame whose origin is at `origin` in world space: view() * translate(origin),
+    // in double, so that large world coordinates (an object translated by 10^6) cancel before
+    // anything is rounded to float (Renderer::upload_object).
+    glm::mat4 view_from(const glm::dvec3& origin) const;
     glm::mat4 projection(float aspect) const;
 };
 

@@ -373,6 +373,9 @@ void Renderer::upload(const Scene& scene)
         o.shell_radius = shell.radius;
         o.shell_center = shell.center;
         o.transform = so.transform;
+        o.origin = glm::dvec3(so.transform[3]);
+        o.local = so.transform;
+        o.local[3] = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
         o.base_color = so.base_color;
         o.base = make_geometry(so.mesh.vertices, so.mesh.indices);
 
@@ -664,9 +667,9 @@ void Renderer::ensure_walk_data()
         o.tears = !o.open_shell && adjacency.seam_edges > 0;
         o.seamless = adjacency.seam_edges == 0;
         std::vector<glm::vec4> corners =
-            make_shell_corners(vertices, indices, *o.height_field, o.transform, o.depth, o.midlevel);
+            make_shell_corners(vertices, indices, *o.height_field, o.local, o.depth, o.midlevel); // the object's frame
         o.corners = gl::immutable_buffer(corners);
-        const WalkTriangles triangles = walk_triangles(vertices, indices, corners, adjacency.neighbours, o.transform, o.depth);
+        const WalkTriangles triangles = walk_triangles(vertices, indices, corners, adjacency.neighbours, o.local, o.depth);
         o.adjacency = gl::immutable_buffer(triangles.adjacency);
         for (int full = 0; full < 2; ++full) {
             o.listed[full] = gl::immutable_buffer(triangles.listed[full]);
@@ -735,8 +738,9 @@ std::vector<std::uint32_t> Renderer::walk_triangles_of(const std::vector<MeshVer
 void Renderer::upload_object(const GpuObject& o, const DrawSettings& settings, float midlevel,
                              const EyeInShell* eye)
 {
+    upload_frame_block(o.origin);
     shader::ObjectBlock ob{};
-    ob.u_model = o.transform;
+    ob.u_model = o.local;
     ob.u_normal_matrix = glm::mat4(normal_matrix(o.transform));
     ob.u_displace = glm::vec4(o.depth, midlevel, o.height_size.x, o.height_size.y);
     ob.u_march = glm::ivec4(settings.steps, settings.refine, eye ? int(eye->prism) : -1,
@@ -757,20 +761,29 @@ void Renderer::use_reversed_depth()
 
 void Renderer::upload_frame(const Camera& camera, glm::vec3 light_dir, glm::vec2 pixel_offset)
 {
-    const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
-    shader::FrameBlock frame{};
-    frame.u_view = camera.view();
-    // A shift of the image by pixel_offset: in clip space 2 / size per pixel, after the
-    // projection (every shader reaches the screen, and back, through u_view_proj).
-    const glm::vec2 shift = 2.0f * pixel_offset / glm::vec2(width_, height_);
-    frame.u_proj = glm::translate(glm::mat4(1.0f), glm::vec3(shift, 0.0f)) * camera.projection(aspect);
-    frame.u_view_proj = frame.u_proj * frame.u_view;
-    frame.u_eye = glm::vec4(camera.eye, 1.0f);
-    frame.u_light_dir = glm::vec4(light_dir, 0.0f);
-    frame.u_viewport = glm::vec4(width_, height_, 1.0f / width_, 1.0f / height_);
-    glNamedBufferSubData(frame_ubo_.id(), 0, sizeof(frame), &frame);
+    frame_camera_ = camera;
+    frame_light_ = light_dir;
+    frame_offset_ = pixel_offset;
+    upload_frame_block(glm::dvec3(0.0));
     glBindBufferBase(GL_UNIFORM_BUFFER, PR_UBO_FRAME, frame_ubo_.id());
     glBindBufferBase(GL_UNIFORM_BUFFER, PR_UBO_OBJECT, object_ubo_.id());
+}
+
+void Renderer::upload_frame_block(const glm::dvec3& origin)
+{
+    const Camera& camera = frame_camera_;
+    const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
+    shader::FrameBlock frame{};
+    frame.u_view = camera.view_from(origin);
+    // A shift of the image by pixel_offset: in clip space 2 / size per pixel, after the
+    // projection (every shader reaches the screen, and back, through u_view_proj).
+    const glm::vec2 shift = 2.0f * frame_offset_ / glm::vec2(width_, height_);
+    frame.u_proj = glm::translate(glm::mat4(1.0f), glm::vec3(shift, 0.0f)) * camera.projection(aspect);
+    frame.u_view_proj = frame.u_proj * frame.u_view;
+    frame.u_eye = glm::vec4(glm::vec3(glm::dvec3(camera.eye) - origin), 1.0f);
+    frame.u_light_dir = glm::vec4(frame_light_, 0.0f);
+    frame.u_viewport = glm::vec4(width_, height_, 1.0f / width_, 1.0f / height_);
+    glNamedBufferSubData(frame_ubo_.id(), 0, sizeof(frame), &frame);
 }
 
 void Renderer::check_drawable(const DrawSettings& settings) const
@@ -867,10 +880,10 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         for (std::size_t k = 0; k < objects_.size(); ++k) {
             const GpuObject& o = objects_[k];
             if (flat_shell(o)) continue;
-            eye_in[k] = find_eye_prism(o.shell_corners, o.triangles, o.eye_blocks, o.depth, settings.full_shell,
-                                       camera.eye,
+            const glm::vec3 eye = glm::vec3(glm::dvec3(camera.eye) - o.origin); // in the object's frame, as its corners
+            eye_in[k] = find_eye_prism(o.shell_corners, o.triangles, o.eye_blocks, o.depth, settings.full_shell, eye,
                                        [&](glm::vec2 uv) { return o.height_field ? o.height_field->sample(uv) : 0.0f; });
-            in_body[k] = !eye_in[k] && !o.open_shell && eye_inside_body(o.shell_corners, o.triangles, o.eye_blocks, camera.eye);
+            in_body[k] = !eye_in[k] && !o.open_shell && eye_inside_body(o.shell_corners, o.triangles, o.eye_blocks, eye);
         }
     // Objects whose walks may go into the object under the surface and need the second pass:
     // torn meshes, and a closed mesh with the eye under its surface (inside a bump), whose rays
@@ -1007,10 +1020,11 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         glGetTextureImage(tear_tiles_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(tiles.size() * sizeof(GLuint)),
                           tiles.data());
         if (std::any_of(tiles.begin(), tiles.end(), [](GLuint t) { return t != 0; })) {
-            const glm::mat4 view_proj = camera.projection(float(width_) / float(height_)) * camera.view();
             for (std::size_t k = 0; k < objects_.size(); ++k) {
                 const GpuObject& o = objects_[k];
                 if (!goes_inside(k)) continue;
+                // (The corners are in the object's frame.)
+                const glm::mat4 view_proj = camera.projection(float(width_) / float(height_)) * camera.view_from(o.origin);
                 const TileLists lists = prisms_over_marked_tiles(o.shell_corners, o.triangles, view_proj,
                                                                  glm::vec2(width_, height_), tiles, tw, th);
                 if (lists.prisms.empty()) continue;
