@@ -74,7 +74,7 @@ CommandAction add_bench_command(CLI::App& app)
         if (!s->json.empty()) check_output_folder(s->json);
         Session session = open_session(s->scene, {{"--json", s->json}});
         Renderer& r = *session.renderer;
-        for (const TechniqueRun& run : runs) r.check_drawable(run.settings);
+        for (const TechniqueRun& run : runs) r.check_drawable(run.settings, "--techniques");
         for (const TechniqueRun& run : runs)
             if (run.settings.technique == Technique::Reference) {
                 r.prepare_reference(session.scene, session.camera, ref_options);

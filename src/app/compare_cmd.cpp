@@ -88,7 +88,7 @@ CommandAction add_compare_command(CLI::App& app)
                 if (run.settings.technique != Technique::Reference) tile(run.label);
         }
         Session session = open_session(s->scene, outputs);
-        for (const TechniqueRun& run : runs) session.renderer->check_drawable(run.settings);
+        for (const TechniqueRun& run : runs) session.renderer->check_drawable(run.settings, "--techniques");
 
         const auto ref_stats = session.renderer->prepare_reference(session.scene, session.camera, ref_options);
         DrawSettings ref_settings = make_draw_settings(s->quality, "reference");

@@ -34,8 +34,9 @@ std::string list(const std::vector<std::string>& names, const std::string& prefi
 // Also refuses what a float cannot hold (1e300 would become infinity).
 float finite(double v, const std::string& what)
 {
-    if (!std::isfinite(v) || std::abs(v) > std::numeric_limits<float>::max())
-        throw Error(what, "must be a finite number");
+    if (!std::isfinite(v)) throw Error(what, "must be a finite number");
+    if (std::abs(v) > std::numeric_limits<float>::max())
+        throw Error(what, "must be at most 3.4e38 in magnitude (the renderer's single precision)");
     return static_cast<float>(v);
 }
 
@@ -141,6 +142,8 @@ glm::vec3 position(const glm::dvec3& v, const std::string& where)
 void check_depth(double depth, const std::string& where)
 {
     if (!std::isfinite(depth) || depth < 0.0) throw Error(where, "must be a finite number >= 0");
+    if (depth > std::numeric_limits<float>::max())
+        throw Error(where, "must be at most 3.4e38 (the renderer's single precision)");
 }
 
 void check_midlevel(double midlevel, const std::string& where)
@@ -626,7 +629,10 @@ SceneFileValues read_scene_file(const std::string& file, SceneSpec& spec)
                         o.color = json_path(v, w, base);
                         o.color_place = w;
                     }
-                    else if (k == "depth") o.depth = json_checked(v, w, check_depth);
+                    else if (k == "depth") {
+                        o.depth = json_checked(v, w, check_depth);
+                        o.depth_place = w;
+                    }
                     else if (k == "midlevel") o.midlevel = json_checked(v, w, check_midlevel);
                     else if (k == "base_color") {
                         const glm::dvec3 c = json_dvec3(v, w);
@@ -709,7 +715,10 @@ SceneSpec make_scene_spec(const SceneOptions& o)
             obj.color = o.color;
             obj.color_place.clear();
         }
-        if (o.depth) obj.depth = *o.depth;
+        if (o.depth) {
+            obj.depth = float(*o.depth); // (checked: within the float range)
+            obj.depth_place = "--depth";
+        }
         if (o.midlevel) obj.midlevel = *o.midlevel;
     }
     if (!o.light.empty()) spec.light = direction(parse_dvec3(o.light, "--light"), "--light");

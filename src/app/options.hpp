@@ -20,7 +20,7 @@ struct SceneOptions {
     std::string mesh;
     std::optional<std::string> height; // default: ObjectSpec's (builtin:bumps)
     std::string color;
-    std::optional<float> depth;
+    std::optional<double> depth; // double: a value past the float range is refused, not made infinite
     std::optional<float> midlevel;
     std::string light, eye, target, up;
     std::optional<float> fovy, elevation, azimuth;

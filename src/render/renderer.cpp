@@ -786,7 +786,7 @@ void Renderer::upload_frame_block(const glm::dvec3& origin)
     glNamedBufferSubData(frame_ubo_.id(), 0, sizeof(frame), &frame);
 }
 
-void Renderer::check_drawable(const DrawSettings& settings) const
+void Renderer::check_drawable(const DrawSettings& settings, const std::string& option) const
 {
     if (settings.technique != Technique::Prism) return;
     // The prism's exits multiply three world-space lengths of a prism (signed volumes, in
@@ -798,7 +798,7 @@ void Renderer::check_drawable(const DrawSettings& settings) const
         if (!large && o.shell_radius >= kPrismMinShellRadius) continue;
         char across[32];
         std::snprintf(across, sizeof across, "%.3g", 2.0 * double(o.shell_radius));
-        throw Error("--technique", std::string("prism: an object's displacement shell is ") + across +
+        throw Error(option, std::string("prism: an object's displacement shell is ") + across +
                                        (large ? " scene units across, more than the prism's single-precision geometry "
                                                 "takes (2e13): scale the scene down or use a smaller --depth"
                                               : " scene units across, less than the prism's single-precision geometry "

@@ -86,7 +86,8 @@ public:
     // Throws pr::Error where the uploaded scene cannot be drawn with `settings`: the prism with a
     // shell too large for its single-precision geometry. draw() checks it too; commands that
     // draw several techniques check them all first, before printing or writing anything.
-    void check_drawable(const DrawSettings& settings) const;
+    // `option`: the flag that chose the technique, named by the error ("--techniques" in compare).
+    void check_drawable(const DrawSettings& settings, const std::string& option = "--technique") const;
 
     // Clears to transparent and draws every object. Returns the wall time of the draw up to
     // glFinish in milliseconds (contract "ms"). Builds the shader variant on first use.

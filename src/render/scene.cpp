@@ -93,11 +93,16 @@ Scene load_scene(const SceneSpec& spec)
         }
         const float diagonal = glm::length(ohi - olo);
         obj.depth = o.depth.value_or(0.04f * diagonal);
+        const std::string depth_place = o.depth_place.empty() ? (o.depth ? "--depth" : o.mesh) : o.depth_place;
         if (!std::isfinite(obj.depth) || obj.depth < 0.0f)
-            throw Error(o.depth ? "--depth" : o.mesh,
-                        o.depth ? "must be a finite number >= 0"
-                                : "the default depth (4% of the bounding box's diagonal) is not a finite number");
+            throw Error(depth_place, o.depth ? "must be a finite number >= 0"
+                                             : "the default depth (4% of the bounding box's diagonal) is not a finite number");
         const Box box = shell_box(obj);
+        // A shell beyond single precision (a depth of 1e22 on the torus) drew nothing with every
+        // technique, exit 0 (the prism alone refused it, blaming --technique).
+        if (const Sphere s = sphere_around(box); !std::isfinite(s.radius) || !std::isfinite(glm::length(s.center)))
+            throw Error(depth_place, "the object's displacement shell is too large for the renderer's single "
+                                     "precision (its bounding sphere overflows): use a smaller depth");
         all.lo = glm::min(all.lo, box.lo);
         all.hi = glm::max(all.hi, box.hi);
         scene.object_bounds.push_back(sphere_around(box));

@@ -26,6 +26,8 @@ struct ObjectSpec {
     // Where a scene file gave the mesh, height and colour ("s.json: objects[1].height"; empty for
     // flags), named by load_scene's errors: "builtin:nope" alone did not say which object's.
     std::string mesh_place, height_place, color_place;
+    // Where the depth came from: "--depth", "s.json: objects[0].depth", or empty (the default).
+    std::string depth_place;
 };
 
 struct CameraSpec {

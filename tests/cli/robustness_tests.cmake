@@ -305,8 +305,18 @@ pr_cli_special(prism_shell_too_small EXIT 1 ONE_LINE NO_FILE o.png
                STDERR "${E}--technique: prism: an object's displacement shell is 4.38e-10 scene units across, less than"
                ARGS render --scene t.json --technique prism --size 32x32 --out o.png)
 pr_cli(compare_prism_shell_too_large EXIT 1 ONE_LINE NO_FILE c.json STDOUT "^$"
-       STDERR "${E}--technique: prism: an object's displacement shell"
+       STDERR "${E}--techniques: prism: an object's displacement shell"
        ARGS compare --mesh ${M}/torus.obj --depth 1e14 --techniques relief,prism --size 32x32 --json c.json)
+# A shell whose bounding sphere overflows single precision drew nothing with every technique,
+# exit 0 (the prism alone refused it, naming --technique); the depth is named where it was given.
+# A depth past the float range (1e300) was "must be a finite number".
+pr_cli_special(scene_depth_shell_overflows EXIT 1 ONE_LINE NO_FILE o.png
+               SETUP "printf '{\"objects\":[{\"mesh\":\"${M}/torus.obj\",\"depth\":1.2e22}]}' > d.json"
+               STDERR "${E}d.json: objects\\[0\\].depth: the object's displacement shell is too large for the renderer's single precision"
+               ARGS render --scene d.json --technique flat --size 32x32 --out o.png)
+pr_cli(depth_past_float_range EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}--depth: must be at most 3.4e38 \\(the renderer's single precision\\)"
+       ARGS render --mesh ${M}/torus.obj --depth 1e300 --size 32x32 --out o.png)
 
 # An empty height file name said only ": cannot open: No such file or directory", naming nothing.
 # (BASH: CMake's argument lists drop an empty argument.)
