@@ -20,14 +20,16 @@ flat in uint g_weld[];
 
 // Lines lie on the surfaces they outline; pull them towards the eye by this fraction of their
 // distance so the depth test does not hide them behind the faces they bound (z fighting).
-// Window depth is near / distance (reversed, Camera::projection): scaled up by 1 + k, the
-// distance shrinks by about k.
+// Reversed depth (Camera::projection): clip z = A z_eye + B, w = -z_eye = D, so z / w =
+// -A + B / D; adding k B to clip z gives -A + B / (D / (1 + k)): the point's depth at distance
+// D / (1 + k), at every distance. (Scaling clip z by 1 + k moved it by k only at the near plane,
+// and by almost nothing at the far side of an object.)
 const float kDepthBias = 5e-4;
 
 void put(vec3 world)
 {
     vec4 clip = u_view_proj * vec4(world, 1.0);
-    clip.z *= 1.0 + kDepthBias;
+    clip.z += kDepthBias * u_proj[3][2];
     gl_Position = clip;
     EmitVertex();
 }

@@ -344,7 +344,9 @@ std::optional<std::vector<double>> height_values(const std::string& spec, const 
         // Bricks and noise have no cells to enlarge: at 2 texels a side every texel centre of
         // bricks lies in the mortar, and noise normalizes to a constant (they were accepted as
         // constant maps before the sixteenth session).
-        if (flat(v)) throw Error(spec, "too small for its pattern; at least 3 texels per side");
+        if (flat(v))
+            throw Error(spec, e.cells ? "too small for its pattern; at least 3 texels per side"
+                                      : "too small for its pattern: every texel centre takes the same height");
         if (e.normalize) {
             const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
             const double a = *lo, range = *hi - *lo;

@@ -90,7 +90,8 @@ void check_tga(const std::string& subject, const Bytes& b)
     if (b.size() < 18) return;
     const unsigned type = b[2];
     const bool rle = type >= 9;
-    const std::uint64_t cmap_bytes = b[1] ? std::uint64_t(le16(b, 5)) * ((b[7] + 7u) / 8u) : 0;
+    // (stb skips the colour map's first-entry index in bytes before reading its entries.)
+    const std::uint64_t cmap_bytes = b[1] ? le16(b, 3) + std::uint64_t(le16(b, 5)) * ((b[7] + 7u) / 8u) : 0;
     const std::uint64_t pixel = (b[16] + 7u) / 8u;
     const std::uint64_t count = std::uint64_t(le16(b, 12)) * le16(b, 14);
     std::uint64_t at = 18 + std::uint64_t(b[0]) + cmap_bytes;
@@ -103,7 +104,7 @@ void check_tga(const std::string& subject, const Bytes& b)
         if (at >= b.size()) cut_short(subject, "run-length TGA", at + 1, b.size());
         const unsigned head = b[at++];
         const std::uint64_t n = (head & 0x7Fu) + 1u;
-        at += head & 0x80u ? pixel : n * pixel;
+        at += head & 0x80u ? pixel : std::min(n, count - done) * pixel; // (stb stops at the last pixel)
         done += n;
         if (at > b.size()) cut_short(subject, "run-length TGA", at, b.size());
     }
@@ -129,9 +130,29 @@ void check_bmp(const std::string& subject, const Bytes& b)
         return;
     }
     if ((compression != 0 && compression != 3) || w == 0 || h == 0 || bpp == 0) return;
+    const std::uint64_t offset = le32(b, 10);
     const std::uint64_t stride = (w * bpp + 31) / 32 * 4;
-    const std::uint64_t needed = le32(b, 10) + stride * (h - 1) + (w * bpp + 7) / 8;
+    const std::uint64_t needed = offset + stride * (h - 1) + (w * bpp + 7) / 8;
     if (needed > b.size()) cut_short(subject, "BMP", needed, b.size());
+    if (bpp != 1 && bpp != 4 && bpp != 8) return;
+    // A palette image: stb fills its palette array only up to the entries the data offset
+    // leaves room for (its own arithmetic, OS/2 headers included), and looks up every index in
+    // it unchecked: an index past them, or an offset inside the header (no entries at all),
+    // coloured pixels with uninitialised memory (a different map each run; found by a review).
+    const std::int64_t psize = header == 12 ? (std::int64_t(offset) - 14 - 24) / 3
+                                            : (std::int64_t(offset) - 14 - std::int64_t(header)) >> 2;
+    if (psize == 0 || psize > 256) return; // stb refuses it
+    if (psize < 0) throw Error(subject, "not a supported image (corrupt BMP: its data offset lies inside its header)");
+    const std::uint64_t per_byte = 8 / bpp, mask = (1u << bpp) - 1;
+    for (std::uint64_t y = 0; y < h; ++y)
+        for (std::uint64_t x = 0; x < w; ++x) {
+            const std::uint8_t byte = b[offset + y * stride + x / per_byte];
+            const std::uint64_t index = (byte >> ((per_byte - 1 - x % per_byte) * bpp)) & mask;
+            if (std::int64_t(index) >= psize)
+                throw Error(subject, fmt::format("not a supported image (corrupt BMP: a pixel's colour index is {}, "
+                                                 "past its palette of {} colours)",
+                                                 index, psize));
+        }
 }
 
 // PSD: after the header, three blocks each led by its length, then the compression and the
@@ -170,7 +191,7 @@ void check_psd(const std::string& subject, const Bytes& b)
 // "-Y H +X W", then per scanline either run-length data (2, 2, W as two bytes, then four
 // channels of runs and dumps) or, from the first scanline that does not start so, flat RGBE
 // pixels to the end. stb's scanline loop makes no progress on a count of 0 (a dump of 0 bytes,
-// or a run of 128 + 0): such a file (any one cut short, whose missing bytes read as 0) hung it.
+// or a run of 128 + 0) at the end of the file, where every missing byte reads as 0, hung it.
 void check_hdr(const std::string& subject, const Bytes& b)
 {
     std::size_t i = 0;
@@ -193,7 +214,8 @@ void check_hdr(const std::string& subject, const Bytes& b)
     const std::uint64_t w = std::uint64_t(width);
     for (long long y = 0; y < height; ++y) {
         if (w < 8 || w >= 32768 || i + 4 > b.size() || b[i] != 2 || b[i + 1] != 2 || (b[i + 2] & 0x80)) {
-            need(std::uint64_t(height - y) * w * 4); // flat from here to the end
+            // Flat from here: stb starts the image over (j = 0) and reads every pixel flat.
+            need(std::uint64_t(height) * w * 4);
             return;
         }
         if ((std::uint64_t(b[i + 2]) << 8 | b[i + 3]) != w) return; // stb refuses it
@@ -204,9 +226,9 @@ void check_hdr(const std::string& subject, const Bytes& b)
                 unsigned count = b[i++];
                 const bool run = count > 128;
                 if (run) count -= 128;
-                if (count == 0 || count > w - x)
-                    throw Error(subject, "not a supported image (corrupt HDR: a run-length count of "
-                                         "0 or past the scanline's end)");
+                // (A count of 0 reads nothing, or one value, and moves on; only at the end of the
+                // file, where every byte reads as 0, does stb loop on it: need() above.)
+                if (count > w - x) return; // stb refuses it
                 need(run ? 1 : count);
                 i += run ? 1 : count;
                 x += count;

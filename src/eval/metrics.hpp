@@ -20,7 +20,8 @@ inline bool covers(std::uint8_t alpha) { return alpha >= kCoverageAlpha; }
 // One rendered frame as read back from the GPU.
 struct FrameCapture {
     RgbaImage color;          // straight alpha, bottom row first
-    std::vector<float> depth; // window depth 0..1, width*height, bottom row first, 1 = nothing;
+    std::vector<float> depth; // window depth 0..1 (1 at the near plane, Camera::projection), width*height,
+                              // bottom row first, 0 = nothing;
                               // empty when no depth was captured (the depth error is then absent)
     Camera camera;            // the camera the frame was drawn with (depth -> distance)
 };

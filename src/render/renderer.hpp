@@ -106,7 +106,7 @@ public:
     ReferenceStats prepare_reference(const Scene& scene, const Camera& camera, const ReferenceOptions& options);
 
     RgbaImage read_color() const;               // RGBA8, alpha = coverage, bottom row first
-    std::vector<float> read_depth() const;      // window depth in [0,1], 1 = nothing drawn
+    std::vector<float> read_depth() const;      // window depth in [0,1]: 1 at the near plane, 0 = nothing drawn
     SampleCounters read_counters() const;       // after a draw with settings.count_samples
 
     // Builds (or returns the cached) program for a variant; throws pr::Error with the log.

@@ -564,12 +564,27 @@ TEST_F(ImageFiles, FilesThatEndBeforeTheirPixelsAreRefused)
     Bytes hdr = text("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 64\n");
     hdr.insert(hdr.end(), {2, 2, 0, 64});
     refused("cut.hdr", hdr, "truncated HDR");
-    hdr.push_back(0); // a dump of no bytes: the same loop, within the file
-    refused("zero.hdr", hdr, "a run-length count of 0");
+    hdr.push_back(0); // a dump of no bytes, then the end: the same loop
+    refused("zero.hdr", hdr, "truncated HDR");
     // A 24-bit BMP 4x4, rows of 12 bytes: two rows kept.
     Bytes bmp = bmp_header(4, 4);
     bmp.resize(54 + 24, 0x40);
     refused("cut.bmp", bmp, "truncated BMP: it needs at least 102 bytes, the file has 78");
+    // An 8-bit BMP 4x1 with a palette of 2 colours (the offset leaves room for 2): stb looks each
+    // index up unchecked, so index 3 read uninitialised memory (found by a review).
+    Bytes pal = bmp_header(4, 1);
+    pal[10] = 54 + 8; // the data offset
+    pal[28] = 8;      // bits per pixel
+    pal.resize(54);
+    pal.insert(pal.end(), {10, 10, 10, 0, 200, 200, 200, 0, 0, 1, 3, 0});
+    refused("index.bmp", pal, "a pixel's colour index is 3, past its palette of 2 colours");
+    pal[54 + 8 + 2] = 1;
+    EXPECT_FLOAT_EQ(pr::load_height(put("palette.bmp", pal)).at(1, 0), 200.0f / 255.0f);
+    // A colour-mapped TGA whose map starts at entry 20: stb skips 20 bytes before the map.
+    Bytes mapped = {0, 1, 1, 20, 0, 2, 0, 24, 0, 0, 0, 0, 4, 0, 1, 0, 8, 0};
+    mapped.resize(mapped.size() + 20 + 6, 0x50);
+    mapped.insert(mapped.end(), {0, 1});
+    refused("mapped.tga", mapped, "truncated TGA");
     // A run-length grey TGA 4x2: one run of 4 pixels (0x83, value), then a cut.
     Bytes tga = {0, 0, 11, 0, 0, 0, 0, 0, 0, 0, 0, 0, 4, 0, 2, 0, 8, 0, 0x83, 200};
     refused("cut.tga", tga, "truncated run-length TGA");

@@ -24,7 +24,7 @@ FrameCapture blank(int w, int h, glm::u8vec4 colour = {100, 150, 200, 0})
     f.color.pixels.resize(4 * std::size_t(w) * h);
     for (std::size_t i = 0; i < f.color.pixels.size(); i += 4)
         for (int c = 0; c < 4; ++c) f.color.pixels[i + c] = colour[c];
-    f.depth.assign(std::size_t(w) * h, 1.0f);
+    f.depth.assign(std::size_t(w) * h, 0.0f); // the far plane (reversed depth)
     f.camera.near_plane = 1.0f;
     f.camera.far_plane = 10.0f;
     return f;
