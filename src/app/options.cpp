@@ -275,7 +275,7 @@ void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_techn
     else
         app.add_option("--techniques", o.techniques,
                        "Comma-separated techniques (" + technique_names() +
-                           "; prism:MARCHER[:EXIT] for the prism's options)")
+                           "; prism:MARCHER[:EXIT[:SHELL]] for the prism's options)")
             ->group("Technique")
             ->capture_default_str();
     app.add_option("--steps", o.steps,
@@ -327,6 +327,14 @@ void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_techn
         ->transform(saturating<std::size_t>())
         ->group("Technique")
         ->capture_default_str();
+}
+
+void check_prism_flags_apply(const TechniqueOptions& o, bool any_prism, const std::string& drawn)
+{
+    if (any_prism) return;
+    for (const CLI::Option* flag : {o.marcher_flag, o.prism_exit_flag, o.prism_shell_flag})
+        if (flag != nullptr && flag->count() > 0)
+            throw Error(flag->get_name(), "applies to the prism technique only, and " + drawn + " draws none");
 }
 
 ReferenceOptions make_reference_options(const TechniqueOptions& o)

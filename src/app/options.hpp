@@ -124,6 +124,10 @@ ReferenceOptions make_reference_options(const TechniqueOptions& o);
 SceneSpec make_scene_spec(const SceneOptions& o);
 DrawSettings make_draw_settings(const TechniqueOptions& o, const std::string& technique,
                                 const std::string& option = "--technique");
+// Refuses --marcher, --prism-exit and --prism-shell where nothing drawn is a prism (`drawn`:
+// the technique or list, named in the error): they were ignored silently (render, compare,
+// bench; the viewer keeps them for when its panel turns to the prism).
+void check_prism_flags_apply(const TechniqueOptions& o, bool any_prism, const std::string& drawn);
 
 // "x,y,z" -> vec3; throws pr::Error(option, …).
 glm::vec3 parse_vec3(const std::string& text, const std::string& option);

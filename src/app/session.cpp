@@ -6,6 +6,7 @@
 #include "maps/conemap.hpp"
 #include "render/shader_program.hpp"
 
+#include <algorithm>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -100,6 +101,10 @@ std::vector<TechniqueRun> parse_technique_list(const std::string& list, const Te
         runs.push_back(std::move(run));
     }
     if (runs.empty()) throw Error(option, "no technique given");
+    check_prism_flags_apply(quality, std::any_of(runs.begin(), runs.end(), [](const TechniqueRun& r) {
+                                return r.settings.technique == Technique::Prism;
+                            }),
+                            option + " " + list);
     return runs;
 }
 

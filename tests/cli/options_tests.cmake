@@ -128,3 +128,12 @@ pr_cli(conemap_gl_backend_name EXIT 1 ONE_LINE STDERR "${E}--gl-backend: unknown
 pr_cli(conemap_gl_backend_missing EXIT 1 ONE_LINE STDERR "${E}--gl-backend: osmesa: cannot load" NO_FILE c.png
        ENV PRISMRELIEF_OSMESA_LIBRARY=/nonexistent/libOSMesa.so
        ARGS conemap --height builtin:bumps@16 --backend gpu --no-cache --out c.png)
+
+# The prism's flags where nothing drawn is a prism were ignored silently (a relief render with
+# --marcher cone drew relief; found by a docs audit, sixteenth session).
+pr_cli(marcher_without_prism EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}--marcher: applies to the prism technique only, and --technique relief draws none"
+       ARGS render --mesh ${M}/torus.obj --technique relief --marcher cone --size 8x8 --out o.png)
+pr_cli(prism_exit_without_prism_in_list EXIT 1 ONE_LINE NO_FILE c.json
+       STDERR "${E}--prism-exit: applies to the prism technique only, and --techniques pom,relief draws none"
+       ARGS compare --mesh ${M}/torus.obj --techniques pom,relief --prism-exit exact --size 8x8 --json c.json)
