@@ -47,7 +47,7 @@ void refuse_empty_file_names(const CLI::App& command)
 {
     static constexpr const char* kFileOptions[] = {"--out", "--json", "--scene", "--mesh", "--height",
                                                    "--color", "--cache-dir", "--shader-dir", "--drop",
-                                                   "--tiles"};
+                                                   "--tiles", "--screenshot"};
     for (const char* name : kFileOptions) {
         const CLI::Option* option = command.get_option_no_throw(name);
         if (option == nullptr || option->count() == 0) continue;

@@ -90,15 +90,9 @@ CLI::Validator saturating()
         "", "");
 }
 
-// An empty value is usage (exit 2), with `problem` as the reason: CLI11 reads "" as no value for
-// an optional (--depth "" drew the default depth, exit 0) and as nothing to do for a file name
-// (view --screenshot "" wrote nothing).
-inline CLI::Validator non_empty(const std::string& problem)
-{
-    return CLI::Validator([problem](const std::string& text) { return text.empty() ? problem : std::string(); },
-                          "", "");
-}
 // For a flag taking a number: not empty, and decimal (CLI11 reads "0x10" as 16, "0b11" as 3).
+// An empty value is usage (exit 2): CLI11 reads "" as no value for an optional (--depth "" drew
+// the default depth, exit 0). (An empty file name is bad input, exit 1: refuse_empty_file_names.)
 inline CLI::Validator a_number()
 {
     return CLI::Validator(

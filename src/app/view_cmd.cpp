@@ -57,8 +57,7 @@ CommandAction add_view_command(CLI::App& app)
     cmd->add_option("--screenshot", s->screenshot,
                     "PNG of the view (RGBA, alpha = coverage, framebuffer pixels): written after --frames, "
                     "and by the P key")
-        ->check(non_empty("empty file name"))
-        ->group("View");
+        ->group("View"); // (an empty name: refuse_empty_file_names, exit 1 as for every file option)
     cmd->add_flag("--screenshot-ui", s->screenshot_ui,
                   "The screenshot shows the whole window as seen (panel, background; opaque)")
         ->group("View");

@@ -27,6 +27,9 @@ if(TARGET pr_view)
     pr_cli(view_drop_is_an_input EXIT 1 ONE_LINE STDERR "${E}--screenshot: .*h.png is the --drop input: it would be overwritten"
            ARGS view --mesh ${M}/torus.obj --drop h.png --screenshot h.png)
     pr_cli(view_drop_empty EXIT 1 ONE_LINE STDERR "${E}--drop: empty file name" ARGS view --mesh ${M}/torus.obj --drop=)
+    # An empty screenshot name was usage (exit 2), alone of the file options.
+    pr_cli(view_screenshot_empty_name EXIT 1 ONE_LINE STDERR "${E}--screenshot: empty file name"
+           ARGS view --mesh ${M}/torus.obj --screenshot= --frames 1)
     pr_cli(view_missing_mesh EXIT 1 ONE_LINE STDERR "${E}.*nonexistent.obj: " ARGS view --mesh nonexistent.obj)
     pr_cli(view_no_display EXIT 1 ONE_LINE STDERR "${E}view: cannot open a window" ENV DISPLAY= WAYLAND_DISPLAY=
            ARGS view --mesh ${M}/torus.obj --frames 1)
