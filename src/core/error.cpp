@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <mutex>
 #include <set>
+#include <string>
 
 namespace pr {
 
@@ -34,6 +35,17 @@ std::string one_line(std::string_view text)
             out.push_back(kHex[u >> 4]);
             out.push_back(kHex[u & 15]);
         }
+    }
+    // A line of megabytes (a scene naming a mesh by a 5 MB path: stderr took 5 MB, 10 for a
+    // built-in name said twice) keeps its start and its end, where the problem is said, cut at
+    // UTF-8 character boundaries.
+    if (out.size() > kLongestLine) {
+        const auto boundary = [&out](std::size_t i) {
+            while (i > 0 && (static_cast<unsigned char>(out[i]) & 0xC0) == 0x80) --i;
+            return i;
+        };
+        const std::size_t head = boundary(kLongestLine / 2), tail = boundary(out.size() - kLongestLine / 2);
+        out = out.substr(0, head) + " [... " + std::to_string(tail - head) + " bytes left out ...] " + out.substr(tail);
     }
     return out;
 }

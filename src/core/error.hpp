@@ -34,7 +34,9 @@ enum ExitCode : int { kExitOk = 0, kExitFailure = 1, kExitUsage = 2 };
 void warn(const std::string& message);
 
 // `text` with its control characters written out ("\n", "\r", "\t", else "\xNN"), so that a
-// message quoting a file name or a value that holds a line break stays one line on stderr.
+// message quoting a file name or a value that holds a line break stays one line on stderr; past
+// kLongestLine bytes, its middle is left out (and said so).
+inline constexpr std::size_t kLongestLine = 4096;
 std::string one_line(std::string_view text);
 
 } // namespace pr
