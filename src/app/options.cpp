@@ -748,11 +748,14 @@ SceneSpec make_scene_spec(const SceneOptions& o)
         check_azimuth(*o.azimuth, "--azimuth");
         spec.camera.azimuth_deg = *o.azimuth;
     }
+    // Flags override the file: --elevation or --azimuth over a scene's camera.eye frames the
+    // scene from those angles (around its camera.target, if it gives one), as --eye over a
+    // scene's angles places the camera there. (They were refused until the sixteenth session.)
+    if (spec.camera.eye && o.eye.empty() && (o.elevation || o.azimuth)) spec.camera.eye.reset();
     // Auto-framing's angles with an eye given: nothing frames, and they were ignored silently.
     if (spec.camera.eye && (o.elevation || o.azimuth))
         throw Error(o.elevation ? "--elevation" : "--azimuth",
-                    std::string("has no effect with ") + (o.eye.empty() ? "the scene's camera.eye" : "--eye") +
-                        " (it places the auto-framed camera; an eye given is where the camera is)");
+                    "has no effect with --eye (it places the auto-framed camera; an eye given is where the camera is)");
     // An explicit camera is checked here, where it is known whether each value came from a flag
     // or from the file; without a target (the shell's centre), scene_camera checks it once the
     // scene is loaded (open_session names the file there).
@@ -766,7 +769,8 @@ SceneSpec make_scene_spec(const SceneOptions& o)
         if (problem == ViewProblem::UpAlongView) {
             if (!o.up.empty()) throw Error("--up", "up is parallel to the viewing direction");
             if (file.up) throw Error(o.scene_file + ": camera.up", "up is parallel to the viewing direction");
-            throw Error(eye_subject, "looks straight along the default up direction 0,1,0 (give --up)");
+            throw Error(eye_subject, std::string("looks straight along the default up direction 0,1,0 (give ") +
+                                         (eye_subject.rfind("--", 0) == 0 ? "--up" : "camera.up or --up") + ")");
         }
     }
     if (o.max_triangles < 1) throw Error("--max-triangles", "must be at least 1");

@@ -66,6 +66,10 @@ CommandAction add_render_command(CLI::App& app)
         std::size_t covered = 0;
         for (std::size_t i = 3; i < image.pixels.size(); i += 4) covered += image.pixels[i] >= 128;
         write_png(s->out, image);
+        // An empty picture is a valid one (a view away from the scene), but rarely the one meant.
+        if (covered == 0)
+            warn(s->out + ": nothing was drawn: the scene is out of view or covers no pixel centre "
+                          "(check the camera, --fovy and --size)");
         // A few covered pixels of a large image are not "0.0%": more digits then.
         const double percent = 100.0 * double(covered) / double(std::size_t(image.width) * image.height);
         const std::string passes = offsets.size() > 1 ? " (" + std::to_string(offsets.size()) + " passes)" : "";

@@ -1060,7 +1060,15 @@ std::uint64_t max_mesh_file_bytes(const MeshOptions& options)
 string read_whole_file(const fs::path& path, const string& subject, const MeshOptions& options)
 {
     std::error_code ec;
-    if (!fs::exists(path, ec)) fail(subject, "does not exist");
+    if (!fs::exists(path, ec)) {
+        // (A loop of links, or one whose target is missing, said "does not exist" of the name
+        // given, which is there.)
+        if (ec == std::errc::too_many_symbolic_link_levels) fail(subject, "is a loop of symbolic links");
+        std::error_code lec;
+        if (fs::is_symlink(fs::symlink_status(path, lec)))
+            fail(subject, "is a symbolic link to " + fs::read_symlink(path, lec).string() + ", which does not exist");
+        fail(subject, "does not exist");
+    }
     return read_input_text(
         path.string(),
         {max_mesh_file_bytes(options), "a mesh file",

@@ -267,3 +267,6 @@ pr_cli(odd_flipped_face EXIT 0 EXPECT_FILE o.png STDERR "warning: .*flipped_face
        ARGS render --mesh ${BAD}/flipped_face.obj --technique pom --size 48x48 --out o.png)
 pr_cli(odd_duplicate_vertices EXIT 0 EXPECT_FILE o.png STDOUT "o.png: 48x48 prism"
        ARGS render --mesh ${BAD}/duplicate_vertices.obj --technique prism --size 48x48 --out o.png)
+# A render that covers nothing says so (exit 0: the picture is valid, but rarely the one meant).
+pr_cli(render_nothing_in_view_warns EXIT 0 EXPECT_FILE e.png STDERR "^prismrelief: warning: e.png: nothing was drawn"
+       ARGS render --mesh ${M}/torus.obj --eye 5,0,0 --target 10,0,0 --size 16x16 --out e.png)

@@ -223,3 +223,11 @@ foreach(case "output_folder;TERM;143;.;--no-cache" "cache_folder;HUP;129;c/cone;
     set_tests_properties(cli.signal_removes_temporary_in_${where}
                          PROPERTIES LABELS "cli" TIMEOUT 180 SKIP_RETURN_CODE 77)
 endforeach()
+
+# Flags override the file: --elevation over a scene's camera.eye frames the scene from that
+# elevation (it was refused, while --eye over a scene's elevation was taken). The picture is the
+# same as the scene without its eye at that elevation.
+pr_output_cli(elevation_overrides_scene_eye EXIT 0 EXPECT_FILE a.png
+              SETUP "printf '{\"objects\":[{\"mesh\":\"${M}/torus.obj\"}],\"camera\":{\"eye\":[3,2,3],\"target\":[0,0,0]}}' > e.json && printf '{\"objects\":[{\"mesh\":\"${M}/torus.obj\"}],\"camera\":{\"target\":[0,0,0]}}' > n.json && $<TARGET_FILE:prismrelief> render --scene n.json --elevation 60 --size 48x32 --out b.png > /dev/null"
+              AFTER "cmp a.png b.png"
+              ARGS render --scene e.json --elevation 60 --size 48x32 --out a.png)

@@ -395,3 +395,15 @@ pr_cli_special(depth_empty_value BASH EXIT 2 STDERR "usage: --depth: expected a 
                ARGS render --mesh '${M}/cube.obj' --depth "''" --size 8x8 --out o.png)
 pr_cli_special(steps_empty_value BASH EXIT 2 STDERR "usage: --steps: expected a whole number, got an empty value"
                NO_FILE o.png ARGS render --mesh '${M}/cube.obj' --steps "''" --size 8x8 --out o.png)
+# A mesh named through a link whose target is missing, or a loop of links, "did not exist".
+pr_cli_special(mesh_dangling_link EXIT 1 ONE_LINE NO_FILE o.png SETUP "ln -sfn nothere.obj d.obj"
+               STDERR "${E}d.obj: is a symbolic link to nothere.obj, which does not exist"
+               ARGS render --mesh d.obj --size 8x8 --out o.png)
+pr_cli_special(mesh_link_loop EXIT 1 ONE_LINE NO_FILE o.png SETUP "ln -sfn b.obj a.obj && ln -sfn a.obj b.obj"
+               STDERR "${E}a.obj: is a loop of symbolic links"
+               ARGS render --mesh a.obj --size 8x8 --out o.png)
+# A scene's camera looking along the default up: the advice names the scene's key too.
+pr_cli_special(scene_eye_along_default_up EXIT 1 ONE_LINE NO_FILE o.png
+               SETUP "printf '{\"objects\":[{\"mesh\":\"${M}/torus.obj\"}],\"camera\":{\"eye\":[0,5,0.00003],\"target\":[0,0,0]}}' > u.json"
+               STDERR "${E}u.json: camera.eye: looks straight along the default up direction 0,1,0 \\(give camera.up or --up\\)"
+               ARGS render --scene u.json --size 8x8 --out o.png)
