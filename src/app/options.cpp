@@ -259,6 +259,8 @@ void add_scene_options(CLI::App& app, SceneOptions& o)
                    "~/.cache/prismrelief; the least recently used go beyond $PRISMRELIEF_CACHE_MAX_MB "
                    "(default 2048)")
         ->group("Output");
+    app.add_flag("--no-cache", o.no_cache, "Build derived maps in memory only: neither read nor write the cache")
+        ->group("Output");
     app.add_option("--cone-backend", o.cone_backend,
                    "Where cone maps missing from the cache are built: cpu (threads) or gpu (compute "
                    "shader in the render's context: for a real GPU, with --backend egl)")

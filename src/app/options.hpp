@@ -31,6 +31,7 @@ struct SceneOptions {
     float uv_scale = MeshOptions{}.uv_scale;
     bool generate_uvs = false;
     std::string cache_dir; // derived maps (cone maps); empty: default_cache_dir()
+    bool no_cache = false; // --no-cache: derived maps in memory only
     std::string cone_backend = "cpu"; // where missing cone maps are built: cpu or gpu
 
     CLI::Option* size_option = nullptr;

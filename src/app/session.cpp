@@ -37,6 +37,7 @@ std::vector<NamedPath> scene_file_inputs(const SceneOptions& options, const Scen
 Session open_session(const SceneOptions& options, const std::vector<NamedPath>& outputs,
                      const ContextFactory& make_context)
 {
+    if (options.no_cache && !options.cache_dir.empty()) throw Error("--no-cache", "conflicts with --cache-dir");
     Session s;
     const bool cone_maps_on_gpu = parse_cone_backend_gpu(options.cone_backend, "--cone-backend");
     // The flags' files before the scene file is read (an output over it is refused unread), the
@@ -68,6 +69,7 @@ Session open_session(const SceneOptions& options, const std::vector<NamedPath>& 
     s.context = make_context ? make_context(s.spec) : create_headless_context(backend);
     s.renderer = std::make_unique<Renderer>(s.spec.width, s.spec.height);
     if (!options.cache_dir.empty()) s.renderer->set_cache_dir(options.cache_dir);
+    if (options.no_cache) s.renderer->disable_cache();
     s.renderer->set_cone_maps_on_gpu(cone_maps_on_gpu);
     // A cone map built on first use can take seconds (a relaxed map of 1024²: about 8 s on two
     // cores): a bar on a terminal says what the wait is for.

@@ -506,6 +506,8 @@ GLuint Renderer::program_for(const DrawSettings& settings, WalkVariant variant, 
 
 const std::filesystem::path& Renderer::cache_dir()
 {
+    static const std::filesystem::path none;
+    if (no_cache_) return none;
     if (cache_dir_.empty()) cache_dir_ = default_cache_dir();
     return cache_dir_;
 }

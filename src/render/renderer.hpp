@@ -48,7 +48,13 @@ public:
         cache_dir_ = std::move(dir);
         cone_entries_.clear();
     }
-    const std::filesystem::path& cache_dir(); // the one set, else default_cache_dir()
+    const std::filesystem::path& cache_dir(); // the one set, else default_cache_dir(); empty: none
+    // No cache at all (--no-cache): derived maps are built in memory and kept for this run only.
+    void disable_cache()
+    {
+        no_cache_ = true;
+        cone_entries_.clear();
+    }
 
     // Called while a draw builds a cone map that is not in the cache (render, compare and bench
     // show a progress bar on a terminal): what is built ("relaxed cone map of builtin:noise@1024")
@@ -252,6 +258,7 @@ private:
     // The cone map of `kind` for `field`: from memory, else the cache directory, else built.
     const ConeMap& cone_map(const std::shared_ptr<const HeightField>& field, ConeKind kind);
     std::filesystem::path cache_dir_;
+    bool no_cache_ = false;
     GLint64 texture_buffer_limit_ = 0;
     // Builds (or reads from the cache) and uploads the derived map each object needs.
     void ensure_aux_textures(AuxMap map);

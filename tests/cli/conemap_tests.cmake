@@ -67,3 +67,6 @@ pr_cli(shadows_unknown EXIT 1 ONE_LINE STDERR "${CM}--shadows: unknown shadow mo
        ARGS render --mesh ${M}/cube.obj --shadows dark --out o.png)
 pr_cli(marcher_unknown EXIT 1 ONE_LINE STDERR "${CM}--marcher: unknown marcher 'warp'" NO_FILE o.png
        ARGS render --mesh ${M}/cube.obj --technique prism --marcher warp --out o.png)
+# --no-cache for the drawing commands (conemap had it alone; render_no_cache_writes_no_entry).
+pr_cli(render_no_cache_and_cache_dir EXIT 1 ONE_LINE NO_FILE o.png STDERR "${E}--no-cache: conflicts with --cache-dir"
+       ARGS render --mesh ${M}/torus.obj --no-cache --cache-dir c --size 8x8 --out o.png)

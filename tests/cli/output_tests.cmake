@@ -231,3 +231,18 @@ pr_output_cli(elevation_overrides_scene_eye EXIT 0 EXPECT_FILE a.png
               SETUP "printf '{\"objects\":[{\"mesh\":\"${M}/torus.obj\"}],\"camera\":{\"eye\":[3,2,3],\"target\":[0,0,0]}}' > e.json && printf '{\"objects\":[{\"mesh\":\"${M}/torus.obj\"}],\"camera\":{\"target\":[0,0,0]}}' > n.json && $<TARGET_FILE:prismrelief> render --scene n.json --elevation 60 --size 48x32 --out b.png > /dev/null"
               AFTER "cmp a.png b.png"
               ARGS render --scene e.json --elevation 60 --size 48x32 --out a.png)
+
+# --no-cache for the drawing commands (conemap had it alone): a cone render leaves nothing in the
+# cache folder; without the flag it leaves the map there.
+foreach(flag no_cache cache)
+    set(extra "")
+    set(after "test -d xdg/prismrelief/cone")
+    if(flag STREQUAL "no_cache")
+        set(extra "--no-cache")
+        set(after "test ! -e xdg/prismrelief")
+    endif()
+    pr_output_cli(render_${flag}_cone_entry EXIT 0 EXPECT_FILE o.png
+                  ENV XDG_CACHE_HOME=${PR_CLI_WORK}/render_${flag}_cone_entry/xdg
+                  SETUP "rm -rf xdg" AFTER "${after}"
+                  ARGS render --mesh ${M}/torus.obj --height builtin:bumps@32 --technique cone ${extra} --size 16x16 --out o.png)
+endforeach()
