@@ -624,3 +624,17 @@ TEST_F(ImageFiles, PnmSamplesAreScaledByTheirMaxval)
     const std::string zero = put("m0.pgm", p0);
     EXPECT_TRUE(contains(error_of([&] { pr::load_height(zero); }).problem(), "PNM maxval 0: must be 1 to 65535"));
 }
+
+// An uncompressed 16-bit PSD keeps its 16 bits: stb 2.27's stbi_is_16_bit says no to every PSD
+// (its test reads the height's first bytes as the depth), and they were read at 8 bits (an
+// exploratory session saw 2053 come out as 2056).
+TEST_F(ImageFiles, Psd16BitKeepsItsPrecision)
+{
+    Bytes psd = {'8', 'B', 'P', 'S', 0, 1, 0, 0, 0, 0, 0, 0, 0, 3, 0, 0, 0, 1, 0, 0, 0, 2, 0, 16, 0, 3};
+    psd.insert(psd.end(), {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
+    for (int channel = 0; channel < 3; ++channel) psd.insert(psd.end(), {0, 5, 0x08, 0x05});
+    const pr::HeightField h = pr::load_height(put("p16.psd", psd));
+    EXPECT_EQ(h.bits, 16);
+    EXPECT_FLOAT_EQ(h.at(0, 0), 5.0f / 65535.0f);
+    EXPECT_FLOAT_EQ(h.at(1, 0), 2053.0f / 65535.0f);
+}
