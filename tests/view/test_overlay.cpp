@@ -93,3 +93,35 @@ TEST(Overlay, LinesKeepCoverageAndTheShellReachesOutsideTheOutline)
     r.draw(cam, light, flat);
     EXPECT_NO_THROW(r.draw_overlay(cam, Renderer::Overlay::PrismShell, {0.0f, 1.0f, 0.0f, 1.0f}, flat));
 }
+
+// Lines on a surface seen at a slant from nearby: each line is pulled towards the eye by a
+// fraction of its distance that grows with the slant (wireframe.geom). A flat fraction (5e-4,
+// with the reversed depth of the sixteenth session) left them dashed: on the 512-triangle plane
+// from 0.3, 0.3, 0.5, 1,701 line pixels at 128 x 128 against 3,057 now, and 3,869 against 6,762
+// at 256 (found by an exploratory session).
+TEST(Overlay, LinesOnASlantedSurfaceNearbyAreWhole)
+{
+    prtest::context();
+    SceneSpec spec;
+    ObjectSpec o;
+    o.mesh = std::string(PR_SOURCE_DIR) + "/meshes/plane.obj";
+    o.height = "builtin:bumps@64";
+    o.depth = 0.1f;
+    spec.objects.push_back(o);
+    const Scene scene = load_scene(spec);
+    Renderer r(128, 128);
+    r.upload(scene);
+    Camera cam;
+    cam.eye = {0.3f, 0.3f, 0.5f};
+    cam.target = {-0.5f, 0.0f, -0.5f};
+    fit_clip_planes(cam, scene.shell_bounds);
+    DrawSettings flat;
+    flat.technique = Technique::Flat;
+    const glm::vec3 light(0.3f, 1.0f, 0.2f);
+    r.draw(cam, light, flat);
+    const RgbaImage plain = r.read_color();
+    r.draw(cam, light, flat);
+    r.draw_overlay(cam, Renderer::Overlay::BaseMesh, {1.0f, 0.0f, 0.0f, 1.0f}, flat);
+    const Counts lines = compare(plain, r.read_color());
+    EXPECT_GT(lines.colour_changed, 2500u);
+}
