@@ -389,6 +389,36 @@ void fix_tga_origin(const std::vector<std::uint8_t>& bytes, T* pixels, int w, in
     }
 }
 
+// Turns stb's pixels (top row first, as stored) as a JPEG's EXIF orientation says they are
+// shown (jpeg_exif_orientation): orientations 5 to 8 swap the width and the height.
+template <typename T>
+void apply_orientation(StbiPtr<T>& data, int& w, int& h, int n, int orientation)
+{
+    if (orientation <= 1 || orientation > 8 || !data) return;
+    const bool swap = orientation >= 5;
+    const int ow = swap ? h : w, oh = swap ? w : h;
+    StbiPtr<T> out(static_cast<T*>(STBI_MALLOC(std::size_t(w) * std::size_t(h) * std::size_t(n) * sizeof(T))));
+    if (!out) throw Error("image", "out of memory");
+    for (int y = 0; y < oh; ++y)
+        for (int x = 0; x < ow; ++x) {
+            int sx = x, sy = y; // the stored pixel shown at (x, y)
+            switch (orientation) {
+            case 2: sx = w - 1 - x; break;
+            case 3: sx = w - 1 - x, sy = h - 1 - y; break;
+            case 4: sy = h - 1 - y; break;
+            case 5: sx = y, sy = x; break;
+            case 6: sx = y, sy = h - 1 - x; break;
+            case 7: sx = w - 1 - y, sy = h - 1 - x; break;
+            case 8: sx = w - 1 - y, sy = x; break;
+            }
+            std::memcpy(out.get() + (std::size_t(y) * ow + x) * n, data.get() + (std::size_t(sy) * w + sx) * n,
+                        std::size_t(n) * sizeof(T));
+        }
+    data = std::move(out);
+    w = ow;
+    h = oh;
+}
+
 HeightField load_height_file(const std::string& path, const ImageLimits& limits)
 {
     std::vector<std::uint8_t> bytes = read_file(path, limits);
@@ -430,6 +460,7 @@ HeightField load_height_file(const std::string& path, const ImageLimits& limits)
         StbiPtr<stbi_uc> data = decode_image<stbi_uc>(path, bytes, c, &hf.width, &hf.height, &n, 0, stbi_load_from_memory);
         if (!data) fail_decode(path);
         check_decoded(path, hf.width, hf.height, limits);
+        apply_orientation(data, hf.width, hf.height, n, jpeg_exif_orientation(bytes));
         // 8 bits, or a PNM's maxval under 255 taken at 16 (maxval 100: steps of 1/100).
         hf.bits = maxval.value_or(255) == 255 ? 8 : 16;
         fix_tga_origin(bytes, data.get(), hf.width, hf.height, n);
@@ -483,6 +514,7 @@ RgbaImage load_rgba_file(const std::string& path, const ImageLimits& limits)
     }
     if (!data) fail_decode(path);
     check_decoded(path, w, h, limits);
+    apply_orientation(data, w, h, 4, jpeg_exif_orientation(bytes));
     fix_tga_origin(bytes, data.get(), w, h, 4);
     RgbaImage img;
     img.width = w;

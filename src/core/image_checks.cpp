@@ -275,6 +275,51 @@ bool needs_padding_check(const std::vector<std::uint8_t>& bytes)
     return !(i > 0 && i < bytes.size() && bytes[i] == 0xD8); // JPEG
 }
 
+int jpeg_exif_orientation(const std::vector<std::uint8_t>& b)
+{
+    const auto at = [&b](std::size_t i) -> unsigned { return i < b.size() ? b[i] : 0u; };
+    std::size_t i = 0;
+    while (i < b.size() && b[i] == 0xFF) ++i;
+    if (i == 0 || at(i) != 0xD8) return 1; // not JPEG
+    ++i;
+    while (i + 3 < b.size()) {
+        if (b[i] != 0xFF) return 1; // the segments before the image data end here
+        const unsigned m = b[i + 1];
+        if (m == 0xFF) {
+            ++i;
+            continue;
+        }
+        if (m == 0xDA || m == 0xD9) return 1; // start of scan, end of image: no EXIF before
+        const std::size_t length = at(i + 2) << 8 | at(i + 3);
+        const std::size_t start = i + 4, end = std::min(b.size(), i + 2 + length);
+        if (m == 0xE1 && end >= start + 14 && std::memcmp(&b[start], "Exif\0\0", 6) == 0) {
+            const std::size_t tiff = start + 6;
+            const bool little = b[tiff] == 'I' && b[tiff + 1] == 'I';
+            if (!little && !(b[tiff] == 'M' && b[tiff + 1] == 'M')) return 1;
+            const auto u16 = [&](std::size_t o) -> std::uint32_t {
+                if (o + 2 > end) return 0;
+                return little ? std::uint32_t(b[o]) | std::uint32_t(b[o + 1]) << 8
+                              : std::uint32_t(b[o]) << 8 | std::uint32_t(b[o + 1]);
+            };
+            const auto u32 = [&](std::size_t o) -> std::uint32_t {
+                return little ? u16(o) | u16(o + 2) << 16 : u16(o) << 16 | u16(o + 2);
+            };
+            const std::size_t ifd = tiff + u32(tiff + 4);
+            const std::uint32_t entries = u16(ifd);
+            for (std::uint32_t e = 0; e < entries && ifd + 2 + 12 * (e + 1) <= end; ++e) {
+                const std::size_t entry = ifd + 2 + 12 * e;
+                if (u16(entry) == 0x0112 && u16(entry + 2) == 3) { // SHORT
+                    const std::uint32_t value = u16(entry + 8);
+                    return value >= 1 && value <= 8 ? int(value) : 1;
+                }
+            }
+            return 1;
+        }
+        i += 2 + length;
+    }
+    return 1;
+}
+
 std::optional<int> pnm_maxval(const std::vector<std::uint8_t>& bytes)
 {
     const std::optional<PnmHeader> h = parse_pnm(bytes);

@@ -27,6 +27,11 @@ bool needs_padding_check(const std::vector<std::uint8_t>& bytes);
 // so a file none of the other decoders' signatures match, whose header names a TGA image type.
 bool is_tga(const std::vector<std::uint8_t>& bytes);
 
+// A JPEG's EXIF orientation (tag 0x0112 of its APP1 "Exif" segment's first IFD): 1 (as stored,
+// also for other formats and where there is none or it is unreadable) to 8. stb_image ignores
+// it: a photo taken upright on a phone turned, as colour or height, on its side.
+int jpeg_exif_orientation(const std::vector<std::uint8_t>& bytes);
+
 // A binary PNM's (P5, P6) largest sample value, from its header; nullopt for other formats.
 // stb_image returns the samples as stored, so values of a maxval other than 255 or 65535 must
 // be scaled by the caller (stb took 127 for a full 8-bit sample, and 4095 for a 16-bit one).

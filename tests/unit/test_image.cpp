@@ -7,6 +7,8 @@
 #include "core/error.hpp"
 #include "core/image.hpp"
 
+#include <stb_image_write.h>
+
 #include <gtest/gtest.h>
 
 #include <array>
@@ -637,4 +639,41 @@ TEST_F(ImageFiles, Psd16BitKeepsItsPrecision)
     EXPECT_EQ(h.bits, 16);
     EXPECT_FLOAT_EQ(h.at(0, 0), 5.0f / 65535.0f);
     EXPECT_FLOAT_EQ(h.at(1, 0), 2053.0f / 65535.0f);
+}
+
+// A JPEG's EXIF orientation (tag 0x0112): stb ignores it, so a photo taken upright on a phone
+// (stored on its side, orientation 6: turn 90 degrees clockwise to show) came out on its side.
+TEST_F(ImageFiles, JpegExifOrientationIsApplied)
+{
+    // Stored 16 x 8: the left half black, the right half white.
+    pr::RgbaImage stored;
+    stored.width = 16;
+    stored.height = 8;
+    stored.pixels.resize(16 * 8 * 4);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 16; ++x)
+            for (int c = 0; c < 4; ++c) stored.pixels[std::size_t(y * 16 + x) * 4 + c] = c == 3 || x >= 8 ? 255 : 0;
+    Bytes jpeg;
+    stbi_write_jpg_to_func([](void* out, void* data, int size) {
+        auto* b = static_cast<Bytes*>(out);
+        b->insert(b->end(), static_cast<std::uint8_t*>(data), static_cast<std::uint8_t*>(data) + size);
+    }, &jpeg, 16, 8, 4, stored.pixels.data(), 100);
+    ASSERT_GT(jpeg.size(), 4u);
+    const Bytes plain = jpeg;
+    // APP1 after SOI: "Exif\0\0", little-endian TIFF, IFD0 with one SHORT entry 0x0112 = 6.
+    const Bytes app1 = {0xFF, 0xE1, 0, 34, 'E', 'x', 'i', 'f', 0, 0, 'I', 'I', 42, 0, 8, 0, 0, 0, 1, 0,
+                        0x12, 0x01, 3, 0, 1, 0, 0, 0, 6, 0, 0, 0, 0, 0, 0, 0};
+    jpeg.insert(jpeg.begin() + 2, app1.begin(), app1.end());
+    const pr::HeightField as_stored = pr::load_height(put("plain.jpg", plain));
+    EXPECT_EQ(as_stored.width, 16);
+    const pr::HeightField h = pr::load_height(put("turned.jpg", jpeg));
+    ASSERT_EQ(h.width, 8);
+    ASSERT_EQ(h.height, 16);
+    // Shown upright: the black half on top (rows are bottom first here).
+    EXPECT_GT(h.at(4, 2), 0.9f);  // bottom: white
+    EXPECT_LT(h.at(4, 13), 0.1f); // top: black
+    const pr::RgbaImage c = pr::load_color(path("turned.jpg"));
+    ASSERT_EQ(c.width, 8);
+    EXPECT_GT(c.at(4, 2).r, 230);
+    EXPECT_LT(c.at(4, 13).r, 25);
 }
