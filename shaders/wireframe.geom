@@ -26,6 +26,8 @@ flat in uint g_weld[];
 // face's distance changes across one pixel by about the pixel's angle times the tangent of the
 // angle between the view and its normal, which a line must clear (a flat fraction of 5e-4 left
 // the lines dashed on surfaces seen at a slant from nearby; found by an exploratory session).
+// The angle counts up to 78 degrees: beyond, near an outline, a pull that large lets lines of
+// the far side show through.
 const float kDepthBias = 5e-4;
 float g_bias = kDepthBias;
 
@@ -36,7 +38,7 @@ float slope_bias(vec3 a, vec3 b, vec3 c)
     vec3 v = u_eye.xyz - (a + b + c) / 3.0;
     float cosine = abs(dot(n, v)) / max(length(n) * length(v), 1e-30);
     float pixel = 2.0 / (u_proj[1][1] * u_viewport.y); // a pixel's angle, radians
-    return kDepthBias + 2.0 * pixel * sqrt(max(1.0 - cosine * cosine, 0.0)) / max(cosine, 0.05);
+    return kDepthBias + 1.0 * pixel * sqrt(max(1.0 - cosine * cosine, 0.0)) / max(cosine, 0.2);
 }
 
 void put(vec3 world)

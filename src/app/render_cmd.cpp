@@ -67,7 +67,10 @@ CommandAction add_render_command(CLI::App& app)
         for (std::size_t i = 3; i < image.pixels.size(); i += 4) covered += image.pixels[i] >= 128;
         write_png(s->out, image);
         // An empty picture is a valid one (a view away from the scene), but rarely the one meant.
-        if (covered == 0)
+        // (With --msaa a sliver may cover a fraction of a pixel: any alpha counts.)
+        bool any = false;
+        for (std::size_t i = 3; i < image.pixels.size() && !any; i += 4) any = image.pixels[i] > 0;
+        if (!any)
             warn(s->out + ": nothing was drawn: the scene is out of view or covers no pixel centre "
                           "(check the camera, --fovy and --size)");
         // A few covered pixels of a large image are not "0.0%": more digits then.

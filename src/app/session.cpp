@@ -103,10 +103,12 @@ std::vector<TechniqueRun> parse_technique_list(const std::string& list, const Te
         runs.push_back(std::move(run));
     }
     if (runs.empty()) throw Error(option, "no technique given");
-    check_prism_flags_apply(quality, std::any_of(runs.begin(), runs.end(), [](const TechniqueRun& r) {
-                                return r.settings.technique == Technique::Prism;
-                            }),
-                            option + " " + list);
+    // (Not for the viewer's --split: its panel may turn a half to the prism, which takes them.)
+    if (option == "--techniques")
+        check_prism_flags_apply(quality, std::any_of(runs.begin(), runs.end(), [](const TechniqueRun& r) {
+                                    return r.settings.technique == Technique::Prism;
+                                }),
+                                option + " " + list);
     return runs;
 }
 

@@ -40,8 +40,9 @@ std::string one_line(std::string_view text)
     // built-in name said twice) keeps its start and its end, where the problem is said, cut at
     // UTF-8 character boundaries.
     if (out.size() > kLongestLine) {
+        // (A UTF-8 character continues for at most 3 bytes; in bytes that are not UTF-8, cut anywhere.)
         const auto boundary = [&out](std::size_t i) {
-            while (i > 0 && (static_cast<unsigned char>(out[i]) & 0xC0) == 0x80) --i;
+            for (int k = 0; k < 3 && i > 0 && (static_cast<unsigned char>(out[i]) & 0xC0) == 0x80; ++k) --i;
             return i;
         };
         const std::size_t head = boundary(kLongestLine / 2), tail = boundary(out.size() - kLongestLine / 2);

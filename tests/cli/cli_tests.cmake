@@ -270,3 +270,6 @@ pr_cli(odd_duplicate_vertices EXIT 0 EXPECT_FILE o.png STDOUT "o.png: 48x48 pris
 # A render that covers nothing says so (exit 0: the picture is valid, but rarely the one meant).
 pr_cli(render_nothing_in_view_warns EXIT 0 EXPECT_FILE e.png STDERR "^prismrelief: warning: e.png: nothing was drawn"
        ARGS render --mesh ${M}/torus.obj --eye 5,0,0 --target 10,0,0 --size 16x16 --out e.png)
+# With --msaa a sliver covers fractions of pixels (alpha at most 48 here): drawn, so no warning.
+pr_cli(render_msaa_sliver_does_not_warn EXIT 0 EXPECT_FILE s.png STDERR "^$"
+       ARGS render --mesh ${M}/torus.obj --technique flat --eye 0,60,0.001 --up 0,0,1 --target 0,0,0 --msaa 16 --size 16x16 --out s.png)

@@ -70,3 +70,5 @@ pr_cli(marcher_unknown EXIT 1 ONE_LINE STDERR "${CM}--marcher: unknown marcher '
 # --no-cache for the drawing commands (conemap had it alone; render_no_cache_writes_no_entry).
 pr_cli(render_no_cache_and_cache_dir EXIT 1 ONE_LINE NO_FILE o.png STDERR "${E}--no-cache: conflicts with --cache-dir"
        ARGS render --mesh ${M}/torus.obj --no-cache --cache-dir c --size 8x8 --out o.png)
+pr_cli(conemap_no_cache_and_cache_dir EXIT 1 ONE_LINE NO_FILE c.png STDERR "${E}--no-cache: conflicts with --cache-dir"
+       ARGS conemap --height builtin:bumps@8 --no-cache --cache-dir c --out c.png)

@@ -66,3 +66,10 @@ add_executable(view_overlay_test ${PROJECT_SOURCE_DIR}/tests/view/test_overlay.c
 target_link_libraries(view_overlay_test PRIVATE pr_app GTest::gtest_main)
 target_compile_definitions(view_overlay_test PRIVATE PR_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 gtest_discover_tests(view_overlay_test PROPERTIES LABELS gl DISCOVERY_TIMEOUT 60)
+if(TARGET pr_view)
+    # The prism's flags with a --split of two base techniques: the panel may turn a half to the
+    # prism, which takes them (the refusal meant for compare and bench caught --split too). The
+    # options are checked before the window opens: with no display, the window is what fails.
+    pr_cli(view_split_keeps_prism_flags EXIT 1 ONE_LINE STDERR "${E}view: cannot open a window" ENV DISPLAY= WAYLAND_DISPLAY=
+           ARGS view --mesh ${M}/torus.obj --split pom,relief --marcher cone --frames 1)
+endif()

@@ -29,3 +29,13 @@ TEST(OneLine, AVeryLongLineKeepsItsStartAndEnd)
     EXPECT_EQ(static_cast<unsigned char>(line[after]), 0xC3u); // and after it
     EXPECT_EQ(pr::one_line(std::string(pr::kLongestLine, 'x')), std::string(pr::kLongestLine, 'x'));
 }
+
+// Bytes that are not UTF-8 (a file name of 6000 bytes 0x80): the cut looked for a character's
+// start through all of them, cut nothing and said "0 bytes left out" (found by a review).
+TEST(OneLine, ALongLineOfBytesThatAreNotUtf8IsCutToo)
+{
+    const std::string line = pr::one_line(std::string(6000, '\x80') + ": does not exist");
+    EXPECT_LE(line.size(), pr::kLongestLine + 64);
+    EXPECT_EQ(line.find(" [... 0 bytes"), std::string::npos);
+    EXPECT_EQ(line.substr(line.size() - 16), ": does not exist");
+}
