@@ -104,11 +104,30 @@ std::vector<TechniqueRun> parse_technique_list(const std::string& list, const Te
     }
     if (runs.empty()) throw Error(option, "no technique given");
     // (Not for the viewer's --split: its panel may turn a half to the prism, which takes them.)
-    if (option == "--techniques")
+    if (option == "--techniques") {
         check_prism_flags_apply(quality, std::any_of(runs.begin(), runs.end(), [](const TechniqueRun& r) {
                                     return r.settings.technique == Technique::Prism;
                                 }),
                                 option + " " + list);
+        // A flag that every prism entry overrides by naming its own value (prism:cone with
+        // --marcher relief) is as unused: it was ignored silently.
+        const CLI::Option* flags[3] = {quality.marcher_flag, quality.prism_exit_flag, quality.prism_shell_flag};
+        const char* what[3] = {"marcher", "exit", "shell"};
+        for (int k = 0; k < 3; ++k) {
+            if (flags[k] == nullptr || flags[k]->count() == 0) continue;
+            const bool used = std::any_of(runs.begin(), runs.end(), [&](const TechniqueRun& r) {
+                const auto named = std::size_t(std::count(r.label.begin(), r.label.end(), ':'));
+                return r.settings.technique == Technique::Prism && named <= std::size_t(k) &&
+                       (k < 2 || r.settings.prism_walk());
+            });
+            if (!used)
+                throw Error(flags[k]->get_name(),
+                            k < 2 ? std::string("has no effect: every prism in ") + option + " " + list +
+                                        " names its own " + what[k]
+                                  : std::string("has no effect: no prism in ") + option + " " + list +
+                                        " takes it (each names its own shell, or an exit that has none)");
+        }
+    }
     return runs;
 }
 

@@ -137,3 +137,10 @@ pr_cli(marcher_without_prism EXIT 1 ONE_LINE NO_FILE o.png
 pr_cli(prism_exit_without_prism_in_list EXIT 1 ONE_LINE NO_FILE c.json
        STDERR "${E}--prism-exit: applies to the prism technique only, and --techniques pom,relief draws none"
        ARGS compare --mesh ${M}/torus.obj --techniques pom,relief --prism-exit exact --size 8x8 --json c.json)
+# A prism flag that every prism entry of the list overrides by naming its own value did nothing
+# (compare --techniques prism:cone,pom --marcher relief; found by a review).
+pr_cli(marcher_every_prism_names_its_own EXIT 1 ONE_LINE NO_FILE c.json
+       STDERR "${E}--marcher: has no effect: every prism in --techniques prism:cone,pom names its own marcher"
+       ARGS compare --mesh ${M}/torus.obj --techniques prism:cone,pom --marcher relief --size 8x8 --json c.json)
+pr_cli(marcher_taken_by_one_prism EXIT 0 EXPECT_FILE c.json
+       ARGS compare --mesh ${M}/torus.obj --techniques prism:cone,prism --marcher relief --size 8x8 --json c.json)
