@@ -142,8 +142,6 @@ glm::vec3 position(const glm::dvec3& v, const std::string& where)
 void check_depth(double depth, const std::string& where)
 {
     if (!std::isfinite(depth) || depth < 0.0) throw Error(where, "must be a finite number >= 0");
-    if (depth > std::numeric_limits<float>::max())
-        throw Error(where, "must be at most 3.4e38 (the renderer's single precision)");
 }
 
 void check_midlevel(double midlevel, const std::string& where)
@@ -726,7 +724,7 @@ SceneSpec make_scene_spec(const SceneOptions& o)
             obj.color_place.clear();
         }
         if (o.depth) {
-            obj.depth = float(*o.depth); // (checked: within the float range)
+            obj.depth = finite(*o.depth, "--depth"); // (past the float range: refused, as in a scene file)
             obj.depth_place = "--depth";
         }
         if (o.midlevel) obj.midlevel = *o.midlevel;

@@ -315,7 +315,7 @@ pr_cli_special(scene_depth_shell_overflows EXIT 1 ONE_LINE NO_FILE o.png
                STDERR "${E}d.json: objects\\[0\\].depth: the object's displacement shell is too large for the renderer's single precision"
                ARGS render --scene d.json --technique flat --size 32x32 --out o.png)
 pr_cli(depth_past_float_range EXIT 1 ONE_LINE NO_FILE o.png
-       STDERR "${E}--depth: must be at most 3.4e38 \\(the renderer's single precision\\)"
+       STDERR "${E}--depth: must be at most 3.4e38 in magnitude \\(the renderer's single precision\\)"
        ARGS render --mesh ${M}/torus.obj --depth 1e300 --size 32x32 --out o.png)
 
 # An empty height file name said only ": cannot open: No such file or directory", naming nothing.
