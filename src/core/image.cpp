@@ -180,10 +180,8 @@ namespace {
 void check_jpeg_tables(const std::string& subject, const std::vector<std::uint8_t>& b)
 {
     const auto at = [&b](std::size_t i) -> unsigned { return i < b.size() ? b[i] : 0u; }; // stb reads 0 past the end
-    std::size_t i = 0;
-    while (i < b.size() && b[i] == 0xFF) ++i;
-    if (i == 0 || at(i) != 0xD8) return; // not JPEG (stb's SOI check: FF... D8)
-    ++i;
+    std::size_t i = jpeg_start(b);
+    if (i == 0) return; // not JPEG
     bool defined[2][4] = {}; // [0: DC, 1: AC][table id]: set by a DHT
     bool progressive = false;
     while (i + 1 < b.size()) {

@@ -241,14 +241,19 @@ bool is_hdr(const Bytes& b) { return starts_with(b, "#?RADIANCE\n") || starts_wi
 
 } // namespace
 
+std::size_t jpeg_start(const std::vector<std::uint8_t>& b)
+{
+    std::size_t i = 0;
+    while (i < b.size() && b[i] == 0xFF) ++i;
+    return i > 0 && i < b.size() && b[i] == 0xD8 ? i + 1 : 0;
+}
+
 bool is_tga(const std::vector<std::uint8_t>& b)
 {
     if (b.size() < 18) return false;
     for (std::string_view magic : {"\x89PNG", "BM", "GIF8", "8BPS", "\x53\x80\xF6\x34", "P5", "P6", "#?RADIANCE", "#?RGBE"})
         if (starts_with(b, magic)) return false;
-    std::size_t i = 0;
-    while (i < b.size() && b[i] == 0xFF) ++i;
-    if (i > 0 && i < b.size() && b[i] == 0xD8) return false; // JPEG
+    if (jpeg_start(b)) return false;
     const unsigned type = b[2];
     return b[1] <= 1 && (type == 1 || type == 2 || type == 3 || type == 9 || type == 10 || type == 11);
 }
@@ -269,19 +274,14 @@ void check_image_data(const std::string& subject, const std::vector<std::uint8_t
 
 bool needs_padding_check(const std::vector<std::uint8_t>& bytes)
 {
-    if (starts_with(bytes, "\x89PNG") || is_hdr(bytes)) return false;
-    std::size_t i = 0;
-    while (i < bytes.size() && bytes[i] == 0xFF) ++i;
-    return !(i > 0 && i < bytes.size() && bytes[i] == 0xD8); // JPEG
+    return !starts_with(bytes, "\x89PNG") && !is_hdr(bytes) && !jpeg_start(bytes);
 }
 
 int jpeg_exif_orientation(const std::vector<std::uint8_t>& b)
 {
     const auto at = [&b](std::size_t i) -> unsigned { return i < b.size() ? b[i] : 0u; };
-    std::size_t i = 0;
-    while (i < b.size() && b[i] == 0xFF) ++i;
-    if (i == 0 || at(i) != 0xD8) return 1; // not JPEG
-    ++i;
+    std::size_t i = jpeg_start(b);
+    if (i == 0) return 1; // not JPEG
     while (i + 3 < b.size()) {
         if (b[i] != 0xFF) return 1; // the segments before the image data end here
         const unsigned m = b[i + 1];

@@ -23,6 +23,10 @@ void check_image_data(const std::string& subject, const std::vector<std::uint8_t
 // two different images.
 bool needs_padding_check(const std::vector<std::uint8_t>& bytes);
 
+// The offset just past a JPEG's start-of-image marker, as stb's test finds it (any number of
+// 0xFF bytes, then 0xD8), or 0 where the bytes are not a JPEG.
+std::size_t jpeg_start(const std::vector<std::uint8_t>& bytes);
+
 // Whether stb decodes these bytes as TGA: it tries TGA last, as the format without a signature,
 // so a file none of the other decoders' signatures match, whose header names a TGA image type.
 bool is_tga(const std::vector<std::uint8_t>& bytes);
