@@ -426,11 +426,8 @@ HeightField load_height_file(const std::string& path, const ImageLimits& limits)
     int n = 0;
     // A PNM's samples run from 0 to its maxval (stb returns them as stored).
     const std::optional<int> maxval = pnm_maxval(bytes);
-    // stb 2.27's stbi_is_16_bit misses every 16-bit PSD: its PSD test skips the height and width
-    // with STBI_NOTUSED(get32be(s)), a sizeof that never reads them, and takes the height's
-    // first bytes for the depth. So 16-bit PSD heights came at 8 bits (2053 read as 2056).
-    const bool psd16 = bytes.size() >= 24 && std::memcmp(bytes.data(), "8BPS", 4) == 0 && bytes[22] == 0 && bytes[23] == 16;
-    if (psd16 || stbi_is_16_bit_from_memory(c.data, c.len)) {
+    // (stb's own test misses every 16-bit PSD: psd_is_16_bit.)
+    if (psd_is_16_bit(bytes) || stbi_is_16_bit_from_memory(c.data, c.len)) {
         StbiPtr<stbi_us> data = decode_image<stbi_us>(path, bytes, c, &hf.width, &hf.height, &n, 0, stbi_load_16_from_memory);
         if (!data) fail_decode(path);
         check_decoded(path, hf.width, hf.height, limits);

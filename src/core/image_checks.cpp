@@ -241,6 +241,11 @@ bool is_hdr(const Bytes& b) { return starts_with(b, "#?RADIANCE\n") || starts_wi
 
 } // namespace
 
+bool psd_is_16_bit(const std::vector<std::uint8_t>& b)
+{
+    return b.size() >= 26 && starts_with(b, "8BPS") && be16(b, 22) == 16;
+}
+
 std::size_t jpeg_start(const std::vector<std::uint8_t>& b)
 {
     std::size_t i = 0;

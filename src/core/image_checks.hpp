@@ -31,6 +31,11 @@ std::size_t jpeg_start(const std::vector<std::uint8_t>& bytes);
 // so a file none of the other decoders' signatures match, whose header names a TGA image type.
 bool is_tga(const std::vector<std::uint8_t>& bytes);
 
+// Whether these bytes are a PSD of 16 bits a channel. stb 2.27's stbi_is_16_bit says no to every
+// PSD: its test skips the height and width with STBI_NOTUSED(get32be(s)), a sizeof that never
+// reads them, and takes the height's first bytes for the depth (16-bit PSD heights came at 8 bits).
+bool psd_is_16_bit(const std::vector<std::uint8_t>& bytes);
+
 // A JPEG's EXIF orientation (tag 0x0112 of its APP1 "Exif" segment's first IFD): 1 (as stored,
 // also for other formats and where there is none or it is unreadable) to 8. stb_image ignores
 // it: a photo taken upright on a phone turned, as colour or height, on its side.
