@@ -104,13 +104,15 @@ std::vector<TechniqueRun> parse_technique_list(const std::string& list, const Te
     }
     if (runs.empty()) throw Error(option, "no technique given");
     // (Not for the viewer's --split: its panel may turn a half to the prism, which takes them.)
+    // A prism flag with no prism in the list (check_prism_flags_apply, as render's), or one that
+    // every prism entry overrides by naming its own value (prism:cone with --marcher relief), did
+    // nothing, silently.
     if (option == "--techniques") {
-        check_prism_flags_apply(quality, std::any_of(runs.begin(), runs.end(), [](const TechniqueRun& r) {
-                                    return r.settings.technique == Technique::Prism;
-                                }),
-                                option + " " + list);
-        // A flag that every prism entry overrides by naming its own value (prism:cone with
-        // --marcher relief) is as unused: it was ignored silently.
+        const std::string drawn = option + " " + list;
+        const bool any_prism = std::any_of(runs.begin(), runs.end(), [](const TechniqueRun& r) {
+            return r.settings.technique == Technique::Prism;
+        });
+        check_prism_flags_apply(quality, any_prism, drawn);
         const CLI::Option* flags[3] = {quality.marcher_flag, quality.prism_exit_flag, quality.prism_shell_flag};
         const char* what[3] = {"marcher", "exit", "shell"};
         for (int k = 0; k < 3; ++k) {
@@ -122,9 +124,8 @@ std::vector<TechniqueRun> parse_technique_list(const std::string& list, const Te
             });
             if (!used)
                 throw Error(flags[k]->get_name(),
-                            k < 2 ? std::string("has no effect: every prism in ") + option + " " + list +
-                                        " names its own " + what[k]
-                                  : std::string("has no effect: no prism in ") + option + " " + list +
+                            k < 2 ? "has no effect: every prism in " + drawn + " names its own " + what[k]
+                                  : "has no effect: no prism in " + drawn +
                                         " takes it (each names its own shell, or an exit that has none)");
         }
     }
