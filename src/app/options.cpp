@@ -40,9 +40,10 @@ float finite(double v, const std::string& what)
     return static_cast<float>(v);
 }
 
-// Positions (eye, target, translations) and scales beyond this lose all meaning in the renderer's
-// 32-bit floats: at 1e15 neighbouring floats are 6e7 apart, and the products of two such
-// coordinates (lengths, clip planes) overflow near 1e19. An eye at 1e30 rendered an empty image.
+// Positions (eye, target, translations) and scales beyond this lose all meaning in the renderer:
+// positions are double (at 1e15 neighbouring doubles are 0.125 apart), scales reach the shaders'
+// 32-bit floats, and the products of two such coordinates (lengths, clip planes) overflow floats
+// near 1e19. An eye at 1e30 rendered an empty image.
 constexpr double kMaxCoordinate = 1e15;
 
 std::string number_text(double v)
@@ -129,14 +130,9 @@ glm::dvec3 check_position(const glm::dvec3& v, const std::string& where)
 {
     for (int i = 0; i < 3; ++i)
         if (std::abs(v[i]) > kMaxCoordinate)
-            throw Error(where, "coordinates must be at most 1e15 in magnitude (float precision), got " +
+            throw Error(where, "coordinates must be at most 1e15 in magnitude (the renderer's precision), got " +
                                    vec_text(v));
     return v;
-}
-
-glm::vec3 position(const glm::dvec3& v, const std::string& where)
-{
-    return glm::vec3(check_position(v, where));
 }
 
 void check_depth(double depth, const std::string& where)
@@ -476,7 +472,7 @@ void check_linear_part(const glm::dmat4& t, const std::string& subject)
                                  number_text(condition) + ", at most 1e6)");
 }
 
-glm::mat4 json_transform(const json& j, const std::string& where)
+glm::dmat4 json_transform(const json& j, const std::string& where)
 {
     if (!j.is_object()) throw Error(where, "expected an object with translate/rotate/scale or matrix");
     for (const auto& [key, value] : j.items())
@@ -496,9 +492,9 @@ glm::mat4 json_transform(const json& j, const std::string& where)
             throw Error(w, "must be affine: last row 0 0 0 1");
         for (int i = 0; i < 3; ++i)
             if (std::abs(t[3][i]) > kMaxCoordinate)
-                throw Error(w, "its translation must be at most 1e15 in magnitude (float precision)");
+                throw Error(w, "its translation must be at most 1e15 in magnitude (the renderer's precision)");
         check_linear_part(t, w);
-        return glm::mat4(t);
+        return t;
     }
     if (j.contains("translate")) {
         const std::string w = where + ".translate";
@@ -519,7 +515,7 @@ glm::mat4 json_transform(const json& j, const std::string& where)
         t = glm::scale(t, v);
         check_linear_part(t, w); // rotations are orthonormal: only the scale can degenerate
     }
-    return glm::mat4(t);
+    return t;
 }
 
 // nlohmann::json keeps the last of duplicate keys, so a scene saying "mesh" twice (a typo, a merge
@@ -658,8 +654,8 @@ SceneFileValues read_scene_file(const std::string& file, SceneSpec& spec)
             if (!value.is_object()) throw Error(where, "expected an object");
             for (const auto& [k, v] : value.items()) {
                 const std::string w = where + "." + k;
-                if (k == "eye") spec.camera.eye = position(json_dvec3(v, w), w);
-                else if (k == "target") spec.camera.target = position(json_dvec3(v, w), w);
+                if (k == "eye") spec.camera.eye = check_position(json_dvec3(v, w), w);
+                else if (k == "target") spec.camera.target = check_position(json_dvec3(v, w), w);
                 else if (k == "up") {
                     spec.camera.up = direction(json_dvec3(v, w), w);
                     spec.camera.up_given = true;
@@ -730,8 +726,8 @@ SceneSpec make_scene_spec(const SceneOptions& o)
         if (o.midlevel) obj.midlevel = *o.midlevel;
     }
     if (!o.light.empty()) spec.light = direction(parse_dvec3(o.light, "--light"), "--light");
-    if (!o.eye.empty()) spec.camera.eye = position(parse_dvec3(o.eye, "--eye"), "--eye");
-    if (!o.target.empty()) spec.camera.target = position(parse_dvec3(o.target, "--target"), "--target");
+    if (!o.eye.empty()) spec.camera.eye = check_position(parse_dvec3(o.eye, "--eye"), "--eye");
+    if (!o.target.empty()) spec.camera.target = check_position(parse_dvec3(o.target, "--target"), "--target");
     if (!o.up.empty()) {
         spec.camera.up = direction(parse_dvec3(o.up, "--up"), "--up");
         spec.camera.up_given = true;

@@ -60,29 +60,33 @@ ViewProblem view_problem(const glm::dvec3& eye, const glm::dvec3& target, const 
 }
 
 Camera frame_sphere(const Sphere& bounds, float fovy_deg, float aspect, float elevation_deg,
-                    float azimuth_deg, glm::vec3 up)
+                    float azimuth_deg, glm::dvec3 up)
 {
     Camera c;
     c.fovy_deg = fovy_deg;
-    c.up = unit_direction(glm::dvec3(up)).value_or(glm::vec3(0.0f, 1.0f, 0.0f));
+    c.up = unit_direction(up).value_or(glm::vec3(0.0f, 1.0f, 0.0f));
+    // In double: the eye is the centre plus the view's offset, and at a centre 10^7 out a float
+    // eye was off by a good part of the object (docs/scenes.md).
+    const glm::dvec3 unit_up(c.up);
     // A basis around `up`: `fwd` is the azimuth-0 horizontal direction towards the eye.
-    glm::vec3 ref = std::abs(c.up.z) < 0.9f ? glm::vec3(0, 0, 1) : glm::vec3(1, 0, 0);
-    glm::vec3 side = glm::normalize(glm::cross(c.up, ref));
-    glm::vec3 fwd = glm::normalize(glm::cross(side, c.up));
-    const float el = glm::radians(elevation_deg);
-    const float az = glm::radians(azimuth_deg);
-    glm::vec3 dir = std::cos(el) * (std::cos(az) * fwd + std::sin(az) * side) + std::sin(el) * c.up;
+    const glm::dvec3 ref = std::abs(unit_up.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0);
+    const glm::dvec3 side = glm::normalize(glm::cross(unit_up, ref));
+    const glm::dvec3 fwd = glm::normalize(glm::cross(side, unit_up));
+    const double el = glm::radians(double(elevation_deg));
+    const double az = glm::radians(double(azimuth_deg));
+    const glm::dvec3 across = std::cos(az) * fwd + std::sin(az) * side;
+    const glm::dvec3 dir = std::cos(el) * across + std::sin(el) * unit_up;
     // Looking (nearly) straight along `up` makes lookAt degenerate: up becomes what lookAt makes
     // of it below that, its part across the view, which at the pole is the azimuth's horizontal
     // direction, away from the eye from above and towards it from below. (It was -fwd whatever
     // the azimuth and the side: from below, the image turned by 145 degrees between elevations
     // -87 and -88 at the default azimuth.)
-    if (std::abs(glm::dot(dir, c.up)) > 0.999f)
-        c.up = glm::normalize(std::cos(el) * c.up - std::sin(el) * (std::cos(az) * fwd + std::sin(az) * side));
-    const float half_v = glm::radians(fovy_deg) * 0.5f;
-    const float half_h = std::atan(std::tan(half_v) * aspect);
-    const float half = std::min(half_v, half_h);
-    const float distance = bounds.radius / std::sin(half) * 1.02f;
+    if (std::abs(glm::dot(dir, unit_up)) > 0.999)
+        c.up = glm::vec3(glm::normalize(std::cos(el) * unit_up - std::sin(el) * across));
+    const double half_v = glm::radians(double(fovy_deg)) * 0.5;
+    const double half_h = std::atan(std::tan(half_v) * double(aspect));
+    const double half = std::min(half_v, half_h);
+    const double distance = bounds.radius / std::sin(half) * 1.02;
     c.target = bounds.center;
     c.eye = bounds.center + dir * distance;
     fit_clip_planes(c, bounds);
@@ -91,24 +95,24 @@ Camera frame_sphere(const Sphere& bounds, float fovy_deg, float aspect, float el
 
 void fit_clip_planes(Camera& camera, const Sphere& bounds)
 {
-    const float d = glm::length(camera.eye - bounds.center);
-    const float r = bounds.radius * 1.05f;
-    camera.far_plane = d + r;
-    camera.near_plane = std::max(d - r, camera.far_plane * kNearFraction);
+    const double d = glm::length(camera.eye - bounds.center);
+    const double r = bounds.radius * 1.05;
+    camera.far_plane = float(d + r);
+    camera.near_plane = std::max(float(d - r), camera.far_plane * kNearFraction);
 }
 
 void fit_clip_planes(Camera& camera, const std::vector<Sphere>& objects, const Sphere& all)
 {
     if (objects.size() < 2) return fit_clip_planes(camera, all);
-    float near = INFINITY, far = 0.0f;
+    double near = INFINITY, far = 0.0;
     for (const Sphere& b : objects) {
-        const float d = glm::length(camera.eye - b.center);
-        const float r = b.radius * 1.05f;
+        const double d = glm::length(camera.eye - b.center);
+        const double r = b.radius * 1.05;
         far = std::max(far, d + r);
-        near = std::min(near, std::max(d - r, (d + r) * kNearFraction));
+        near = std::min(near, std::max(d - r, (d + r) * double(kNearFraction)));
     }
-    camera.far_plane = far;
-    camera.near_plane = std::min(near, far * 0.5f);
+    camera.far_plane = float(far);
+    camera.near_plane = float(std::min(near, far * 0.5));
 }
 
 float depth_to_distance(const Camera& camera, int width, int height, float x, float y, float window_depth)

@@ -2,6 +2,9 @@
 // Perspective camera (contract): vertical field of view in degrees, eye/target/up, and
 // auto-framing on a bounding sphere. World space throughout; clip z from 0 to w
 // (glClipControl GL_ZERO_TO_ONE) with reversed depth: 1 at the near plane, 0 at the far one.
+// Positions (the eye, the target, a sphere's centre) are double: a scene far from the origin (a
+// model in geographic coordinates, 10^6 to 10^7 units out) keeps its view to the last digit,
+// while every matrix the shaders get is float and relative to one object's frame (view_from).
 #include <glm/glm.hpp>
 
 #include <optional>
@@ -10,13 +13,13 @@
 namespace pr {
 
 struct Sphere {
-    glm::vec3 center{0.0f};
-    float radius = 1.0f;
+    glm::dvec3 center{0.0};
+    double radius = 1.0;
 };
 
 struct Camera {
-    glm::vec3 eye{0.0f, 0.0f, 5.0f};
-    glm::vec3 target{0.0f};
+    glm::dvec3 eye{0.0, 0.0, 5.0};
+    glm::dvec3 target{0.0};
     glm::vec3 up{0.0f, 1.0f, 0.0f};
     float fovy_deg = 40.0f;
     float near_plane = 0.01f; // chosen from the scene's bounds (see fit_clip_planes)
@@ -48,7 +51,7 @@ ViewProblem view_problem(const glm::dvec3& eye, const glm::dvec3& target, const 
 // at the distance where the sphere fits both the vertical and the horizontal field of view.
 // `up` need not be unit length (any finite non-zero vector; the zero vector falls back to +Y).
 Camera frame_sphere(const Sphere& bounds, float fovy_deg, float aspect, float elevation_deg,
-                    float azimuth_deg, glm::vec3 up = {0.0f, 1.0f, 0.0f});
+                    float azimuth_deg, glm::dvec3 up = {0.0, 1.0, 0.0});
 
 // The nearest the near plane comes to the eye, as a fraction of the far plane's distance: where
 // the eye is inside an object's bounding sphere, near is this fraction of far (the reversed

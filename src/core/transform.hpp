@@ -12,6 +12,16 @@
 
 namespace pr {
 
+// An object's own frame: its transform without the translation, in float, as the shaders draw it
+// (Renderer::upload_object); the translation stays double (GpuObject::origin), so large world
+// coordinates cancel before anything is rounded (an object 10^7 out draws as one at the origin).
+inline glm::mat4 linear_part(const glm::dmat4& transform)
+{
+    glm::mat4 m(transform);
+    m[3] = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+    return m;
+}
+
 // The inverse of the transform's 3x3 part: world offsets back to object space.
 inline glm::mat3 inverse_linear(const glm::mat4& transform)
 {

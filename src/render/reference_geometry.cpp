@@ -69,7 +69,7 @@ std::size_t reference_bytes_per_triangle(int level)
     return (l + 1) * (l + 2) / 2 * sizeof(MeshVertex) + l * l * 3 * sizeof(std::uint32_t);
 }
 
-ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::mat4& transform,
+ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::dmat4& transform,
                                       const HeightField& height, float depth, float midlevel,
                                       const Camera& camera, int height_px, std::size_t max_triangles)
 {
@@ -87,7 +87,10 @@ ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::mat4&
         }
     // The ends of the displacement range along the normal: depth * (h - midlevel), h in [0, 1].
     const float reach = displacement_reach(depth, midlevel);
-    const glm::mat3 normals = normal_matrix(transform);
+    // In the object's frame (its translation taken out, in double), as the renderer draws it.
+    const glm::mat4 local = linear_part(transform);
+    const glm::vec3 eye(camera.eye - glm::dvec3(transform[3]));
+    const glm::mat3 normals = normal_matrix(local);
     float max_texel_edge = 0.0f, max_pixel_edge = 0.0f;
     const auto& v = mesh.vertices;
     for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
@@ -97,8 +100,8 @@ ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::mat4&
             const glm::vec2 duv = (q.uv - p.uv) * glm::vec2(height.width, height.height);
             const float texel_span = std::max(std::abs(duv.x), std::abs(duv.y));
             max_texel_edge = std::max(max_texel_edge, texel_span);
-            const glm::vec3 wp = glm::vec3(transform * glm::vec4(p.position, 1.0f));
-            const glm::vec3 wq = glm::vec3(transform * glm::vec4(q.position, 1.0f));
+            const glm::vec3 wp = glm::vec3(local * glm::vec4(p.position, 1.0f));
+            const glm::vec3 wq = glm::vec3(local * glm::vec4(q.position, 1.0f));
             const glm::vec3 np = glm::normalize(normals * p.normal);
             const glm::vec3 nq = glm::normalize(normals * q.normal);
             // An edge of the displaced surface is at most the base edge, plus the spread of the
@@ -106,9 +109,9 @@ ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::mat4&
             // rise of the height along it (deep shells: --depth as large as the object).
             const float displaced = glm::length(wq - wp) + reach * glm::length(nq - np) +
                                     depth * std::min(1.0f, texel_span * step);
-            float dist = std::min(glm::length(wp - camera.eye), glm::length(wq - camera.eye));
+            float dist = std::min(glm::length(wp - eye), glm::length(wq - eye));
             for (const float s : {-reach, reach})
-                dist = std::min({dist, glm::length(wp + s * np - camera.eye), glm::length(wq + s * nq - camera.eye)});
+                dist = std::min({dist, glm::length(wp + s * np - eye), glm::length(wq + s * nq - eye)});
             max_pixel_edge = std::max(max_pixel_edge, displaced * focal_px / std::max(dist, camera.near_plane));
         }
     }

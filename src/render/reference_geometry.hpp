@@ -31,11 +31,12 @@ inline float displacement_reach(float depth, float midlevel)
 
 // Chooses the uniform level: the coarser of the texel and pixel criteria (so edges are at most
 // about one texel or one pixel, whichever is larger), then lowered until
-// triangle_count * level^2 <= max_triangles. `transform` maps object to world. The pixel
+// triangle_count * level^2 <= max_triangles. `transform` maps object to world (in double: the
+// distances to the eye are taken in the object's frame, its translation taken out first). The pixel
 // criterion measures the displaced surface's edges, not the base mesh's: each base edge grown by
 // the spread of its normals over the displacement's reach and by depth times the height's rise
 // along it (bounded by the map's steepest texel step), seen from the nearest of its points.
-ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::mat4& transform,
+ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::dmat4& transform,
                                       const HeightField& height, float depth, float midlevel,
                                       const Camera& camera, int height_px, std::size_t max_triangles);
 

@@ -370,12 +370,10 @@ void Renderer::upload(const Scene& scene)
         o.midlevel = so.midlevel;
         // (A Scene put together by hand, as tests do, has no bounds.)
         const Sphere shell = k < scene.object_bounds.size() ? scene.object_bounds[k] : sphere_around(shell_box(so));
-        o.shell_radius = shell.radius;
+        o.shell_radius = float(shell.radius);
         o.shell_center = shell.center;
-        o.transform = so.transform;
         o.origin = glm::dvec3(so.transform[3]);
-        o.local = so.transform;
-        o.local[3] = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+        o.local = linear_part(so.transform);
         o.base_color = so.base_color;
         o.base = make_geometry(so.mesh.vertices, so.mesh.indices);
 
@@ -459,7 +457,7 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
         for (std::size_t first = 0; first < count; first += batch) {
             vertices.clear();
             indices.clear();
-            tessellate_reference(so.mesh, so.transform, *so.height, so.depth, so.midlevel, lv.level, first,
+            tessellate_reference(so.mesh, linear_part(so.transform), *so.height, so.depth, so.midlevel, lv.level, first,
                                  std::min(count, first + batch), vertices, indices);
             stats.triangles += indices.size() / 3;
             stats.bytes += vertices.size() * sizeof(MeshVertex) + indices.size() * sizeof(std::uint32_t);
@@ -743,7 +741,7 @@ void Renderer::upload_object(const GpuObject& o, const DrawSettings& settings, f
     upload_frame_block(o.origin);
     shader::ObjectBlock ob{};
     ob.u_model = o.local;
-    ob.u_normal_matrix = glm::mat4(normal_matrix(o.transform));
+    ob.u_normal_matrix = glm::mat4(normal_matrix(o.local));
     ob.u_displace = glm::vec4(o.depth, midlevel, o.height_size.x, o.height_size.y);
     ob.u_march = glm::ivec4(settings.steps, settings.refine, eye ? int(eye->prism) : -1,
                             (o.color_texture ? PR_FLAG_COLOR_TEXTURE : 0) | (o.open_shell ? PR_FLAG_OPEN_SHELL : 0));
@@ -829,7 +827,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     std::vector<char> cull_back(objects_.size(), 0);
     if (depth_writing_base)
         for (std::size_t k = 0; k < objects_.size(); ++k)
-            cull_back[k] = glm::distance(camera.eye, objects_[k].shell_center) > objects_[k].shell_radius &&
+            cull_back[k] = glm::distance(camera.eye, objects_[k].shell_center) > double(objects_[k].shell_radius) &&
                            closed_shell(objects_[k]);
     upload_frame(camera, glm::normalize(light_dir), settings.pixel_offset);
     if (settings.count_samples) {

@@ -208,14 +208,13 @@ private:
         float depth = 0.0f;
         float midlevel = 0.0f;
         float shell_radius = 0.0f; // of the sphere around its displacement shell (Scene::object_bounds)
-        glm::vec3 shell_center{0.0f};
-        glm::mat4 transform{1.0f};
+        glm::dvec3 shell_center{0.0}; // world space
         // The object's own frame: world positions less `origin` (its transform's translation,
         // in double), which the shaders and the walk's data work in, with the camera brought to
         // it (upload_object). An object translated by 10^6 had world coordinates whose floats
         // are 0.06 apart, and its prism drew noise (IoU 0.86; 0.976 at 10^5).
         glm::dvec3 origin{0.0};
-        glm::mat4 local{1.0f}; // `transform` less its translation: object to its own frame
+        glm::mat4 local{1.0f}; // the transform less its translation: object to its own frame
         glm::vec3 base_color{0.8f};
     };
 

@@ -4,6 +4,7 @@
 #include "core/transform.hpp"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <map>
 #include <utility>
@@ -13,14 +14,15 @@ namespace pr {
 Box shell_box(const SceneObject& obj)
 {
     // (Was the base mesh's box grown by the reach on every side: a plane's one-sided shell was
-    // framed off centre.)
-    const glm::mat3 normals = normal_matrix(obj.transform);
+    // framed off centre.) In double, as the camera that frames it: in floats the box of an
+    // object 10^7 out was off by a unit.
+    const glm::dmat3 normals(normal_matrix(obj.transform));
     Box b;
     for (const MeshVertex& v : obj.mesh.vertices) {
-        const glm::vec3 p = glm::vec3(obj.transform * glm::vec4(v.position, 1.0f));
-        const glm::vec3 n = glm::normalize(normals * v.normal);
-        for (const float h : {0.0f, 1.0f}) {
-            const glm::vec3 q = p + obj.depth * (h - obj.midlevel) * n;
+        const glm::dvec3 p = glm::dvec3(obj.transform * glm::dvec4(glm::dvec3(v.position), 1.0));
+        const glm::dvec3 n = glm::normalize(normals * glm::dvec3(v.normal));
+        for (const double h : {0.0, 1.0}) {
+            const glm::dvec3 q = p + double(obj.depth) * (h - double(obj.midlevel)) * n;
             b.lo = glm::min(b.lo, q);
             b.hi = glm::max(b.hi, q);
         }
@@ -31,11 +33,13 @@ Box shell_box(const SceneObject& obj)
 Sphere sphere_around(const Box& box)
 {
     // The floor was 1e-6 scene units: objects smaller than that (scales down to 1e-15 are
-    // allowed) were framed as 1e-6 across, a speck, or nothing. Now a millionth of the centre's
-    // largest coordinate.
-    const glm::vec3 centre = 0.5f * (box.lo + box.hi);
-    const float largest = std::max({std::abs(centre.x), std::abs(centre.y), std::abs(centre.z)});
-    return {centre, std::max({0.5f * glm::length(box.hi - box.lo), 1e-6f * largest, 1e-30f})};
+    // allowed) were framed as 1e-6 across, a speck, or nothing. Then a millionth of the centre's
+    // largest coordinate, float's rounding there; since the camera and the bounds are double, and
+    // each object is drawn in floats relative to its own origin, 1e-15 of it, a few of double's
+    // rounding steps (a torus 1.2e7 out was framed as 25 units across, not 3).
+    const glm::dvec3 centre = 0.5 * (box.lo + box.hi);
+    const double largest = std::max({std::abs(centre.x), std::abs(centre.y), std::abs(centre.z)});
+    return {centre, std::max({0.5 * glm::length(box.hi - box.lo), 1e-15 * largest, 1e-30})};
 }
 
 Scene load_scene(const SceneSpec& spec)
@@ -75,32 +79,35 @@ Scene load_scene(const SceneSpec& spec)
         // clockwise seen from outside in the mesh becomes clockwise in world space, where faces
         // are judged (culling, gl_FrontFacing, the prism's faces and walk). Each triangle reversed
         // keeps world space counter-clockwise seen from outside (PreparedMesh::indices).
-        if (glm::determinant(glm::mat3(o.transform)) < 0.0f)
+        if (glm::determinant(glm::dmat3(o.transform)) < 0.0)
             for (std::size_t t = 0; t + 2 < obj.mesh.indices.size(); t += 3)
                 std::swap(obj.mesh.indices[t + 1], obj.mesh.indices[t + 2]);
         obj.midlevel = o.midlevel;
         obj.base_color = o.base_color;
 
         // World-space bounds of the base mesh (transformed bbox corners).
-        glm::vec3 olo(INFINITY), ohi(-INFINITY);
+        glm::dvec3 olo(INFINITY), ohi(-INFINITY);
         for (int i = 0; i < 8; ++i) {
-            glm::vec3 c((i & 1) ? obj.mesh.bbox_max.x : obj.mesh.bbox_min.x,
-                        (i & 2) ? obj.mesh.bbox_max.y : obj.mesh.bbox_min.y,
-                        (i & 4) ? obj.mesh.bbox_max.z : obj.mesh.bbox_min.z);
-            glm::vec3 w = glm::vec3(o.transform * glm::vec4(c, 1.0f));
+            const glm::dvec3 c((i & 1) ? obj.mesh.bbox_max.x : obj.mesh.bbox_min.x,
+                               (i & 2) ? obj.mesh.bbox_max.y : obj.mesh.bbox_min.y,
+                               (i & 4) ? obj.mesh.bbox_max.z : obj.mesh.bbox_min.z);
+            const glm::dvec3 w = glm::dvec3(o.transform * glm::dvec4(c, 1.0));
             olo = glm::min(olo, w);
             ohi = glm::max(ohi, w);
         }
-        const float diagonal = glm::length(ohi - olo);
-        obj.depth = o.depth.value_or(0.04f * diagonal);
+        const double diagonal = glm::length(ohi - olo);
+        obj.depth = o.depth.value_or(float(0.04 * diagonal));
         const std::string depth_place = o.depth_place.empty() ? (o.depth ? "--depth" : o.mesh) : o.depth_place;
         if (!std::isfinite(obj.depth) || obj.depth < 0.0f)
             throw Error(depth_place, o.depth ? "must be a finite number >= 0"
                                              : "the default depth (4% of the bounding box's diagonal) is not a finite number");
         const Box box = shell_box(obj);
         // A shell beyond single precision (a depth of 1e22 on the torus) drew nothing with every
-        // technique, exit 0 (the prism alone refused it, blaming --technique).
-        if (const Sphere s = sphere_around(box); !std::isfinite(s.radius) || !std::isfinite(glm::length(s.center)))
+        // technique, exit 0 (the prism alone refused it, blaming --technique): the shaders square
+        // lengths in floats, which overflow past sqrt(FLT_MAX), about 1.8e19.
+        const double float_length_limit = std::sqrt(double(FLT_MAX));
+        if (const Sphere s = sphere_around(box);
+            !(2.0 * s.radius <= float_length_limit) || !(glm::length(s.center) <= float_length_limit))
             throw Error(depth_place, "the object's displacement shell is too large for the renderer's single "
                                      "precision (its bounding sphere overflows): use a smaller depth");
         all.lo = glm::min(all.lo, box.lo);

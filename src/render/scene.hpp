@@ -21,7 +21,9 @@ struct ObjectSpec {
     std::string color;                   // file, builtin:NAME, or empty (uniform base colour)
     std::optional<float> depth;          // scene units; default: 4% of the object's bbox diagonal
     float midlevel = 0.0f;               // height that stays on the base surface (0: outward)
-    glm::mat4 transform{1.0f};           // object to world
+    // Object to world, in double: a translation of 12345678.9 kept to its last digit (a float
+    // put the object 0.1 off, and the camera, which is double, saw it there).
+    glm::dmat4 transform{1.0};
     glm::vec3 base_color{0.80f, 0.76f, 0.70f};
     // Where a scene file gave the mesh, height and colour ("s.json: objects[1].height"; empty for
     // flags), named by load_scene's errors: "builtin:nope" alone did not say which object's.
@@ -31,8 +33,8 @@ struct ObjectSpec {
 };
 
 struct CameraSpec {
-    std::optional<glm::vec3> eye;    // with target: explicit camera
-    std::optional<glm::vec3> target; // alone: auto-framed distance around this point
+    std::optional<glm::dvec3> eye;    // with target: explicit camera
+    std::optional<glm::dvec3> target; // alone: auto-framed distance around this point
     glm::vec3 up{0.0f, 1.0f, 0.0f};
     bool up_given = false;           // by --up or the scene file (else the default: messages say so)
     float fovy_deg = 40.0f;
@@ -57,7 +59,7 @@ struct SceneObject {
     std::shared_ptr<const RgbaImage> color; // may be null
     float depth = 0.0f;
     float midlevel = 0.0f;
-    glm::mat4 transform{1.0f};
+    glm::dmat4 transform{1.0}; // object to world (ObjectSpec::transform)
     glm::vec3 base_color{0.8f};
 };
 
@@ -71,8 +73,8 @@ struct Scene {
 // displacement range, depth * (h - midlevel) for h in [0, 1], along its world normal (the prisms
 // and the displaced surface lie in the hull of those points).
 struct Box {
-    glm::vec3 lo{INFINITY};
-    glm::vec3 hi{-INFINITY};
+    glm::dvec3 lo{INFINITY};
+    glm::dvec3 hi{-INFINITY};
 };
 Box shell_box(const SceneObject& obj);
 // The sphere around a box, its radius kept above what floats can still tell apart at its centre.

@@ -8,26 +8,27 @@ namespace pr::view {
 
 namespace {
 
-glm::vec3 rotate(glm::vec3 v, glm::vec3 axis, float angle)
+// In double, as the camera's positions: the eye of a scene 10^7 out moves by the offset exactly.
+glm::dvec3 rotate(glm::dvec3 v, glm::dvec3 axis, double angle)
 {
-    return glm::vec3(glm::rotate(glm::mat4(1.0f), angle, axis) * glm::vec4(v, 0.0f));
+    return glm::dvec3(glm::rotate(glm::dmat4(1.0), angle, axis) * glm::dvec4(v, 0.0));
 }
 
 } // namespace
 
 void orbit(Camera& camera, float yaw, float pitch)
 {
-    const glm::vec3 up = glm::normalize(camera.up);
-    glm::vec3 offset = camera.eye - camera.target;
-    const float dist = glm::length(offset);
-    if (!(dist > 0.0f)) return;
+    const glm::dvec3 up = glm::normalize(glm::dvec3(camera.up));
+    glm::dvec3 offset = camera.eye - camera.target;
+    const double dist = glm::length(offset);
+    if (!(dist > 0.0)) return;
     offset = rotate(offset, up, yaw);
     // Angle from the up axis, kept inside (1 degree, 179 degrees).
-    const float polar = std::acos(std::clamp(glm::dot(offset / dist, up), -1.0f, 1.0f));
-    const float limit = glm::radians(1.0f);
-    const float new_polar = std::clamp(polar - pitch, limit, glm::pi<float>() - limit);
-    glm::vec3 right = glm::cross(up, offset);
-    if (glm::length(right) < 1e-12f) right = glm::cross(up, glm::vec3(1.0f, 0.0f, 0.0f));
+    const double polar = std::acos(std::clamp(glm::dot(offset / dist, up), -1.0, 1.0));
+    const double limit = glm::radians(1.0);
+    const double new_polar = std::clamp(polar - double(pitch), limit, glm::pi<double>() - limit);
+    glm::dvec3 right = glm::cross(up, offset);
+    if (glm::length(right) < 1e-12 * dist) right = glm::cross(up, glm::dvec3(1.0, 0.0, 0.0));
     right = glm::normalize(right);
     offset = rotate(offset, right, polar - new_polar);
     camera.eye = camera.target + offset;
@@ -35,27 +36,27 @@ void orbit(Camera& camera, float yaw, float pitch)
 
 void pan(Camera& camera, float dx, float dy, int viewport_height)
 {
-    const glm::vec3 forward = camera.target - camera.eye;
-    const float dist = glm::length(forward);
-    if (!(dist > 0.0f) || viewport_height < 1) return;
-    const glm::vec3 f = forward / dist;
-    const glm::vec3 right = glm::normalize(glm::cross(f, camera.up));
-    const glm::vec3 cam_up = glm::cross(right, f);
+    const glm::dvec3 forward = camera.target - camera.eye;
+    const double dist = glm::length(forward);
+    if (!(dist > 0.0) || viewport_height < 1) return;
+    const glm::dvec3 f = forward / dist;
+    const glm::dvec3 right = glm::normalize(glm::cross(f, glm::dvec3(camera.up)));
+    const glm::dvec3 cam_up = glm::cross(right, f);
     // Scene units per pixel at the target's distance.
-    const float scale = 2.0f * dist * std::tan(glm::radians(camera.fovy_deg) * 0.5f) / float(viewport_height);
-    const glm::vec3 move = (-right * dx + cam_up * dy) * scale;
+    const double scale = 2.0 * dist * std::tan(glm::radians(double(camera.fovy_deg)) * 0.5) / double(viewport_height);
+    const glm::dvec3 move = (-right * double(dx) + cam_up * double(dy)) * scale;
     camera.eye += move;
     camera.target += move;
 }
 
 void zoom(Camera& camera, float steps, const Sphere& bounds)
 {
-    glm::vec3 offset = camera.eye - camera.target;
-    const float dist = glm::length(offset);
-    if (!(dist > 0.0f)) return;
-    const float min_dist = 1e-3f * bounds.radius;
-    const float max_dist = 100.0f * bounds.radius + glm::length(camera.target - bounds.center);
-    const float new_dist = std::clamp(dist * std::pow(0.85f, steps), min_dist, max_dist);
+    const glm::dvec3 offset = camera.eye - camera.target;
+    const double dist = glm::length(offset);
+    if (!(dist > 0.0)) return;
+    const double min_dist = 1e-3 * bounds.radius;
+    const double max_dist = 100.0 * bounds.radius + glm::length(camera.target - bounds.center);
+    const double new_dist = std::clamp(dist * std::pow(0.85, double(steps)), min_dist, max_dist);
     camera.eye = camera.target + offset * (new_dist / dist);
 }
 

@@ -314,7 +314,7 @@ void Viewer::handle_drop(const std::string& path)
             ObjectSpec obj = spec.objects.at(0);
             obj.mesh = path;
             obj.depth.reset();
-            obj.transform = glm::mat4(1.0f);
+            obj.transform = glm::dmat4(1.0);
             spec.objects = {obj};
             spec.camera.eye.reset();
             spec.camera.target.reset();

@@ -246,3 +246,11 @@ foreach(flag no_cache cache)
                   SETUP "rm -rf xdg" AFTER "${after}"
                   ARGS render --mesh ${M}/torus.obj --height builtin:bumps@32 --technique cone ${extra} --size 16x16 --out o.png)
 endforeach()
+
+# A scene far from the origin, with an explicit camera, draws what the same scene draws at the
+# origin, to the bit: the translation, --eye and --target are double (seventeenth session). In
+# floats the translation 12345678.9 was 0.1 off and the eye 0.5 off, and the torus moved.
+pr_output_cli(far_scene_with_eye_draws_as_at_the_origin EXIT 0 EXPECT_FILE far.png
+              SETUP "printf '{\"objects\":[{\"mesh\":\"${M}/torus.obj\",\"transform\":{\"translate\":[12345678.9,12345678.9,0]}}]}' > far.json && $<TARGET_FILE:prismrelief> render --mesh ${M}/torus.obj --technique prism --eye 2.1,1.6,4 --target 0,0,0 --size 48x32 --out near.png > /dev/null"
+              AFTER "cmp near.png far.png"
+              ARGS render --scene far.json --technique prism --eye 12345681,12345680.5,4 --target 12345678.9,12345678.9,0 --size 48x32 --out far.png)

@@ -348,8 +348,8 @@ TEST(Prism, DepthAgreesWithTheReferenceWhereAPlaneCrosses)
                 if (ref.color.pixels[4 * p + 3] < 128 || prism.color.pixels[4 * p + 3] < 128) continue;
                 const glm::mat4 inv = glm::inverse(c.projection(1.0f) * c.view());
                 glm::vec4 on_ray = inv * glm::vec4((x + 0.5f) / 64 - 1, (y + 0.5f) / 64 - 1, 0.5f, 1); // any depth
-                const glm::vec3 dir = glm::normalize(glm::vec3(on_ray) / on_ray.w - c.eye);
-                const float plane = glm::dot(c.target - c.eye, n) / glm::dot(dir, n);
+                const glm::vec3 dir = glm::normalize(glm::vec3(on_ray) / on_ray.w - glm::vec3(c.eye));
+                const float plane = glm::dot(glm::vec3(c.target - c.eye), n) / glm::dot(dir, n);
                 const float dr = depth_to_distance(c, 128, 128, float(x), float(y), ref.depth[p]);
                 const float dp = depth_to_distance(c, 128, 128, float(x), float(y), prism.depth[p]);
                 ++both;

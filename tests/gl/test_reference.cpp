@@ -181,7 +181,7 @@ struct FramedObject {
     Camera camera;
 };
 FramedObject framed_object(const std::string& mesh, const std::string& height, std::optional<float> depth,
-                           const glm::mat4& transform = glm::mat4(1.0f))
+                           const glm::dmat4& transform = glm::dmat4(1.0))
 {
     SceneSpec spec;
     ObjectSpec o;
@@ -355,5 +355,38 @@ TEST(Reference, ObjectsFarFromTheOriginDrawAsNearIt)
         EXPECT_GT(m.iou, 0.99) << offset; // (0.993 at 0)
         ASSERT_TRUE(m.psnr.has_value()) << offset;
         EXPECT_GT(*m.psnr, 30.0) << offset;
+    }
+}
+
+// A scene far from the origin frames and draws as at it: the camera's eye and target, the scene's
+// bounds and an object's translation are double, and each object is drawn in floats relative to its
+// own origin. In floats the torus translated by (12345678.9, 12345678.9, 0) was 0.1 off where
+// the scene said, its bounds were rounded to a unit, and the auto-framed eye so far off that it
+// covered 0.5 % of the image instead of 18 % (3·10^7: 0.1 %); and the framing's floor (a millionth
+// of the centre's largest coordinate, 12 units there) made it a speck. Now the images are the
+// same to the bit up to 3·10^7, and nearly so at 10^12 (at 9·10^14, where doubles are 0.125
+// apart, the 3-unit torus moves by a few pixels: IoU 0.95).
+TEST(Reference, ScenesFarFromTheOriginFrameAsAtIt)
+{
+    prtest::context();
+    const auto draw = [](double offset) {
+        const auto [scene, c] = framed_object("torus.obj", "builtin:bumps@64", 0.08f,
+                                              glm::translate(glm::dmat4(1.0), glm::dvec3(offset, offset, 0.0)));
+        EXPECT_EQ(c.target, scene.shell_bounds.center);
+        Renderer r(kSize, kSize);
+        r.upload(scene);
+        r.prepare_reference(scene, c, ReferenceOptions{});
+        return std::pair{capture(r, c, Technique::Reference), capture(r, c, Technique::Prism)};
+    };
+    const auto [ref0, prism0] = draw(0.0);
+    ASSERT_GT(prtest::coverage(ref0.color), std::size_t(kSize * kSize / 8));
+    for (const double offset : {12345678.9, 3e7, 1e12}) {
+        const auto [ref, prism] = draw(offset);
+        if (offset <= 3e7) {
+            EXPECT_EQ(ref.color.pixels, ref0.color.pixels) << offset;
+            EXPECT_EQ(prism.color.pixels, prism0.color.pixels) << offset;
+        }
+        EXPECT_GT(compare_frames(ref, ref0).iou, 0.99) << offset;
+        EXPECT_GT(compare_frames(prism, prism0).iou, 0.99) << offset;
     }
 }

@@ -33,7 +33,7 @@ TEST(SceneFraming, BoundsAreTheFullShells)
     for (const float midlevel : {0.0f, 1.0f}) {
         const pr::Scene scene = plane_scene(midlevel);
         const float y = midlevel == 0.0f ? 0.5f : -0.5f;
-        EXPECT_NEAR(glm::length(scene.shell_bounds.center - glm::vec3(0.0f, y, 0.0f)), 0.0f, 1e-5f) << midlevel;
+        EXPECT_NEAR(glm::length(scene.shell_bounds.center - glm::dvec3(0.0, y, 0.0)), 0.0f, 1e-5f) << midlevel;
         EXPECT_NEAR(scene.shell_bounds.radius, 1.5f, 1e-5f) << midlevel;
         ASSERT_EQ(scene.object_bounds.size(), 1u);
         EXPECT_NEAR(glm::length(scene.object_bounds[0].center - scene.shell_bounds.center), 0.0f, 1e-6f);

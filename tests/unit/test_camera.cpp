@@ -39,7 +39,7 @@ TEST(Camera, ViewMatrixIsLookAtsAndStaysFiniteForNearPoints)
     pr::Camera c;
     c.eye = {3.0f, 2.0f, 1.0f};
     c.target = {0.0f, 0.5f, 0.0f};
-    const glm::mat4 want = glm::lookAt(c.eye, c.target, c.up), got = c.view();
+    const glm::mat4 want = glm::lookAt(glm::vec3(c.eye), glm::vec3(c.target), c.up), got = c.view();
     for (int i = 0; i < 4; ++i)
         for (int j = 0; j < 4; ++j) EXPECT_NEAR(got[i][j], want[i][j], 1e-5f) << i << "," << j;
     c.eye = {1e-23f, 0.0f, 0.0f};
