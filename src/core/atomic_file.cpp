@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
+#include <optional>
 #include <pthread.h>
 #include <random>
 #include <string>
@@ -122,6 +123,37 @@ bool may_follow(const fs::path& link, const struct stat& link_stat)
     return !shared || link_stat.st_uid == ::geteuid() || link_stat.st_uid == dir.st_uid;
 }
 
+// Whether `link` is one of /proc's links to a process's open file descriptors
+// (/proc/PID/fd/N, /proc/PID/task/TID/fd/N): /dev/stdout, /dev/stderr and /dev/fd/N lead to
+// them. Their text names the file the descriptor has open ("/tmp/run.log", "/tmp/gone.log
+// (deleted)", "pipe:[N]"), which is no place to put a new file in.
+bool is_descriptor_link(const fs::path& link)
+{
+    std::error_code ec;
+    const std::string folder = fs::canonical(folder_of(link), ec).string(); // /proc/self -> /proc/PID
+    if (ec || folder.rfind("/proc/", 0) != 0 || !folder.ends_with("/fd")) return false;
+    const std::string_view rest(folder.data() + 6, folder.size() - 9); // "PID" or "PID/task/TID"
+    return !rest.empty() && std::all_of(rest.begin(), rest.end(), [](char c) {
+        return std::isdigit(static_cast<unsigned char>(c)) || c == '/' || c == 't' || c == 'a' || c == 's' || c == 'k';
+    });
+}
+
+// The descriptor link (is_descriptor_link) on the way from `path` to the file it names, if any.
+std::optional<fs::path> descriptor_link_of(const fs::path& path)
+{
+    fs::path p = path;
+    for (int hops = 0; hops < 40; ++hops) {
+        struct stat st;
+        if (::lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) return std::nullopt;
+        if (is_descriptor_link(p)) return p;
+        std::error_code ec;
+        const fs::path to = fs::read_symlink(p, ec);
+        if (ec) return std::nullopt;
+        p = to.is_absolute() ? to : p.parent_path() / to;
+    }
+    return std::nullopt;
+}
+
 // The file a write to `path` replaces: `path`, or the file a symbolic link there names (through
 // further links), so that the link stays a link and its target gets the content, as a shell's `>`
 // does. A dangling link names the file to create (GNU cp refuses those; `>` and POSIX cp write
@@ -167,6 +199,13 @@ void check_destination(const fs::path& path, const fs::path& target)
                                                   : "is not a regular file (" + std::string(special_file_kind(st.st_mode)) +
                                                         "): refusing to replace it");
     }
+    // /dev/stdout redirected to a file (`>> run.log`), /dev/fd/3: the rename put a new file in
+    // the old one's place, so what the shell had appended before was lost, the rest of stdout went
+    // to the old, unlinked file, and a deleted one came back as "gone.log (deleted)". (Pipes and
+    // terminals are refused above: they are not regular files.)
+    if (const std::optional<fs::path> fd = descriptor_link_of(path))
+        throw Error(subject, "is an open file descriptor's link (" + fd->string() +
+                                 "): an output replaces its file, it does not write to the descriptor; give the file's own name");
     const fs::path dir = folder_of(target);
     std::error_code ec;
     if (!fs::is_directory(dir, ec))

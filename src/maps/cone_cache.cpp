@@ -177,7 +177,7 @@ bool is_entry_temporary(std::string_view name)
 
 } // namespace
 
-std::filesystem::path default_cache_dir()
+std::filesystem::path default_cache_dir(bool warn_if_none)
 {
     // Absolute places only: a relative one would put the cache wherever the command runs (the XDG
     // specification says to ignore a relative XDG_CACHE_HOME). And no shared fallback such as
@@ -189,9 +189,33 @@ std::filesystem::path default_cache_dir()
     };
     if (const std::filesystem::path xdg = absolute("XDG_CACHE_HOME"); !xdg.empty()) return xdg / "prismrelief";
     if (const std::filesystem::path home = absolute("HOME"); !home.empty()) return home / ".cache" / "prismrelief";
-    warn("no cone-map cache: neither XDG_CACHE_HOME nor HOME is an absolute path, so maps are built each time "
-         "(--cache-dir DIR keeps them in DIR)");
+    if (warn_if_none)
+        warn("no cone-map cache: neither XDG_CACHE_HOME nor HOME is an absolute path, so maps are built each time "
+             "(--cache-dir DIR keeps them in DIR)");
     return {};
+}
+
+void check_outputs_outside_cache(const std::vector<std::pair<std::string, std::filesystem::path>>& outputs,
+                                 const std::filesystem::path& dir)
+{
+    namespace fs = std::filesystem;
+    if (dir.empty()) return;
+    // Compared as absolute paths with the links that exist resolved: `--out ./c --cache-dir c`.
+    const auto resolved = [](const fs::path& p) {
+        std::error_code ec;
+        fs::path r = fs::weakly_canonical(fs::absolute(p, ec), ec);
+        return ec ? fs::path() : r;
+    };
+    const fs::path folder = resolved(dir);
+    if (folder.empty()) return;
+    for (const auto& [option, path] : outputs) {
+        if (path.empty()) continue;
+        const fs::path out = resolved(path);
+        if (out == folder || out == folder / "cone")
+            throw Error(path.string(), std::string("is the cone-map cache's ") + (out == folder ? "folder" : "entries' folder") +
+                                           " (" + dir.string() + (out == folder ? "" : "/cone") +
+                                           "), which the run creates: name a file, or another --cache-dir");
+    }
 }
 
 std::uint64_t cone_cache_max_bytes()

@@ -12,6 +12,7 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pr {
@@ -148,7 +149,15 @@ double relaxed_constraint(const HeightField& field, int px, int py, int dx, int 
 // rebuilt, never trusted) and written atomically. A cache that cannot be written only warns. An
 // empty cache_dir is no cache: maps are built, nothing is read or written (default_cache_dir()
 // returns it, with one warning, when neither variable is an absolute path).
-std::filesystem::path default_cache_dir();
+// `warn_if_none`: false to ask where the cache would be without saying there is none.
+std::filesystem::path default_cache_dir(bool warn_if_none = true);
+// Refuses an output that is the cache's folder or its entries' folder (`dir`/cone), before the
+// work: the cache creates them, and the output check, which found no file there, passed, so the
+// run built the map, filled the cache and only then failed ("cz: is a folder"). `outputs` pair
+// an option with its path (empty paths skipped); an empty `dir` is no cache. Throws pr::Error
+// naming the output.
+void check_outputs_outside_cache(const std::vector<std::pair<std::string, std::filesystem::path>>& outputs,
+                                 const std::filesystem::path& dir);
 struct ConeCacheResult {
     ConeMap map;
     bool from_cache = false;

@@ -254,3 +254,16 @@ pr_output_cli(far_scene_with_eye_draws_as_at_the_origin EXIT 0 EXPECT_FILE far.p
               SETUP "printf '{\"objects\":[{\"mesh\":\"${M}/torus.obj\",\"transform\":{\"translate\":[12345678.9,12345678.9,0]}}]}' > far.json && $<TARGET_FILE:prismrelief> render --mesh ${M}/torus.obj --technique prism --eye 2.1,1.6,4 --target 0,0,0 --size 48x32 --out near.png > /dev/null"
               AFTER "cmp near.png far.png"
               ARGS render --scene far.json --technique prism --eye 12345681,12345680.5,4 --target 12345678.9,12345678.9,0 --size 48x32 --out far.png)
+
+# An output that is the cone-map cache's folder, or its entries' folder, is refused before the
+# work: the output check found nothing there, the run built the map, the cache created the folder,
+# and only then "cz: is a folder" (3.7 s for a relaxed 512² map; found by an exploratory session).
+pr_output_cli(conemap_out_is_the_cache_folder_refused EXIT 1 ONE_LINE
+              STDERR "${E}cz: is the cone-map cache's folder \\(cz\\), which the run creates: name a file, or another --cache-dir"
+              SETUP "rm -rf cz" AFTER "test ! -e cz"
+              ARGS conemap --height builtin:noise@512 --kind relaxed --out cz --cache-dir cz)
+pr_output_cli(render_out_is_the_cache_entries_folder_refused EXIT 1 ONE_LINE
+              STDERR "${E}xdg/prismrelief/cone: is the cone-map cache's entries' folder \\(/.*/xdg/prismrelief/cone\\)"
+              ENV XDG_CACHE_HOME=${PR_CLI_WORK}/render_out_is_the_cache_entries_folder_refused/xdg
+              SETUP "rm -rf xdg && mkdir -p xdg/prismrelief" AFTER "test ! -e xdg/prismrelief/cone"
+              ARGS render --mesh ${M}/cube.obj --technique cone --size 16x16 --out xdg/prismrelief/cone)

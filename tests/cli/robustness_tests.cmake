@@ -211,6 +211,11 @@ pr_cli_special(conemap_process_substitution BASH EXIT 0 EXPECT_FILE c.png STDOUT
 pr_cli_special(height_process_substitution_empty BASH EXIT 1 ONE_LINE NO_FILE o.png
                STDERR "${E}/dev/fd/[0-9]+: is a pipe \\(FIFO\\) "
                ARGS render --mesh '${M}/cube.obj' --height "<(true)" --size 32x32 --out o.png)
+# An output through a descriptor's link to a regular file (`--json /dev/fd/3 3>>run.log`) is
+# refused: it was renamed over run.log, whose earlier lines were lost (docs/robustness.md).
+pr_cli_special(json_to_descriptor_of_a_file_refused BASH EXIT 1 ONE_LINE NO_FILE c.png SETUP "rm -f c.png && echo old > run.log"
+               STDERR "${E}/dev/fd/3: is an open file descriptor's link \\(/dev/fd/3\\): an output replaces its file, it does not write to the descriptor"
+               ARGS conemap --height builtin:bumps@16 --no-cache --out c.png --json /dev/fd/3 "3>>run.log")
 foreach(mesh cube.obj blob.off)
     string(MAKE_C_IDENTIFIER "${mesh}" id)
     get_filename_component(ext ${mesh} EXT)
