@@ -111,16 +111,17 @@ private:
 };
 
 // A number token as OpenMesh's stream extraction reads it into a float: must be a whole token
-// and finite in single precision (an overflowing "1e39" is not; underflow to 0 is fine).
+// and finite in single precision (an overflowing "1e39" is not; underflow to 0 is fine). Not
+// hexadecimal: strtod takes "0x1p0" for 1, the stream reads 0 and stops at the x (an apex read
+// as 0 drew a flat tetrahedron, exit 0). Any length: a 64-byte buffer refused a valid
+// "1.000…" of 70 characters.
 bool parse_finite_float(string_view token)
 {
-    char buf[64];
-    if (token.empty() || token.size() >= sizeof buf) return false;
-    std::memcpy(buf, token.data(), token.size());
-    buf[token.size()] = '\0';
+    if (token.empty() || token.find_first_of("xX") != string_view::npos) return false;
+    const std::string text(token);
     char* end = nullptr;
-    const double d = std::strtod(buf, &end);
-    if (end != buf + token.size()) return false;
+    const double d = std::strtod(text.c_str(), &end);
+    if (end != text.c_str() + text.size()) return false;
     return std::isfinite(d) && std::fabs(d) <= double(FLT_MAX);
 }
 
@@ -173,6 +174,10 @@ struct Expect {
     size_t file_faces = 0;           // faces in the file (for messages and collapsed faces)
     bool faces_may_collapse = false; // STL: the reader skips faces whose corners coincide
     bool binary = false;
+    // ASCII STL: the names after "solid" and "endsolid" (offset, length), blanked in the bytes
+    // OpenMesh parses: its reader takes any line containing "outer" for a facet's start, so
+    // `solid Router_bracket` read the next lines as vertices.
+    std::vector<std::pair<size_t, size_t>> stl_names;
     // OFF whose counts line has no edge count ("4 2"): where to add " 0" in the bytes OpenMesh
     // parses, which otherwise takes the first vertex's x for it and shifts every later value.
     size_t off_counts_end = string_view::npos;
@@ -462,6 +467,13 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
             fail(subject, "header claims " + std::to_string(nv) + " vertices and " +
                               std::to_string(nf) + " faces, more than a file of " +
                               std::to_string(text.size()) + " bytes can hold");
+        // No layout fits: OpenMesh read what there was (a file cut short inside its last face drew
+        // the faces before it, and a face claiming more corners than follow took the next words,
+        // exit 0; found by an exploratory session).
+        if (e.off_binary_body.empty() && !BinaryOffWords(text.substr(body), {}).walk(vertex_words, [](size_t, size_t) {}))
+            fail(subject, "binary OFF whose faces do not end where the file does: it is cut short, or a face has "
+                          "fewer than 3 corners, more corners than follow or an index out of range, or bytes "
+                          "follow the last face");
         check_triangle_budget(subject, nf, options);
         e.add_face_calls = e.file_faces = nf;
         e.vertices = nv;
@@ -573,6 +585,7 @@ struct PlyProperty {
     string name;
     int size = 0;       // bytes of the scalar, or of each list item
     int count_size = 0; // > 0 for lists: bytes of the length prefix
+    string count_type;  // lists: the length prefix's type name
 };
 
 struct PlyElement {
@@ -653,6 +666,7 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
                 fail(subject, where + "malformed property line");
             if (n >= 5 && tok[1] == "list") {
                 p.count_size = ply_type_size(tok[2]);
+                p.count_type = string(tok[2]);
                 p.size = ply_type_size(tok[3]);
                 p.name = string(tok[4]);
             } else if (n >= 3) {
@@ -699,6 +713,12 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
             fail(subject, "PLY face property '" + p.name +
                               "' comes before vertex_indices, which the reader cannot take (put it after)");
         if (p.count_size > 0 && indices) has_indices = true;
+        // OpenMesh 9.0's reader takes these four for a face's corner count and fails on the others
+        // with no word of why ("the reader reported a failure"; found by an exploratory session).
+        if (p.count_size > 0 && indices && p.count_type != "uchar" && p.count_type != "uint8" &&
+            p.count_type != "uint16" && p.count_type != "int")
+            fail(subject, "PLY face list '" + p.name + "' counts its corners in a " + p.count_type +
+                              ", which the reader cannot take (uchar, uint8, uint16 or int)");
         // OpenMesh's reader takes a face's other lists for more indices and fails, saying a face
         // "has fewer than 3 vertices": name the list instead (MeshLab writes per-face UVs so).
         if (p.count_size > 0 && !indices)
@@ -766,6 +786,18 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
                                           " other face propert" + (others == 1 ? "y" : "ies") + " call for " +
                                           (corners < 0 ? string("a whole count first")
                                                        : std::to_string(1 + corners + static_cast<long long>(others))));
+                    // Each index a whole number: the reader counted "0x3", "1e1" and "3.9" as
+                    // indices and read what it could of them (a face of the wrong vertices, exit 0).
+                    size_t pos = 0;
+                    for (long long k = 0; k <= corners; ++k) {
+                        while (pos < line.size() && is_space(line[pos])) ++pos;
+                        const size_t start = pos;
+                        while (pos < line.size() && !is_space(line[pos])) ++pos;
+                        long long index = -1; // (one past the last vertex: the importer says so)
+                        if (k > 0 && (!parse_int(line.substr(start, pos - start), index) || index < 0))
+                            fail(subject, line_prefix(lines.line()) + "face index " +
+                                              shown(line.substr(start, pos - start)) + " is not a whole number from 0");
+                    }
                     continue;
                 }
                 if (&el != vertex) continue;
@@ -842,11 +874,27 @@ Expect scan_stl(const string& subject, string_view text, const MeshOptions& opti
         fail(subject, problem);
     }
     // The reader treats any line containing "outer" as the start of a triangle and takes the
-    // next three lines as its vertices: check exactly that.
+    // next three lines as its vertices: check exactly that, in the bytes it is given, where the
+    // solids' names are blanked (Expect::stl_names).
+    const auto keyword = [](string_view token, string_view lower) {
+        if (token.size() != lower.size()) return false;
+        for (size_t i = 0; i < token.size(); ++i)
+            if (std::tolower(static_cast<unsigned char>(token[i])) != lower[i]) return false;
+        return true;
+    };
     LineReader lines(text);
     string_view line;
     string_view tok[5];
     while (lines.next(line)) {
+        const size_t n = tokenize(line, tok, 5);
+        if (n >= 2 && (keyword(tok[0], "solid") || keyword(tok[0], "endsolid"))) {
+            const size_t from = size_t(tok[1].data() - text.data());
+            e.stl_names.emplace_back(from, size_t(line.data() + line.size() - text.data()) - from);
+            continue;
+        }
+        // A fourth vertex (or more) in a facet: the reader took three and dropped the rest.
+        if (n >= 1 && keyword(tok[0], "vertex"))
+            fail(subject, line_prefix(lines.line()) + "a facet with more than 3 vertices (STL facets are triangles)");
         if (line.find("outer") == string_view::npos && line.find("OUTER") == string_view::npos)
             continue;
         for (int k = 0; k < 3; ++k) {
@@ -1243,6 +1291,7 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
     if (expect.file_faces == 0) fail(subject, "contains no faces");
 
     if (ext == ".obj") drop_obj_material_libraries(text); // after the scan: its line numbers
+    for (const auto& [at, length] : expect.stl_names) text.replace(at, length, length, ' ');
     if (expect.off_counts_end != string_view::npos) text.insert(expect.off_counts_end, " 0");
     if (!expect.off_binary_body.empty()) {
         text.replace(expect.off_binary_at, string::npos, expect.off_binary_body);
