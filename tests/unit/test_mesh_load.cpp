@@ -1453,3 +1453,27 @@ TEST(MeshErrors, PlyCornerCountTypesTheReaderCannotTakeAreNamed)
                                                     ", which the reader cannot take (uchar, uint8, uint16 or int)");
     }
 }
+
+// A quad drawn as both of its triangulations: its edges run the same way in two triangles wound
+// the same way round one plane, which the orientation pass took for faces turned over. It turned
+// two of them: their normals cancelled ("4 positions have no defined normal") and the prism lost
+// 40 % of the surface (IoU 0.62, now 0.9993; found by an exploratory session).
+TEST(MeshLoad, OverlappingFacesWoundAlikeAreNotTurned)
+{
+    TempDir dir;
+    for (const std::string faces : {"f 1 2 3\nf 1 3 4\nf 2 3 4\nf 1 2 4\n", "f 1 2 3 4\nf 1 2 4\n"}) {
+        ::testing::internal::CaptureStderr();
+        const pr::PreparedMesh m = pr::load_mesh(dir.write("o.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n" + faces));
+        const std::string warnings = ::testing::internal::GetCapturedStderr();
+        EXPECT_EQ(warnings.find("wound against"), std::string::npos) << warnings;
+        EXPECT_EQ(warnings.find("no defined normal"), std::string::npos) << warnings;
+        EXPECT_NE(warnings.find("edges join faces that lie over one another"), std::string::npos) << warnings;
+        for (const pr::MeshVertex& v : m.vertices) EXPECT_NEAR(glm::distance(v.normal, glm::vec3(0, 0, 1)), 0.0f, 1e-6f);
+    }
+    // A face turned over beside its neighbour is still turned.
+    ::testing::internal::CaptureStderr();
+    const pr::PreparedMesh turned = pr::load_mesh(dir.write("t.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 4 3\n"));
+    const std::string warnings = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(warnings.find("wound against"), std::string::npos) << warnings;
+    for (const pr::MeshVertex& v : turned.vertices) EXPECT_NEAR(std::abs(v.normal.z), 1.0f, 1e-6f);
+}
