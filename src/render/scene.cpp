@@ -4,7 +4,7 @@
 #include "core/transform.hpp"
 
 #include <algorithm>
-#include <cfloat>
+#include <cstdio>
 #include <cmath>
 #include <map>
 #include <utility>
@@ -101,15 +101,27 @@ Scene load_scene(const SceneSpec& spec)
         if (!std::isfinite(obj.depth) || obj.depth < 0.0f)
             throw Error(depth_place, o.depth ? "must be a finite number >= 0"
                                              : "the default depth (4% of the bounding box's diagonal) is not a finite number");
+        // Sizes single precision draws, each object in its own frame: the shaders square lengths
+        // and multiply them, which overflow past about 1e19 and flush to zero under about 1e-22.
+        // Beyond these every technique drew nothing, exit 0, with a warning to check the camera:
+        // a depth of 1e22 on the torus (the prism alone refused it, blaming --technique), a
+        // triangle 1e19 or 1e-23 units across in the file (found by exploratory sessions).
+        constexpr double kLargestAcross = 1e18, kSmallestAcross = 1e-21;
+        const auto across_text = [](double across) {
+            char text[32];
+            std::snprintf(text, sizeof text, "%.3g", across);
+            return std::string(text);
+        };
+        const std::string& mesh_place = o.mesh_place.empty() ? o.mesh : o.mesh_place;
+        if (!(diagonal <= kLargestAcross) || !(diagonal >= kSmallestAcross))
+            throw Error(mesh_place, "the object is " + across_text(diagonal) + " scene units across (its box's diagonal), " +
+                                        (diagonal >= kSmallestAcross ? "more than the renderer's single precision draws (1e18): scale it down"
+                                                                     : "less than the renderer's single precision draws (1e-21): scale it up") +
+                                        " (a scene's transform \"scale\", or the file's units)");
         const Box box = shell_box(obj);
-        // A shell beyond single precision (a depth of 1e22 on the torus) drew nothing with every
-        // technique, exit 0 (the prism alone refused it, blaming --technique): the shaders square
-        // lengths in floats, which overflow past sqrt(FLT_MAX), about 1.8e19.
-        const double float_length_limit = std::sqrt(double(FLT_MAX));
-        if (const Sphere s = sphere_around(box);
-            !(2.0 * s.radius <= float_length_limit) || !(glm::length(s.center) <= float_length_limit))
+        if (const Sphere s = sphere_around(box); !(2.0 * s.radius <= kLargestAcross))
             throw Error(depth_place, "the object's displacement shell is too large for the renderer's single "
-                                     "precision (its bounding sphere overflows): use a smaller depth");
+                                     "precision (" + across_text(2.0 * s.radius) + " scene units across, at most 1e18): use a smaller depth");
         all.lo = glm::min(all.lo, box.lo);
         all.hi = glm::max(all.hi, box.hi);
         scene.object_bounds.push_back(sphere_around(box));

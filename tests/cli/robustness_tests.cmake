@@ -319,6 +319,20 @@ pr_cli_special(scene_depth_shell_overflows EXIT 1 ONE_LINE NO_FILE o.png
                SETUP "printf '{\"objects\":[{\"mesh\":\"${M}/torus.obj\",\"depth\":1.2e22}]}' > d.json"
                STDERR "${E}d.json: objects\\[0\\].depth: the object's displacement shell is too large for the renderer's single precision"
                ARGS render --scene d.json --technique flat --size 32x32 --out o.png)
+# An object beyond the sizes single precision draws (a triangle 1e19 or 1e-23 units across in
+# its file) drew nothing with every technique, exit 0, warning to check the camera.
+foreach(size 1e19 1e-23)
+    string(MAKE_C_IDENTIFIER "${size}" id)
+    if(size STREQUAL "1e19")
+        set(said "1.41e\\+19 scene units across \\(its box's diagonal\\), more than the renderer's single precision draws \\(1e18\\): scale it down")
+    else()
+        set(said "1.41e-23 scene units across \\(its box's diagonal\\), less than the renderer's single precision draws \\(1e-21\\): scale it up")
+    endif()
+    pr_cli_special(mesh_size_${id}_refused EXIT 1 ONE_LINE NO_FILE o.png
+                   SETUP "printf 'v 0 0 0\\nv ${size} 0 0\\nv 0 ${size} 0\\nvt 0 0\\nvt 1 0\\nvt 0 1\\nf 1/1 2/2 3/3\\n' > s.obj"
+                   STDERR "${E}s.obj: the object is ${said}"
+                   ARGS render --mesh s.obj --technique relief --size 32x32 --out o.png)
+endforeach()
 pr_cli(depth_past_float_range EXIT 1 ONE_LINE NO_FILE o.png
        STDERR "${E}--depth: must be at most 3.4e38 in magnitude \\(the renderer's single precision\\)"
        ARGS render --mesh ${M}/torus.obj --depth 1e300 --size 32x32 --out o.png)
