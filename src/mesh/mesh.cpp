@@ -13,7 +13,9 @@ PreparedMesh load_mesh(const std::filesystem::path& path, const MeshOptions& opt
     const std::string subject = path.string();
     try {
         const RawMesh raw = read_raw_mesh(path, options);
-        return prepare_mesh(raw, options, subject);
+        PreparedMesh mesh = prepare_mesh(raw, options, subject);
+        mesh.origin = raw.origin;
+        return mesh;
     } catch (const Error&) {
         throw;
     } catch (const std::bad_alloc&) {

@@ -51,6 +51,10 @@ struct PreparedMesh {
     std::uint32_t weld_count = 0;       // number of distinct welded positions
     glm::vec3 bbox_min{0.0f};
     glm::vec3 bbox_max{0.0f};
+    // The file's coordinates are origin + position: a mesh far from its file's origin (geographic
+    // coordinates) is kept relative to its centre, read in double (0 for every other;
+    // read_raw_mesh). A scene places the mesh with transform * translate(origin).
+    glm::dvec3 origin{0.0};
     bool had_uvs = false;               // false: UVs were generated
     bool had_normals = false;           // file normals are read but the shell always uses welded ones
     std::size_t dropped_triangles = 0;  // degenerate (zero area) triangles removed

@@ -21,6 +21,8 @@
 #include <OpenMesh/Core/IO/reader/PLYReader.hh>
 #include <OpenMesh/Core/IO/reader/STLReader.hh>
 
+#include <glm/common.hpp>
+
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -115,13 +117,15 @@ private:
 // hexadecimal: strtod takes "0x1p0" for 1, the stream reads 0 and stops at the x (an apex read
 // as 0 drew a flat tetrahedron, exit 0). Any length: a 64-byte buffer refused a valid
 // "1.000…" of 70 characters.
-bool parse_finite_float(string_view token)
+// `value`, where given, gets the number in double (Expect::positions).
+bool parse_finite_float(string_view token, double* value = nullptr)
 {
     if (token.empty() || token.find_first_of("xX") != string_view::npos) return false;
     const std::string text(token);
     char* end = nullptr;
     const double d = std::strtod(text.c_str(), &end);
     if (end != text.c_str() + text.size()) return false;
+    if (value) *value = d;
     return std::isfinite(d) && std::fabs(d) <= double(FLT_MAX);
 }
 
@@ -174,6 +178,10 @@ struct Expect {
     size_t file_faces = 0;           // faces in the file (for messages and collapsed faces)
     bool faces_may_collapse = false; // STL: the reader skips faces whose corners coincide
     bool binary = false;
+    // The vertex positions in double, in the reader's order, where the scan read them (ASCII OBJ,
+    // OFF and PLY): OpenMesh reads floats, which at 5e6 (a mesh in geographic coordinates) are
+    // 0.5 apart, so a torus there lost half its triangles as degenerate (read_raw_mesh recentres).
+    std::vector<glm::dvec3> positions;
     // ASCII STL: the names after "solid" and "endsolid" (offset, length), blanked in the bytes
     // OpenMesh parses: its reader takes any line containing "outer" for a facet's start, so
     // `solid Router_bracket` read the next lines as vertices.
@@ -230,10 +238,12 @@ Expect scan_obj(const string& subject, string_view text, const MeshOptions& opti
         const string_view rest = line.substr(key_end);
         if (key == "v") {
             const size_t n = tokenize(rest, tok, 3);
-            if (n < 3 || !parse_finite_float(tok[0]) || !parse_finite_float(tok[1]) ||
-                !parse_finite_float(tok[2]))
+            glm::dvec3 p;
+            if (n < 3 || !parse_finite_float(tok[0], &p.x) || !parse_finite_float(tok[1], &p.y) ||
+                !parse_finite_float(tok[2], &p.z))
                 fail(subject,
                      line_prefix(lines.line()) + "vertex position is not three finite numbers");
+            e.positions.push_back(p);
             ++nv;
         } else if (key == "vt") {
             const size_t n = tokenize(rest, tok, 2);
@@ -510,10 +520,12 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
                                   " vertices");
             n = tokenize(line, value, 16);
         } while (n == 0);
-        if (n < 3 || !parse_finite_float(value[0]) || !parse_finite_float(value[1]) ||
-            !parse_finite_float(value[2]))
+        glm::dvec3 p;
+        if (n < 3 || !parse_finite_float(value[0], &p.x) || !parse_finite_float(value[1], &p.y) ||
+            !parse_finite_float(value[2], &p.z))
             fail(subject,
                  line_prefix(lines.line()) + "vertex position is not three finite numbers");
+        e.positions.push_back(p);
         // OpenMesh reads a normal's three numbers from the stream, past the line's end if it
         // must (a NOFF line without its normal shifted every value after it), and the rest from
         // the line: the colour (C, 0, 1, 3 or 4 numbers, told apart by their count) and the
@@ -691,9 +703,13 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
     }
     if (!vertex) fail(subject, "PLY header declares no vertex element");
     bool has_xyz[3] = {false, false, false};
-    for (const PlyProperty& p : vertex->properties) {
-        if (p.count_size == 0 && (p.name == "x" || p.name == "y" || p.name == "z"))
+    size_t xyz_at[3] = {0, 0, 0}; // the properties' places on an ASCII vertex line
+    for (size_t k = 0; k < vertex->properties.size(); ++k) {
+        const PlyProperty& p = vertex->properties[k];
+        if (p.count_size == 0 && (p.name == "x" || p.name == "y" || p.name == "z")) {
             has_xyz[p.name[0] - 'x'] = true;
+            xyz_at[p.name[0] - 'x'] = k;
+        }
     }
     if (!has_xyz[0] || !has_xyz[1] || !has_xyz[2])
         fail(subject, "PLY vertex element lacks an x, y or z property");
@@ -802,16 +818,21 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
                 }
                 if (&el != vertex) continue;
                 size_t pos = 0;
-                while (pos < line.size()) {
+                glm::dvec3 p(0.0);
+                for (size_t k = 0; pos < line.size(); ++k) {
                     while (pos < line.size() && is_space(line[pos])) ++pos;
                     if (pos == line.size()) break;
                     const size_t start = pos;
                     while (pos < line.size() && !is_space(line[pos])) ++pos;
-                    if (!parse_finite_float(line.substr(start, pos - start)))
+                    double value = 0.0;
+                    if (!parse_finite_float(line.substr(start, pos - start), &value))
                         fail(subject, line_prefix(lines.line()) + "vertex value " +
                                           shown(line.substr(start, pos - start)) +
                                           " is not a finite number");
+                    for (int axis = 0; axis < 3; ++axis)
+                        if (k == xyz_at[axis]) p[axis] = value;
                 }
+                e.positions.push_back(p);
             }
         }
     }
@@ -1252,6 +1273,28 @@ std::optional<bool> prime_off_reader(string_view text, const fs::path& path)
 
 } // namespace
 
+// A mesh far from its file's origin (geographic coordinates: a 3-unit torus at 5e6) is kept
+// relative to its box's centre, taken in double from the positions the scan read (`precise`, in
+// the reader's order; empty where it read none: binary files, whose floats are all there is).
+// From float positions 0.5 apart a torus there lost half its triangles as degenerate, and drew
+// with IoU 0.77. Only a mesh whose centre lies more than 4 times its extent from the origin:
+// every other keeps the reader's floats as they are, to the bit.
+void recentre(RawMesh& mesh, const std::vector<glm::dvec3>& precise)
+{
+    if (precise.empty() || precise.size() != mesh.positions.size()) return;
+    glm::dvec3 lo(INFINITY), hi(-INFINITY);
+    for (const glm::dvec3& p : precise) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    const glm::dvec3 centre = 0.5 * (lo + hi);
+    const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+    const double far = std::max({std::abs(centre.x), std::abs(centre.y), std::abs(centre.z)});
+    if (!(far > 4.0 * extent)) return;
+    mesh.origin = centre;
+    for (size_t i = 0; i < precise.size(); ++i) mesh.positions[i] = glm::vec3(precise[i] - centre);
+}
+
 RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
 {
     const string subject = path.string();
@@ -1368,6 +1411,7 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
             fail(subject,
                  "vertex " + std::to_string(i) + " has a coordinate that is not a finite number");
     }
+    recentre(mesh, expect.positions);
     if (mesh.face_count() == 0)
         fail(subject, mesh.collapsed_faces > 0 ? "all " + std::to_string(mesh.collapsed_faces) +
                                                      " faces are degenerate (repeated vertices)"

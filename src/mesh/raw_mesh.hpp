@@ -18,7 +18,10 @@ namespace pr {
 // Polygons as read from the file, no topology. Face f owns the corners
 // [face_offsets[f], face_offsets[f + 1]) of `corners`, counter-clockwise as in the file.
 struct RawMesh {
-    std::vector<glm::vec3> positions;
+    std::vector<glm::vec3> positions; // relative to `origin`
+    // Where a mesh far from its file's origin was recentred, in the file's coordinates (0 for
+    // every other; read_raw_mesh's recentre()).
+    glm::dvec3 origin{0.0};
     std::vector<std::uint32_t> face_offsets{0};
     std::vector<std::uint32_t> corners;    // vertex index per corner
     std::vector<glm::vec2> corner_uvs;     // per corner; empty when no face has UVs

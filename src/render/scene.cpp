@@ -3,6 +3,8 @@
 #include "core/error.hpp"
 #include "core/transform.hpp"
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <algorithm>
 #include <cstdio>
 #include <cmath>
@@ -74,7 +76,8 @@ Scene load_scene(const SceneSpec& spec)
                            [&] { return std::make_shared<RgbaImage>(load_color(o.color, spec.image_limits)); });
             obj.color = c;
         }
-        obj.transform = o.transform;
+        // (A mesh far from its file's origin is kept relative to PreparedMesh::origin.)
+        obj.transform = o.transform * glm::translate(glm::dmat4(1.0), obj.mesh.origin);
         // A mirroring transform (negative determinant) turns the triangles' winding: counter-
         // clockwise seen from outside in the mesh becomes clockwise in world space, where faces
         // are judged (culling, gl_FrontFacing, the prism's faces and walk). Each triangle reversed
@@ -91,7 +94,7 @@ Scene load_scene(const SceneSpec& spec)
             const glm::dvec3 c((i & 1) ? obj.mesh.bbox_max.x : obj.mesh.bbox_min.x,
                                (i & 2) ? obj.mesh.bbox_max.y : obj.mesh.bbox_min.y,
                                (i & 4) ? obj.mesh.bbox_max.z : obj.mesh.bbox_min.z);
-            const glm::dvec3 w = glm::dvec3(o.transform * glm::dvec4(c, 1.0));
+            const glm::dvec3 w = glm::dvec3(obj.transform * glm::dvec4(c, 1.0));
             olo = glm::min(olo, w);
             ohi = glm::max(ohi, w);
         }

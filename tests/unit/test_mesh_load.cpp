@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <unistd.h>
 #include <vector>
@@ -1476,4 +1477,54 @@ TEST(MeshLoad, OverlappingFacesWoundAlikeAreNotTurned)
     const std::string warnings = ::testing::internal::GetCapturedStderr();
     EXPECT_NE(warnings.find("wound against"), std::string::npos) << warnings;
     for (const pr::MeshVertex& v : turned.vertices) EXPECT_NEAR(std::abs(v.normal.z), 1.0f, 1e-6f);
+}
+
+// Positions far from the file's origin (geographic coordinates) are read in double where the scan
+// reads them (ASCII OBJ, OFF, PLY) and kept relative to the mesh's centre (PreparedMesh::origin):
+// OpenMesh's floats are 0.5 apart at 5e6, which turned a small tetrahedron into a sliver or
+// nothing. A mesh near its origin keeps the reader's floats and origin 0.
+TEST(MeshLoad, FarPositionsAreKeptRelativeToTheMeshsCentre)
+{
+    TempDir dir;
+    const glm::dvec3 at(5000000.3, -3000000.7, 1000.1);
+    const double corner[4][3] = {{0, 0, 0}, {0.25, 0, 0}, {0, 0.25, 0}, {0, 0, 0.25}};
+    const auto files = [&](const glm::dvec3& offset) {
+        std::string v, plain;
+        char text[128];
+        for (const auto& c : corner) {
+            std::snprintf(text, sizeof text, "%.4f %.4f %.4f\n", offset.x + c[0], offset.y + c[1], offset.z + c[2]);
+            v += std::string("v ") + text;
+            plain += text;
+        }
+        const std::string faces = "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
+        return std::vector<std::pair<std::string, std::string>>{
+            {"t.obj", v + "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n"},
+            {"t.off", "OFF\n4 4 0\n" + plain + faces},
+            {"t.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty double y_extra\nproperty double x\n"
+                      "property double y\nproperty double z\nelement face 4\nproperty list uchar int vertex_indices\n"
+                      "end_header\n" + [&] {
+                          std::string lines;
+                          std::istringstream in(plain);
+                          for (std::string line; std::getline(in, line);) lines += "7 " + line + "\n";
+                          return lines;
+                      }() + faces},
+        };
+    };
+    for (const auto& [name, text] : files(at)) {
+        ::testing::internal::CaptureStderr();
+        const pr::PreparedMesh m = pr::load_mesh(dir.write(name, text));
+        const std::string warnings = ::testing::internal::GetCapturedStderr();
+        EXPECT_EQ(m.triangle_count(), 4u) << name << warnings;
+        EXPECT_EQ(m.dropped_triangles, 0u) << name;
+        EXPECT_NEAR(glm::distance(m.origin, at + glm::dvec3(0.125)), 0.0, 1e-9) << name;
+        EXPECT_NEAR(glm::distance(glm::dvec3(m.bbox_min), glm::dvec3(-0.125)), 0.0, 1e-6) << name;
+        EXPECT_NEAR(glm::distance(glm::dvec3(m.bbox_max), glm::dvec3(0.125)), 0.0, 1e-6) << name;
+    }
+    for (const auto& [name, text] : files(glm::dvec3(0.5, -0.25, 0.75))) { // within 4 extents
+        ::testing::internal::CaptureStderr();
+        const pr::PreparedMesh m = pr::load_mesh(dir.write(name, text));
+        ::testing::internal::GetCapturedStderr();
+        EXPECT_EQ(m.origin, glm::dvec3(0.0)) << name;
+        EXPECT_EQ(m.bbox_min, glm::vec3(0.5f, -0.25f, 0.75f)) << name;
+    }
 }
