@@ -929,6 +929,15 @@ Expect scan_stl(const string& subject, string_view text, const MeshOptions& opti
         }
         ++e.file_faces;
     }
+    // A binary STL whose header starts with "solid" (as some exporters write) but whose size does
+    // not match its count, cut short or padded: said "contains no faces".
+    if (e.file_faces == 0 && text.size() >= 84 && text.find('\0') != string_view::npos) {
+        std::uint32_t nt = 0;
+        std::memcpy(&nt, text.data() + 80, 4);
+        fail(subject, "starts with 'solid' but holds binary data: a binary STL whose header claims " + std::to_string(nt) +
+                          " triangles (" + std::to_string(84ull + 50ull * nt) + " bytes), but the file has " +
+                          std::to_string(text.size()));
+    }
     check_triangle_budget(subject, e.file_faces, options);
     return e;
 }

@@ -678,6 +678,19 @@ TEST(MeshLoad, StlBinaryIsWelded)
         pr::load_mesh(dir.write_bytes("s.stl", octa_stl_binary(8, "solid by exporter"))));
 }
 
+// Cut short, a binary STL whose header starts with "solid" was taken for ASCII and said "contains
+// no faces" (found by an exploratory session).
+TEST(MeshErrors, BinaryStlStartingWithSolidCutShortSaysSo)
+{
+    TempDir dir;
+    std::vector<char> b = octa_stl_binary(8, "solid by exporter");
+    b.resize(b.size() - 10);
+    const fs::path p = dir.write_bytes("s.stl", b);
+    EXPECT_ERROR_MENTIONS(load_error(p), p,
+                          "starts with 'solid' but holds binary data: a binary STL whose header claims 8 triangles "
+                          "(484 bytes), but the file has 474");
+}
+
 TEST(MeshLoad, ExtensionIsCaseInsensitive)
 {
     TempDir dir;
