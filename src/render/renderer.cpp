@@ -683,6 +683,8 @@ void Renderer::ensure_walk_data()
         o.walk_max_prisms = int(256 + 2 * std::min<std::uint32_t>(most, 4096));
         o.eye_blocks = prism_blocks(corners, indices, o.depth);
         o.triangles = std::move(indices);
+        o.tight_top_max = 0.0f;
+        for (std::size_t i = 2; i < corners.size(); i += 3) o.tight_top_max = std::max(o.tight_top_max, corners[i].x);
         o.shell_corners = std::move(corners);
     }
     if (glGetError() == GL_OUT_OF_MEMORY) throw Error("scene", "out of GPU memory while building the prism walk's buffers");
@@ -854,8 +856,14 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     // no shadow at depth 0; the flat program's face normals were 21 dB away on the cube). Walked,
     // its prisms' faces all meet at one place and some rays were lost (the rock at depth 0: 13
     // pinholes at 256x192); the exact exit drew black (prism.frag: `thin`).
+    // The tight shell's thickness is its top's: over a height map that is 0 everywhere the walk's
+    // prisms have none whatever the depth, and at midlevel 0 the surface is the base mesh (the
+    // rock with builtin:const:0 at depth 1e-3: 10 pinholes at 256x192, IoU 0.9987; found by an
+    // exploratory session).
     const auto flat_shell = [&](const GpuObject& o) {
-        return prism && double(displacement_reach(o.depth, o.midlevel)) <= 1e-6 * double(o.shell_radius);
+        const double top = settings.full_shell ? 1.0 : double(std::min(o.tight_top_max, 1.0f));
+        const double reach = double(o.depth) * std::max(double(o.midlevel), top - double(o.midlevel));
+        return prism && reach <= 1e-6 * double(o.shell_radius);
     };
     DrawSettings flat_settings = settings;
     flat_settings.technique = Technique::Reference;

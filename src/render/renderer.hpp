@@ -197,6 +197,9 @@ private:
         // them to find a prism that holds the eye (find_eye_prism).
         std::vector<std::uint32_t> triangles;
         std::vector<glm::vec4> shell_corners;
+        // The highest tight top of any vertex (height units; 1 before the corners are made): a tight
+        // shell no higher than its bottom over the whole object (builtin:const:0) has no thickness.
+        float tight_top_max = 1.0f;
         PrismBlocks eye_blocks;
         std::vector<Geometry> reference; // chunks of the tessellated ground truth
         GLuint height_texture = 0; // owned by texture_cache_

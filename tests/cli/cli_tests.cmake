@@ -141,6 +141,13 @@ foreach(mesh torus plane rock)
            ARGS compare --mesh ${M}/${mesh}.obj --depth 0 --size 96x72
                 --techniques prism:relief:exact,prism:relief:vertex,prism --json d0.json)
 endforeach()
+# The tight shell over a height map that is 0 everywhere has no thickness at any depth: its
+# prisms' faces all met and the walk lost rays along creases (the rock at depth 1e-3: 10 pinholes,
+# IoU 0.9987; max-mip shaded a few pixels black). At midlevel 0 that surface is the base mesh.
+pr_cli(compare_tight_shell_over_height_0 EXIT 0 JSON z.json
+       CHECKS "${R}.0.iou:EQUAL:1|${R}.0.identical:STREQUAL:ON|${R}.1.iou:EQUAL:1|${R}.1.identical:STREQUAL:ON"
+       ARGS compare --mesh ${M}/rock.obj --height builtin:const:0 --depth 1e-3 --size 256x192
+            --techniques prism,prism:max-mip --json z.json)
 pr_cli(compare_bad_technique EXIT 1 ONE_LINE STDERR "${E}--techniques: unknown technique 'magic'" NO_FILE c.json
        ARGS compare --mesh ${M}/cube.obj --techniques pom,magic --json c.json)
 # A final comma was taken as no entry at all ("pom," ran pom alone), and two names of one
