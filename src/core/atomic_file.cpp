@@ -132,10 +132,13 @@ bool is_descriptor_link(const fs::path& link)
     std::error_code ec;
     const std::string folder = fs::canonical(folder_of(link), ec).string(); // /proc/self -> /proc/PID
     if (ec || folder.rfind("/proc/", 0) != 0 || !folder.ends_with("/fd")) return false;
+    const auto number = [](std::string_view s) {
+        return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+    };
     const std::string_view rest(folder.data() + 6, folder.size() - 9); // "PID" or "PID/task/TID"
-    return !rest.empty() && std::all_of(rest.begin(), rest.end(), [](char c) {
-        return std::isdigit(static_cast<unsigned char>(c)) || c == '/' || c == 't' || c == 'a' || c == 's' || c == 'k';
-    });
+    const std::size_t slash = rest.find('/');
+    if (slash == std::string_view::npos) return number(rest);
+    return number(rest.substr(0, slash)) && rest.substr(slash, 6) == "/task/" && number(rest.substr(slash + 6));
 }
 
 // The descriptor link (is_descriptor_link) on the way from `path` to the file it names, if any.
