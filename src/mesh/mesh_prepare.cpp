@@ -312,7 +312,7 @@ struct TriangleWelds {
 };
 
 // The faces across each shared edge of the faces for which generated(f) holds, from the other
-// such faces: of the triangles around the edge's first position, the one other triangle that has
+// such faces: of the triangles around the edge's end with fewer of them, the one other triangle that has
 // the edge too, if it lies in another face (a polygon's own diagonals do not count; nor do edges
 // of three or more triangles).
 template <class Generated>
@@ -337,7 +337,11 @@ FaceNeighbours generated_face_neighbours(const std::vector<Triangle>& tris, cons
     for (size_t i = 0; i < tris.size(); ++i) {
         if (!generated(tris[i].face)) continue;
         for (int k = 0; k < 3; ++k) {
-            const uint32_t a = corner[3 * i + size_t(k)], b = corner[3 * i + size_t((k + 1) % 3)];
+            uint32_t a = corner[3 * i + size_t(k)], b = corner[3 * i + size_t((k + 1) % 3)];
+            // Around the end with fewer triangles: around one vertex of a million triangles (a fan,
+            // a cone's apex) every edge scanned them all, and a 50 MB STL took some 15 minutes
+            // (found by an exploratory session); now each edge at the apex scans its rim end's.
+            if (around_offsets[a + 1] - around_offsets[a] > around_offsets[b + 1] - around_offsets[b]) std::swap(a, b);
             uint32_t other = kNone, count = 0;
             for (uint32_t j = around_offsets[a]; j < around_offsets[a + 1]; ++j) {
                 const uint32_t* c = &corner[3 * size_t(around[j])];
