@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
@@ -50,6 +51,36 @@ TEST(Progress, TaskProgressDrawsABarPerBuildAndNothingForCacheHits)
         pr::TaskProgress p(quiet, false);
         p("cone map of a.png", 0.5);
         p("cone map of a.png", 1.0);
+    }
+    EXPECT_EQ(contents(quiet), "");
+    std::fclose(quiet);
+}
+
+// Off a terminal, a long task says once how far it is and about how long it has left: a cone map
+// of 4096² built for minutes with nothing in the log. Not for a task done at its first report.
+TEST(Progress, OffATerminalALongTaskSaysOnceHowFarItIs)
+{
+    std::FILE* log = std::tmpfile();
+    ASSERT_NE(log, nullptr);
+    {
+        pr::TaskProgress p(log, false, 0.0); // (the notice at once, not after 10 s)
+        p("cone map of a.png", 1.0);
+        EXPECT_EQ(contents(log), "");
+        p("relaxed cone map of b.png", 0.25);
+        p("relaxed cone map of b.png", 0.5);
+        p("relaxed cone map of b.png", 1.0);
+    }
+    const std::string s = contents(log);
+    EXPECT_EQ(s.rfind("prismrelief: warning: building relaxed cone map of b.png: 25% done after ", 0), 0u) << s;
+    EXPECT_NE(s.find(" s more\n"), std::string::npos) << s;
+    EXPECT_EQ(std::count(s.begin(), s.end(), '\n'), 1) << s; // once, on a line of its own
+    std::fclose(log);
+    // Before the delay: nothing.
+    std::FILE* quiet = std::tmpfile();
+    ASSERT_NE(quiet, nullptr);
+    {
+        pr::ProgressBar bar("conemap", quiet, false, 3600.0);
+        bar(0.5);
     }
     EXPECT_EQ(contents(quiet), "");
     std::fclose(quiet);
