@@ -48,11 +48,11 @@ void SampleResolve::add(const RgbaImage& image)
     if (count_ == 0) {
         width_ = image.width;
         height_ = image.height;
-        sums_.assign(std::size_t(width_) * std::size_t(height_) * 4, 0.0);
+        sums_.assign(std::size_t(width_) * std::size_t(height_) * 4, 0u);
     }
     const std::size_t n = std::size_t(width_) * std::size_t(height_);
     for (std::size_t i = 0; i < n; ++i) {
-        const double a = image.pixels[4 * i + 3] / 255.0;
+        const std::uint32_t a = image.pixels[4 * i + 3];
         for (int c = 0; c < 3; ++c) sums_[4 * i + c] += a * image.pixels[4 * i + c];
         sums_[4 * i + 3] += a;
     }
@@ -65,12 +65,13 @@ RgbaImage SampleResolve::result() const
     out.width = width_;
     out.height = height_;
     out.pixels.assign(std::size_t(width_) * std::size_t(height_) * 4, 0);
+    // Rounded to nearest, halves up: (2 x + d) / 2d.
+    const auto rounded = [](std::uint64_t x, std::uint64_t d) { return std::uint8_t(std::min<std::uint64_t>((2 * x + d) / (2 * d), 255)); };
     for (std::size_t i = 0; i < out.pixels.size() / 4; ++i) {
-        const double a = sums_[4 * i + 3];
-        if (!(a > 0.0)) continue;
-        for (int c = 0; c < 3; ++c)
-            out.pixels[4 * i + c] = std::uint8_t(std::clamp(std::lround(sums_[4 * i + c] / a), 0L, 255L));
-        out.pixels[4 * i + 3] = std::uint8_t(std::clamp(std::lround(255.0 * a / count_), 0L, 255L));
+        const std::uint32_t a = sums_[4 * i + 3];
+        if (a == 0) continue;
+        for (int c = 0; c < 3; ++c) out.pixels[4 * i + c] = rounded(sums_[4 * i + c], a);
+        out.pixels[4 * i + 3] = rounded(a, std::uint64_t(count_));
     }
     return out;
 }
