@@ -46,3 +46,31 @@ TEST(SceneFraming, BoundsAreTheFullShells)
     EXPECT_NEAR(turned.shell_bounds.center.y, 0.0f, 1e-5f);
     EXPECT_NEAR(turned.shell_bounds.radius, 1.5f, 1e-5f);
 }
+
+// A mesh file named by several objects is read and prepared once (a scene of 60 objects of one
+// 1M-triangle mesh read it 60 times, over two minutes): its warnings come once, and each object
+// has its own copy, a mirrored one wound the other way.
+TEST(SceneLoad, AMeshNamedTwiceIsReadOnce)
+{
+    pr::SceneSpec spec;
+    pr::ObjectSpec o;
+    o.mesh = (std::filesystem::path(PR_SOURCE_DIR) / "meshes" / "blob.off").string(); // no UVs: a warning
+    spec.objects.push_back(o);
+    o.transform = glm::scale(glm::dmat4(1.0), glm::dvec3(-1.0, 1.0, 1.0));
+    spec.objects.push_back(o);
+    ::testing::internal::CaptureStderr();
+    const pr::Scene scene = pr::load_scene(spec);
+    const std::string warnings = ::testing::internal::GetCapturedStderr();
+    std::size_t count = 0;
+    for (std::size_t at = warnings.find("no texture coordinates"); at != std::string::npos;
+         at = warnings.find("no texture coordinates", at + 1))
+        ++count;
+    EXPECT_EQ(count, 1u) << warnings;
+    ASSERT_EQ(scene.objects.size(), 2u);
+    const auto& a = scene.objects[0].mesh.indices;
+    const auto& b = scene.objects[1].mesh.indices;
+    ASSERT_EQ(a.size(), b.size());
+    EXPECT_EQ(a[0], b[0]);
+    EXPECT_EQ(a[1], b[2]); // the mirrored copy's triangles reversed, the first object's not
+    EXPECT_EQ(a[2], b[1]);
+}
