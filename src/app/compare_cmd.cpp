@@ -7,12 +7,14 @@
 #include "eval/grid.hpp"
 #include "eval/metrics.hpp"
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <iterator>
 #include <optional>
 
 namespace pr {
@@ -89,6 +91,17 @@ CommandAction add_compare_command(CLI::App& app)
         }
         Session session = open_session(s->scene, outputs);
         for (const TechniqueRun& run : runs) session.renderer->check_drawable(run.settings, "--techniques");
+        // The grid's size before anything is drawn: past what the PNG encoder takes it failed after
+        // every technique was drawn, or ran out of memory first (found by an exploratory session).
+        if (!s->out.empty()) {
+            const Tile cell{"name\nIoU", RgbaImage{session.spec.width, session.spec.height, {}}};
+            const GridLayout grid = plan_grid(std::vector<Tile>(2 * (runs.size() + 1), cell), int(runs.size() + 1));
+            if (!png_encodable(grid.width, grid.height))
+                throw Error("--out", fmt::format("the grid would be {}x{} pixels, more than the PNG encoder takes (2 GiB of "
+                                                 "rows): give fewer --techniques or a smaller --size, or only --tiles "
+                                                 "and --json",
+                                                 grid.width, grid.height));
+        }
 
         const auto ref_stats = session.renderer->prepare_reference(session.scene, session.camera, ref_options);
         DrawSettings ref_settings = make_draw_settings(s->quality, "reference");
@@ -161,16 +174,19 @@ CommandAction add_compare_command(CLI::App& app)
             {"renderer", session.context->description()}};
         // Both outputs staged before either replaces a file: a failure leaves both as they were.
         std::optional<StagedFile> grid, json;
-        if (!s->out.empty()) {
-            std::vector<Tile> tiles = top;
-            tiles.insert(tiles.end(), bottom.begin(), bottom.end());
-            grid.emplace(s->out, encode_png_for(s->out, compose_grid(tiles, static_cast<int>(top.size()))));
-        }
-        if (!s->json.empty()) json.emplace(s->json, report_text(report));
+        // The tiles first: the grid then takes the images over instead of copying them (a copy of
+        // every image at once, 9 techniques at 4096²: another 1.2 GB).
         std::vector<std::unique_ptr<StagedFile>> tiles;
         for (std::size_t i = 0; i < tile_files.size(); ++i)
             tiles.push_back(
                 std::make_unique<StagedFile>(tile_files[i], encode_png_for(tile_files[i], top[tile_images[i]].image)));
+        if (!s->out.empty()) {
+            const int columns = static_cast<int>(top.size());
+            std::vector<Tile> cells = std::move(top);
+            cells.insert(cells.end(), std::make_move_iterator(bottom.begin()), std::make_move_iterator(bottom.end()));
+            grid.emplace(s->out, encode_png_for(s->out, compose_grid(cells, columns)));
+        }
+        if (!s->json.empty()) json.emplace(s->json, report_text(report));
         std::vector<StagedFile*> staged = {grid ? &*grid : nullptr, json ? &*json : nullptr};
         for (const auto& t : tiles) staged.push_back(t.get());
         commit_together(staged);

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string_view>
@@ -581,6 +582,12 @@ RgbaImage load_color(const std::string& spec, const ImageLimits& limits)
     return load_rgba_file(spec, limits);
 }
 
+bool png_encodable(int width, int height)
+{
+    return width > 0 && height > 0 &&
+           (std::uint64_t(width) * 4 + 1) * std::uint64_t(height) <= std::uint64_t(std::numeric_limits<int>::max());
+}
+
 std::vector<std::uint8_t> encode_png(const RgbaImage& image)
 {
     const std::size_t expected = std::size_t(std::max(image.width, 0)) *
@@ -590,6 +597,9 @@ std::vector<std::uint8_t> encode_png(const RgbaImage& image)
     if (image.pixels.size() != expected)
         throw Error("PNG", fmt::format("image data holds {} bytes, {}x{} RGBA needs {}",
                                        image.pixels.size(), image.width, image.height, expected));
+    if (!png_encodable(image.width, image.height))
+        throw Error("PNG", fmt::format("a {}x{} image is too large for the PNG encoder (2 GiB of rows at most)",
+                                       image.width, image.height));
     // Files store the top row first; pointing at the last row with a negative stride flips
     // without a copy (stb only ever adds multiples of the stride to the pointer).
     const int stride = image.width * 4;

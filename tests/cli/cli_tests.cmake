@@ -148,6 +148,11 @@ pr_cli(compare_tight_shell_over_height_0 EXIT 0 JSON z.json
        CHECKS "${R}.0.iou:EQUAL:1|${R}.0.identical:STREQUAL:ON|${R}.1.iou:EQUAL:1|${R}.1.identical:STREQUAL:ON"
        ARGS compare --mesh ${M}/rock.obj --height builtin:const:0 --depth 1e-3 --size 256x192
             --techniques prism,prism:max-mip --json z.json)
+# A grid past what the PNG encoder takes (stb's int: 2 GiB of rows) is refused before anything is
+# drawn: it failed after every technique was drawn, or ran out of memory first.
+pr_cli(compare_grid_too_large EXIT 1 ONE_LINE NO_FILE g.png
+       STDERR "${E}--out: the grid would be 49184x32880 pixels, more than the PNG encoder takes"
+       ARGS compare --mesh ${M}/cube.obj --techniques flat,relief --size 16384x16384 --out g.png)
 pr_cli(compare_bad_technique EXIT 1 ONE_LINE STDERR "${E}--techniques: unknown technique 'magic'" NO_FILE c.json
        ARGS compare --mesh ${M}/cube.obj --techniques pom,magic --json c.json)
 # A final comma was taken as no entry at all ("pom," ran pom alone), and two names of one

@@ -677,3 +677,15 @@ TEST_F(ImageFiles, JpegExifOrientationIsApplied)
     EXPECT_GT(c.at(4, 2).r, 230);
     EXPECT_LT(c.at(4, 13).r, 25);
 }
+
+// stb keeps the filtered rows' size, (4 width + 1) height, in an int: past 2 GiB it wrapped and the
+// buffer it allocated was too small for what it wrote (a compare grid of 16384² tiles). Such
+// images are refused (encode_png; compare checks its grid before drawing).
+TEST(ImageEncode, PngsPastTheEncodersIntAreRefused)
+{
+    EXPECT_TRUE(pr::png_encodable(16384, 16384));
+    EXPECT_TRUE(pr::png_encodable(1, 1));
+    EXPECT_FALSE(pr::png_encodable(49184, 32880));
+    EXPECT_FALSE(pr::png_encodable(536870912, 1)); // one row of 2 GiB
+    EXPECT_FALSE(pr::png_encodable(0, 16));
+}
