@@ -89,19 +89,21 @@ CommandAction add_compare_command(CLI::App& app)
             for (const TechniqueRun& run : runs)
                 if (run.settings.technique != Technique::Reference) tile(run.label);
         }
-        Session session = open_session(s->scene, outputs);
-        for (const TechniqueRun& run : runs) session.renderer->check_drawable(run.settings, "--techniques");
-        // The grid's size before anything is drawn: past what the PNG encoder takes it failed after
-        // every technique was drawn, or ran out of memory first (found by an exploratory session).
-        if (!s->out.empty()) {
-            const Tile cell{"name\nIoU", RgbaImage{session.spec.width, session.spec.height, {}}};
+        // The grid's size before anything is loaded or drawn: past what the PNG encoder takes it
+        // failed after every technique was drawn, or ran out of memory first (found by an
+        // exploratory session).
+        const auto check_grid = [&](const SceneSpec& spec) {
+            if (s->out.empty()) return;
+            const Tile cell{"name\nIoU", RgbaImage{spec.width, spec.height, {}}};
             const GridLayout grid = plan_grid(std::vector<Tile>(2 * (runs.size() + 1), cell), int(runs.size() + 1));
             if (!png_encodable(grid.width, grid.height))
                 throw Error("--out", fmt::format("the grid would be {}x{} pixels, more than the PNG encoder takes (2 GiB of "
                                                  "rows): give fewer --techniques or a smaller --size, or only --tiles "
                                                  "and --json",
                                                  grid.width, grid.height));
-        }
+        };
+        Session session = open_session(s->scene, outputs, {}, check_grid);
+        for (const TechniqueRun& run : runs) session.renderer->check_drawable(run.settings, "--techniques");
 
         const auto ref_stats = session.renderer->prepare_reference(session.scene, session.camera, ref_options);
         DrawSettings ref_settings = make_draw_settings(s->quality, "reference");

@@ -30,9 +30,10 @@ public:
     {
         if (!enabled_) {
             const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-            if (noticed_ || !(fraction > 0.0 && fraction < 1.0) || elapsed < notice_after_s_) return;
+            // (From 1 % on: an estimate from less says little, and from nothing, infinity.)
+            if (noticed_ || !(fraction >= 0.01 && fraction < 1.0) || elapsed < notice_after_s_) return;
             noticed_ = true;
-            std::fprintf(out_, "prismrelief: warning: %s: %d%% done after %.0f s, about %.0f s more\n", label_.c_str(),
+            std::fprintf(out_, "prismrelief: note: %s: %d%% done after %.0f s, about %.0f s more\n", label_.c_str(),
                          int(fraction * 100.0), elapsed, std::ceil(elapsed * (1.0 - fraction) / fraction));
             std::fflush(out_);
             return;

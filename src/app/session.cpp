@@ -35,7 +35,7 @@ std::vector<NamedPath> scene_file_inputs(const SceneOptions& options, const Scen
 } // namespace
 
 Session open_session(const SceneOptions& options, const std::vector<NamedPath>& outputs,
-                     const ContextFactory& make_context)
+                     const ContextFactory& make_context, const SpecCheck& check_spec)
 {
     if (options.no_cache && !options.cache_dir.empty()) throw Error("--no-cache", "conflicts with --cache-dir");
     Session s;
@@ -53,6 +53,7 @@ Session open_session(const SceneOptions& options, const std::vector<NamedPath>& 
                                                                        : std::filesystem::path(options.cache_dir));
     s.spec = make_scene_spec(options);
     check_distinct_outputs(outputs, scene_file_inputs(options, s.spec));
+    if (check_spec) check_spec(s.spec);
     const Backend backend = parse_backend(options.backend);
     if (!make_context) preload_backend(backend); // loads Mesa while the scene is read
     s.scene = load_scene(s.spec);

@@ -29,9 +29,11 @@ using ContextFactory = std::function<std::unique_ptr<Context>(const SceneSpec& s
 // Inputs are read before any GL work, so bad files fail fast and without a context. `outputs`
 // (option, file; empty files skipped) are refused where they are one file with each other or
 // with an input: a flag's, or one the scene file names (check_distinct_outputs), once the spec
-// is made and before anything is loaded.
+// is made and before anything is loaded. `check_spec`, if given, is asked about the spec then too
+// (compare's grid size, which the spec's image size decides).
+using SpecCheck = std::function<void(const SceneSpec& spec)>;
 Session open_session(const SceneOptions& options, const std::vector<NamedPath>& outputs,
-                     const ContextFactory& make_context = {});
+                     const ContextFactory& make_context = {}, const SpecCheck& check_spec = {});
 
 // A technique as listed by --techniques: its label and how it draws.
 struct TechniqueRun {

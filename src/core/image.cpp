@@ -584,8 +584,10 @@ RgbaImage load_color(const std::string& spec, const ImageLimits& limits)
 
 bool png_encodable(int width, int height)
 {
-    return width > 0 && height > 0 &&
-           (std::uint64_t(width) * 4 + 1) * std::uint64_t(height) <= std::uint64_t(std::numeric_limits<int>::max());
+    // With room for the compressed stream, also an int, which may come out larger than the rows
+    // where they do not compress (stb's fixed Huffman codes: up to 9 bits a byte).
+    const std::uint64_t rows = (std::uint64_t(std::max(width, 0)) * 4 + 1) * std::uint64_t(std::max(height, 0));
+    return width > 0 && height > 0 && rows / 8 * 9 + 65536 <= std::uint64_t(std::numeric_limits<int>::max());
 }
 
 std::vector<std::uint8_t> encode_png(const RgbaImage& image)

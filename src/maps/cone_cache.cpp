@@ -201,6 +201,7 @@ void check_outputs_outside_cache(const std::vector<std::pair<std::string, std::f
     namespace fs = std::filesystem;
     if (dir.empty()) return;
     // Compared as absolute paths with the links that exist resolved: `--out ./c --cache-dir c`.
+    // An output that is already a regular file is left to the output's own checks.
     const auto resolved = [](const fs::path& p) {
         std::error_code ec;
         fs::path r = fs::weakly_canonical(fs::absolute(p, ec), ec);
@@ -208,13 +209,19 @@ void check_outputs_outside_cache(const std::vector<std::pair<std::string, std::f
     };
     const fs::path folder = resolved(dir);
     if (folder.empty()) return;
+    const fs::path entries = folder / "cone";
     for (const auto& [option, path] : outputs) {
         if (path.empty()) continue;
         const fs::path out = resolved(path);
-        if (out == folder || out == folder / "cone")
-            throw Error(path.string(), std::string("is the cone-map cache's ") + (out == folder ? "folder" : "entries' folder") +
-                                           " (" + dir.string() + (out == folder ? "" : "/cone") +
-                                           "), which the run creates: name a file, or another --cache-dir");
+        std::error_code ec;
+        if (out.empty() || fs::is_regular_file(out, ec)) continue; // (then the cache cannot be made: it warns)
+        // `out` itself, or a folder on the way to the entries (`--out cz --cache-dir cz/sub`).
+        const auto [o, e] = std::mismatch(out.begin(), out.end(), entries.begin(), entries.end());
+        if (o != out.end()) continue;
+        const std::string what = out == entries  ? "the cone-map cache's entries' folder (" + (dir / "cone").string() + ")"
+                                 : out == folder ? "the cone-map cache's folder (" + dir.string() + ")"
+                                                 : "a folder the cone-map cache is in (" + dir.string() + ")";
+        throw Error(path.string(), "is " + what + ", which the run creates: name a file, or another --cache-dir");
     }
 }
 

@@ -151,11 +151,11 @@ double relaxed_constraint(const HeightField& field, int px, int py, int dx, int 
 // returns it, with one warning, when neither variable is an absolute path).
 // `warn_if_none`: false to ask where the cache would be without saying there is none.
 std::filesystem::path default_cache_dir(bool warn_if_none = true);
-// Refuses an output that is the cache's folder or its entries' folder (`dir`/cone), before the
-// work: the cache creates them, and the output check, which found no file there, passed, so the
-// run built the map, filled the cache and only then failed ("cz: is a folder"). `outputs` pair
-// an option with its path (empty paths skipped); an empty `dir` is no cache. Throws pr::Error
-// naming the output.
+// Refuses an output that is the cache's folder, its entries' folder (`dir`/cone) or a folder on
+// the way to them, and is not a file yet, before the work: the cache creates them, and the output
+// check, which found no file there, passed, so the run built the map, filled the cache and only
+// then failed ("cz: is a folder"). `outputs` pair an option with its path (empty paths skipped);
+// an empty `dir` is no cache. Throws pr::Error naming the output.
 void check_outputs_outside_cache(const std::vector<std::pair<std::string, std::filesystem::path>>& outputs,
                                  const std::filesystem::path& dir);
 struct ConeCacheResult {

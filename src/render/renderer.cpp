@@ -384,6 +384,8 @@ void Renderer::upload(const Scene& scene)
         o.height_texture = h.id();
         o.height_size = {so.height->width, so.height->height};
         o.height_field = so.height;
+        o.height_low = so.height->min_value();
+        o.height_high = so.height->max_value();
         if (so.color) {
             auto& c = texture_cache_[so.color.get()];
             if (!c) c = make_color_texture(*so.color);
@@ -683,8 +685,6 @@ void Renderer::ensure_walk_data()
         o.walk_max_prisms = int(256 + 2 * std::min<std::uint32_t>(most, 4096));
         o.eye_blocks = prism_blocks(corners, indices, o.depth);
         o.triangles = std::move(indices);
-        o.tight_top_max = 0.0f;
-        for (std::size_t i = 2; i < corners.size(); i += 3) o.tight_top_max = std::max(o.tight_top_max, corners[i].x);
         o.shell_corners = std::move(corners);
     }
     if (glGetError() == GL_OUT_OF_MEMORY) throw Error("scene", "out of GPU memory while building the prism walk's buffers");
@@ -856,13 +856,15 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     // no shadow at depth 0; the flat program's face normals were 21 dB away on the cube). Walked,
     // its prisms' faces all meet at one place and some rays were lost (the rock at depth 0: 13
     // pinholes at 256x192); the exact exit drew black (prism.frag: `thin`).
-    // The tight shell's thickness is its top's: over a height map that is 0 everywhere the walk's
-    // prisms have none whatever the depth, and at midlevel 0 the surface is the base mesh (the
-    // rock with builtin:const:0 at depth 1e-3: 10 pinholes at 256x192, IoU 0.9987; found by an
-    // exploratory session).
+    // The same where the displaced surface itself lies on the base mesh, whatever the shell: a
+    // height map that is midlevel everywhere (builtin:const:0 at midlevel 0), whose tight shell has
+    // no thickness at any depth (the rock at depth 1e-3: 10 pinholes at 256x192, IoU 0.9987, and
+    // at the default depth too; found by an exploratory session). The reach is the height range's
+    // furthest texel from the midlevel.
     const auto flat_shell = [&](const GpuObject& o) {
-        const double top = settings.full_shell ? 1.0 : double(std::min(o.tight_top_max, 1.0f));
-        const double reach = double(o.depth) * std::max(double(o.midlevel), top - double(o.midlevel));
+        const double m = double(o.midlevel);
+        const double surface = std::max(std::abs(double(o.height_low) - m), std::abs(double(o.height_high) - m));
+        const double reach = double(o.depth) * std::min(surface, std::max(m, 1.0 - m));
         return prism && reach <= 1e-6 * double(o.shell_radius);
     };
     DrawSettings flat_settings = settings;

@@ -197,14 +197,12 @@ private:
         // them to find a prism that holds the eye (find_eye_prism).
         std::vector<std::uint32_t> triangles;
         std::vector<glm::vec4> shell_corners;
-        // The highest tight top of any vertex (height units; 1 before the corners are made): a tight
-        // shell no higher than its bottom over the whole object (builtin:const:0) has no thickness.
-        float tight_top_max = 1.0f;
         PrismBlocks eye_blocks;
         std::vector<Geometry> reference; // chunks of the tessellated ground truth
         GLuint height_texture = 0; // owned by texture_cache_
         GLuint color_texture = 0;  // 0: plain base colour
         std::shared_ptr<const HeightField> height_field; // for cone maps, built on demand
+        float height_low = 0.0f, height_high = 1.0f;      // its lowest and highest texel
         GLuint aux_texture[3] = {0, 0, 0}; // cone, relaxed cone, max pyramid; owned by aux_cache_
         glm::ivec2 height_size{0};
         // Copied from the SceneObject, so the Scene need not outlive the upload.

@@ -48,7 +48,9 @@ Scene load_scene(const SceneSpec& spec)
 {
     if (spec.objects.empty()) throw Error("--mesh", "no mesh given");
     Scene scene;
-    std::map<std::string, std::shared_ptr<const PreparedMesh>> meshes;
+    std::map<std::string, PreparedMesh> meshes;  // read, and named again by a later object
+    std::map<std::string, std::size_t> uses;     // objects still to come that name each file
+    for (const ObjectSpec& o : spec.objects) ++uses[o.mesh];
     std::map<std::string, std::shared_ptr<const HeightField>> heights;
     std::map<std::string, std::shared_ptr<const RgbaImage>> colors;
     Box all;
@@ -65,10 +67,17 @@ Scene load_scene(const SceneSpec& spec)
         SceneObject obj;
         obj.mesh_name = o.mesh;
         // Each file read and prepared once (a scene of 60 objects of one 1M-triangle mesh read it
-        // 60 times: over two minutes; found by an exploratory session); each object its copy.
-        auto& m = meshes[o.mesh];
-        if (!m) m = std::make_shared<const PreparedMesh>(placed(o.mesh_place, [&] { return load_mesh(o.mesh, spec.mesh_options); }));
-        obj.mesh = *m;
+        // 60 times: over two minutes; found by an exploratory session); each object its copy,
+        // the last one naming it the mesh itself (one object: no copy at all).
+        auto found = meshes.find(o.mesh);
+        if (found == meshes.end())
+            found = meshes.emplace(o.mesh, placed(o.mesh_place, [&] { return load_mesh(o.mesh, spec.mesh_options); })).first;
+        if (--uses[o.mesh] == 0) {
+            obj.mesh = std::move(found->second);
+            meshes.erase(found);
+        } else {
+            obj.mesh = found->second;
+        }
         auto& h = heights[o.height];
         if (!h)
             h = placed(o.height_place,
@@ -81,8 +90,17 @@ Scene load_scene(const SceneSpec& spec)
                            [&] { return std::make_shared<RgbaImage>(load_color(o.color, spec.image_limits)); });
             obj.color = c;
         }
-        // (A mesh far from its file's origin is kept relative to PreparedMesh::origin.)
+        // (A mesh far from its file's origin is kept relative to PreparedMesh::origin.) Positions
+        // past 1e15 are refused as a scene's translations are: doubles there are 0.125 apart.
         obj.transform = o.transform * glm::translate(glm::dmat4(1.0), obj.mesh.origin);
+        if (const glm::dvec3 at(obj.transform[3]);
+            std::max({std::abs(at.x), std::abs(at.y), std::abs(at.z)}) > 1e15) {
+            char where[96];
+            std::snprintf(where, sizeof where, "%.6g, %.6g, %.6g", at.x, at.y, at.z);
+            throw Error(o.mesh_place.empty() ? o.mesh : o.mesh_place,
+                        std::string("the object lies more than 1e15 scene units from the origin (its centre at ") + where +
+                            "), past the renderer's precision: move it nearer");
+        }
         // A mirroring transform (negative determinant) turns the triangles' winding: counter-
         // clockwise seen from outside in the mesh becomes clockwise in world space, where faces
         // are judged (culling, gl_FrontFacing, the prism's faces and walk). Each triangle reversed

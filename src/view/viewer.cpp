@@ -205,7 +205,7 @@ private:
     // Displacement as loaded (per object) and the panel's edits of it.
     std::vector<float> base_depth_;
     std::vector<float> base_midlevel_;
-    float base_radius_ = 1.0f;
+    double base_radius_ = 1.0; // the scene's shell radius at the depth it was loaded with
     float depth_ = 0.0f;    // object 0's depth; other objects scale with it
     float midlevel_ = 0.0f; // every object's
 
@@ -757,7 +757,7 @@ void Viewer::draw_panel()
         }
     }
     if (ImGui::CollapsingHeader("Scene", ImGuiTreeNodeFlags_DefaultOpen)) {
-        const float max_depth = std::max(4.0f * (base_depth_.empty() ? 0.0f : base_depth_[0]), 0.1f * base_radius_);
+        const float max_depth = std::max(4.0f * (base_depth_.empty() ? 0.0f : base_depth_[0]), float(0.1 * base_radius_));
         bool disp = ImGui::SliderFloat("depth", &depth_, 0.0f, max_depth, "%.4f");
         disp |= ImGui::SliderFloat("midlevel", &midlevel_, 0.0f, 1.0f, "%.2f");
         if (disp) apply_displacement();

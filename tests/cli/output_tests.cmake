@@ -262,6 +262,10 @@ pr_output_cli(conemap_out_is_the_cache_folder_refused EXIT 1 ONE_LINE
               STDERR "${E}cz: is the cone-map cache's folder \\(cz\\), which the run creates: name a file, or another --cache-dir"
               SETUP "rm -rf cz" AFTER "test ! -e cz"
               ARGS conemap --height builtin:noise@512 --kind relaxed --out cz --cache-dir cz)
+pr_output_cli(conemap_out_above_the_cache_folder_refused EXIT 1 ONE_LINE
+              STDERR "${E}cz: is a folder the cone-map cache is in \\(cz/sub\\), which the run creates"
+              SETUP "rm -rf cz" AFTER "test ! -e cz"
+              ARGS conemap --height builtin:noise@64 --out cz --cache-dir cz/sub)
 pr_output_cli(render_out_is_the_cache_entries_folder_refused EXIT 1 ONE_LINE
               STDERR "${E}xdg/prismrelief/cone: is the cone-map cache's entries' folder \\(/.*/xdg/prismrelief/cone\\)"
               ENV XDG_CACHE_HOME=${PR_CLI_WORK}/render_out_is_the_cache_entries_folder_refused/xdg

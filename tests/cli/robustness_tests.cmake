@@ -319,6 +319,15 @@ pr_cli_special(scene_depth_shell_overflows EXIT 1 ONE_LINE NO_FILE o.png
                SETUP "printf '{\"objects\":[{\"mesh\":\"${M}/torus.obj\",\"depth\":1.2e22}]}' > d.json"
                STDERR "${E}d.json: objects\\[0\\].depth: the object's displacement shell is too large for the renderer's single precision"
                ARGS render --scene d.json --technique flat --size 32x32 --out o.png)
+pr_cli_special(compare_tight_shell_over_8_bit_black EXIT 0 STDOUT "prism +(1\\.0000|0\\.9999) +[01] "
+               SETUP "printf 'P5\\n64 64\\n255\\n' > z.pgm && head -c 4096 /dev/zero >> z.pgm"
+               ARGS compare --mesh ${M}/rock.obj --height z.pgm --depth 3e-3 --size 256x192 --techniques prism)
+# A mesh whose file puts it past 1e15 from the origin, as a translation there is refused (it is
+# recentred from its double positions since the seventeenth session, and drew a speck).
+pr_cli_special(mesh_past_1e15_refused EXIT 1 ONE_LINE NO_FILE o.png
+               SETUP "printf 'v 1e16 0 0\\nv 1.0000000001e16 0 0\\nv 1e16 1 0\\nvt 0 0\\nvt 1 0\\nvt 0 1\\nf 1/1 2/2 3/3\\n' > f.obj"
+               STDERR "${E}f.obj: the object lies more than 1e15 scene units from the origin \\(its centre at 1e\\+16, 0.5, 0\\)"
+               ARGS render --mesh f.obj --size 16x16 --out o.png)
 # An object beyond the sizes single precision draws (a triangle 1e19 or 1e-23 units across in
 # its file) drew nothing with every technique, exit 0, warning to check the camera.
 foreach(size 1e19 1e-23)

@@ -1387,7 +1387,7 @@ TEST(MeshErrors, StlFacetWithFourVerticesIsRefused)
     const std::size_t end = four.find("    endloop");
     four.insert(end, "      vertex 2 2 2\n");
     const fs::path p = dir.write("q.stl", four);
-    EXPECT_ERROR_MENTIONS(load_error(p), p, "line 7: a facet with more than 3 vertices (STL facets are triangles)");
+    EXPECT_ERROR_MENTIONS(load_error(p), p, "line 7: a vertex beyond the three after 'outer loop' (STL facets are triangles)");
 }
 
 TEST(MeshErrors, HexadecimalNumbersAreRefused)
