@@ -94,14 +94,18 @@ double ring_area2(const std::vector<dvec2>& q, const std::vector<uint32_t>& r)
 // points they pass twice, add up to no more than MeshOptions::ear_clip_work (2^30, 1.2 s here;
 // a 4096-corner star takes 30-50 ms of it). What is left of a concave polygon past either limit
 // becomes a fan, which may cover area outside its outline; the caller warns. A strictly convex
-// polygon is its fan, at any size, and costs nothing. (Before the fifteenth session polygons of up to 64 corners were
+// polygon is its fan (from 8 corners on, rounds of ears: below), at any size, and costs nothing. (Before the fifteenth session polygons of up to 64 corners were
 // clipped whatever they cost: up to 64^3 visits each, and the triangle limit lets a mesh hold
 // 160,000 of them, some 4·10^10 visits at worst.)
 constexpr size_t kEarClipCorners = 4096;
+// Strictly convex polygons of this many corners or more are cut into a strip, not a fan (below);
+// smaller ones keep the fan from their first corner (quads and the like: the same triangles as
+// before the seventeenth session).
+constexpr size_t kStripCorners = 8;
 
 // Triangulates polygon `face` (n >= 3 corners, positions in `p`) into local corner triples.
 // Ear clipping in the plane of the Newell normal, so concave polygons come out right; a convex
-// polygon gives the fan from its first corner. Self-intersecting polygons, and concave ones past
+// polygon gives the fan from its first corner (from kStripCorners corners on, rounds of ears). Self-intersecting polygons, and concave ones past
 // the limits above (`work_left` is what is left of the budget), fall back to a fan: returns
 // false for those past the limits.
 //
@@ -149,7 +153,27 @@ bool triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
     for (size_t i = 0; i < n && convex; ++i)
         convex = cross2(q[(i + 1) % n] - q[i], q[(i + 2) % n] - q[(i + 1) % n]) > 0.0;
     if (convex) {
-        fan(whole);
+        if (n < kStripCorners) {
+            fan(whole);
+            return true;
+        }
+        // Every other corner cut off as an ear, round after round on the corners left: triangles
+        // of the polygon's own scale inside, slivers only along its rim, and no corner in more
+        // than about two per round. The fan put every triangle around the first corner, a sliver
+        // each, and a ray in the prism's walk crosses them one by one. In ring order each
+        // triangle keeps the polygon's orientation.
+        std::vector<uint32_t> ring = whole, next;
+        while (ring.size() > 3) {
+            next.clear();
+            size_t c = 0;
+            for (; c + 2 < ring.size(); c += 2) {
+                out.push_back({ring[c], ring[c + 1], ring[c + 2]});
+                next.push_back(ring[c]);
+            }
+            for (; c < ring.size(); ++c) next.push_back(ring[c]);
+            ring.swap(next);
+        }
+        out.push_back({ring[0], ring[1], ring[2]});
         return true;
     }
     if (n > kEarClipCorners) {

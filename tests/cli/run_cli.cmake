@@ -41,6 +41,9 @@ string(REPLACE "|" ";" ARGS "${ARGS}")
 string(REPLACE "|" ";" WRAPPER "${WRAPPER}")
 execute_process(COMMAND ${WRAPPER} ${EXE} ${ARGS} WORKING_DIRECTORY ${WORKDIR} TIMEOUT ${TIMEOUT}
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+# Progress notes come only when a task runs past 10 s, as a cone map's build does under the
+# sanitizers: what the checks below ask of stderr does not count them.
+string(REGEX REPLACE "prismrelief: note: [^\n]*\n" "" err "${err}")
 set(ctx "command: prismrelief ${ARGS}\nexit: ${rc}\nstdout:\n${out}\nstderr:\n${err}")
 if(NOT "${rc}" STREQUAL "${EXPECT_EXIT}")
     message(FATAL_ERROR "expected exit ${EXPECT_EXIT}\n${ctx}")
