@@ -41,9 +41,11 @@ void main()
     PR_TECHNIQUE == PR_TECH_CONE || PR_TECHNIQUE == PR_TECH_RELAXED_CONE
     // The view ray in texture space: solve view = d.x T + d.y B + d.z (depth N).
     mat3 frame = mat3(t_axis, b_axis, n_geom * depth);
+    float scale = frame_scale(frame); // (the solution does not change: height.glsl)
+    frame *= scale;
     float det = determinant(frame);
     if (depth > 0.0 && abs(det) > 1e-30) {
-        vec3 d = inverse(frame) * view;
+        vec3 d = inverse(frame) * (scale * view);
         // Descent per unit of height: at s the ray is at uv + (1 - s) * slope. A ray parallel to
         // the surface would never descend; clamp so uv stays finite at grazing angles.
         float descent = max(-d.z, 1e-6 * length(d.xy) + 1e-12);

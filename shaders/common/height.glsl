@@ -120,3 +120,16 @@ vec3 height_normal(vec2 uv, vec3 t, vec3 b, vec3 n_geom, float depth)
     n /= len;
     return dot(n, n_geom) < 0.0 ? -n : n;
 }
+
+// A power of two that brings the texture-space frame (t, b, n depth) to a largest component in
+// [1, 2): inverse(s F) * (s v) is inverse(F) * v to the bit (powers of two scale exactly), and the
+// frame's determinant, which grows as the object's scale cubed, stays in float range. Unscaled,
+// it fell under the degenerate test (1e-30) for objects scaled by 1e-10 and overflowed past 1e13:
+// the parallax techniques drew plain normal mapping there, and the light's march had no
+// direction (found by an exploratory session, seventeenth session).
+float frame_scale(mat3 frame)
+{
+    vec3 m = max(max(abs(frame[0]), abs(frame[1])), abs(frame[2]));
+    float largest = max(max(m.x, m.y), m.z);
+    return largest > 0.0 ? exp2(-floor(log2(largest))) : 1.0;
+}

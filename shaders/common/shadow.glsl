@@ -21,7 +21,8 @@ float light_visibility(vec3 tex, vec3 l_tex, UvGrad g)
     // height range for ever (or comes from under the surface, through the object's body), so
     // it is blocked. (It used to count as unblocked: bump flanks facing such a light stayed lit,
     // and a sphere's night side showed them, shadows on or off.)
-    if (l_tex.z <= 1e-6) return 0.0;
+    // (Against the light's run: l_tex's length goes as one over the object's scale.)
+    if (l_tex.z <= 1e-6 * length(l_tex.xy)) return 0.0;
 #ifdef PR_HEIGHT_FROM_CONE
     // The cone marchers' refinement may end a little under the surface (a sample under it where
     // the secant meets it within relief's precision), which on a steep wall of boxes is far under
@@ -75,6 +76,8 @@ float light_visibility(vec3 tex, vec3 l_tex, UvGrad g)
 vec3 light_in_texture_space(vec3 t_axis, vec3 b_axis, vec3 n, float depth, vec3 light_dir)
 {
     mat3 frame = mat3(t_axis, b_axis, n * depth);
+    float scale = frame_scale(frame); // (the solution does not change: height.glsl)
+    frame *= scale;
     if (!(abs(determinant(frame)) > 1e-30)) return vec3(0.0, 0.0, 1.0);
-    return inverse(frame) * light_dir;
+    return inverse(frame) * (scale * light_dir);
 }

@@ -435,3 +435,39 @@ TEST(Reference, MeshFilesInGeographicCoordinatesDrawAsAtTheOrigin)
     EXPECT_GT(compare_frames(ref, ref0).iou, 0.999);
     EXPECT_GT(compare_frames(prism, prism0).iou, 0.999);
 }
+
+// The parallax techniques and the light's march solve for the view (and light) ray in the frame
+// (T, B, N depth), whose determinant grows as the object's scale cubed: under about 1e-10 it fell
+// under the degenerate test and past about 1e13 it overflowed, and relief, cone, pom and steep
+// drew plain normal mapping, exit 0 (found by an exploratory session). The frame is brought to
+// unit scale by a power of two first (frame_scale, height.glsl): the same picture at any scale,
+// and at scale 1 the same bits as before.
+TEST(Reference, ParallaxHoldsAtAnyScale)
+{
+    prtest::context();
+    const auto draw = [](double scale, Technique t, Shadows shadows) {
+        const auto [scene, c] = framed_object("torus.obj", "builtin:bumps@64", std::nullopt,
+                                              glm::scale(glm::dmat4(1.0), glm::dvec3(scale)));
+        Renderer r(kSize, kSize);
+        r.upload(scene);
+        DrawSettings s;
+        s.technique = t;
+        s.shadows = shadows;
+        r.draw(c, glm::vec3(-0.4f, 0.75f, 0.55f), s);
+        return r.read_color();
+    };
+    for (const Technique t : {Technique::Relief, Technique::Cone}) {
+        for (const Shadows shadows : {Shadows::None, Shadows::Hard}) {
+            const RgbaImage one = draw(1.0, t, shadows);
+            EXPECT_NE(one.pixels, draw(1.0, Technique::Normal, Shadows::None).pixels);
+            for (const double scale : {1e-10, 1e-13, 1e13, 1e15}) {
+                const RgbaImage scaled = draw(scale, t, shadows);
+                ASSERT_EQ(scaled.pixels.size(), one.pixels.size());
+                std::size_t off = 0;
+                for (std::size_t i = 0; i < one.pixels.size(); ++i)
+                    off += std::abs(int(one.pixels[i]) - int(scaled.pixels[i])) > 2;
+                EXPECT_LT(off, one.pixels.size() / 200) << technique_name(t) << " " << scale << " shadows " << int(shadows);
+            }
+        }
+    }
+}
