@@ -1285,30 +1285,25 @@ std::optional<bool> prime_off_reader(string_view text, const fs::path& path)
 } // namespace
 
 // A mesh far from its file's origin (geographic coordinates: a 3-unit torus at 5e6) is kept
-// relative to its box's centre, taken in double from the positions the scan read (in the
-// reader's order; none where it read none: binary files, whose floats are all there is). From
+// relative to its box's centre, taken in double from the positions the scan read (`precise`, in
+// the reader's order; none where it read none: binary files, whose floats are all there is). From
 // float positions 0.5 apart a torus there lost half its triangles as degenerate, and drew with
 // IoU 0.77. Only a mesh whose centre has a coordinate more than 4 times its box's longest side:
-// every other keeps the reader's floats as they are, to the bit. far_centre() says whether, right
-// after the scan (the positions are dropped before OpenMesh reads where not: 24 bytes a vertex).
-std::optional<glm::dvec3> far_centre(const std::vector<glm::dvec3>& precise)
+// every other keeps the reader's floats as they are, to the bit. The box is the faces' corners'
+// (an unused vertex at the file's origin, a marker, kept the torus from being recentred).
+void recentre(RawMesh& mesh, const std::vector<glm::dvec3>& precise)
 {
-    if (precise.empty()) return std::nullopt;
+    if (precise.empty() || precise.size() != mesh.positions.size()) return;
     glm::dvec3 lo(INFINITY), hi(-INFINITY);
-    for (const glm::dvec3& p : precise) {
-        lo = glm::min(lo, p);
-        hi = glm::max(hi, p);
+    for (const std::uint32_t v : mesh.corners) {
+        lo = glm::min(lo, precise[v]);
+        hi = glm::max(hi, precise[v]);
     }
+    if (!(lo.x <= hi.x)) return; // no corners
     const glm::dvec3 centre = 0.5 * (lo + hi);
     const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
     const double far = std::max({std::abs(centre.x), std::abs(centre.y), std::abs(centre.z)});
-    if (!(far > 4.0 * extent)) return std::nullopt;
-    return centre;
-}
-
-void recentre(RawMesh& mesh, const std::vector<glm::dvec3>& precise, const glm::dvec3& centre)
-{
-    if (precise.size() != mesh.positions.size()) return;
+    if (!(far > 4.0 * extent)) return;
     mesh.origin = centre;
     for (size_t i = 0; i < precise.size(); ++i) mesh.positions[i] = glm::vec3(precise[i] - centre);
 }
@@ -1350,8 +1345,6 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
         expect = scan_stl(subject, text, options);
     }
     if (expect.file_faces == 0) fail(subject, "contains no faces");
-    const std::optional<glm::dvec3> centre = far_centre(expect.positions);
-    if (!centre) std::vector<glm::dvec3>().swap(expect.positions);
 
     if (ext == ".obj") drop_obj_material_libraries(text); // after the scan: its line numbers
     for (const auto& [at, length] : expect.stl_names) text.replace(at, length, length, ' ');
@@ -1431,7 +1424,8 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
             fail(subject,
                  "vertex " + std::to_string(i) + " has a coordinate that is not a finite number");
     }
-    if (centre) recentre(mesh, expect.positions, *centre);
+    recentre(mesh, expect.positions);
+    std::vector<glm::dvec3>().swap(expect.positions);
     if (mesh.face_count() == 0)
         fail(subject, mesh.collapsed_faces > 0 ? "all " + std::to_string(mesh.collapsed_faces) +
                                                      " faces are degenerate (repeated vertices)"

@@ -1533,6 +1533,14 @@ TEST(MeshLoad, FarPositionsAreKeptRelativeToTheMeshsCentre)
         EXPECT_NEAR(glm::distance(glm::dvec3(m.bbox_min), glm::dvec3(-0.125)), 0.0, 1e-6) << name;
         EXPECT_NEAR(glm::distance(glm::dvec3(m.bbox_max), glm::dvec3(0.125)), 0.0, 1e-6) << name;
     }
+    // An unused vertex at the file's origin (a marker) does not count: the box is the faces'.
+    {
+        ::testing::internal::CaptureStderr();
+        const pr::PreparedMesh m = pr::load_mesh(dir.write("marker.obj", files(at)[0].second + "v 0 0 0\n"));
+        ::testing::internal::GetCapturedStderr();
+        EXPECT_NEAR(glm::distance(m.origin, at + glm::dvec3(0.125)), 0.0, 1e-9);
+        EXPECT_EQ(m.dropped_triangles, 0u);
+    }
     for (const auto& [name, text] : files(glm::dvec3(0.5, -0.25, 0.75))) { // within 4 extents
         ::testing::internal::CaptureStderr();
         const pr::PreparedMesh m = pr::load_mesh(dir.write(name, text));
