@@ -1588,3 +1588,23 @@ TEST(MeshLoad, LargeConvexPolygonsAreNotFans)
     EXPECT_NEAR(area, 0.5 * n * std::sin(2.0 * 3.14159265358979323846 / n), 1e-6);
     EXPECT_LE(*std::max_element(around.begin(), around.end()), 24); // the fan: 998
 }
+
+// Degenerate triangles of a mesh far from the origin for its size, in a file of floats: the
+// warning says why (a binary or ASCII STL in geographic coordinates lost half a torus's triangles
+// with no word of the cause; found by an exploratory session).
+TEST(MeshLoad, DegenerateTrianglesFromCoarseFloatsSaySo)
+{
+    TempDir dir;
+    const std::string stl = "solid far\n"
+                            "facet normal 0 0 1\nouter loop\nvertex 10000000 0 0\nvertex 10000002 0 0\nvertex 10000000 2 0\nendloop\nendfacet\n"
+                            "facet normal 0 0 1\nouter loop\nvertex 10000000 3 0\nvertex 10000000.3 3 0\nvertex 10000000 4 0\nendloop\nendfacet\n"
+                            "endsolid far\n";
+    ::testing::internal::CaptureStderr();
+    const pr::PreparedMesh m = pr::load_mesh(dir.write("far.stl", stl));
+    const std::string warnings = ::testing::internal::GetCapturedStderr();
+    EXPECT_EQ(m.dropped_triangles, 1u);
+    EXPECT_NE(warnings.find("dropped 1 degenerate (zero-area) triangle (its coordinates are far from the origin for "
+                            "its size, beyond what its file's 32-bit floats keep"),
+              std::string::npos)
+        << warnings;
+}
