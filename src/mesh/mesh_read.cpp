@@ -702,6 +702,11 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
         if (el.name == "face") face = &el;
     }
     if (!vertex) fail(subject, "PLY header declares no vertex element");
+    // OpenMesh reads the faces as they come, against the vertices read so far: faces first read as
+    // "face 0 has an out-of-range vertex index 0 (the file has 0 vertices)" (found by an
+    // exploratory session).
+    if (face && face < vertex)
+        fail(subject, "PLY element 'face' comes before 'vertex', which the reader cannot take (put the vertices first)");
     bool has_xyz[3] = {false, false, false};
     size_t xyz_at[3] = {0, 0, 0}; // the properties' places on an ASCII vertex line
     for (size_t k = 0; k < vertex->properties.size(); ++k) {

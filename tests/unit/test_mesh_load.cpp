@@ -1608,3 +1608,12 @@ TEST(MeshLoad, DegenerateTrianglesFromCoarseFloatsSaySo)
               std::string::npos)
         << warnings;
 }
+
+TEST(MeshErrors, PlyFacesBeforeVerticesAreNamed)
+{
+    TempDir dir;
+    const fs::path p = dir.write("fv.ply", "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                           "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                                           "end_header\n3 0 1 2\n0 0 0\n1 0 0\n0 1 0\n");
+    EXPECT_ERROR_MENTIONS(load_error(p), p, "PLY element 'face' comes before 'vertex', which the reader cannot take");
+}
