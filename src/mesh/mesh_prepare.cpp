@@ -98,7 +98,7 @@ double ring_area2(const std::vector<dvec2>& q, const std::vector<uint32_t>& r)
 // clipped whatever they cost: up to 64^3 visits each, and the triangle limit lets a mesh hold
 // 160,000 of them, some 4·10^10 visits at worst.)
 constexpr size_t kEarClipCorners = 4096;
-// Strictly convex polygons of this many corners or more are cut into a strip, not a fan (below);
+// Strictly convex polygons of this many corners or more are cut by rounds of ears, not fanned (below);
 // smaller ones keep the fan from their first corner (quads and the like: the same triangles as
 // before the seventeenth session).
 constexpr size_t kStripCorners = 8;
