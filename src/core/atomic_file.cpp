@@ -141,20 +141,32 @@ bool is_descriptor_link(const fs::path& link)
     return number(rest.substr(0, slash)) && rest.substr(slash, 6) == "/task/" && number(rest.substr(slash + 6));
 }
 
-// The descriptor link (is_descriptor_link) on the way from `path` to the file it names, if any.
-std::optional<fs::path> descriptor_link_of(const fs::path& path)
+// Follows the symbolic link at `path` through further links (40 at most, Linux's own limit before
+// ELOOP) to what is no link, or to the first link at which stop(link, its lstat) holds, or to one
+// that cannot be read; returns where it ended.
+template <class Stop>
+fs::path follow_links(const fs::path& path, Stop&& stop)
 {
     fs::path p = path;
     for (int hops = 0; hops < 40; ++hops) {
         struct stat st;
-        if (::lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) return std::nullopt;
-        if (is_descriptor_link(p)) return p;
+        if (::lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode) || stop(p, st)) return p;
         std::error_code ec;
         const fs::path to = fs::read_symlink(p, ec);
-        if (ec) return std::nullopt;
+        if (ec) return p;
         p = to.is_absolute() ? to : p.parent_path() / to;
     }
-    return std::nullopt;
+    return p;
+}
+
+// The descriptor link (is_descriptor_link) on the way from `path` to the file it names, if any.
+std::optional<fs::path> descriptor_link_of(const fs::path& path)
+{
+    bool found = false;
+    const fs::path p = follow_links(path, [&found](const fs::path& link, const struct stat&) {
+        return found = is_descriptor_link(link);
+    });
+    return found ? std::optional<fs::path>(p) : std::nullopt;
 }
 
 // The file a write to `path` replaces: `path`, or the file a symbolic link there names (through
@@ -164,16 +176,7 @@ std::optional<fs::path> descriptor_link_of(const fs::path& path)
 // returned, which check_destination() refuses.
 fs::path destination_of(const fs::path& path)
 {
-    fs::path p = path;
-    for (int hops = 0; hops < 40; ++hops) { // Linux's own limit before ELOOP
-        struct stat st;
-        if (::lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode) || !may_follow(p, st)) return p;
-        std::error_code ec;
-        const fs::path to = fs::read_symlink(p, ec);
-        if (ec) return p;
-        p = to.is_absolute() ? to : p.parent_path() / to;
-    }
-    return p;
+    return follow_links(path, [](const fs::path& link, const struct stat& st) { return !may_follow(link, st); });
 }
 
 // check_output_folder() for `path`, whose write replaces `target` (destination_of(path)).
