@@ -78,9 +78,7 @@ CommandAction add_conemap_command(CLI::App& app)
         std::vector<NamedPath> inputs = {{"--height", s->height}};
         for (NamedPath& shader : shader_override_inputs()) inputs.push_back(std::move(shader));
         check_distinct_outputs({{"--out", s->out}, {"--json", s->json}}, inputs);
-        if (!s->no_cache)
-            check_outputs_outside_cache({{"--out", s->out}, {"--json", s->json}},
-                                        s->cache_dir.empty() ? default_cache_dir(false) : std::filesystem::path(s->cache_dir));
+        if (!s->no_cache) check_outputs_outside_cache({{"--out", s->out}, {"--json", s->json}}, s->cache_dir);
         // A GPU build loads Mesa on another thread (about 75 ms of its fixed cost on the 2-core
         // machine) while the CPU does its share: with --no-cache, from before the height map is
         // read; else once the cache has missed (build, below), while the max pyramid is built. Not

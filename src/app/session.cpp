@@ -48,9 +48,7 @@ Session open_session(const SceneOptions& options, const std::vector<NamedPath>& 
                                      {"--color", options.color}};
     for (NamedPath& shader : shader_override_inputs()) inputs.push_back(std::move(shader));
     check_distinct_outputs(outputs, inputs);
-    if (!options.no_cache)
-        check_outputs_outside_cache(outputs, options.cache_dir.empty() ? default_cache_dir(false)
-                                                                       : std::filesystem::path(options.cache_dir));
+    if (!options.no_cache) check_outputs_outside_cache(outputs, options.cache_dir);
     s.spec = make_scene_spec(options);
     check_distinct_outputs(outputs, scene_file_inputs(options, s.spec));
     if (check_spec) check_spec(s.spec);

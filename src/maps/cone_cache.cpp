@@ -196,9 +196,11 @@ std::filesystem::path default_cache_dir(bool warn_if_none)
 }
 
 void check_outputs_outside_cache(const std::vector<std::pair<std::string, std::filesystem::path>>& outputs,
-                                 const std::filesystem::path& dir)
+                                 const std::filesystem::path& cache_dir_flag)
 {
     namespace fs = std::filesystem;
+    // (Its warning, if there is no default place, comes where the cache is used.)
+    const fs::path dir = cache_dir_flag.empty() ? default_cache_dir(false) : cache_dir_flag;
     if (dir.empty()) return;
     // Compared as absolute paths with the links that exist resolved: `--out ./c --cache-dir c`.
     // An output that is already a regular file is left to the output's own checks.

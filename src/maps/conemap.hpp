@@ -151,13 +151,14 @@ double relaxed_constraint(const HeightField& field, int px, int py, int dx, int 
 // returns it, with one warning, when neither variable is an absolute path).
 // `warn_if_none`: false to ask where the cache would be without saying there is none.
 std::filesystem::path default_cache_dir(bool warn_if_none = true);
-// Refuses an output that is the cache's folder, its entries' folder (`dir`/cone) or a folder on
+// Refuses an output that is the cache's folder, its entries' folder (DIR/cone) or a folder on
 // the way to them, and is not a file yet, before the work: the cache creates them, and the output
 // check, which found no file there, passed, so the run built the map, filled the cache and only
 // then failed ("cz: is a folder"). `outputs` pair an option with its path (empty paths skipped);
-// an empty `dir` is no cache. Throws pr::Error naming the output.
+// `cache_dir_flag` is --cache-dir's value, empty for the default place (default_cache_dir()).
+// Callers with --no-cache do not ask. Throws pr::Error naming the output.
 void check_outputs_outside_cache(const std::vector<std::pair<std::string, std::filesystem::path>>& outputs,
-                                 const std::filesystem::path& dir);
+                                 const std::filesystem::path& cache_dir_flag);
 struct ConeCacheResult {
     ConeMap map;
     bool from_cache = false;
