@@ -3,6 +3,7 @@
 #include "core/camera.hpp"
 #include "core/error.hpp"
 #include "core/input_file.hpp"
+#include "core/transform.hpp"
 #include "core/image.hpp"
 
 #include <nlohmann/json.hpp>
@@ -39,12 +40,6 @@ float finite(double v, const std::string& what)
         throw Error(what, "must be at most 3.4e38 in magnitude (the renderer's single precision)");
     return static_cast<float>(v);
 }
-
-// Positions (eye, target, translations) and scales beyond this lose all meaning in the renderer:
-// positions are double (at 1e15 neighbouring doubles are 0.125 apart), scales reach the shaders'
-// 32-bit floats, and the products of two such coordinates (lengths, clip planes) overflow floats
-// near 1e19. An eye at 1e30 rendered an empty image.
-constexpr double kMaxCoordinate = 1e15;
 
 std::string number_text(double v)
 {

@@ -63,13 +63,16 @@ CommandAction add_render_command(CLI::App& app)
             if (offsets.size() > 1) resolve.add(renderer.read_color());
         }
         const RgbaImage image = offsets.size() > 1 ? resolve.result() : renderer.read_color();
+        // Covered pixels (alpha >= 128), and whether any alpha at all: an empty picture is a valid
+        // one (a view away from the scene), but rarely the one meant (with --msaa a sliver may
+        // cover a fraction of a pixel: any alpha counts).
         std::size_t covered = 0;
-        for (std::size_t i = 3; i < image.pixels.size(); i += 4) covered += image.pixels[i] >= 128;
-        write_png(s->out, image);
-        // An empty picture is a valid one (a view away from the scene), but rarely the one meant.
-        // (With --msaa a sliver may cover a fraction of a pixel: any alpha counts.)
         bool any = false;
-        for (std::size_t i = 3; i < image.pixels.size() && !any; i += 4) any = image.pixels[i] > 0;
+        for (std::size_t i = 3; i < image.pixels.size(); i += 4) {
+            covered += image.pixels[i] >= 128;
+            any = any || image.pixels[i] > 0;
+        }
+        write_png(s->out, image);
         if (!any)
             warn(s->out + ": nothing was drawn: the scene is out of view or covers no pixel centre "
                           "(check the camera, --fovy and --size)");

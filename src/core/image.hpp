@@ -67,12 +67,13 @@ RgbaImage load_color(const std::string& spec, const ImageLimits& limits = {});
 std::vector<std::string> builtin_height_names();
 std::vector<std::string> builtin_color_names();
 
-// Encodes `image` (bottom row first) as PNG, top row first as files store it.
 // Whether stb can encode a width x height RGBA PNG: it filters the rows into one buffer whose size,
 // (4 width + 1) height bytes, it keeps in an int (past 2 GiB it wrapped, and the buffer it
 // allocated was too small for the rows written into it), and so the compressed stream's, which
 // may be 9/8 of it.
 bool png_encodable(int width, int height);
+// Encodes `image` (bottom row first) as PNG, top row first as files store it; refuses an image
+// png_encodable() says no to.
 std::vector<std::uint8_t> encode_png(const RgbaImage& image);
 // The same, for the file `path`: a failure is reported under that name (a staged write).
 std::vector<std::uint8_t> encode_png_for(const std::filesystem::path& path, const RgbaImage& image);

@@ -12,6 +12,13 @@
 
 namespace pr {
 
+// Positions (eye, target, translations, where a mesh lies) and scales beyond this lose all
+// meaning in the renderer: positions are double (at 1e15 neighbouring doubles are 0.125 apart),
+// scales reach the shaders' 32-bit floats, and the products of two such coordinates (lengths,
+// clip planes) overflow floats near 1e19. An eye at 1e30 rendered an empty image. The options
+// refuse flags and scene values past it, load_scene an object its mesh's own file puts there.
+inline constexpr double kMaxCoordinate = 1e15;
+
 // An object's own frame: its transform without the translation, in float, as the shaders draw it
 // (Renderer::upload_object); the translation stays double (GpuObject::origin), so large world
 // coordinates cancel before anything is rounded (an object 10^7 out draws as one at the origin).

@@ -101,11 +101,11 @@ constexpr size_t kEarClipCorners = 4096;
 // Strictly convex polygons of this many corners or more are cut by rounds of ears, not fanned (below);
 // smaller ones keep the fan from their first corner (quads and the like: the same triangles as
 // before the seventeenth session).
-constexpr size_t kStripCorners = 8;
+constexpr size_t kEarRoundCorners = 8;
 
 // Triangulates polygon `face` (n >= 3 corners, positions in `p`) into local corner triples.
 // Ear clipping in the plane of the Newell normal, so concave polygons come out right; a convex
-// polygon gives the fan from its first corner (from kStripCorners corners on, rounds of ears). Self-intersecting polygons, and concave ones past
+// polygon gives the fan from its first corner (from kEarRoundCorners corners on, rounds of ears). Self-intersecting polygons, and concave ones past
 // the limits above (`work_left` is what is left of the budget), fall back to a fan: returns
 // false for those past the limits.
 //
@@ -153,7 +153,7 @@ bool triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
     for (size_t i = 0; i < n && convex; ++i)
         convex = cross2(q[(i + 1) % n] - q[i], q[(i + 2) % n] - q[(i + 1) % n]) > 0.0;
     if (convex) {
-        if (n < kStripCorners) {
+        if (n < kEarRoundCorners) {
             fan(whole);
             return true;
         }
@@ -693,7 +693,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         const double lengths = glm::length(n) * glm::length(m);
         return lengths > 0.0 && glm::dot(n, m) > (1.0 - 1e-6) * lengths;
     };
-    std::vector<uint64_t> overlaps; // edges (keys without direction) of two such triangles
+    std::vector<uint64_t> overlaps; // edges (keys without direction) of two such triangles, ascending (as `sides`)
     if (weld_count < (size_t(1) << 31) && !tris.empty()) {
         struct Side {
             uint64_t key; // lower weld id, upper weld id, direction bit
@@ -733,7 +733,6 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
             i = j;
         }
         sides = {};
-        std::sort(overlaps.begin(), overlaps.end()); // (already: the sides were sorted)
         // The pieces: triangles joined by edges of two triangles, each wound one way by `turn`
         // relative to its first triangle where it can be.
         struct Piece {

@@ -90,16 +90,16 @@ Scene load_scene(const SceneSpec& spec)
                            [&] { return std::make_shared<RgbaImage>(load_color(o.color, spec.image_limits)); });
             obj.color = c;
         }
+        const std::string& mesh_place = o.mesh_place.empty() ? o.mesh : o.mesh_place;
         // (A mesh far from its file's origin is kept relative to PreparedMesh::origin.) Positions
-        // past 1e15 are refused as a scene's translations are: doubles there are 0.125 apart.
+        // past kMaxCoordinate are refused as a scene's translations are.
         obj.transform = o.transform * glm::translate(glm::dmat4(1.0), obj.mesh.origin);
         if (const glm::dvec3 at(obj.transform[3]);
-            std::max({std::abs(at.x), std::abs(at.y), std::abs(at.z)}) > 1e15) {
+            std::max({std::abs(at.x), std::abs(at.y), std::abs(at.z)}) > kMaxCoordinate) {
             char where[96];
             std::snprintf(where, sizeof where, "%.6g, %.6g, %.6g", at.x, at.y, at.z);
-            throw Error(o.mesh_place.empty() ? o.mesh : o.mesh_place,
-                        std::string("the object lies more than 1e15 scene units from the origin (its centre at ") + where +
-                            "), past the renderer's precision: move it nearer");
+            throw Error(mesh_place, std::string("the object lies more than 1e15 scene units from the origin (its centre at ") +
+                                        where + "), past the renderer's precision: move it nearer");
         }
         // A mirroring transform (negative determinant) turns the triangles' winding: counter-
         // clockwise seen from outside in the mesh becomes clockwise in world space, where faces
@@ -138,7 +138,6 @@ Scene load_scene(const SceneSpec& spec)
             std::snprintf(text, sizeof text, "%.3g", across);
             return std::string(text);
         };
-        const std::string& mesh_place = o.mesh_place.empty() ? o.mesh : o.mesh_place;
         if (!(diagonal <= kLargestAcross) || !(diagonal >= kSmallestAcross))
             throw Error(mesh_place, "the object is " + across_text(diagonal) + " scene units across (its box's diagonal), " +
                                         (diagonal >= kSmallestAcross ? "more than the renderer's single precision draws (1e18): scale it down"
