@@ -539,18 +539,18 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     if (degenerate > 0) {
         // Far from the origin for its size, a mesh's float coordinates may be what flattened them
         // (a torus 5e6 out in a binary STL: floats 0.5 apart there, half its triangles lost): say so.
-        glm::vec3 lo(INFINITY), hi(-INFINITY);
+        glm::dvec3 lo(INFINITY), hi(-INFINITY);
         for (const glm::vec3& p : raw.positions) {
-            lo = glm::min(lo, p);
-            hi = glm::max(hi, p);
+            lo = glm::min(lo, raw.origin + glm::dvec3(p));
+            hi = glm::max(hi, raw.origin + glm::dvec3(p));
         }
-        const float extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
-        const float far = std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z), std::abs(hi.x), std::abs(hi.y), std::abs(hi.z)});
-        const bool coarse = extent > 0.0f && far * 1e-5f > extent;
+        const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+        const double far = std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z), std::abs(hi.x), std::abs(hi.y), std::abs(hi.z)});
+        const bool coarse = raw.float_positions && extent > 0.0 && far * 1e-5 > extent;
         warn(name + ": dropped " + std::to_string(degenerate) + " degenerate (zero-area) triangle" +
              (degenerate == 1 ? "" : "s") +
              (coarse ? " (its coordinates are far from the origin for its size, beyond what its file's 32-bit floats "
-                       "keep; ASCII OBJ, OFF and PLY are read in double)"
+                       "keep; ASCII OBJ, OFF and PLY and binary PLY of doubles are read in double)"
                      : ""));
     }
 

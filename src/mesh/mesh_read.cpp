@@ -24,6 +24,7 @@
 #include <glm/common.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cctype>
 #include <cerrno>
 #include <cfloat>
@@ -179,8 +180,9 @@ struct Expect {
     bool faces_may_collapse = false; // STL: the reader skips faces whose corners coincide
     bool binary = false;
     // The vertex positions in double, in the reader's order, where the scan read them (ASCII OBJ,
-    // OFF and PLY): OpenMesh reads floats, which at 5e6 (a mesh in geographic coordinates) are
-    // 0.5 apart, so a torus there lost half its triangles as degenerate (read_raw_mesh recentres).
+    // OFF and PLY, binary PLY): OpenMesh reads floats, which at 5e6 (a mesh in geographic
+    // coordinates) are 0.5 apart, so a torus there lost half its triangles as degenerate
+    // (read_raw_mesh recentres).
     std::vector<glm::dvec3> positions;
     // ASCII STL: the names after "solid" and "endsolid" (offset, length), blanked in the bytes
     // OpenMesh parses: its reader takes any line containing "outer" for a facet's start, so
@@ -595,6 +597,7 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
 
 struct PlyProperty {
     string name;
+    string type;        // the scalar's type name (lists: the items')
     int size = 0;       // bytes of the scalar, or of each list item
     int count_size = 0; // > 0 for lists: bytes of the length prefix
     string count_type;  // lists: the length prefix's type name
@@ -617,6 +620,59 @@ int ply_type_size(string_view t)
     return 0;
 }
 
+// A binary PLY scalar of type `type` at `at`, as a double.
+double ply_binary_value(const char* at, string_view type, bool big_endian)
+{
+    unsigned char b[8];
+    const int size = ply_type_size(type);
+    std::memcpy(b, at, size_t(size));
+    if (big_endian != (std::endian::native == std::endian::big)) std::reverse(b, b + size);
+    const auto as = [&b]<typename T>(T) {
+        T v;
+        std::memcpy(&v, b, sizeof v);
+        return double(v);
+    };
+    if (type == "char" || type == "int8") return as(std::int8_t{});
+    if (type == "uchar" || type == "uint8") return as(std::uint8_t{});
+    if (type == "short" || type == "int16") return as(std::int16_t{});
+    if (type == "ushort" || type == "uint16") return as(std::uint16_t{});
+    if (type == "int" || type == "int32") return as(std::int32_t{});
+    if (type == "uint" || type == "uint32") return as(std::uint32_t{});
+    if (type == "float" || type == "float32") return as(float{});
+    return as(double{});
+}
+
+// A binary PLY's vertex positions in double, from its body (after end_header): the elements
+// before the vertex element have no lists (scan_ply refuses lists outside the face element, which
+// comes after the vertices), so the vertices start at a fixed place and are all the same size.
+// Empty when the body is too short for them (the reader then says what is wrong).
+std::vector<glm::dvec3> binary_ply_positions(string_view body, const std::vector<PlyElement>& elements,
+                                             const PlyElement& vertex, bool big_endian)
+{
+    const auto stride = [](const PlyElement& el) {
+        size_t n = 0;
+        for (const PlyProperty& p : el.properties) n += size_t(p.size);
+        return n;
+    };
+    size_t at = 0;
+    for (const PlyElement& el : elements) {
+        if (&el == &vertex) break;
+        at += stride(el) * el.count;
+    }
+    const size_t size = stride(vertex);
+    if (at > body.size() || (body.size() - at) / size < vertex.count) return {};
+    std::vector<glm::dvec3> positions(vertex.count, glm::dvec3(0.0));
+    size_t offset = 0;
+    for (const PlyProperty& p : vertex.properties) {
+        const int axis = p.name == "x" ? 0 : p.name == "y" ? 1 : p.name == "z" ? 2 : -1;
+        if (axis >= 0)
+            for (size_t i = 0; i < vertex.count; ++i)
+                positions[i][axis] = ply_binary_value(body.data() + at + i * size + offset, p.type, big_endian);
+        offset += size_t(p.size);
+    }
+    return positions;
+}
+
 Expect scan_ply(const string& subject, string_view text, const MeshOptions& options)
 {
     Expect e;
@@ -626,6 +682,7 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
     lines.next(line);
     if (tokenize(line, tok, 1) != 1 || tok[0] != "ply") fail(subject, "does not start with 'ply'");
     bool ascii = false;
+    bool big_endian = false;
     bool have_format = false;
     std::vector<PlyElement> elements;
     bool ended = false;
@@ -663,6 +720,8 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
                 fail(subject, where + "malformed format line (expected 'format TYPE 1.0')");
             if (tok[1] == "ascii")
                 ascii = true;
+            else if (tok[1] == "binary_big_endian")
+                big_endian = true;
             else if (tok[1] != "binary_little_endian" && tok[1] != "binary_big_endian")
                 fail(subject, where + "unknown PLY format " + shown(tok[1]));
             have_format = true;
@@ -680,9 +739,11 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
                 p.count_size = ply_type_size(tok[2]);
                 p.count_type = string(tok[2]);
                 p.size = ply_type_size(tok[3]);
+                p.type = string(tok[3]);
                 p.name = string(tok[4]);
             } else if (n >= 3) {
                 p.size = ply_type_size(tok[1]);
+                p.type = string(tok[1]);
                 p.name = string(tok[2]);
             }
             if (p.size == 0 || (tok[1] == "list" && p.count_size == 0))
@@ -841,6 +902,7 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
             }
         }
     }
+    if (!ascii) e.positions = binary_ply_positions(text.substr(lines.offset()), elements, *vertex, big_endian);
     e.binary = !ascii;
     e.add_face_calls = e.file_faces = face->count;
     e.vertices = vertex->count;
@@ -1291,14 +1353,18 @@ std::optional<bool> prime_off_reader(string_view text, const fs::path& path)
 
 // A mesh far from its file's origin (geographic coordinates: a 3-unit torus at 5e6) is kept
 // relative to its box's centre, taken in double from the positions the scan read (`precise`, in
-// the reader's order; none where it read none: binary files, whose floats are all there is). From
-// float positions 0.5 apart a torus there lost half its triangles as degenerate, and drew with
-// IoU 0.77. Only a mesh whose centre has a coordinate more than 4 times its box's longest side:
-// every other keeps the reader's floats as they are, to the bit. The box is the faces' corners'
-// (an unused vertex at the file's origin, a marker, kept the torus from being recentred).
-void recentre(RawMesh& mesh, const std::vector<glm::dvec3>& precise)
+// the reader's order). From float positions 0.5 apart a torus there lost half its triangles as
+// degenerate, and drew with IoU 0.77. Where the scan read none (binary STL and OFF, ASCII STL)
+// the reader's floats are all there is: they are recentred too, exactly, so that the mesh is
+// drawn as its file has it rather than with the rounding of its floats' sum with the far
+// translation once more. Only a mesh whose centre has a coordinate more than 4 times its box's
+// longest side: every other keeps the reader's floats as they are, to the bit. The box is the
+// faces' corners' (an unused vertex at the file's origin, a marker, kept the torus from being
+// recentred).
+void recentre(RawMesh& mesh, std::vector<glm::dvec3> precise)
 {
-    if (precise.empty() || precise.size() != mesh.positions.size()) return;
+    mesh.float_positions = precise.size() != mesh.positions.size();
+    if (mesh.float_positions) precise.assign(mesh.positions.begin(), mesh.positions.end());
     glm::dvec3 lo(INFINITY), hi(-INFINITY);
     for (const std::uint32_t v : mesh.corners) {
         lo = glm::min(lo, precise[v]);
@@ -1429,8 +1495,7 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
             fail(subject,
                  "vertex " + std::to_string(i) + " has a coordinate that is not a finite number");
     }
-    recentre(mesh, expect.positions);
-    std::vector<glm::dvec3>().swap(expect.positions);
+    recentre(mesh, std::move(expect.positions));
     if (mesh.face_count() == 0)
         fail(subject, mesh.collapsed_faces > 0 ? "all " + std::to_string(mesh.collapsed_faces) +
                                                      " faces are degenerate (repeated vertices)"

@@ -22,6 +22,9 @@ struct RawMesh {
     // Where a mesh far from its file's origin was recentred, in the file's coordinates (0 for
     // every other; read_raw_mesh's recentre()).
     glm::dvec3 origin{0.0};
+    // The positions are the reader's 32-bit floats (binary STL and OFF, binary PLY of floats,
+    // ASCII STL): far from the origin for its size such a mesh may have lost triangles to them.
+    bool float_positions = false;
     std::vector<std::uint32_t> face_offsets{0};
     std::vector<std::uint32_t> corners;    // vertex index per corner
     std::vector<glm::vec2> corner_uvs;     // per corner; empty when no face has UVs

@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <bit>
 #include <cctype>
 #include <chrono>
 #include <cmath>
@@ -1523,7 +1526,44 @@ TEST(MeshLoad, FarPositionsAreKeptRelativeToTheMeshsCentre)
                       }() + faces},
         };
     };
-    for (const auto& [name, text] : files(at)) {
+    // Binary PLY, both byte orders: doubles, read by the scan from where the vertices start (after
+    // an element of its own), other properties of other types around them.
+    const auto binary_ply = [&](const glm::dvec3& offset, bool big) {
+        std::string text = std::string("ply\nformat binary_") + (big ? "big" : "little") +
+                           "_endian 1.0\nelement extra 2\nproperty short a\nproperty float b\nelement vertex 4\n"
+                           "property uchar flag\nproperty double x\nproperty int q\nproperty double y\nproperty double z\n"
+                           "element face 4\nproperty list uchar int vertex_indices\nend_header\n";
+        const auto put = [&](const void* data, size_t size) {
+            std::string bytes(static_cast<const char*>(data), size);
+            if (big != (std::endian::native == std::endian::big)) std::reverse(bytes.begin(), bytes.end());
+            text += bytes;
+        };
+        for (int i = 0; i < 2; ++i) {
+            const std::int16_t a = -7;
+            const float b = 3.5f;
+            put(&a, 2);
+            put(&b, 4);
+        }
+        for (const auto& c : corner) {
+            const std::uint8_t flag = 1;
+            const std::int32_t q = 123456;
+            const double x = offset.x + c[0], y = offset.y + c[1], z = offset.z + c[2];
+            put(&flag, 1);
+            put(&x, 8);
+            put(&q, 4);
+            put(&y, 8);
+            put(&z, 8);
+        }
+        for (const std::array<std::int32_t, 3>& f : {std::array<std::int32_t, 3>{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}}) {
+            text += char(3);
+            for (const std::int32_t k : f) put(&k, 4);
+        }
+        return text;
+    };
+    auto far_files = files(at);
+    far_files.emplace_back("le.ply", binary_ply(at, false));
+    far_files.emplace_back("be.ply", binary_ply(at, true));
+    for (const auto& [name, text] : far_files) {
         ::testing::internal::CaptureStderr();
         const pr::PreparedMesh m = pr::load_mesh(dir.write(name, text));
         const std::string warnings = ::testing::internal::GetCapturedStderr();
@@ -1541,13 +1581,43 @@ TEST(MeshLoad, FarPositionsAreKeptRelativeToTheMeshsCentre)
         EXPECT_NEAR(glm::distance(m.origin, at + glm::dvec3(0.125)), 0.0, 1e-9);
         EXPECT_EQ(m.dropped_triangles, 0u);
     }
-    for (const auto& [name, text] : files(glm::dvec3(0.5, -0.25, 0.75))) { // within 4 extents
+    auto near_files = files(glm::dvec3(0.5, -0.25, 0.75)); // within 4 extents
+    near_files.emplace_back("le.ply", binary_ply(glm::dvec3(0.5, -0.25, 0.75), false));
+    for (const auto& [name, text] : near_files) {
         ::testing::internal::CaptureStderr();
         const pr::PreparedMesh m = pr::load_mesh(dir.write(name, text));
         ::testing::internal::GetCapturedStderr();
         EXPECT_EQ(m.origin, glm::dvec3(0.0)) << name;
         EXPECT_EQ(m.bbox_min, glm::vec3(0.5f, -0.25f, 0.75f)) << name;
     }
+}
+
+// A far mesh in a file of floats (binary STL) is recentred too, exactly: its floats are all there
+// is, and drawn relative to its centre they are not rounded once more against the far translation.
+TEST(MeshLoad, FarFloatPositionsAreKeptRelativeToTheMeshsCentre)
+{
+    TempDir dir;
+    const float corner[4][3] = {{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0, 0, 4}}; // floats 0.5 apart at 5e6
+    const int faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+    std::string stl(80, ' ');
+    const std::uint32_t count = 4;
+    stl.append(reinterpret_cast<const char*>(&count), 4);
+    for (const auto& f : faces) {
+        const float normal[3] = {0, 0, 0};
+        stl.append(reinterpret_cast<const char*>(normal), 12);
+        for (const int k : f) {
+            const float p[3] = {5000000.0f + corner[k][0], -3000000.0f + corner[k][1], 1000.0f + corner[k][2]};
+            stl.append(reinterpret_cast<const char*>(p), 12);
+        }
+        stl.append(2, '\0');
+    }
+    ::testing::internal::CaptureStderr();
+    const pr::PreparedMesh m = pr::load_mesh(dir.write("far.stl", stl));
+    const std::string warnings = ::testing::internal::GetCapturedStderr();
+    EXPECT_EQ(m.triangle_count(), 4u) << warnings;
+    EXPECT_EQ(m.origin, glm::dvec3(5000002.0, -2999998.0, 1002.0));
+    EXPECT_EQ(m.bbox_min, glm::vec3(-2.0f));
+    EXPECT_EQ(m.bbox_max, glm::vec3(2.0f));
 }
 
 // A strictly convex polygon of 8 or more corners is cut by rounds of ears, every other corner at a
