@@ -1,6 +1,7 @@
 #include "eval/metrics.hpp"
 
 #include "core/error.hpp"
+#include "core/stats.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -91,9 +92,7 @@ CompareMetrics compare_frames(const FrameCapture& technique, const FrameCapture&
     if (m.both > 0 && have_depth) {
         m.depth_error_mean = depth_sum / double(m.both);
         m.depth_error_max = depth_max;
-        auto mid = depth_errors.begin() + static_cast<std::ptrdiff_t>(depth_errors.size() / 2);
-        std::nth_element(depth_errors.begin(), mid, depth_errors.end());
-        m.depth_error_median = *mid;
+        m.depth_error_median = median(std::move(depth_errors));
     }
     if (m.both > 0 && squared_error > 0.0) {
         const double mse = squared_error / (3.0 * double(m.both));

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 namespace {
 
@@ -232,6 +233,25 @@ TEST(Metrics, DepthErrorOfAConstantWindowOffsetIsMeasuredAlongEachRay)
     const double axis = axis_distance(0.5, 20.0, 0.90) - axis_distance(0.5, 20.0, 0.95);
     EXPECT_GT(*m.depth_error_max, axis);
     EXPECT_GT(*m.depth_error_mean, 0.0);
+}
+
+// The median of an even count is the mean of the two middle errors (it was the upper one; found
+// by an exploratory session recomputing compare's numbers).
+TEST(Metrics, DepthErrorMedianOfAnEvenCountIsTheMeanOfTheMiddleTwo)
+{
+    FrameCapture a = blank(4, 1);
+    FrameCapture b = blank(4, 1);
+    cover(a, 0, 0, 4, 1, 0.9f);
+    const float behind[4] = {0.9f, 0.85f, 0.8f, 0.5f};
+    for (int x = 0; x < 4; ++x) cover(b, x, 0, x + 1, 1, behind[x]);
+    std::vector<double> e;
+    for (int x = 0; x < 4; ++x)
+        e.push_back(pr::depth_to_distance(a.camera, 4, 1, float(x), 0.0f, behind[x]) -
+                    pr::depth_to_distance(a.camera, 4, 1, float(x), 0.0f, 0.9f));
+    const pr::CompareMetrics m = pr::compare_frames(a, b);
+    ASSERT_TRUE(m.depth_error_median.has_value());
+    EXPECT_LT(e[1], e[2]);
+    EXPECT_NEAR(*m.depth_error_median, 0.5 * (e[1] + e[2]), 1e-9);
 }
 
 TEST(Metrics, DepthErrorIgnoresPixelsOnlyOneSideCovers)
