@@ -3,6 +3,7 @@
 // to run after parsing.
 #include "app/options.hpp"
 #include "core/atomic_file.hpp"
+#include "render/renderer.hpp"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -31,6 +32,21 @@ inline nlohmann::json prism_configuration(const DrawSettings& s)
     return {{"marcher", marcher_name(s.marcher)},
             {"prism_exit", prism_exit_name(s.prism_exit)},
             {"prism_shell", s.full_shell || s.prism_exit != PrismExit::Walk ? "full" : "tight"}}; // (other exits: full)
+}
+
+// The camera a report's images were drawn with (compare, render).
+inline nlohmann::json camera_json(const Camera& c)
+{
+    return {{"eye", {c.eye.x, c.eye.y, c.eye.z}},
+            {"target", {c.target.x, c.target.y, c.target.z}},
+            {"up", {c.up.x, c.up.y, c.up.z}},
+            {"fovy", c.fovy_deg}};
+}
+
+// How the reference geometry was built (compare, render --technique reference).
+inline nlohmann::json reference_json(const Renderer::ReferenceStats& r)
+{
+    return {{"level", r.level}, {"triangles", r.triangles}, {"bytes", r.bytes}, {"build_ms", r.build_ms}, {"capped", r.capped}};
 }
 
 // A report's text. File names are bytes, not always UTF-8, and JSON strings must be: a byte that

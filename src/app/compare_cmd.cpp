@@ -160,19 +160,13 @@ CommandAction add_compare_command(CLI::App& app)
 
         const nlohmann::json report = {
             {"results", results},
-            {"reference",
-             {{"level", ref_stats.level},
-              {"triangles", ref_stats.triangles},
-              {"bytes", ref_stats.bytes},
-              {"build_ms", ref_stats.build_ms},
-              {"capped", ref_stats.capped},
-              {"ms", ref_ms}}},
+            {"reference", [&] {
+                 nlohmann::json r = reference_json(ref_stats);
+                 r["ms"] = ref_ms;
+                 return r;
+             }()},
             {"size", {session.spec.width, session.spec.height}},
-            {"camera",
-             {{"eye", {session.camera.eye.x, session.camera.eye.y, session.camera.eye.z}},
-              {"target", {session.camera.target.x, session.camera.target.y, session.camera.target.z}},
-              {"up", {session.camera.up.x, session.camera.up.y, session.camera.up.z}},
-              {"fovy", session.camera.fovy_deg}}},
+            {"camera", camera_json(session.camera)},
             {"renderer", session.context->description()}};
         // Both outputs staged before either replaces a file: a failure leaves both as they were.
         std::optional<StagedFile> grid, json;

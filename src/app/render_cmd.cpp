@@ -3,10 +3,12 @@
 #include "app/session.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/image.hpp"
 #include "render/multisample.hpp"
 
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 namespace pr {
 
@@ -16,6 +18,7 @@ CommandAction add_render_command(CLI::App& app)
         SceneOptions scene;
         TechniqueOptions technique;
         std::string out;
+        std::string json;
         int msaa = 1;
     };
     auto s = std::make_shared<State>();
@@ -23,6 +26,9 @@ CommandAction add_render_command(CLI::App& app)
     add_scene_options(*cmd, s->scene);
     add_technique_options(*cmd, s->technique, true);
     cmd->add_option("--out", s->out, "Output PNG file")->required()->group("Output");
+    cmd->add_option("--json", s->json,
+                    "JSON report: technique and its configuration, time, coverage, camera (docs/techniques.md)")
+        ->group("Output");
     cmd->add_option("--msaa", s->msaa,
                     "Samples per pixel: 1 (pixel centres), 2, 4, 8 or 16 (standard positions, one pass "
                     "each; alpha = the fraction covered)")
@@ -39,10 +45,12 @@ CommandAction add_render_command(CLI::App& app)
         const ReferenceOptions ref = make_reference_options(s->technique);
         const std::span<const glm::vec2> offsets = sample_offsets(s->msaa); // refuses other counts, naming --msaa
         check_png_output(s->out);
-        Session session = open_session(s->scene, {{"--out", s->out}});
+        if (!s->json.empty()) check_output_folder(s->json);
+        Session session = open_session(s->scene, {{"--out", s->out}, {"--json", s->json}});
         Renderer& renderer = *session.renderer;
+        Renderer::ReferenceStats stats;
         if (settings.technique == Technique::Reference) {
-            const auto stats = renderer.prepare_reference(session.scene, session.camera, ref);
+            stats = renderer.prepare_reference(session.scene, session.camera, ref);
             std::printf("reference: level %d, %zu triangles, %.1f MB, built in %.0f ms%s\n", stats.level,
                         stats.triangles, double(stats.bytes) / 1e6, stats.build_ms,
                         stats.capped ? " (level capped by --reference-max-triangles)" : "");
@@ -72,16 +80,40 @@ CommandAction add_render_command(CLI::App& app)
             covered += image.pixels[i] >= 128;
             any = any || image.pixels[i] > 0;
         }
-        write_png(s->out, image);
+        const std::size_t pixels = std::size_t(image.width) * image.height;
+        // Both outputs staged before either replaces a file: a failure leaves both as they were.
+        StagedFile png(s->out, encode_png_for(s->out, image));
+        std::optional<StagedFile> json;
+        if (!s->json.empty()) {
+            nlohmann::json report = {{"technique", s->technique.technique},
+                                     {"configuration", configuration_name(settings)},
+                                     {"steps", settings.steps},
+                                     {"refine", settings.refine},
+                                     {"depth_write", settings.depth_write},
+                                     {"out", s->out},
+                                     {"size", {image.width, image.height}},
+                                     {"msaa", offsets.size()},
+                                     {"ms", ms},
+                                     {"first_draw_compiled", !again},
+                                     {"covered_px", covered},
+                                     {"coverage", double(covered) / double(pixels)},
+                                     {"camera", camera_json(session.camera)},
+                                     {"renderer", session.context->description()}};
+            report.update(prism_configuration(settings));
+            if (settings.technique == Technique::Reference) report["reference"] = reference_json(stats);
+            json.emplace(s->json, report_text(report));
+        }
+        commit_together({&png, json ? &*json : nullptr});
         if (!any)
             warn(s->out + ": nothing was drawn: the scene is out of view or covers no pixel centre "
                           "(check the camera, --fovy and --size)");
         // A few covered pixels of a large image are not "0.0%": more digits then.
-        const double percent = 100.0 * double(covered) / double(std::size_t(image.width) * image.height);
+        const double percent = 100.0 * double(covered) / double(pixels);
         const std::string passes = offsets.size() > 1 ? " (" + std::to_string(offsets.size()) + " passes)" : "";
         std::printf("%s: %dx%d %s, %.1f ms%s%s, coverage %.*f%%\n", s->out.c_str(), image.width, image.height,
                     configuration_name(settings).c_str(), ms, passes.c_str(),
                     again ? "" : " (first draw, with compiling)", covered > 0 && percent < 0.1 ? 4 : 1, percent);
+        if (!s->json.empty()) std::printf("wrote %s\n", s->json.c_str());
         return kExitOk;
     };
 }

@@ -123,6 +123,17 @@ endforeach()
 pr_cli(render_scene_file EXIT 0 EXPECT_FILE s.png STDOUT "s.png: 96x64"
        ARGS render --scene ${M}/scenes/plane_and_torus.json --size 96x64 --out s.png)
 
+# render --json: what the line on stdout says, for scripts, and the camera it framed.
+pr_cli(render_json EXIT 0 EXPECT_FILE r.png JSON r.json STDOUT "r.png: 96x64 prism:relaxed-cone:walk:tight.*coverage 1[0-9][.][0-9]%.*wrote r.json"
+       CHECKS "technique:STREQUAL:prism|marcher:STREQUAL:relaxed-cone|prism_exit:STREQUAL:walk|covered_px:GREATER:500|covered_px:LESS:1500|coverage:GREATER:0.1|coverage:LESS:0.2|size.0:EQUAL:96|size.1:EQUAL:64|msaa:EQUAL:1|ms:GREATER:0|camera.fovy:EQUAL:40|camera.target.1:EQUAL:0|steps:EQUAL:32|out:STREQUAL:r.png|renderer:EXISTS"
+       ARGS render --mesh ${M}/torus.obj --height builtin:bumps --technique prism --marcher relaxed-cone --size 96x64
+            --out r.png --json r.json)
+pr_cli(render_json_reference EXIT 0 EXPECT_FILE r.png JSON r.json
+       CHECKS "technique:STREQUAL:reference|reference.level:GREATER:1|reference.triangles:GREATER:1000|msaa:EQUAL:4"
+       ARGS render --mesh ${M}/torus.obj --technique reference --size 48x48 --msaa 4 --out r.png --json r.json)
+pr_cli(render_json_is_out EXIT 1 ONE_LINE NO_FILE r.png STDERR "${E}--json: r.png is also the --out file"
+       ARGS render --mesh ${M}/cube.obj --size 32x32 --out r.png --json r.png)
+
 # compare: the reference is perfect against itself, POM misses the outward bumps' outline.
 set(R "results")
 pr_cli(compare_sphere EXIT 0 EXPECT_FILE cmp.png STDOUT "pom .*relief .*reference"
