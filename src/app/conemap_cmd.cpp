@@ -63,12 +63,15 @@ CommandAction add_conemap_command(CLI::App& app)
     cmd->add_option("--json", s->json, "JSON report: size, kind, format, backend, ms (search_ms: the GPU's dispatches alone), from_cache, ratio statistics");
     cmd->footer("Example:\n  prismrelief conemap --height builtin:bricks --kind relaxed --out out/bricks_relaxed.png");
 
-    return [s]() {
+    return [s, cmd]() {
         const ConeKind kind = parse_cone_kind(s->kind, "--kind");
         ConeBuildOptions options;
         options.format = parse_cone_format(s->format, "--format");
         const bool gpu = parse_cone_backend_gpu(s->backend, "--backend");
         const Backend gl_backend = parse_backend(s->gl_backend, "--gl-backend");
+        // (It was ignored: flags that change nothing are refused, as the prism's are elsewhere.)
+        if (!gpu && cmd->count("--gl-backend") > 0)
+            throw Error("--gl-backend", "applies with --backend gpu only (the CPU's threads build the map without OpenGL)");
         if (s->threads < 0 || s->threads > 1024) throw Error("--threads", "must be between 0 (all cores) and 1024");
         options.threads = s->threads;
         if (s->height.empty()) throw Error("--height", "empty file name");

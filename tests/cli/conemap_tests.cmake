@@ -31,6 +31,9 @@ pr_cli(conemap_bad_format EXIT 1 ONE_LINE STDERR "${CM}--format: " NO_FILE o.png
        ARGS conemap --height builtin:bumps@16 --format rg32 --out o.png --no-cache)
 pr_cli(conemap_bad_backend EXIT 1 ONE_LINE STDERR "${CM}--backend: " NO_FILE o.png
        ARGS conemap --height builtin:bumps@16 --backend tpu --out o.png --no-cache)
+# --gl-backend without --backend gpu changed nothing and was ignored.
+pr_cli(conemap_gl_backend_without_gpu EXIT 1 ONE_LINE STDERR "${CM}--gl-backend: applies with --backend gpu only" NO_FILE o.png
+       ARGS conemap --height builtin:bumps@16 --gl-backend egl --out o.png --no-cache)
 pr_cli(conemap_bad_threads EXIT 1 ONE_LINE STDERR "${CM}--threads: " NO_FILE o.png
        ARGS conemap --height builtin:bumps@16 --threads -3 --out o.png --no-cache)
 pr_cli(conemap_out_folder_missing EXIT 1 ONE_LINE STDERR "${CM}no/dir/o.png: "
