@@ -98,7 +98,11 @@ MarchRay segment_ray(vec3 tex_in, vec3 tex_out)
     vec3 seg = tex_out - tex_in;
     vec2 texels = seg.xy * u_displace.zw; // the height map's size in texels
     int steps = int(ceil(max(float(u_march.x) * abs(seg.z), 0.5 * length(texels))));
-    steps = clamp(steps, 1, 4 * max(u_march.x, 1) + 64);
+    // Bounded (a prism's uv may span many repeats of the map), but not below what one per two
+    // texels takes over four lengths of the map: merged triangles (flat_merge.hpp, at most two
+    // repeats long) are sampled in full. (Bounded by 4 * --steps + 64 alone, a segment across the
+    // merged plane took a sample every 7 texels of a 1024-texel map and stepped over thin walls.)
+    steps = clamp(steps, 1, max(4 * max(u_march.x, 1) + 64, int(2.0 * max(u_displace.z, u_displace.w))));
     return MarchRay(tex_in, seg, 1.0, steps);
 }
 

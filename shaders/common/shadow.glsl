@@ -34,10 +34,13 @@ float light_visibility(vec3 tex, vec3 l_tex, UvGrad g)
     float t_end = (1.0 - tex.z) / l_tex.z;
     if (t_end <= 0.0) return 1.0;
     // --steps per full height range, and at least one sample per two texels along the way (as the
-    // prism's march), bounded.
-    vec2 texels = t_end * l_tex.xy * vec2(textureSize(s_height, 0));
+    // prism's march), bounded as the prism's march is: in full over four lengths of the map (by
+    // 2 * --steps + 64 alone, a light low over a plane with a 2048-texel map came through a
+    // wall's shadow in stripes).
+    vec2 size = vec2(textureSize(s_height, 0));
+    vec2 texels = t_end * l_tex.xy * size;
     int steps = clamp(int(ceil(float(u_march.x) * (1.0 - tex.z) + 0.5 * length(texels))), 1,
-                      2 * max(u_march.x, 1) + 64);
+                      max(2 * max(u_march.x, 1) + 64, int(2.0 * max(size.x, size.y))));
     float dt = t_end / float(steps);
     const float bias = 2e-3;
     float visibility = 1.0;

@@ -30,6 +30,9 @@ using Mesh = OpenMesh::TriMesh_ArrayKernelT<>;
 constexpr double kSame = 1e-5;
 // The smallest sine of a corner angle a merged triangle may have (in space and in uv).
 constexpr double kMinSine = 1e-6;
+// The longest edge in texture space (UV units) a merged triangle may have: twice the texture's
+// side, which a segment of its prism is sampled along in full (prism.frag, segment_ray()).
+constexpr double kMaxMergedUv = 2.0;
 // Vertices with more edges wait for their neighbours to go first (Merger::run).
 constexpr std::size_t kMaxValence = 10;
 
@@ -202,6 +205,13 @@ private:
             const double uv_longest = std::max({glm::length(t1), glm::length(t2), glm::length(t3)});
             if (!(uv_before * uv_after > 0.0)) return false;
             if (!(std::abs(uv_after) > kMinSine * uv_longest * uv_longest)) return false;
+            // No merged triangle across more than two repeats of the texture, unless its face was
+            // already: the walk's march takes a sample per two texels along a prism's segment up
+            // to four lengths of the height map (prism.frag, segment_ray()), and a floor tiled
+            // 10 times merged into two triangles left thin walls between samples.
+            const double uv_longest_before =
+                std::max({glm::length(ua - uv(v0)), glm::length(ub - uv(v0)), glm::length(t3)});
+            if (uv_longest > std::max(kMaxMergedUv, uv_longest_before)) return false;
         }
         return true;
     }

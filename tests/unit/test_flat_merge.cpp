@@ -148,6 +148,36 @@ TEST(FlatMerge, ASubdividedFloorBecomesTwoTriangles)
     expect_same_surface(m, merged);
 }
 
+// A floor tiled 10 times merges into triangles no longer than two repeats of the texture (the
+// walk samples a prism's segment in full only up to that; two triangles across ten repeats left a
+// wall four texels thick of a 2048-texel map between samples: IoU 0.86; found by an exploratory
+// session). A triangle that was longer already stays as it was.
+TEST(FlatMerge, MergedTrianglesSpanAtMostTwoRepeatsOfTheTexture)
+{
+    prtest::TempDir dir;
+    const auto longest_uv = [](const pr::PreparedMesh& m, const std::vector<std::uint32_t>& tris) {
+        double longest = 0.0;
+        for (std::size_t t = 0; t < tris.size(); t += 3)
+            for (int k = 0; k < 3; ++k)
+                longest = std::max(longest, double(glm::length(m.vertices[tris[t + std::size_t(k)]].uv -
+                                                               m.vertices[tris[t + std::size_t((k + 1) % 3)]].uv)));
+        return longest;
+    };
+    const pr::PreparedMesh tiled =
+        pr::load_mesh(dir.write("tiled.obj", grid_obj(16, flat, [](double x, double z) { return dvec2(10.0 * x, 10.0 * z); })));
+    const std::vector<std::uint32_t> merged = pr::merge_flat_regions(tiled.vertices, tiled.indices);
+    EXPECT_LT(merged.size(), tiled.indices.size() / 4); // still merged
+    EXPECT_GT(merged.size(), 6u);
+    EXPECT_LE(longest_uv(tiled, merged), 2.0 + 1e-6);
+    EXPECT_NEAR(area(tiled, merged), area(tiled, tiled.indices), 1e-9);
+    expect_same_surface(tiled, merged);
+    // Each quad across three repeats: nothing merges past what it was.
+    const pr::PreparedMesh coarse =
+        pr::load_mesh(dir.write("coarse.obj", grid_obj(2, flat, [](double x, double z) { return dvec2(6.0 * x, 6.0 * z); })));
+    const std::vector<std::uint32_t> kept = pr::merge_flat_regions(coarse.vertices, coarse.indices);
+    EXPECT_LE(longest_uv(coarse, kept), longest_uv(coarse, coarse.indices) + 1e-6);
+}
+
 TEST(FlatMerge, CurvedMeshesComeBackUnchanged)
 {
     // (The rock's chips are flat, but no vertex inside one has the chip's normal: they are
