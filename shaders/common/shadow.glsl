@@ -14,6 +14,85 @@
 #define PR_SHADOW_SOFTNESS 6.0 // clearance slope (height/run) of full light is 1/this
 #endif
 
+// How a light march along a stretch of its ray ended (march_light).
+#define PR_LIGHT_ON 1      // not blocked along the stretch: the march goes on past its end
+#define PR_LIGHT_BLOCKED 0 // a sample under the surface (hard), or no light left (soft)
+#define PR_LIGHT_CLEAR 2   // nothing further on can block it (the cone marchers' cone)
+
+// The light ray from `origin` along `dir` in texture space, up to t_end: samples at every step
+// after the origin (the origin's own is the caller's), `rise` the height it gains there (the
+// linear steps' count: --steps per full height range), at least one sample per two texels of
+// the way. `run_before`: the distance in UV units the ray has gone before `origin` (the soft
+// penumbra's), `visibility` as light_visibility's, both updated.
+int march_light(vec3 origin, vec3 dir, float t_end, float rise, inout float run_before, inout float visibility, UvGrad g)
+{
+#ifdef PR_SHADOWS
+    // --steps per full height range, and at least one sample per two texels along the way (as the
+    // prism's march), bounded as the prism's march is: in full over four lengths of the map (by
+    // 2 * --steps + 64 alone, a light low over a plane with a 2048-texel map came through a
+    // wall's shadow in stripes).
+    vec2 size = vec2(textureSize(s_height, 0));
+    vec2 texels = t_end * dir.xy * size;
+    int steps = clamp(int(ceil(float(u_march.x) * rise + 0.5 * length(texels))), 1,
+                      max(2 * max(u_march.x, 1) + 64, int(2.0 * max(size.x, size.y))));
+    float dt = t_end / float(steps);
+    const float bias = 2e-3;
+    float run = length(dir.xy); // UV units per unit t
+    int state = PR_LIGHT_ON;
+#ifdef PR_HEIGHT_FROM_CONE
+    float t = dt;
+    for (int i = 1; i <= steps && t < t_end; ++i) {
+        vec3 p = origin + t * dir;
+        vec3 hc = cone_at(p.xy);
+        float clearance = p.z + bias - hc.x;
+#else
+    for (int i = 1; i <= steps; ++i) {
+        float t = float(i) * dt;
+        vec3 p = origin + t * dir;
+        float clearance = p.z + bias - height_at(p.xy, g);
+#endif
+#if PR_SHADOWS == PR_SHADOWS_HARD
+        if (clearance < 0.0) return PR_LIGHT_BLOCKED;
+#else
+        visibility = min(visibility, clamp(PR_SHADOW_SOFTNESS * clearance / (run_before + t * run + 1e-6), 0.0, 1.0));
+        if (visibility <= 0.0) return PR_LIGHT_BLOCKED;
+#endif
+#ifdef PR_HEIGHT_FROM_CONE
+        float denom = run - hc.z * dir.z;
+        if (denom <= 0.0) { // steeper than the cone: it stays inside
+            state = PR_LIGHT_CLEAR;
+            break;
+        }
+        t += max(hc.z * (p.z - hc.x) / denom, dt);
+#endif
+    }
+    run_before += t_end * run;
+    return state;
+#else
+    return PR_LIGHT_ON;
+#endif
+}
+
+// Whether a light along texture-space direction `l_tex` rises above the base surface's horizon
+// (against its run: l_tex's length goes as one over the object's scale).
+bool light_above_horizon(vec3 l_tex)
+{
+    return l_tex.z > 1e-6 * length(l_tex.xy);
+}
+
+// The light march's start at `tex`: on the height field. The cone marchers' refinement may end a
+// little under the surface (a sample under it where the secant meets it within relief's
+// precision), which on a steep wall of boxes is far under the height at that uv: straight up
+// from there the wall itself blocked a light overhead (0.4 % of the pixels of builtin:boxes, on
+// walls facing the eye). The march starts on the surface at that uv.
+vec3 light_start(vec3 tex)
+{
+#ifdef PR_HEIGHT_FROM_CONE
+    tex.z = max(tex.z, cone_at(tex.xy).x);
+#endif
+    return tex;
+}
+
 float light_visibility(vec3 tex, vec3 l_tex, UvGrad g)
 {
 #ifdef PR_SHADOWS
@@ -21,55 +100,12 @@ float light_visibility(vec3 tex, vec3 l_tex, UvGrad g)
     // height range for ever (or comes from under the surface, through the object's body), so
     // it is blocked. (It used to count as unblocked: bump flanks facing such a light stayed lit,
     // and a sphere's night side showed them, shadows on or off.)
-    // (Against the light's run: l_tex's length goes as one over the object's scale.)
-    if (l_tex.z <= 1e-6 * length(l_tex.xy)) return 0.0;
-#ifdef PR_HEIGHT_FROM_CONE
-    // The cone marchers' refinement may end a little under the surface (a sample under it where
-    // the secant meets it within relief's precision), which on a steep wall of boxes is far under
-    // the height at that uv: straight up from there the wall itself blocked a light overhead
-    // (0.4 % of the pixels of builtin:boxes, on walls facing the eye). The march starts on the
-    // surface at that uv.
-    tex.z = max(tex.z, cone_at(tex.xy).x);
-#endif
+    if (!light_above_horizon(l_tex)) return 0.0;
+    tex = light_start(tex);
     float t_end = (1.0 - tex.z) / l_tex.z;
     if (t_end <= 0.0) return 1.0;
-    // --steps per full height range, and at least one sample per two texels along the way (as the
-    // prism's march), bounded as the prism's march is: in full over four lengths of the map (by
-    // 2 * --steps + 64 alone, a light low over a plane with a 2048-texel map came through a
-    // wall's shadow in stripes).
-    vec2 size = vec2(textureSize(s_height, 0));
-    vec2 texels = t_end * l_tex.xy * size;
-    int steps = clamp(int(ceil(float(u_march.x) * (1.0 - tex.z) + 0.5 * length(texels))), 1,
-                      max(2 * max(u_march.x, 1) + 64, int(2.0 * max(size.x, size.y))));
-    float dt = t_end / float(steps);
-    const float bias = 2e-3;
-    float visibility = 1.0;
-    float run = length(l_tex.xy); // UV units per unit t
-#ifdef PR_HEIGHT_FROM_CONE
-    float t = dt;
-    for (int i = 1; i <= steps && t < t_end; ++i) {
-        vec3 p = tex + t * l_tex;
-        vec3 hc = cone_at(p.xy);
-        float clearance = p.z + bias - hc.x;
-#else
-    for (int i = 1; i <= steps; ++i) {
-        float t = float(i) * dt;
-        vec3 p = tex + t * l_tex;
-        float clearance = p.z + bias - height_at(p.xy, g);
-#endif
-#if PR_SHADOWS == PR_SHADOWS_HARD
-        if (clearance < 0.0) return 0.0;
-#else
-        visibility = min(visibility, clamp(PR_SHADOW_SOFTNESS * clearance / (t * run + 1e-6), 0.0, 1.0));
-        if (visibility <= 0.0) return 0.0;
-#endif
-#ifdef PR_HEIGHT_FROM_CONE
-        float denom = run - hc.z * l_tex.z;
-        if (denom <= 0.0) break; // steeper than the cone: it stays inside
-        t += max(hc.z * (p.z - hc.x) / denom, dt);
-#endif
-    }
-    return visibility;
+    float visibility = 1.0, run = 0.0;
+    return march_light(tex, l_tex, t_end, 1.0 - tex.z, run, visibility, g) == PR_LIGHT_BLOCKED ? 0.0 : visibility;
 #else
     return 1.0;
 #endif
