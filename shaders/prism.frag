@@ -236,6 +236,61 @@ bool at_seam(vec3 tex_in, vec3 tex_out)
 #endif
 }
 
+#ifdef PR_SHADOWS
+// Self-shadowing with the walk: the light ray from the hit goes from prism to prism as the view
+// ray does (its exits found in the world, its march in each prism's texture space), so it meets
+// the heights the mesh shows around the hit, and no others. Marched through the height map in
+// the hit's texture frame alone, it met heights of UV regions no triangle shows and the map's
+// wrapped copy past an open mesh's edge, which cast shadows (a plane whose UVs stop short of a
+// tower in the map: a third of it darkened; found by an exploratory session). The light is on
+// where the ray leaves the shell through a top cap or a side without a neighbour (or is lost,
+// as the view walk's misses are); off where it goes under a bottom cap.
+// `prim`: the hit's prism, loaded (corner_world etc.), `from_a` its diagonals.
+float light_walk(uint prim, vec3 tex, vec3 origin, vec3 light_dir, bool from_a[3])
+{
+    UvGrad g = UvGrad(vec2(0.0), vec2(0.0));
+    uint index[3], weld[3];
+    float visibility = 1.0;
+    float run = 0.0; // UV units gone (the soft penumbra's distance)
+    vec3 tex_in = light_start(tex), tex_out = tex_in;
+    float t_in = 0.0;
+    int entry_edge = -1;
+    float entry_along = 0.0;
+    bool via_top = false;
+    for (int k = 0; k < u_walk.x; ++k) {
+        if (k > 0) load_walk_prism(prim, index, weld, from_a);
+        if (entry_edge >= 0) tex_in = entry_point(entry_edge, entry_along, tex_out.z);
+        int entry_face = entry_edge < 0 ? -1 : (via_top ? 0 : 2 + entry_edge);
+        // The start may lie on a face of its prism (on a cap, where the surface is one): the
+        // exits count from a little behind it (the faces the ray goes in by never count).
+        float t_min = k == 0 ? -1e-4 * distance(corner_world[0], corner_world[3]) : t_in * (1.0 - 1e-6);
+        bool top_entry;
+        vec3 w_top;
+        ExitFace ex = nearest_exit(origin, light_dir, t_min, from_a, 1e-5, walk_orientation, t_in, entry_face,
+                                   top_entry, w_top);
+        if ((via_top && !top_entry) || ex.face < 0) break; // out of the shell, or lost: on
+        tex_out = vec3(ex.tex.xy, clamp(ex.tex.z, 0.0, 1.0));
+        int state = march_light(tex_in, tex_out - tex_in, 1.0, abs(tex_out.z - tex_in.z), run, visibility, g);
+        if (state == PR_LIGHT_BLOCKED) return 0.0;
+        if (state == PR_LIGHT_CLEAR) break;
+        float lambda = ex.lambda;
+        int edge = ex.face >= 2 ? ex.face - 2 : (ex.face == 0 ? top_exit_edge(w_top, lambda) : -1);
+        uvec3 across = prism_across;
+        uint next = edge == 0 ? across.x : (edge == 1 ? across.y : (edge == 2 ? across.z : 0xffffffffu));
+        if (next == 0xffffffffu) {
+            if (ex.face == 1) return 0.0; // under the base surface: the object's body, or the sheet, is in the way
+            break;
+        }
+        via_top = ex.face == 0;
+        prim = next >> 2u;
+        entry_edge = int(next & 3u);
+        entry_along = clamp(1.0 - lambda, 0.0, 1.0);
+        t_in = max(ex.t, 0.0);
+    }
+    return visibility;
+}
+#endif
+
 #endif
 
 void main()
@@ -347,7 +402,7 @@ void main()
         float behind = 1e-4 * distance(corner_world[0], corner_world[3]) / length(dir);
         if (k == 0 || t_in <= behind) t_min = -behind;
 #endif
-        ExitFace ex = nearest_exit(dir, t_min, from_a, 1e-5, walk_orientation, t_in, entry_face, top_entry, w_top);
+        ExitFace ex = nearest_exit(u_eye.xyz, dir, t_min, from_a, 1e-5, walk_orientation, t_in, entry_face, top_entry, w_top);
         if (via_top && !top_entry) break; // it does not go in there: out of the shell
         if (ex.face < 0) break; // lost: a miss
         t_out = ex.t;
@@ -460,8 +515,12 @@ void main()
         // march starts on the surface at that uv, as the cone marchers' does (shadow.glsl).
         tex.z = max(tex.z, height_at(tex.xy, g));
 #endif
-        visibility = light_visibility(tex,
-                                      light_in_texture_space(t_axis, b_axis, n, u_displace.x, light_dir), g);
+        vec3 l_tex = light_in_texture_space(t_axis, b_axis, n, u_displace.x, light_dir);
+#ifdef PR_PRISM_WALK
+        visibility = light_above_horizon(l_tex) ? light_walk(prim, tex, hit, light_dir, from_a) : 0.0;
+#else
+        visibility = light_visibility(tex, l_tex, g);
+#endif
     }
 #endif
     count_fragment();

@@ -124,7 +124,7 @@ void load_walk_prism(uint prim, out uint index[3], out uint weld[3])
 
 // ---- Where a ray leaves a prism -----------------------------------------------------------------
 // The nearest of the prism's eight triangles (all eight: a twisted side can make the prism
-// non-convex) that the ray eye + t * dir crosses beyond t_min. Face: 0 top, 1 bottom, 2 + e the
+// non-convex) that the ray ray_origin + t * dir (the eye's, or a light ray's) crosses beyond t_min. Face: 0 top, 1 bottom, 2 + e the
 // side of edge e, with `lambda` the crossing's position along that edge (0 at corner e, 1 at
 // corner e + 1); -1: none. `inside`: the crossing lies in its triangle; false where the ray
 // crosses no triangle and this is the nearest crossing of their planes (nearest_exit).
@@ -183,8 +183,8 @@ void keep_exit(float e0, float e1, float e2, float a0, float a1, float a2, float
 // 1e-5 * t_entry past the entry — the prism before computed that face's products from its own
 // corner order, so where the ray grazes the face's plane both prisms could find it an exit, and
 // the walk would go back and forth between them to its prism limit (a hole).
-ExitFace nearest_exit(vec3 dir, float t_min, bool from_a[3], float slack, float orient, float t_entry, int entry_face,
-                      out bool top_entry, out vec3 w_top)
+ExitFace nearest_exit(vec3 ray_origin, vec3 dir, float t_min, bool from_a[3], float slack, float orient, float t_entry,
+                      int entry_face, out bool top_entry, out vec3 w_top)
 {
     float t_back = t_entry * (1.0 + 1e-5);
     ExitFace best = ExitFace(1e30, vec3(0.0), -1, 0.0, false);
@@ -195,7 +195,7 @@ ExitFace nearest_exit(vec3 dir, float t_min, bool from_a[3], float slack, float 
     // edge values are then of the prism's size, and their sums (dot(dir, normal)) keep their
     // precision (relative to the eye, terms of the eye's distance squared cancelled to a size
     // squared, and barycentric weights erred by 1e-4 at 3 units).
-    vec3 origin = u_eye.xyz + t_entry * dir;
+    vec3 origin = ray_origin + t_entry * dir;
     vec3 p[6], c[6];
     float a[6];
     for (int i = 0; i < 6; ++i) {
@@ -250,7 +250,7 @@ bool prism_exit(vec3 dir, vec3 entry_tex, bool from_a[3], out float t_exit, out 
 {
     bool top_entry;
     vec3 w_top;
-    ExitFace ex = nearest_exit(dir, 1.0 + 1e-5, from_a, 1e-5, 0.0, 1.0, -1, top_entry, w_top);
+    ExitFace ex = nearest_exit(u_eye.xyz, dir, 1.0 + 1e-5, from_a, 1e-5, 0.0, 1.0, -1, top_entry, w_top);
     bool found = ex.inside; // the exact exit has no planes-only fallback
     t_exit = found ? ex.t : 1.0;
     tex_exit = found ? ex.tex : entry_tex;
