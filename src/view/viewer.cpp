@@ -142,10 +142,10 @@ public:
 
 private:
     // `d`, or while its cone maps are built on a thread (started here when neither the renderer
-    // nor the cache has them) what is drawn meanwhile. With --frames the last frame waits for
-    // them, so that the screenshot and the times are the technique's own.
-    DrawSettings drawable(const DrawSettings& d, bool last_frame);
-    void poll_cone_job(bool wait); // hands finished maps to the renderer
+    // nor the cache has them) what is drawn meanwhile. Frames that draw it do not count towards
+    // --frames (run), so that the screenshot, the times and the counts are the technique's own.
+    DrawSettings drawable(const DrawSettings& d);
+    void poll_cone_job(); // hands finished maps to the renderer
     void cancel_cone_job();
     void remember_scene();
     void init_imgui();
@@ -198,6 +198,10 @@ private:
     bool dirty_ = true;
     int frame_ = 0;
     int rendered_ = 0;
+    // --frames counts the frames drawn with the techniques themselves: a frame that drew a half
+    // with relief while its cone maps were built (drew_meanwhile_) is not one of them.
+    int counted_ = 0;
+    bool drew_meanwhile_ = false;
 
     Camera initial_camera_;
     Sphere bounds_;
@@ -341,16 +345,12 @@ bool Viewer::half_needs_reference() const
     return half_[0].technique == Technique::Reference || (split_ && half_[1].technique == Technique::Reference);
 }
 
-DrawSettings Viewer::drawable(const DrawSettings& d, bool last_frame)
+DrawSettings Viewer::drawable(const DrawSettings& d)
 {
     const AuxMap map = d.aux_map();
     // (--cone-backend gpu builds in the draw: the compute shader needs this thread's context.)
     if (cone_builds_inline_ || s_.renderer->cone_maps_on_gpu() || (map != AuxMap::Cone && map != AuxMap::Relaxed))
         return d;
-    if (last_frame) { // what is still missing then is built by the draw itself
-        poll_cone_job(true);
-        return d;
-    }
     if (cone_job_ && cone_job_->map == map) return while_cone_maps_build(d);
     std::vector<Renderer::ConeMapNeed> needs = s_.renderer->missing_cone_maps(map);
     if (needs.empty()) return d;
@@ -373,16 +373,19 @@ DrawSettings Viewer::drawable(const DrawSettings& d, bool last_frame)
     return while_cone_maps_build(d);
 }
 
-void Viewer::poll_cone_job(bool wait)
+void Viewer::poll_cone_job()
 {
-    if (!cone_job_ || (!wait && cone_job_->maps.wait_for(std::chrono::seconds(0)) != std::future_status::ready))
-        return;
+    if (!cone_job_ || cone_job_->maps.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
     ConeJob job = std::move(*cone_job_);
     cone_job_.reset();
     dirty_ = true;
     try {
         ConeJob::Maps maps = job.maps.get();
         for (auto& [field, map] : maps) s_.renderer->provide_cone_map(field, std::move(map));
+        // The technique's first draw follows: it counts samples and is left out of the times, as
+        // the first frame is (it compiles the technique's shaders). It was timed: --frames printed
+        // that one draw, about 190 ms for 3 ms, and no samples per fragment.
+        rendered_ = 0;
         char line[256];
         std::snprintf(line, sizeof line, "built the %s in %.1f s (%d frame%s drawn with relief meanwhile)",
                       job.what.c_str(), seconds_since(job.start), job.frames_meanwhile,
@@ -434,8 +437,7 @@ void Viewer::render_scene()
         // Count samples on the first frame and every 10th after (the instrumented variant is
         // slower; its frames are left out of the times).
         const bool count = count_samples_ && rendered_ % 10 == 0;
-        const bool last_frame = o_.frames > 0 && frame_ + 1 >= o_.frames;
-        bool meanwhile_frame = false;
+        drew_meanwhile_ = false;
         for (int k = 0; k < halves; ++k) {
             const int x0 = split_ ? (k == 0 ? 0 : divider_px) : 0;
             const int x1 = split_ ? (k == 0 ? divider_px : w) : w;
@@ -445,9 +447,9 @@ void Viewer::render_scene()
                 glEnable(GL_SCISSOR_TEST);
                 glScissor(x0, 0, x1 - x0, h);
             }
-            DrawSettings d = drawable(half_[k], last_frame);
+            DrawSettings d = drawable(half_[k]);
             const bool meanwhile = d.technique != half_[k].technique || d.marcher != half_[k].marcher;
-            meanwhile_frame |= meanwhile;
+            drew_meanwhile_ |= meanwhile;
             d.count_samples = count && !meanwhile;
             const double ms = r.draw(s_.camera, s_.light, d);
             HalfStats& st = stats_[k];
@@ -478,7 +480,7 @@ void Viewer::render_scene()
             r.draw(s_.camera, s_.light, ref);
             compositor_->copy_reference(r.framebuffer(), w, h);
         }
-        if (meanwhile_frame && cone_job_) ++cone_job_->frames_meanwhile;
+        if (drew_meanwhile_ && cone_job_) ++cone_job_->frames_meanwhile;
         shader_error_.clear();
         ++rendered_;
     } catch (const Error& e) {
@@ -819,11 +821,15 @@ int Viewer::run()
     compositor_.emplace();
     init_imgui();
     show_panel_ = o_.panel;
+    bool previous_counted = false;
     try {
         while (!window_.should_close()) {
             const bool busy = dirty_ || continuous_ || o_.frames > 0 || drag_ != Drag::None;
-            window_.poll_events(busy ? 0.0 : cone_job_ ? 0.1 : 0.25); // a build's progress: 10 per s
-            poll_cone_job(false);
+            // A build's progress: 10 per s. With --frames too: the frames drawn meanwhile do not
+            // count, and drawn as fast as they go they took the cores from the build.
+            const bool building = cone_job_.has_value();
+            window_.poll_events(busy && !(building && o_.frames > 0) ? 0.0 : building ? 0.1 : 0.25);
+            poll_cone_job();
             for (const std::string& path : window_.take_dropped_files()) handle_drop(path);
             if (frame_ == (o_.frames == 1 ? 0 : 1)) { // after the first frame, as if dropped by hand (tests)
                 for (const std::string& path : pending_drops_) handle_drop(path);
@@ -858,6 +864,7 @@ int Viewer::run()
             if (show_panel_) draw_panel();
             ImGui::Render();
 
+            drew_meanwhile_ = false;
             if (dirty_ || continuous_ || o_.frames > 0) {
                 dirty_ = false;
                 render_scene();
@@ -869,7 +876,8 @@ int Viewer::run()
             p.tint_difference = reference_overlay_;
             compositor_->present(p);
             ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
-            const bool last_frame = o_.frames > 0 && frame_ + 1 >= o_.frames;
+            const bool counted = !drew_meanwhile_;
+            const bool last_frame = o_.frames > 0 && counted && counted_ + 1 >= o_.frames;
             if (last_frame && !o_.screenshot.empty()) take_screenshot(o_.screenshot);
             window_.swap_buffers();
 
@@ -877,11 +885,15 @@ int Viewer::run()
             last_frame_ = Clock::now();
             if (frame_ > 0) {
                 frame_ms_.push_back(float(ms));
-                if (o_.frames > 0) all_frame_ms_.push_back(ms);
                 while (frame_ms_.size() > 120) frame_ms_.pop_front();
             }
+            // (Not the first frame drawn with the techniques, nor the first after a build: it
+            // compiles their shaders, and the frame before it waited for the build.)
+            if (o_.frames > 0 && counted && previous_counted) all_frame_ms_.push_back(ms);
+            previous_counted = counted;
             ++frame_;
-            if (o_.frames > 0 && frame_ >= o_.frames) break;
+            counted_ += counted;
+            if (o_.frames > 0 && counted_ >= o_.frames) break;
         }
         if (o_.frames > 0) {
             // Frame times for docs/viewer.md: the renderer's draw (to glFinish) per technique and
@@ -894,7 +906,7 @@ int Viewer::run()
                 std::snprintf(buf, sizeof buf, "%.2f ms median", median(samples));
                 return std::string(buf);
             };
-            std::printf("view: %d frames at %dx%d:", frame_, compositor_->width(), compositor_->height());
+            std::printf("view: %d frames at %dx%d:", counted_, compositor_->width(), compositor_->height());
             for (int k = 0; k < (split_ ? 2 : 1); ++k) {
                 const std::string name = display_name(half_[k]);
                 std::printf(" %s draw %s", name.c_str(), ms_text(stats_[k].draws).c_str());

@@ -180,10 +180,21 @@ elseif(CASE STREQUAL "cone_build")
                  "the relaxed cone map was not built on a thread")
     run_render(${noise} --cache-dir render_cache --out render.png)
     check(same built.png render.png 0)
+    # The frames drawn with relief meanwhile do not count towards --frames: four frames of the
+    # technique follow the build, and the first of them counts samples as a first frame does (the
+    # summary timed the technique's first draw alone, its shaders' compile, and counted nothing).
+    string(REGEX MATCH "view: 4 frames at 160x120: relaxed-cone draw [0-9.]+ ms median \\(([0-9.]+) samples/fragment\\)"
+           built_summary "${view_out}")
+    if(NOT built_summary)
+        message(FATAL_ERROR "after the build the summary is not four frames of relaxed-cone with samples:\n${view_out}")
+    endif()
+    set(built_samples ${CMAKE_MATCH_1})
     # The next run finds both maps in the cache: nothing is built, the first frame is the technique.
     run_view(${noise} --cache-dir view_cache --frames 1 --screenshot cached.png)
     expect_no_match("${view_out}" "built the" "the cached maps were built again")
     check(same cached.png render.png 0)
+    expect_match("${view_out}" "relaxed-cone draw n/a \\(${built_samples} samples/fragment\\)"
+                 "the samples per fragment after the build (${built_samples}) are not the cached run's")
     # A height image dropped while a build runs cancels it (nothing of the old map is cached) and
     # builds the new one's: the screenshot is render's with the dropped image.
     run_view(--mesh ${MESHES}/torus.obj --height builtin:noise@512 --size 160x120 --technique relaxed-cone
