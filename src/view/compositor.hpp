@@ -16,9 +16,10 @@ public:
     int height() const { return height_; }
 
     // Copies columns [x0, x1) of `source_fbo`'s colour (src_w x src_h pixels) into the matching
-    // columns of the view image, scaled (bilinear) when the sizes differ (render scale < 1).
+    // columns of the view image, scaled (nearest) when the sizes differ (render scale < 1).
     void copy_view(GLuint source_fbo, int x0, int x1, int src_w, int src_h);
-    // Copies all of `source_fbo`'s colour into the reference image (for the difference tint).
+    // Copies all of `source_fbo`'s colour into the reference image (for the difference tint),
+    // scaled as the view is.
     void copy_reference(GLuint source_fbo, int src_w, int src_h);
     void clear_view();
 

@@ -129,6 +129,14 @@ elseif(CASE STREQUAL "overlay")
     run_view(${torus} --technique pom --overlay base --reference-overlay --frames 2 --screenshot base.png)
     run_render(${torus} --technique pom --out pom.png)
     check(rgb base.png pom.png 100)
+    # The reference overlay over the reference tints nothing, at any render scale: the reference
+    # image was scaled up with linear filtering and the view with nearest, so at 0.75 silhouette
+    # pixels that do not differ were tinted (26 here).
+    foreach(overlay "" --reference-overlay)
+        run_view(--scene ${MESHES}/scenes/plane_and_torus.json --size 200x150 --technique reference ${overlay}
+                 --render-scale 0.75 --frames 2 --screenshot-ui --no-panel --screenshot reference${overlay}.png)
+    endforeach()
+    check(equal reference.png reference--reference-overlay.png 0)
 elseif(CASE STREQUAL "drop")
     # A dropped mesh replaces the scene (framed anew); a bad file is reported and the viewer goes on.
     run_view(${torus} --technique relief --frames 3 --drop nonexistent.obj --drop ${MESHES}/cube.obj

@@ -9,6 +9,8 @@
 //       same masks, and at least MIN_CHANGED pixels whose colour differs (overlays)
 //   view_mask_check binary A.png
 //       alpha is coverage: every pixel 0 or 255, and some covered
+//   view_mask_check equal A.png B.png MAX_DIFF
+//       at most MAX_DIFF pixels differ in any channel (colour or alpha)
 // Exit 0 when the check holds; prints the counts either way.
 #include "core/image.hpp"
 
@@ -46,6 +48,18 @@ int main(int argc, char** argv)
                 }
             std::printf("same: %ld pixels covered, %ld differ (max %s)\n", cov, diff, argv[4]);
             return cov > 0 && diff <= std::atol(argv[4]) ? 0 : 1;
+        }
+        if (mode == "equal" && argc == 5) {
+            const auto a = pr::read_rgba(argv[2]), b = pr::read_rgba(argv[3]);
+            if (!same_size(a, b)) return 1;
+            long diff = 0;
+            for (int y = 0; y < a.height; ++y)
+                for (int x = 0; x < a.width; ++x) {
+                    const auto p = a.at(x, y), q = b.at(x, y);
+                    diff += p.r != q.r || p.g != q.g || p.b != q.b || p.a != q.a;
+                }
+            std::printf("equal: %ld pixels differ (max %s)\n", diff, argv[4]);
+            return diff <= std::atol(argv[4]) ? 0 : 1;
         }
         if (mode == "binary" && argc == 3) {
             const auto a = pr::read_rgba(argv[2]);
@@ -87,7 +101,7 @@ int main(int argc, char** argv)
             std::printf("rgb: masks differ in %ld pixels (max 0), colour in %ld (min %s)\n", diff, changed, argv[4]);
             return diff == 0 && changed >= std::atol(argv[4]) ? 0 : 1;
         }
-        std::fprintf(stderr, "usage: view_mask_check same|split|rgb … (see the source)\n");
+        std::fprintf(stderr, "usage: view_mask_check same|equal|split|rgb|binary … (see the source)\n");
         return 2;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "view_mask_check: %s\n", e.what());
