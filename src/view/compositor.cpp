@@ -4,6 +4,7 @@
 #include "render/renderer.hpp"
 #include "render/shader_program.hpp"
 
+#include <algorithm>
 #include <string>
 
 namespace pr::view {
@@ -41,15 +42,33 @@ void Compositor::resize(int width, int height)
     make_target(width, height, ref_tex_, ref_fbo_);
 }
 
+int Compositor::view_column(int x, int src_w) const
+{
+    if (src_w == width_) return x;
+    // The first view column X whose centre maps to x or beyond: (X + 0.5) * src_w / width_ >= x,
+    // X >= (2 x width_ - src_w) / (2 src_w), rounded up (the numerator may be negative). (Where a
+    // centre falls on x exactly, a driver may round it to x - 1; the right half's copy shows that
+    // column then, from a renderer image that by then holds both halves, so the view is right.)
+    const long long num = 2LL * x * width_ - src_w, den = 2LL * src_w;
+    const long long column = num >= 0 ? (num + den - 1) / den : -((-num) / den);
+    return int(std::clamp<long long>(column, 0, width_));
+}
+
 void Compositor::copy_view(GLuint source_fbo, int x0, int x1, int src_w, int src_h)
 {
-    glDisable(GL_SCISSOR_TEST);
-    const bool same = src_w == width_ && src_h == height_;
-    const auto to_view = [&](int x) { return same ? x : int((long long)x * width_ / src_w); };
+    // The whole image is scaled by one ratio, and only the view columns that show renderer columns
+    // [x0, x1) are written (the blit honours the scissor). Each half of the split view was
+    // stretched by its own ratio (41 columns to 81 for 81 to 161), so at --render-scale below 1
+    // the halves were out of line by up to a renderer pixel.
+    const int v0 = view_column(x0, src_w), v1 = view_column(x1, src_w);
+    if (v1 <= v0) return;
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(v0, 0, v1 - v0, height_);
     // Nearest, also when scaling (--render-scale): the view target is what screenshots save, and its
     // alpha must stay coverage (0 or 1), with no colour bled in from the empty background.
-    glBlitNamedFramebuffer(source_fbo, view_fbo_.id(), x0, 0, x1, src_h, to_view(x0), 0, to_view(x1), height_,
+    glBlitNamedFramebuffer(source_fbo, view_fbo_.id(), 0, 0, src_w, src_h, 0, 0, width_, height_,
                            GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glDisable(GL_SCISSOR_TEST);
 }
 
 void Compositor::copy_reference(GLuint source_fbo, int src_w, int src_h)

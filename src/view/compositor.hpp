@@ -16,8 +16,12 @@ public:
     int height() const { return height_; }
 
     // Copies columns [x0, x1) of `source_fbo`'s colour (src_w x src_h pixels) into the matching
-    // columns of the view image, scaled (nearest) when the sizes differ (render scale < 1).
+    // columns of the view image, scaled (nearest) when the sizes differ (render scale < 1): the
+    // whole image's scale, whichever columns are copied.
     void copy_view(GLuint source_fbo, int x0, int x1, int src_w, int src_h);
+    // The first view column that shows renderer column `x` or one right of it (`width()` past
+    // the last), for a renderer `src_w` wide: where the halves of the split view meet.
+    int view_column(int x, int src_w) const;
     // Copies all of `source_fbo`'s colour into the reference image (for the difference tint),
     // scaled as the view is.
     void copy_reference(GLuint source_fbo, int src_w, int src_h);

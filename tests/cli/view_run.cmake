@@ -118,6 +118,15 @@ elseif(CASE STREQUAL "split")
     run_render(${torus} --technique prism --prism-exit exact --out exact.png)
     run_render(${torus} --technique prism --prism-shell full --out full.png)
     check(split exits.png exact.png full.png 0.5 4 0)
+    # Below render scale 1 both halves are scaled by the whole image's ratio: at 161 columns from
+    # 81 each half was stretched by its own (41 to 81, 40 to 80), and the left half was out of
+    # line with render's image scaled up in 339 pixels.
+    set(small --mesh ${MESHES}/torus.obj --height builtin:bricks)
+    run_view(${small} --size 161x97 --split pom,prism --divider 0.5 --render-scale 0.5 --frames 2
+             --screenshot scaled.png)
+    run_render(${small} --size 81x49 --technique pom --out pom_small.png)
+    run_render(${small} --size 81x49 --technique prism --out prism_small.png)
+    check(scaled scaled.png pom_small.png prism_small.png 0.5 0)
 elseif(CASE STREQUAL "overlay")
     # The shell's wireframe changes colours, never coverage.
     run_view(${torus} --technique prism --overlay shell --frames 2 --screenshot shell.png)

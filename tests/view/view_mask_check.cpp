@@ -11,6 +11,11 @@
 //       alpha is coverage: every pixel 0 or 255, and some covered
 //   view_mask_check equal A.png B.png MAX_DIFF
 //       at most MAX_DIFF pixels differ in any channel (colour or alpha)
+//   view_mask_check scaled VIEW.png LEFT.png RIGHT.png DIVIDER MAX_DIFF
+//       VIEW is LEFT and RIGHT (render's images at the renderer's size, --render-scale) scaled
+//       up with nearest filtering, one scale for the whole image: view pixel X shows renderer
+//       column floor((X + 0.5) * w / W) (rows likewise), of LEFT left of column
+//       round(DIVIDER * w), of RIGHT from it on. At most MAX_DIFF pixels differ in any channel.
 // Exit 0 when the check holds; prints the counts either way.
 #include "core/image.hpp"
 
@@ -61,6 +66,27 @@ int main(int argc, char** argv)
             std::printf("equal: %ld pixels differ (max %s)\n", diff, argv[4]);
             return diff <= std::atol(argv[4]) ? 0 : 1;
         }
+        if (mode == "scaled" && argc == 7) {
+            const auto v = pr::read_rgba(argv[2]), l = pr::read_rgba(argv[3]), r = pr::read_rgba(argv[4]);
+            if (!same_size(l, r)) return 1;
+            const int d = static_cast<int>(std::lround(std::atof(argv[5]) * l.width));
+            // Pixel centres, in whole numbers: floor((2X + 1) * w / 2W). (read_rgba's rows are
+            // bottom first, as GL's.)
+            const auto source = [](int x, int from, int to) { return int((2LL * x + 1) * to / (2LL * from)); };
+            long diff = 0, left_diff = 0;
+            for (int y = 0; y < v.height; ++y)
+                for (int x = 0; x < v.width; ++x) {
+                    const int sx = source(x, v.width, l.width), sy = source(y, v.height, l.height);
+                    const auto p = v.at(x, y), q = (sx < d ? l : r).at(sx, sy);
+                    const bool differs = p.r != q.r || p.g != q.g || p.b != q.b || p.a != q.a;
+                    diff += differs;
+                    left_diff += differs && sx < d;
+                }
+            std::printf("scaled %dx%d from %dx%d, split at renderer column %d: %ld pixels differ (%ld left of "
+                        "the split; max %s)\n",
+                        v.width, v.height, l.width, l.height, d, diff, left_diff, argv[6]);
+            return diff <= std::atol(argv[6]) ? 0 : 1;
+        }
         if (mode == "binary" && argc == 3) {
             const auto a = pr::read_rgba(argv[2]);
             long partial = 0, cov = 0;
@@ -101,7 +127,7 @@ int main(int argc, char** argv)
             std::printf("rgb: masks differ in %ld pixels (max 0), colour in %ld (min %s)\n", diff, changed, argv[4]);
             return diff == 0 && changed >= std::atol(argv[4]) ? 0 : 1;
         }
-        std::fprintf(stderr, "usage: view_mask_check same|equal|split|rgb|binary … (see the source)\n");
+        std::fprintf(stderr, "usage: view_mask_check same|equal|scaled|split|rgb|binary … (see the source)\n");
         return 2;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "view_mask_check: %s\n", e.what());
