@@ -121,7 +121,7 @@ DrawSettings make_draw_settings(const TechniqueOptions& o, const std::string& te
                                 const std::string& option = "--technique");
 // Refuses --marcher, --prism-exit and --prism-shell where nothing drawn is a prism (`drawn`:
 // the technique or list, named in the error): they were ignored silently (render, compare,
-// bench; the viewer keeps them for when its panel turns to the prism).
+// bench; the viewer keeps them for when its panel turns to the prism: check_prism_flags_used).
 void check_prism_flags_apply(const TechniqueOptions& o, bool any_prism, const std::string& drawn);
 
 // "x,y,z" -> vec3; throws pr::Error(option, …).

@@ -81,6 +81,38 @@ Session open_session(const SceneOptions& options, const std::vector<NamedPath>& 
     return s;
 }
 
+void check_prism_flags_used(const TechniqueOptions& quality, const std::vector<TechniqueRun>& runs,
+                            const std::string& drawn, bool panel)
+{
+    const CLI::Option* flags[3] = {quality.marcher_flag, quality.prism_exit_flag, quality.prism_shell_flag};
+    const char* what[3] = {"marcher", "exit", "shell"};
+    // How many of the marcher, exit and shell an entry names itself (prism:cone:walk: two); the
+    // flags give it the rest.
+    const auto named = [](const TechniqueRun& r) {
+        return std::size_t(std::count(r.label.begin(), r.label.end(), ':'));
+    };
+    for (int k = 0; k < 3; ++k) {
+        if (flags[k] == nullptr || flags[k]->count() == 0) continue;
+        const bool used = std::any_of(runs.begin(), runs.end(), [&](const TechniqueRun& r) {
+            const bool prism = r.settings.technique == Technique::Prism;
+            return (prism || panel) && named(r) <= std::size_t(k) &&
+                   (k < 2 || r.settings.prism_exit == PrismExit::Walk);
+        });
+        if (used) continue;
+        // In the viewer an entry that takes the exit from --prism-exit would take the shell too,
+        // but for that exit: the message of a single prism (make_draw_settings).
+        const bool flag_exit = panel && std::any_of(runs.begin(), runs.end(), [&](const TechniqueRun& r) {
+            return r.settings.technique != Technique::Prism || named(r) <= 1;
+        });
+        if (k == 2 && flag_exit)
+            throw Error(flags[k]->get_name(), "only the walk takes a shell (the exit is " + quality.prism_exit + ")");
+        throw Error(flags[k]->get_name(),
+                    k < 2 ? "has no effect: every prism in " + drawn + " names its own " + what[k]
+                          : "has no effect: no prism in " + drawn +
+                                " takes it (each names its own shell, or an exit that has none)");
+    }
+}
+
 std::vector<TechniqueRun> parse_technique_list(const std::string& list, const TechniqueOptions& quality,
                                                const std::string& option)
 {
@@ -105,31 +137,20 @@ std::vector<TechniqueRun> parse_technique_list(const std::string& list, const Te
         runs.push_back(std::move(run));
     }
     if (runs.empty()) throw Error(option, "no technique given");
-    // (Not for the viewer's --split: its panel may turn a half to the prism, which takes them.)
     // A prism flag with no prism in the list (check_prism_flags_apply, as render's), or one that
     // every prism entry overrides by naming its own value (prism:cone with --marcher relief), did
-    // nothing, silently.
-    if (option == "--techniques") {
+    // nothing, silently. The viewer's --split is checked the same way, but for its panel
+    // (check_prism_flags_used): it ran with such flags, and with a shell for an exit that has none.
+    if (option == "--techniques" || option == "--split") {
         const std::string drawn = option + " " + list;
-        const bool any_prism = std::any_of(runs.begin(), runs.end(), [](const TechniqueRun& r) {
-            return r.settings.technique == Technique::Prism;
-        });
-        check_prism_flags_apply(quality, any_prism, drawn);
-        const CLI::Option* flags[3] = {quality.marcher_flag, quality.prism_exit_flag, quality.prism_shell_flag};
-        const char* what[3] = {"marcher", "exit", "shell"};
-        for (int k = 0; k < 3; ++k) {
-            if (flags[k] == nullptr || flags[k]->count() == 0) continue;
-            const bool used = std::any_of(runs.begin(), runs.end(), [&](const TechniqueRun& r) {
-                const auto named = std::size_t(std::count(r.label.begin(), r.label.end(), ':'));
-                return r.settings.technique == Technique::Prism && named <= std::size_t(k) &&
-                       (k < 2 || r.settings.prism_walk());
+        const bool panel = option == "--split";
+        if (!panel) {
+            const bool any_prism = std::any_of(runs.begin(), runs.end(), [](const TechniqueRun& r) {
+                return r.settings.technique == Technique::Prism;
             });
-            if (!used)
-                throw Error(flags[k]->get_name(),
-                            k < 2 ? "has no effect: every prism in " + drawn + " names its own " + what[k]
-                                  : "has no effect: no prism in " + drawn +
-                                        " takes it (each names its own shell, or an exit that has none)");
+            check_prism_flags_apply(quality, any_prism, drawn);
         }
+        check_prism_flags_used(quality, runs, drawn, panel);
     }
     return runs;
 }

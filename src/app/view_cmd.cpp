@@ -32,6 +32,9 @@ CommandAction add_view_command(CLI::App& app)
         bool screenshot_ui = false;
         float render_scale = 1.0f;
         std::vector<std::string> drops;
+        // Given or not (CLI11's count): --split "" and --technique next to --split.
+        const CLI::Option* split_flag = nullptr;
+        const CLI::Option* technique_flag = nullptr;
     };
     auto s = std::make_shared<State>();
     s->technique.technique = "pom"; // with split on: POM | prism
@@ -39,9 +42,10 @@ CommandAction add_view_command(CLI::App& app)
         "view", "Interactive viewer (GLFW window, Dear ImGui panel): orbit, compare techniques side by side");
     add_scene_options(*cmd, s->scene);
     add_technique_options(*cmd, s->technique, true);
-    cmd->add_option("--split", s->split,
-                    "Split-screen compare: A,B (left, right), e.g. pom,prism or pom,prism:cone")
-        ->group("View");
+    s->technique_flag = cmd->get_option("--technique");
+    s->split_flag = cmd->add_option("--split", s->split,
+                                    "Split-screen compare: A,B (left, right), e.g. pom,prism or pom,prism:cone")
+                        ->group("View");
     // (Its numbers are checked as every other command's: --frames "" read as 0, interactive, and a
     // batch script with an unset variable never ended; "010" was octal, "0x3" three.)
     cmd->add_option("--divider", s->divider, "Split position, fraction of the width from the left")
@@ -89,12 +93,22 @@ CommandAction add_view_command(CLI::App& app)
                             "configured; install libglfw3-dev and libimgui-dev and build again)");
 #else
         view::ViewerOptions o;
-        o.left = make_draw_settings(s->technique, s->technique.technique);
-        if (!s->split.empty()) {
+        // The prism's flags as compare checks them, but that a half (or the technique) that is not
+        // a prism keeps them for when the panel turns it to the prism (check_prism_flags_used). With
+        // --split they went unchecked: a shell for an exit that has none, or a marcher that every
+        // half names itself, ran; --technique was ignored, and --split "" ran unsplit.
+        if (s->split_flag->count() > 0) {
+            if (s->technique_flag->count() > 0)
+                throw Error("--technique", "has no effect with --split (the halves are its two techniques)");
             const std::vector<TechniqueRun> runs = parse_technique_list(s->split, s->technique, "--split");
             if (runs.size() != 2) throw Error("--split", "expected two techniques A,B, got '" + s->split + "'");
             o.left = runs[0].settings;
             o.right = runs[1].settings;
+        } else {
+            o.left = make_draw_settings(s->technique, s->technique.technique); // (checks a prism's flags)
+            if (o.left.technique != Technique::Prism)
+                check_prism_flags_used(s->technique, {{s->technique.technique, o.left}},
+                                       "--technique " + s->technique.technique, true);
         }
         if (!(s->divider >= 0.0f && s->divider <= 1.0f)) throw Error("--divider", "must be between 0 and 1");
         o.divider = s->divider;

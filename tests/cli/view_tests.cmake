@@ -72,4 +72,23 @@ if(TARGET pr_view)
     # options are checked before the window opens: with no display, the window is what fails.
     pr_cli(view_split_keeps_prism_flags EXIT 1 ONE_LINE STDERR "${E}view: cannot open a window" ENV DISPLAY= WAYLAND_DISPLAY=
            ARGS view --mesh ${M}/torus.obj --split pom,relief --marcher cone --frames 1)
+    # Otherwise --split is checked as compare's lists are, and as view without it: these ran (the
+    # shell dropped, the marcher unused, --technique ignored, an empty --split unsplit).
+    pr_cli(view_split_shell_needs_walk EXIT 1 ONE_LINE ENV DISPLAY= WAYLAND_DISPLAY=
+           STDERR "${E}--prism-shell: only the walk takes a shell \\(the exit is exact\\)"
+           ARGS view --mesh ${M}/torus.obj --split pom,prism --prism-exit exact --prism-shell full --frames 1)
+    pr_cli(view_technique_shell_needs_walk EXIT 1 ONE_LINE ENV DISPLAY= WAYLAND_DISPLAY=
+           STDERR "${E}--prism-shell: only the walk takes a shell \\(the exit is vertex\\)"
+           ARGS view --mesh ${M}/torus.obj --technique relief --prism-exit vertex --prism-shell full --frames 1)
+    pr_cli(view_split_marcher_every_half_names_its_own EXIT 1 ONE_LINE ENV DISPLAY= WAYLAND_DISPLAY=
+           STDERR "${E}--marcher: has no effect: every prism in --split prism:cone,prism:linear names its own marcher"
+           ARGS view --mesh ${M}/torus.obj --split prism:cone,prism:linear --marcher relief --frames 1)
+    pr_cli(view_split_and_technique EXIT 1 ONE_LINE ENV DISPLAY= WAYLAND_DISPLAY=
+           STDERR "${E}--technique: has no effect with --split"
+           ARGS view --mesh ${M}/torus.obj --technique prism --split pom,relief --frames 1)
+    pr_cli(view_split_empty EXIT 1 ONE_LINE ENV DISPLAY= WAYLAND_DISPLAY= STDERR "${E}--split: no technique given"
+           ARGS view --mesh ${M}/torus.obj --split= --frames 1)
+    # A half that is not a prism takes the marcher for the panel, though the prism half names its own.
+    pr_cli(view_split_marcher_for_the_panel EXIT 1 ONE_LINE STDERR "${E}view: cannot open a window" ENV DISPLAY= WAYLAND_DISPLAY=
+           ARGS view --mesh ${M}/torus.obj --split pom,prism:cone --marcher relief --frames 1)
 endif()
