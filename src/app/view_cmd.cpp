@@ -4,6 +4,7 @@
 #include "app/session.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "render/shader_program.hpp"
 
 #ifdef PRISMRELIEF_HAVE_VIEWER
 #include "view/glfw_window.hpp"
@@ -141,9 +142,13 @@ CommandAction add_view_command(CLI::App& app)
         };
         // A dropped file is an input too: `--drop h.png --screenshot h.png` replaced the height map
         // just loaded with the screenshot.
-        std::vector<NamedPath> dropped;
-        for (const std::string& file : s->drops) dropped.emplace_back("--drop", file);
-        check_distinct_outputs({{"--screenshot", s->screenshot}}, dropped);
+        std::vector<NamedPath> inputs;
+        for (const std::string& file : s->drops) inputs.emplace_back("--drop", file);
+        // The shaders under --shader-dir by that name (open_session names the variable, which is
+        // set from it: "is the PRISMRELIEF_SHADER_DIR input" named a variable that was not set).
+        if (!s->shader_dir.empty())
+            for (NamedPath& shader : shader_override_inputs()) inputs.emplace_back("--shader-dir", std::move(shader.second));
+        check_distinct_outputs({{"--screenshot", s->screenshot}}, inputs);
         Session session = open_session(s->scene, {{"--screenshot", s->screenshot}}, open_window);
         return view::run_viewer(session, *window, o);
 #endif
