@@ -28,7 +28,7 @@ public:
     void clear_view();
 
     struct Present {
-        float divider_px = -1.0f;  // < 0: no divider line
+        float divider_px = -1.0f;  // the divider line's centre, pixels from the left; < 0: none
         float line_width = 1.0f;   // divider, pixels
         bool tint_difference = false; // reference covers, view does not: cyan; the reverse: magenta
     };

@@ -163,6 +163,12 @@ private:
     void reload_shaders(); // the watcher and the panel's button
     RgbaImage read_window() const;
     bool half_needs_reference() const;
+    // The first renderer column of the right half.
+    int divider_column() const
+    {
+        const int w = s_.renderer->width();
+        return std::clamp(int(std::lround(divider_ * float(w))), 0, w);
+    }
     std::string settings_key() const;
     // Each object's bounds grown as the scene's (apply_displacement), so that a far-away object
     // does not push the near plane past the near ones.
@@ -433,7 +439,7 @@ void Viewer::render_scene()
             reference_ready_ = true;
         }
         const int halves = split_ ? 2 : 1;
-        const int divider_px = std::clamp(int(std::lround(divider_ * float(w))), 0, w);
+        const int divider_px = divider_column();
         // Count samples on the first frame and every 10th after (the instrumented variant is
         // slower; its frames are left out of the times).
         const bool count = count_samples_ && rendered_ % 10 == 0;
@@ -871,7 +877,10 @@ int Viewer::run()
             }
             Compositor::Present p;
             const float fb_scale = ImGui::GetIO().DisplayFramebufferScale.x;
-            p.divider_px = split_ ? divider_ * float(fb.width) : -1.0f;
+            // The line on the right half's first column (at the right edge, the last column). It
+            // was drawn at divider * width: at odd widths a column left of where the halves meet.
+            const int line = std::min(compositor_->view_column(divider_column(), s_.renderer->width()), fb.width - 1);
+            p.divider_px = split_ ? float(line) + 0.5f : -1.0f;
             p.line_width = std::max(1.0f, fb_scale);
             p.tint_difference = reference_overlay_;
             compositor_->present(p);

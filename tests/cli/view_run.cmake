@@ -127,6 +127,13 @@ elseif(CASE STREQUAL "split")
     run_render(${small} --size 81x49 --technique pom --out pom_small.png)
     run_render(${small} --size 81x49 --technique prism --out prism_small.png)
     check(scaled scaled.png pom_small.png prism_small.png 0.5 0)
+    # The divider line is drawn on the right half's first column, 81 of 161 (at 0.5 too): it was
+    # drawn at 0.5 * 161 = 80.5, on column 80, a column left of where the halves meet.
+    foreach(scale 1 0.5)
+        run_view(${small} --size 161x97 --split pom,prism --divider 0.5 --render-scale ${scale} --frames 2
+                 --no-panel --screenshot-ui --screenshot line_${scale}.png)
+        check(divider line_${scale}.png 81)
+    endforeach()
 elseif(CASE STREQUAL "overlay")
     # The shell's wireframe changes colours, never coverage.
     run_view(${torus} --technique prism --overlay shell --frames 2 --screenshot shell.png)

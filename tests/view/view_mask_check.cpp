@@ -5,6 +5,9 @@
 //       columns left of round(DIVIDER * width) match LEFT's mask, the rest RIGHT's (at most MAX_DIFF
 //       pixels differ), and the right half holds at least MIN_EXTRA pixels that RIGHT covers and
 //       LEFT does not (the split view shows where the two silhouettes differ)
+//   view_mask_check divider SHOT.png COLUMN
+//       column COLUMN of a --screenshot-ui is white from top to bottom (the split view's divider
+//       line), and no other column is
 //   view_mask_check rgb A.png B.png MIN_CHANGED
 //       same masks, and at least MIN_CHANGED pixels whose colour differs (overlays)
 //   view_mask_check binary A.png
@@ -114,6 +117,24 @@ int main(int argc, char** argv)
                         x0, diff, argv[6], extra, argv[7]);
             return diff <= std::atol(argv[6]) && extra >= std::atol(argv[7]) ? 0 : 1;
         }
+        if (mode == "divider" && argc == 4) {
+            const auto a = pr::read_rgba(argv[2]);
+            const int want = std::atoi(argv[3]);
+            std::string white;
+            bool found = false, others = false;
+            for (int x = 0; x < a.width; ++x) {
+                bool all = true;
+                for (int y = 0; y < a.height && all; ++y) {
+                    const auto p = a.at(x, y);
+                    all = p.r == 255 && p.g == 255 && p.b == 255;
+                }
+                if (!all) continue;
+                white += (white.empty() ? "" : " ") + std::to_string(x);
+                (x == want ? found : others) = true;
+            }
+            std::printf("divider: white columns %s (expected %d alone)\n", white.empty() ? "none" : white.c_str(), want);
+            return found && !others ? 0 : 1;
+        }
         if (mode == "rgb" && argc == 5) {
             const auto a = pr::read_rgba(argv[2]), b = pr::read_rgba(argv[3]);
             if (!same_size(a, b)) return 1;
@@ -127,7 +148,7 @@ int main(int argc, char** argv)
             std::printf("rgb: masks differ in %ld pixels (max 0), colour in %ld (min %s)\n", diff, changed, argv[4]);
             return diff == 0 && changed >= std::atol(argv[4]) ? 0 : 1;
         }
-        std::fprintf(stderr, "usage: view_mask_check same|equal|scaled|split|rgb|binary … (see the source)\n");
+        std::fprintf(stderr, "usage: view_mask_check same|equal|scaled|split|divider|rgb|binary … (see the source)\n");
         return 2;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "view_mask_check: %s\n", e.what());
