@@ -119,6 +119,27 @@ bool darkened(const RgbaImage& lit, const RgbaImage& shadowed, std::size_t p)
     return 3 * rgb_sum(shadowed, p) < 2 * rgb_sum(lit, p);
 }
 
+// `s` drawn without shadows and with hard ones: the pixels covered, and of them those darkened.
+struct ShadowCount {
+    std::size_t covered = 0, dark = 0;
+};
+ShadowCount hard_shadows(Renderer& r, const Camera& c, glm::vec3 light, DrawSettings s)
+{
+    s.shadows = Shadows::None;
+    r.draw(c, light, s);
+    const RgbaImage lit = r.read_color();
+    s.shadows = Shadows::Hard;
+    r.draw(c, light, s);
+    const RgbaImage shadowed = r.read_color();
+    ShadowCount n;
+    for (std::size_t p = 0; p < lit.pixels.size() / 4; ++p) {
+        if (lit.pixels[4 * p + 3] < 128) continue;
+        ++n.covered;
+        n.dark += darkened(lit, shadowed, p);
+    }
+    return n;
+}
+
 } // namespace
 
 // The contract's test: on a flat shell, cone and relaxed-cone (and max-mip inside the prism) find
@@ -341,19 +362,8 @@ TEST(Shadows, ThePrismsLightRayMeetsOnlyTheHeightsTheMeshShows)
     const auto shadowed_share = [&](float wall_u, Marcher marcher) {
         auto h = prtest::height_from(128, [wall_u](float u, float) { return std::abs(u - wall_u) < 0.05f ? 1.0f : 0.0f; });
         r.upload(prtest::one_object(m, h, 0.3f));
-        DrawSettings s = settings(Technique::Prism, marcher);
-        r.draw(c, light, s);
-        const RgbaImage lit = r.read_color();
-        s.shadows = Shadows::Hard;
-        r.draw(c, light, s);
-        const RgbaImage dark = r.read_color();
-        std::size_t n = 0, darker = 0;
-        for (std::size_t p = 0; p < lit.pixels.size() / 4; ++p) {
-            if (lit.pixels[4 * p + 3] < 128) continue;
-            ++n;
-            darker += darkened(lit, dark, p);
-        }
-        return double(darker) / double(std::max<std::size_t>(n, 1));
+        const ShadowCount n = hard_shadows(r, c, light, settings(Technique::Prism, marcher));
+        return double(n.dark) / double(std::max<std::size_t>(n.covered, 1));
     };
     for (Marcher marcher : {Marcher::Relief, Marcher::RelaxedCone}) {
         EXPECT_LT(shadowed_share(0.9f, marcher), 0.002) << marcher_name(marcher);
@@ -382,20 +392,9 @@ TEST(Shadows, ConeMarchersLeaveBoxWallsLitUnderALightOverhead)
         for (const Marcher m : {Marcher::Cone, Marcher::RelaxedCone, Marcher::Linear, Marcher::Relief, Marcher::MaxMip}) {
             const bool cone = m == Marcher::Cone || m == Marcher::RelaxedCone;
             if (!prism && !cone) continue;
-            DrawSettings s = settings(cone_technique(prism, m), m);
-            r.draw(c, overhead, s);
-            const RgbaImage lit = r.read_color();
-            s.shadows = Shadows::Hard;
-            r.draw(c, overhead, s);
-            const RgbaImage shadowed = r.read_color();
-            std::size_t covered = 0, dark = 0;
-            for (std::size_t p = 0; p < lit.pixels.size() / 4; ++p) {
-                if (lit.pixels[4 * p + 3] < 128) continue;
-                ++covered;
-                dark += darkened(lit, shadowed, p);
-            }
-            EXPECT_GT(covered, 5000u);
-            EXPECT_EQ(dark, 0u) << (prism ? "prism " : "") << marcher_name(m);
+            const ShadowCount n = hard_shadows(r, c, overhead, settings(cone_technique(prism, m), m));
+            EXPECT_GT(n.covered, 5000u);
+            EXPECT_EQ(n.dark, 0u) << (prism ? "prism " : "") << marcher_name(m);
         }
 }
 
