@@ -97,12 +97,14 @@ MarchRay segment_ray(vec3 tex_in, vec3 tex_out)
 {
     vec3 seg = tex_out - tex_in;
     vec2 texels = seg.xy * u_displace.zw; // the height map's size in texels
-    int steps = int(ceil(max(float(u_march.x) * abs(seg.z), 0.5 * length(texels))));
     // Bounded (a prism's uv may span many repeats of the map), but not below what one per two
     // texels takes over four lengths of the map: merged triangles (flat_merge.hpp, at most two
     // repeats long) are sampled in full. (Bounded by 4 * --steps + 64 alone, a segment across the
     // merged plane took a sample every 7 texels of a 1024-texel map and stepped over thin walls.)
-    steps = clamp(steps, 1, max(4 * max(u_march.x, 1) + 64, int(2.0 * max(u_displace.z, u_displace.w))));
+    // Bounded before the conversion to int, which a prism's uv a million repeats long overflows.
+    int bound = max(4 * max(u_march.x, 1) + 64, int(2.0 * max(u_displace.z, u_displace.w)));
+    int steps = int(min(ceil(max(float(u_march.x) * abs(seg.z), 0.5 * length(texels))), float(bound)));
+    steps = max(steps, 1);
     return MarchRay(tex_in, seg, 1.0, steps);
 }
 
@@ -242,52 +244,57 @@ bool at_seam(vec3 tex_in, vec3 tex_out)
 // the heights the mesh shows around the hit, and no others. Marched through the height map in
 // the hit's texture frame alone, it met heights of UV regions no triangle shows and the map's
 // wrapped copy past an open mesh's edge, which cast shadows (a plane whose UVs stop short of a
-// tower in the map: a third of it darkened; found by an exploratory session). The light is on
-// where the ray leaves the shell through a top cap or a side without a neighbour (or is lost,
-// as the view walk's misses are); off where it goes under a bottom cap.
-// `prim`: the hit's prism, loaded (corner_world etc.), `from_a` its diagonals.
-float light_walk(uint prim, vec3 tex, vec3 origin, vec3 light_dir, bool from_a[3])
+// wall in the map: a third of it darkened; found by an exploratory session). Its prisms have
+// their tops at 1 whatever the shell (g_full_tops): a tight top bounds the heights around its own
+// vertex only, and a low light ray out through one could still meet a wall further on. The light
+// is on where the ray leaves through a top or a side without a neighbour (or is lost, as the view
+// walk's misses are); off where it goes under a bottom cap. The ray's parameter starts at the
+// eye's distance behind the hit, not at 0, so that the walk's tolerances, relative to it as the
+// view walk's are, keep their size.
+float light_walk(uint prim, vec3 tex, vec3 hit, vec3 light_dir)
 {
     UvGrad g = UvGrad(vec2(0.0), vec2(0.0));
     uint index[3], weld[3];
+    bool from_a[3];
     float visibility = 1.0;
     float run = 0.0; // UV units gone (the soft penumbra's distance)
     vec3 tex_in = light_start(tex), tex_out = tex_in;
-    float t_in = 0.0;
+    float start = max(distance(hit, u_eye.xyz), 1e-30);
+    vec3 origin = hit - start * light_dir;
+    float t_in = start;
     int entry_edge = -1;
     float entry_along = 0.0;
-    bool via_top = false;
+    bool blocked = false;
+    g_full_tops = true;
     for (int k = 0; k < u_walk.x; ++k) {
-        if (k > 0) load_walk_prism(prim, index, weld, from_a);
+        load_walk_prism(prim, index, weld, from_a);
         if (entry_edge >= 0) tex_in = entry_point(entry_edge, entry_along, tex_out.z);
-        int entry_face = entry_edge < 0 ? -1 : (via_top ? 0 : 2 + entry_edge);
-        // The start may lie on a face of its prism (on a cap, where the surface is one): the
-        // exits count from a little behind it (the faces the ray goes in by never count).
-        float t_min = k == 0 ? -1e-4 * distance(corner_world[0], corner_world[3]) : t_in * (1.0 - 1e-6);
+        // The start may lie on a face of its prism (its bottom, where the height is 0): the exits
+        // count from a little behind it (the faces the ray goes in by never count).
+        float t_min = k == 0 ? start - 1e-4 * distance(corner_world[0], corner_world[3]) : t_in * (1.0 - 1e-6);
         bool top_entry;
         vec3 w_top;
-        ExitFace ex = nearest_exit(origin, light_dir, t_min, from_a, 1e-5, walk_orientation, t_in, entry_face,
-                                   top_entry, w_top);
-        if ((via_top && !top_entry) || ex.face < 0) break; // out of the shell, or lost: on
+        ExitFace ex = nearest_exit(origin, light_dir, t_min, from_a, 1e-5, walk_orientation, t_in,
+                                   entry_edge < 0 ? -1 : 2 + entry_edge, top_entry, w_top);
+        if (ex.face < 0) break; // lost: on
         tex_out = vec3(ex.tex.xy, clamp(ex.tex.z, 0.0, 1.0));
-        int state = march_light(tex_in, tex_out - tex_in, 1.0, abs(tex_out.z - tex_in.z), run, visibility, g);
-        if (state == PR_LIGHT_BLOCKED) return 0.0;
-        if (state == PR_LIGHT_CLEAR) break;
-        float lambda = ex.lambda;
-        int edge = ex.face >= 2 ? ex.face - 2 : (ex.face == 0 ? top_exit_edge(w_top, lambda) : -1);
+        blocked = march_light(tex_in, tex_out - tex_in, 1.0, abs(tex_out.z - tex_in.z), run, visibility, g) ==
+                  PR_LIGHT_BLOCKED;
+        // Out through a top, at 1: above every height. Under the base surface: the object's body,
+        // or the sheet, is in the way.
+        blocked = blocked || ex.face == 1;
+        if (blocked || ex.face == 0) break;
         uvec3 across = prism_across;
-        uint next = edge == 0 ? across.x : (edge == 1 ? across.y : (edge == 2 ? across.z : 0xffffffffu));
-        if (next == 0xffffffffu) {
-            if (ex.face == 1) return 0.0; // under the base surface: the object's body, or the sheet, is in the way
-            break;
-        }
-        via_top = ex.face == 0;
+        int edge = ex.face - 2;
+        uint next = edge == 0 ? across.x : (edge == 1 ? across.y : across.z);
+        if (next == 0xffffffffu) break; // out through the shell's side
         prim = next >> 2u;
         entry_edge = int(next & 3u);
-        entry_along = clamp(1.0 - lambda, 0.0, 1.0);
-        t_in = max(ex.t, 0.0);
+        entry_along = clamp(1.0 - ex.lambda, 0.0, 1.0); // the neighbour runs the edge the other way
+        t_in = max(ex.t, start);
     }
-    return visibility;
+    g_full_tops = false;
+    return blocked ? 0.0 : visibility;
 }
 #endif
 
@@ -517,7 +524,7 @@ void main()
 #endif
         vec3 l_tex = light_in_texture_space(t_axis, b_axis, n, u_displace.x, light_dir);
 #ifdef PR_PRISM_WALK
-        visibility = light_above_horizon(l_tex) ? light_walk(prim, tex, hit, light_dir, from_a) : 0.0;
+        visibility = light_above_horizon(l_tex) ? light_walk(prim, tex, hit, light_dir) : 0.0;
 #else
         visibility = light_visibility(tex, l_tex, g);
 #endif

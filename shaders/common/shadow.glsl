@@ -17,7 +17,6 @@
 // How a light march along a stretch of its ray ended (march_light).
 #define PR_LIGHT_ON 1      // not blocked along the stretch: the march goes on past its end
 #define PR_LIGHT_BLOCKED 0 // a sample under the surface (hard), or no light left (soft)
-#define PR_LIGHT_CLEAR 2   // nothing further on can block it (the cone marchers' cone)
 
 // The light ray from `origin` along `dir` in texture space, up to t_end: samples at every step
 // after the origin (the origin's own is the caller's), `rise` the height it gains there (the
@@ -31,14 +30,15 @@ int march_light(vec3 origin, vec3 dir, float t_end, float rise, inout float run_
     // prism's march), bounded as the prism's march is: in full over four lengths of the map (by
     // 2 * --steps + 64 alone, a light low over a plane with a 2048-texel map came through a
     // wall's shadow in stripes).
+    // (Bounded before the conversion: a light just over the horizon on an 8192-texel map asks
+    // for more than an int holds.)
     vec2 size = vec2(textureSize(s_height, 0));
     vec2 texels = t_end * dir.xy * size;
-    int steps = clamp(int(ceil(float(u_march.x) * rise + 0.5 * length(texels))), 1,
-                      max(2 * max(u_march.x, 1) + 64, int(2.0 * max(size.x, size.y))));
+    int bound = max(2 * max(u_march.x, 1) + 64, int(2.0 * max(size.x, size.y)));
+    int steps = max(int(min(ceil(float(u_march.x) * rise + 0.5 * length(texels)), float(bound))), 1);
     float dt = t_end / float(steps);
     const float bias = 2e-3;
     float run = length(dir.xy); // UV units per unit t
-    int state = PR_LIGHT_ON;
 #ifdef PR_HEIGHT_FROM_CONE
     float t = dt;
     for (int i = 1; i <= steps && t < t_end; ++i) {
@@ -58,16 +58,16 @@ int march_light(vec3 origin, vec3 dir, float t_end, float rise, inout float run_
         if (visibility <= 0.0) return PR_LIGHT_BLOCKED;
 #endif
 #ifdef PR_HEIGHT_FROM_CONE
+        // Steeper than the cone: it stays inside, and nothing further on along this straight
+        // stretch can block it. (Only this stretch: the prism's light walk goes on in the next
+        // prism's texture frame, where the ray's slope may be less.)
         float denom = run - hc.z * dir.z;
-        if (denom <= 0.0) { // steeper than the cone: it stays inside
-            state = PR_LIGHT_CLEAR;
-            break;
-        }
+        if (denom <= 0.0) break;
         t += max(hc.z * (p.z - hc.x) / denom, dt);
 #endif
     }
     run_before += t_end * run;
-    return state;
+    return PR_LIGHT_ON;
 #else
     return PR_LIGHT_ON;
 #endif

@@ -72,15 +72,19 @@ ShellVertex shell_corners(uint vertex)
                        uintBitsToFloat(texelFetch(t_corners, o + 2)));
 }
 
-// The height of vertex c's top (tight, or 1 with PR_PRISM_FULL_SHELL) and its corner there. Every
-// stage that builds a top corner calls this (`precise`: no stage may fuse it differently), so
-// entry faces and exits agree to the bit.
+// Prisms loaded with their tops at 1 whatever the shell (the light's walk, prism.frag: a tight
+// top bounds the heights around its own vertex only).
+bool g_full_tops = false;
+
+// The height of vertex c's top (tight, or 1 with PR_PRISM_FULL_SHELL or g_full_tops) and its
+// corner there. Every stage that builds a top corner calls this (`precise`: no stage may fuse it
+// differently), so entry faces and exits agree to the bit.
 float shell_top_height(ShellVertex c)
 {
 #ifdef PR_PRISM_FULL_SHELL
     return 1.0;
 #else
-    return c.top_weld.x;
+    return g_full_tops ? 1.0 : c.top_weld.x;
 #endif
 }
 

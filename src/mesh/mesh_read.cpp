@@ -184,6 +184,9 @@ struct Expect {
     // coordinates) are 0.5 apart, so a torus there lost half its triangles as degenerate
     // (read_raw_mesh recentres).
     std::vector<glm::dvec3> positions;
+    // Those positions are the file's 32-bit floats, or narrower (binary PLY of floats): exact,
+    // but no finer than OpenMesh's (RawMesh::float_positions).
+    bool positions_from_floats = false;
     // ASCII STL: the names after "solid" and "endsolid" (offset, length), blanked in the bytes
     // OpenMesh parses: its reader takes any line containing "outer" for a facet's start, so
     // `solid Router_bracket` read the next lines as vertices.
@@ -902,7 +905,12 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
             }
         }
     }
-    if (!ascii) e.positions = binary_ply_positions(text.substr(lines.offset()), elements, *vertex, big_endian);
+    if (!ascii) {
+        e.positions = binary_ply_positions(text.substr(lines.offset()), elements, *vertex, big_endian);
+        for (const PlyProperty& p : vertex->properties)
+            if (p.name == "x" || p.name == "y" || p.name == "z")
+                e.positions_from_floats = e.positions_from_floats || (p.type != "double" && p.type != "float64");
+    }
     e.binary = !ascii;
     e.add_face_calls = e.file_faces = face->count;
     e.vertices = vertex->count;
@@ -1361,9 +1369,9 @@ std::optional<bool> prime_off_reader(string_view text, const fs::path& path)
 // longest side: every other keeps the reader's floats as they are, to the bit. The box is the
 // faces' corners' (an unused vertex at the file's origin, a marker, kept the torus from being
 // recentred).
-void recentre(RawMesh& mesh, std::vector<glm::dvec3> precise)
+void recentre(RawMesh& mesh, std::vector<glm::dvec3> precise, bool from_floats)
 {
-    mesh.float_positions = precise.size() != mesh.positions.size();
+    mesh.float_positions = from_floats || precise.size() != mesh.positions.size();
     if (mesh.float_positions) precise.assign(mesh.positions.begin(), mesh.positions.end());
     glm::dvec3 lo(INFINITY), hi(-INFINITY);
     for (const std::uint32_t v : mesh.corners) {
@@ -1495,7 +1503,15 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
             fail(subject,
                  "vertex " + std::to_string(i) + " has a coordinate that is not a finite number");
     }
-    recentre(mesh, std::move(expect.positions));
+    // A binary file's values as the scan read them must be what OpenMesh read, rounded to floats
+    // (each found the body on its own): else the reader's floats are used.
+    if (expect.binary && expect.positions.size() == mesh.positions.size())
+        for (size_t i = 0; i < mesh.positions.size(); ++i)
+            if (glm::vec3(expect.positions[i]) != mesh.positions[i]) {
+                expect.positions.clear();
+                break;
+            }
+    recentre(mesh, std::move(expect.positions), expect.positions_from_floats);
     if (mesh.face_count() == 0)
         fail(subject, mesh.collapsed_faces > 0 ? "all " + std::to_string(mesh.collapsed_faces) +
                                                      " faces are degenerate (repeated vertices)"

@@ -1669,14 +1669,28 @@ TEST(MeshLoad, DegenerateTrianglesFromCoarseFloatsSaySo)
                             "facet normal 0 0 1\nouter loop\nvertex 10000000 0 0\nvertex 10000002 0 0\nvertex 10000000 2 0\nendloop\nendfacet\n"
                             "facet normal 0 0 1\nouter loop\nvertex 10000000 3 0\nvertex 10000000.3 3 0\nvertex 10000000 4 0\nendloop\nendfacet\n"
                             "endsolid far\n";
-    ::testing::internal::CaptureStderr();
-    const pr::PreparedMesh m = pr::load_mesh(dir.write("far.stl", stl));
-    const std::string warnings = ::testing::internal::GetCapturedStderr();
-    EXPECT_EQ(m.dropped_triangles, 1u);
-    EXPECT_NE(warnings.find("dropped 1 degenerate (zero-area) triangle (its coordinates are far from the origin for "
-                            "its size, beyond what its file's 32-bit floats keep"),
-              std::string::npos)
-        << warnings;
+    // The same two triangles in a binary PLY of floats, which the scan reads too (exactly: they are
+    // floats), and says so as well.
+    std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex 6\nproperty float x\nproperty float y\n"
+                      "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n";
+    const float corners[6][3] = {{10000000, 0, 0}, {10000002, 0, 0}, {10000000, 2, 0},
+                                 {10000000, 3, 0}, {10000000.3f, 3, 0}, {10000000, 4, 0}};
+    ply.append(reinterpret_cast<const char*>(corners), sizeof corners);
+    for (const std::int32_t f : {0, 3}) {
+        const std::int32_t corner[3] = {f, f + 1, f + 2};
+        ply += char(3);
+        ply.append(reinterpret_cast<const char*>(corner), sizeof corner);
+    }
+    for (const auto& [name, text] : {std::pair<std::string, std::string>{"far.stl", stl}, {"far.ply", ply}}) {
+        ::testing::internal::CaptureStderr();
+        const pr::PreparedMesh m = pr::load_mesh(dir.write(name, text));
+        const std::string warnings = ::testing::internal::GetCapturedStderr();
+        EXPECT_EQ(m.dropped_triangles, 1u) << name;
+        EXPECT_NE(warnings.find("dropped 1 degenerate (zero-area) triangle (its coordinates are far from the origin for "
+                                "its size, beyond what its file's 32-bit floats keep"),
+                  std::string::npos)
+            << name << ": " << warnings;
+    }
 }
 
 TEST(MeshErrors, PlyFacesBeforeVerticesAreNamed)
