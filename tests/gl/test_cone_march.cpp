@@ -472,7 +472,9 @@ TEST(Shadows, ConeMarchersStepTheLightRayThroughTheCones)
                 const std::string what = technique_name(t) + " " + marcher_name(m) + " " + shadows_name(mode);
                 std::printf("%s: light march %.2f samples per fragment (linear %.2f); %zu of %ld shadowed pixels differ\n",
                             what.c_str(), cone.light_samples, linear.light_samples, differ, long(shadowed));
-                EXPECT_LT(cone.light_samples, 0.5 * linear.light_samples) << what;
+                // (The prism's light ray, where the texture plane shades it, is walked through the
+                // mesh's prisms too, which marches it once more in both: the saving is diluted.)
+                EXPECT_LT(cone.light_samples, (prism ? 0.6 : 0.5) * linear.light_samples) << what;
                 EXPECT_LT(double(differ), 0.03 * double(shadowed)) << what;
             }
         }
