@@ -239,19 +239,16 @@ bool at_seam(vec3 tex_in, vec3 tex_out)
 }
 
 #ifdef PR_SHADOWS
-// Self-shadowing with the walk: the light ray from the hit goes from prism to prism as the view
-// ray does (its exits found in the world, its march in each prism's texture space), so it meets
-// the heights the mesh shows around the hit, and no others. Marched through the height map in
-// the hit's texture frame alone, it met heights of UV regions no triangle shows and the map's
-// wrapped copy past an open mesh's edge, which cast shadows (a plane whose UVs stop short of a
-// wall in the map: a third of it darkened; found by an exploratory session). Its prisms have
-// their tops at 1 whatever the shell (g_full_tops): a tight top bounds the heights around its own
-// vertex only, and a low light ray out through one could still meet a wall further on. The light
-// is on where the ray leaves through a top or a side without a neighbour (or is lost, as the view
-// walk's misses are); off where it goes under a bottom cap. The ray's parameter starts at the
-// eye's distance behind the hit, not at 0, so that the walk's tolerances, relative to it as the
-// view walk's are, keep their size.
-// -1 where the walk gives no answer: lost, or past the walk's limit of prisms.
+// Self-shadowing with the walk (called where the march in the hit's texture frame finds shadow,
+// main below): the light ray from the hit goes from prism to prism as the view ray does (its
+// exits found in the world, its march in each prism's texture space), so it meets the heights
+// the mesh shows around the hit, and no others. Its prisms have their tops at 1 whatever the
+// shell (g_full_tops): a tight top bounds the heights around its own vertex only, and a low light
+// ray out through one could still meet a wall further on. The light is on where the ray leaves
+// through a top or a side without a neighbour, off where it goes under a bottom cap. The ray's
+// parameter starts at the eye's distance behind the hit, not at 0, so that the walk's
+// tolerances, relative to it as the view walk's are, keep their size. Returns the visibility, or
+// -1 where the walk gives no answer: lost, or past its limit of prisms.
 float light_walk(uint prim, vec3 tex, vec3 hit, vec3 light_dir)
 {
     UvGrad g = UvGrad(vec2(0.0), vec2(0.0));
