@@ -67,10 +67,8 @@ int march_light(vec3 origin, vec3 dir, float t_end, float rise, inout float run_
 #endif
     }
     run_before += t_end * run;
-    return PR_LIGHT_ON;
-#else
-    return PR_LIGHT_ON;
 #endif
+    return PR_LIGHT_ON;
 }
 
 // Whether a light along texture-space direction `l_tex` rises above the base surface's horizon

@@ -27,7 +27,7 @@ CommandAction add_render_command(CLI::App& app)
     add_technique_options(*cmd, s->technique, true);
     cmd->add_option("--out", s->out, "Output PNG file")->required()->group("Output");
     cmd->add_option("--json", s->json,
-                    "JSON report: technique and its configuration, time, coverage, camera (docs/techniques.md)")
+                    "JSON report: technique and its configuration, time, coverage, camera (README, \"Output\")")
         ->group("Output");
     cmd->add_option("--msaa", s->msaa,
                     "Samples per pixel: 1 (pixel centres), 2, 4, 8 or 16 (standard positions, one pass "

@@ -864,7 +864,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     const auto flat_shell = [&](const GpuObject& o) {
         const double m = double(o.midlevel);
         const double surface = std::max(std::abs(double(o.height_low) - m), std::abs(double(o.height_high) - m));
-        const double reach = double(o.depth) * std::min(surface, std::max(m, 1.0 - m));
+        const double reach = std::min(double(displacement_reach(o.depth, o.midlevel)), double(o.depth) * surface);
         return prism && reach <= 1e-6 * double(o.shell_radius);
     };
     DrawSettings flat_settings = settings;
