@@ -14,6 +14,7 @@
 #include "common/shared.h"
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <bit>
 #include <chrono>
@@ -216,6 +217,33 @@ WalkTriangles walk_triangles(const std::vector<MeshVertex>& vertices, const std:
 // the eye, a box of more than 64 tiles) in every marked tile; each tile's list is drawn with the
 // tile as scissor. The lists one after the other in `prisms`, tile t's from offsets[t] to
 // offsets[t + 1]; `marked` the tiles (y * tw + x) in that order.
+// The scissor as the caller left it: `clip` bounds a box by it (unchanged where the test is
+// off), `restore` sets it back.
+struct ScissorState {
+    bool enabled = false;
+    std::array<GLint, 4> box{};
+    static ScissorState current()
+    {
+        ScissorState s;
+        s.enabled = glIsEnabled(GL_SCISSOR_TEST) == GL_TRUE;
+        glGetIntegerv(GL_SCISSOR_BOX, s.box.data());
+        return s;
+    }
+    std::array<GLint, 4> clip(std::array<GLint, 4> r) const
+    {
+        if (!enabled) return r;
+        const GLint x0 = std::max(r[0], box[0]), y0 = std::max(r[1], box[1]);
+        const GLint x1 = std::min(r[0] + r[2], box[0] + box[2]), y1 = std::min(r[1] + r[3], box[1] + box[3]);
+        return {x0, y0, x1 - x0, y1 - y0};
+    }
+    void restore() const
+    {
+        glScissor(box[0], box[1], box[2], box[3]);
+        if (enabled) glEnable(GL_SCISSOR_TEST);
+        else glDisable(GL_SCISSOR_TEST);
+    }
+};
+
 struct TileLists {
     std::vector<std::uint32_t> prisms, offsets, marked;
 };
@@ -1051,16 +1079,22 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
                 glBindTextureUnit(PR_TEX_PRISM_LIST, pass_list_texels_.id());
                 glBindVertexArray(o.base.vao.id());
                 // Each marked tile's prisms with the tile as scissor: only its pixels are shaded
-                // (llvmpipe runs the whole shader even for fragments that discard at once).
+                // (llvmpipe runs the whole shader even for fragments that discard at once). A
+                // caller's scissor (the viewer's split view draws each half in its own columns)
+                // bounds the tiles and is set back afterwards.
+                const ScissorState outer = ScissorState::current();
                 glEnable(GL_SCISSOR_TEST);
                 for (std::size_t m = 0; m < lists.marked.size(); ++m) {
                     const GLsizei count = GLsizei(lists.offsets[m + 1] - lists.offsets[m]);
                     if (count == 0) continue;
                     const int x = int(lists.marked[m] % std::uint32_t(tw)), y = int(lists.marked[m] / std::uint32_t(tw));
-                    glScissor(x * PR_TEAR_TILE, y * PR_TEAR_TILE, PR_TEAR_TILE, PR_TEAR_TILE);
+                    const std::array<GLint, 4> tile =
+                        outer.clip({x * PR_TEAR_TILE, y * PR_TEAR_TILE, PR_TEAR_TILE, PR_TEAR_TILE});
+                    if (tile[2] <= 0 || tile[3] <= 0) continue;
+                    glScissor(tile[0], tile[1], tile[2], tile[3]);
                     glDrawArrays(GL_POINTS, GLint(lists.offsets[m]), count);
                 }
-                glDisable(GL_SCISSOR_TEST);
+                outer.restore();
             }
         }
     }

@@ -756,3 +756,50 @@ TEST(Prism, WalkCrossesTheSliversAroundAVertexOfHighValence)
     const CompareMetrics m = compare_frames(capture(r, c, Technique::Prism), ref);
     EXPECT_GT(m.iou, 0.995);
 }
+
+// A caller's scissor bounds the whole draw, the second pass through tears included, and is left
+// as it was: the viewer's split view draws each half in its own columns, then its wire overlay.
+// The second pass set its tiles' scissors and then turned the test off. (Its pixels stayed in
+// the columns even so: it shades only pixels the first pass marked, inside the scissor.)
+TEST(Prism, TheSecondPassKeepsTheCallersScissor)
+{
+    prtest::context();
+    const int w = 128, h = 96, half = 70; // the tiles (PR_TEAR_TILE) across the edge
+    Renderer r(w, h);
+    // Under the surface of a sphere, looking into it: the rays that go on into the body come out
+    // on its far side, from inside (the second pass).
+    Scene scene = mesh_scene("uv_sphere.obj", prtest::height_from(16, [](float, float) { return 1.0f; }), 0.04f);
+    r.upload(scene);
+    Camera c;
+    c.eye = {0.0f, 0.0f, 1.02f};
+    c.target = {0.3f, 0.0f, 0.0f};
+    fit_clip_planes(c, scene.shell_bounds);
+    const RgbaImage full = capture(r, c, Technique::Prism).color;
+    const RgbaImage before = capture(r, c, Technique::Flat).color; // what the right half keeps
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(0, 0, half, h);
+    const RgbaImage left = capture(r, c, Technique::Prism).color;
+    GLint box[4] = {};
+    glGetIntegerv(GL_SCISSOR_BOX, box);
+    EXPECT_EQ(glIsEnabled(GL_SCISSOR_TEST), GL_TRUE);
+    EXPECT_EQ(box[0], 0);
+    EXPECT_EQ(box[2], half);
+    EXPECT_EQ(box[3], h);
+    glDisable(GL_SCISSOR_TEST);
+    int changed_right = 0, differ_left = 0, full_differs_right = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const auto a = before.at(x, y), b = left.at(x, y), f = full.at(x, y);
+            const bool same_as_before = a.r == b.r && a.g == b.g && a.b == b.b && a.a == b.a;
+            const bool same_as_full = f.r == b.r && f.g == b.g && f.b == b.b && f.a == b.a;
+            if (x >= half) {
+                changed_right += !same_as_before;
+                full_differs_right += !(a.r == f.r && a.g == f.g && a.b == f.b && a.a == f.a);
+            } else {
+                differ_left += !same_as_full;
+            }
+        }
+    ASSERT_GT(full_differs_right, 500) << "the prism and flat images agree: the test shows nothing";
+    EXPECT_EQ(changed_right, 0);
+    EXPECT_EQ(differ_left, 0);
+}
