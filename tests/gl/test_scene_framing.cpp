@@ -74,3 +74,23 @@ TEST(SceneLoad, AMeshNamedTwiceIsReadOnce)
     EXPECT_EQ(a[1], b[2]); // the mirrored copy's triangles reversed, the first object's not
     EXPECT_EQ(a[2], b[1]);
 }
+
+// The default depth is 4 % of the object's world box's diagonal: the box of its transformed
+// vertices, not of its transformed file box's corners. The torus (axis y, 48 segments) turned
+// 45° about y has the same vertices as unturned, so the same default depth; the corners' box made
+// it 40 % deeper (and a scene's turn drew other bumps than the same turn in the file).
+TEST(SceneLoad, DefaultDepthFollowsTheTurnedVerticesBox)
+{
+    const auto torus_depth = [](double angle_deg) {
+        pr::SceneSpec spec;
+        pr::ObjectSpec o;
+        o.mesh = (std::filesystem::path(PR_SOURCE_DIR) / "meshes" / "torus.obj").string();
+        o.transform = glm::rotate(glm::dmat4(1.0), glm::radians(angle_deg), glm::dvec3(0, 1, 0));
+        spec.objects.push_back(o);
+        return double(pr::load_scene(spec).objects[0].depth);
+    };
+    const double straight = torus_depth(0.0);
+    EXPECT_NEAR(torus_depth(45.0), straight, 1e-5 * straight);
+    EXPECT_NEAR(torus_depth(90.0), straight, 1e-5 * straight);
+    EXPECT_NEAR(torus_depth(22.5), straight, 0.01 * straight); // 7.5° segments: a little narrower
+}
