@@ -228,7 +228,9 @@ double rest_bound(double c, double threshold, uint filled, int top, int m, int l
 }
 
 // maps::Searcher::search: the ratio of texel (px, py) in format steps, for cones or relaxed cones.
-int search(int px, int py, bool relaxed)
+// `ran_out_of_nodes` is set where the node budget ran out: the CPU's search goes on best first there,
+// and the CPU finishes such texels (render/conemap_gpu.cpp).
+int search(int px, int py, bool relaxed, inout bool ran_out_of_nodes)
 {
     float hp = height_at(px, py);
     int top = u_levels - 1;
@@ -295,6 +297,7 @@ int search(int px, int py, bool relaxed)
                                  px, py, hp, inv_w2, inv_h2);
         if (rest < best) k = ratio_steps(rest);
     }
+    ran_out_of_nodes = ran_out_of_nodes || out_of_nodes;
     return k;
 }
 
@@ -304,9 +307,10 @@ void main()
     if (index >= u_count) return;
     uint texel = u_first + index;
     int px = int(texel % uint(u_size.x)), py = int(texel / uint(u_size.x));
-    int k = search(px, py, false);
+    bool out_of_nodes = false;
+    int k = search(px, py, false, out_of_nodes);
 #if PR_CONE_KIND == 1
-    k = max(k, search(px, py, true));
+    k = max(k, search(px, py, true, out_of_nodes));
 #endif
-    b_steps[texel] = uint(k);
+    b_steps[texel] = uint(k) | (out_of_nodes ? 0x80000000u : 0u);
 }

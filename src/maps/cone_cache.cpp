@@ -36,12 +36,16 @@ namespace {
 constexpr char kMagic[8] = {'P', 'R', 'C', 'O', 'N', 'E', '0', '1'};
 constexpr std::size_t kHeaderBytes = 8 + 5 * 4 + 8 + 8;
 
-std::uint64_t cache_key(const HeightField& field, ConeKind kind, ConeFormat format)
+// The budgets change the map where they bind (ConeBuildOptions), so they are part of the key.
+std::uint64_t cache_key(const HeightField& field, ConeKind kind, const ConeBuildOptions& options)
 {
     Fnv f;
     f.add32(kConeGeneratorVersion);
     f.add32(std::uint32_t(kind));
-    f.add32(std::uint32_t(format));
+    f.add32(std::uint32_t(options.format));
+    f.add32(std::uint32_t(std::max(options.relaxed_budget, 0)));
+    f.add32(std::uint32_t(std::max(options.node_budget, 0)));
+    f.add32(std::uint32_t(std::max(options.best_first_budget, 0)));
     f.add32(std::uint32_t(field.width));
     f.add32(std::uint32_t(field.height));
     f.add(field.texels.data(), field.texels.size() * sizeof(float));
@@ -285,10 +289,10 @@ std::size_t trim_cone_cache(const std::filesystem::path& cache_dir, std::uint64_
     return removed;
 }
 
-std::filesystem::path cone_cache_entry(const HeightField& field, ConeKind kind, ConeFormat format,
+std::filesystem::path cone_cache_entry(const HeightField& field, ConeKind kind, const ConeBuildOptions& options,
                                        const std::filesystem::path& cache_dir)
 {
-    return entry_for_key(field, kind, format, cache_dir, cache_key(field, kind, format));
+    return entry_for_key(field, kind, options.format, cache_dir, cache_key(field, kind, options));
 }
 
 ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const std::filesystem::path& cache_dir,
@@ -299,7 +303,7 @@ ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const s
         result.map = build(field, kind, options);
         return result;
     }
-    const std::uint64_t key = cache_key(field, kind, options.format); // hashes every texel: once
+    const std::uint64_t key = cache_key(field, kind, options); // hashes every texel: once
     result.entry = entry_for_key(field, kind, options.format, cache_dir, key);
     std::error_code ec;
     if (std::filesystem::is_regular_file(result.entry, ec)) {

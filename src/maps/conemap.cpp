@@ -247,10 +247,11 @@ struct Node {
 class Searcher {
 public:
     Searcher(const HeightField& f, const MaxPyramid& pyr, ConeKind kind, ConeFormat format, int budget,
-             int node_budget)
+             int node_budget, int best_first_budget)
         : f_(f), pyr_(pyr), kind_(kind), format_(format), steps_(cone_format_steps(format)),
           budget_(budget > 0 ? budget : std::numeric_limits<int>::max()),
           node_budget_(node_budget > 0 ? node_budget : std::numeric_limits<int>::max()),
+          best_first_budget_(std::max(best_first_budget, 0)),
           inv_w2_(1.0 / (double(f.width) * double(f.width))),
           inv_h2_(1.0 / (double(f.height) * double(f.height))), top_(pyr.levels() - 1),
           global_max_(pyr.at(top_, 0, 0))
@@ -271,7 +272,14 @@ public:
         return cut ? std::max(relaxed, search(px, py, false, cut)) : relaxed;
     }
 
-    // `cut`: set when a budget stopped the search early.
+    // `cut`: set when a budget stopped the search early. Depth first, as the GPU's search; where
+    // the node budget runs out, the nodes left go on best first (smallest bound first) for up to
+    // best_first_budget_ more (CPU only: the GPU path hands such texels back to
+    // cone_steps_of_texels). The depth-first search leaves the near siblings of the nodes it went
+    // down into, whose bounds are small: counted by those, on a ramp or a hill 512 texels across
+    // a third of the texels stored less than half their ratio (found by an exploratory session).
+    // Best first, the smallest bound left only grows, and what is left when it stops counts by
+    // that (the heap's top): the widest cone that many nodes prove.
     int search(int px, int py, bool relaxed, bool& cut)
     {
         const float hp = f_.texels[std::size_t(py) * std::size_t(f_.width) + std::size_t(px)];
@@ -282,14 +290,28 @@ public:
         stack_.clear();
         stack_.push_back({top_, 0, 0, 0.0});
         int budget = budget_;
-        int visits = 0;
+        int visits = 0, limit = node_budget_;
+        bool heap = false; // stack_ is a min-heap of bounds: the best-first part
+        const auto later = [](const Node& a, const Node& b) { return a.bound > b.bound; };
         while (!stack_.empty()) {
-            if (++visits > node_budget_) {
+            if (++visits > limit) {
+                if (!heap && best_first_budget_ > 0) {
+                    std::erase_if(stack_, [&](const Node& n) { return n.bound * kMargin >= threshold; });
+                    std::make_heap(stack_.begin(), stack_.end(), later);
+                    heap = true;
+                    visits = 0;
+                    limit = best_first_budget_;
+                    continue;
+                }
                 // Out of nodes: what is left counts by its lower bounds (conservative).
                 cut = true;
                 const double rest = rest_bound(best, threshold);
                 if (rest < best) k = cone_ratio_steps(rest, format_);
                 break;
+            }
+            if (heap) {
+                if (stack_.front().bound * kMargin >= threshold) break; // nothing left can lower k
+                std::pop_heap(stack_.begin(), stack_.end(), later);
             }
             const Node n = stack_.back();
             stack_.pop_back();
@@ -328,6 +350,13 @@ public:
                     if (bound * kMargin >= threshold) continue;
                     kids[count++] = {cl, ci, cj, bound};
                 }
+            if (heap) {
+                for (int c = 0; c < count; ++c) {
+                    stack_.push_back(kids[c]);
+                    std::push_heap(stack_.begin(), stack_.end(), later);
+                }
+                continue;
+            }
             // Push in decreasing bound (at most 4: insertion order by hand).
             for (int c = 1; c < count; ++c)
                 for (int d = c; d > 0 && kids[d - 1].bound < kids[d].bound; --d) std::swap(kids[d - 1], kids[d]);
@@ -386,6 +415,7 @@ private:
     int steps_;
     int budget_;
     int node_budget_;
+    int best_first_budget_;
     double inv_w2_, inv_h2_;
     int top_;
     float global_max_;
@@ -394,24 +424,18 @@ private:
 
 } // namespace
 
-ConeMap build_cone_map_cpu(const HeightField& given, ConeKind kind, const ConeBuildOptions& options)
-{
-    if (given.width < 1 || given.height < 1 ||
-        given.texels.size() != std::size_t(given.width) * std::size_t(given.height))
-        throw Error(given.name.empty() ? "height map" : given.name, "cannot build a cone map of an empty height field");
-    HeightField rounded;
-    const HeightField& field = cone_source_field(given, options.format, rounded);
-    const MaxPyramid pyramid = build_max_pyramid(field);
-    ConeMap map;
-    map.width = field.width;
-    map.height = field.height;
-    map.kind = kind;
-    map.heights = field.texels;
-    map.ratios.assign(field.texels.size(), 0.0f);
+namespace {
 
+// Runs `per_item(searcher, i)` for i in [0, count) on options.threads threads (each with its
+// Searcher), handing items out from an atomic counter; `progress` gets the fraction done. Stops
+// at the next item when options.cancel turns true or an item throws (rethrown here).
+template <class PerItem>
+void for_each_item(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind, const ConeBuildOptions& options,
+                   int count, PerItem per_item)
+{
     unsigned threads = options.threads > 0 ? unsigned(options.threads) : std::thread::hardware_concurrency();
-    threads = std::clamp(threads, 1u, unsigned(std::max(1, field.height)));
-    std::atomic<int> next_row{0}, rows_done{0};
+    threads = std::clamp(threads, 1u, unsigned(std::max(1, count)));
+    std::atomic<int> next{0}, done{0};
     std::mutex mutex;
     std::condition_variable finished;
     unsigned running = threads;
@@ -420,18 +444,17 @@ ConeMap build_cone_map_cpu(const HeightField& given, ConeKind kind, const ConeBu
 
     const auto work = [&]() {
         try {
-            Searcher searcher(field, pyramid, kind, options.format, options.relaxed_budget, options.node_budget);
-            for (int y = next_row++; y < field.height; y = next_row++) {
+            Searcher searcher(field, pyramid, kind, options.format, options.relaxed_budget, options.node_budget,
+                              options.best_first_budget);
+            for (int i = next++; i < count; i = next++) {
                 if (cancelled()) break;
-                for (int x = 0; x < field.width; ++x)
-                    map.ratios[std::size_t(y) * std::size_t(field.width) + std::size_t(x)] =
-                        cone_steps_to_ratio(searcher.search(x, y), options.format);
-                ++rows_done;
+                per_item(searcher, i);
+                ++done;
             }
         } catch (...) {
             std::lock_guard lock(mutex);
             if (!failure) failure = std::current_exception();
-            next_row = field.height; // the others stop at their next row
+            next = count; // the others stop at their next item
         }
         std::lock_guard lock(mutex);
         if (--running == 0) finished.notify_all();
@@ -455,15 +478,56 @@ ConeMap build_cone_map_cpu(const HeightField& given, ConeKind kind, const ConeBu
         while (!finished.wait_for(lock, std::chrono::milliseconds(100), [&] { return running == 0; }))
             if (options.progress) {
                 lock.unlock();
-                options.progress(double(rows_done.load()) / double(field.height));
+                options.progress(double(done.load()) / double(count));
                 lock.lock();
             }
     }
     for (auto& t : pool) t.join();
     if (failure) std::rethrow_exception(failure);
     if (cancelled()) throw ConeBuildCancelled();
+}
+
+} // namespace
+
+ConeMap build_cone_map_cpu(const HeightField& given, ConeKind kind, const ConeBuildOptions& options)
+{
+    if (given.width < 1 || given.height < 1 ||
+        given.texels.size() != std::size_t(given.width) * std::size_t(given.height))
+        throw Error(given.name.empty() ? "height map" : given.name, "cannot build a cone map of an empty height field");
+    HeightField rounded;
+    const HeightField& field = cone_source_field(given, options.format, rounded);
+    const MaxPyramid pyramid = build_max_pyramid(field);
+    ConeMap map;
+    map.width = field.width;
+    map.height = field.height;
+    map.kind = kind;
+    map.heights = field.texels;
+    map.ratios.assign(field.texels.size(), 0.0f);
+    // A row at a time.
+    for_each_item(field, pyramid, kind, options, field.height, [&](Searcher& searcher, int y) {
+        for (int x = 0; x < field.width; ++x)
+            map.ratios[std::size_t(y) * std::size_t(field.width) + std::size_t(x)] =
+                cone_steps_to_ratio(searcher.search(x, y), options.format);
+    });
     if (options.progress) options.progress(1.0);
     return map;
+}
+
+void cone_steps_of_texels(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind,
+                          const ConeBuildOptions& options, const std::vector<std::uint32_t>& texels,
+                          std::vector<std::uint32_t>& steps)
+{
+    if (texels.empty()) return;
+    ConeBuildOptions quiet = options;
+    quiet.progress = nullptr; // (the caller's own progress goes on around it)
+    const std::size_t w = std::size_t(field.width);
+    constexpr int kPerItem = 64; // texels handed out at a time
+    const int items = int((texels.size() + kPerItem - 1) / kPerItem);
+    for_each_item(field, pyramid, kind, quiet, items, [&](Searcher& searcher, int item) {
+        const std::size_t end = std::min(texels.size(), std::size_t(item + 1) * kPerItem);
+        for (std::size_t t = std::size_t(item) * kPerItem; t < end; ++t)
+            steps[texels[t]] = std::uint32_t(searcher.search(int(texels[t] % w), int(texels[t] / w)));
+    });
 }
 
 } // namespace pr

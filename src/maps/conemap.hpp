@@ -58,6 +58,11 @@ struct ConeBuildOptions {
     // by their lower bounds: a narrower cone, still conservative. No built-in map comes near it.
     // 0: unbounded (the exact rounded minimum everywhere).
     int node_budget = 1024;
+    // Where node_budget runs out, the nodes left go on best first (smallest bound first) for at
+    // most this many more, and only then count by their bounds (docs/cone-maps.md, "The search").
+    // The GPU generator searches depth first only and hands such texels to the CPU's threads
+    // (cone_steps_of_texels), so both give the same map. 0: none.
+    int best_first_budget = 4096;
     // GPU generator only: read the max pyramid from storage buffers, as it does by itself where the
     // pyramid has more texels than GL_MAX_TEXTURE_BUFFER_SIZE, instead of from buffer textures
     // (faster on llvmpipe). The same map either way; tests use it to cover that path.
@@ -83,8 +88,9 @@ ConeMap read_cone_png(const std::filesystem::path& path, ConeKind kind);
 // ---- generator details shared by the CPU and GPU paths (docs/cone-maps.md) ----
 
 // Bumped whenever the generator's output changes: part of every cache key. (3: rg8 maps are
-// built from their 8-bit heights; 4: rises in the stored height steps, exactly.)
-inline constexpr std::uint32_t kConeGeneratorVersion = 4;
+// built from their 8-bit heights; 4: rises in the stored height steps, exactly; 5: the search
+// goes on best first where the node budget runs out.)
+inline constexpr std::uint32_t kConeGeneratorVersion = 5;
 
 // 255 (rg8) or 65535 (rg16): the ratio is stored as k / steps, k an integer.
 int cone_format_steps(ConeFormat format);
@@ -131,6 +137,14 @@ struct MaxPyramid {
     }
 };
 MaxPyramid build_max_pyramid(const HeightField& field);
+
+// The CPU generator's ratio, in format steps, of each texel listed (y * width + x), written to
+// steps[texel]; `field` is cone_source_field()'s, `pyramid` its max pyramid. On options.threads
+// threads; options.progress is not called. For the GPU generator's texels whose search ran out of
+// nodes there.
+void cone_steps_of_texels(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind,
+                          const ConeBuildOptions& options, const std::vector<std::uint32_t>& texels,
+                          std::vector<std::uint32_t>& steps);
 
 // The relaxed-cone constraint of texel q on texel p (kind relaxed, see docs/cone-maps.md): the
 // ray from p's column at height 1 through q's surface point, continued past q in steps of one
@@ -180,7 +194,7 @@ std::uint64_t cone_cache_max_bytes();
 std::size_t trim_cone_cache(const std::filesystem::path& cache_dir, std::uint64_t max_bytes,
                             const std::filesystem::path& keep = {});
 // The entry file a map would have (cache_dir/cone/<kind>-<format>-<W>x<H>-<key>.bin).
-std::filesystem::path cone_cache_entry(const HeightField& field, ConeKind kind, ConeFormat format,
+std::filesystem::path cone_cache_entry(const HeightField& field, ConeKind kind, const ConeBuildOptions& options,
                                        const std::filesystem::path& cache_dir);
 
 } // namespace pr

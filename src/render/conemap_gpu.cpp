@@ -109,14 +109,27 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, steps.id());
     const auto search_start = std::chrono::steady_clock::now();
     std::size_t chunk = kFirstChunkTexels;
+    std::vector<std::uint32_t> k(n);
+    std::vector<std::uint32_t> unfinished; // texels whose search ran out of nodes
     for (std::size_t first = 0; first < n;) {
         const std::size_t count = std::min(chunk, n - first);
         const auto start = std::chrono::steady_clock::now();
         glProgramUniform1ui(p, 3, GLuint(first));
         glProgramUniform1ui(p, 4, GLuint(count));
         glDispatchCompute(GLuint((count + kGroupSize - 1) / kGroupSize), 1, 1);
-        glFinish(); // one chunk at a time: no long-running dispatch
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glGetNamedBufferSubData(steps.id(), GLintptr(first * sizeof(std::uint32_t)),
+                                GLsizeiptr(count * sizeof(std::uint32_t)), k.data() + first); // waits for it
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        // Where the node budget ran out (the top bit), the CPU's search goes on best first
+        // (maps::Searcher): those texels are searched again on the CPU's threads, so that the
+        // map is the CPU generator's.
+        unfinished.clear();
+        for (std::size_t t = first; t < first + count; ++t) {
+            if (k[t] & 0x80000000u && options.best_first_budget > 0) unfinished.push_back(std::uint32_t(t));
+            k[t] &= 0x7fffffffu;
+        }
+        cone_steps_of_texels(field, pyramid, kind, options, unfinished, k);
         first += count;
         if (options.progress) options.progress(double(first) / double(n));
         // The next one: to take kChunkSeconds at this one's pace, growing at most fourfold.
@@ -124,9 +137,6 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
         chunk = std::clamp(std::size_t(double(count) * scale) / kGroupSize * kGroupSize, std::size_t(kGroupSize),
                            kMaxChunkTexels);
     }
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    std::vector<std::uint32_t> k(n);
-    glGetNamedBufferSubData(steps.id(), 0, GLsizeiptr(n * sizeof(std::uint32_t)), k.data());
     if (search_ms)
         *search_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - search_start).count();
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);

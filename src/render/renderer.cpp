@@ -569,7 +569,7 @@ std::vector<Renderer::ConeMapNeed> Renderer::missing_cone_maps(AuxMap map)
             if (entry == cone_entries_.end())
                 entry = cone_entries_
                             .emplace(std::pair{o.height_field.get(), kind},
-                                     cone_cache_entry(*o.height_field, kind, ConeBuildOptions{}.format, cache_dir()))
+                                     cone_cache_entry(*o.height_field, kind, ConeBuildOptions{}, cache_dir()))
                             .first;
             std::error_code ec;
             if (std::filesystem::is_regular_file(entry->second, ec)) continue;

@@ -574,8 +574,8 @@ TEST(ConeMarch, RendererBuildsMissingMapsOnTheGpuIfAsked)
     }
     for (std::size_t i = 0; i < images[0].size(); ++i) EXPECT_EQ(images[1][i], images[0][i]) << "draw " << i;
     for (ConeKind kind : {ConeKind::Cone, ConeKind::Relaxed}) {
-        const fs::path a = cone_cache_entry(*h, kind, ConeFormat::Rg16, dir / "cpu");
-        const fs::path b = cone_cache_entry(*h, kind, ConeFormat::Rg16, dir / "gpu");
+        const fs::path a = cone_cache_entry(*h, kind, ConeBuildOptions{}, dir / "cpu");
+        const fs::path b = cone_cache_entry(*h, kind, ConeBuildOptions{}, dir / "gpu");
         ASSERT_TRUE(fs::exists(a) && fs::exists(b));
         EXPECT_EQ(fs::file_size(a), fs::file_size(b));
         const auto bytes = [](const fs::path& p) {

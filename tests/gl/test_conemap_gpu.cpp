@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <random>
+#include <string>
 
 using namespace pr;
 
@@ -92,12 +93,17 @@ TEST(ConeMapGpu, EqualsCpuWithABindingNodeBudget)
     HeightField f = field_of(64, 48, 8, true);
     for (int y = 0; y < f.height; ++y) // a ramp: the search runs out of nodes on most texels
         for (int x = 0; x < f.width; ++x) f.texels[std::size_t(y * f.width + x)] = float(x + 0.3 * y) / 80.0f;
-    for (ConeKind kind : {ConeKind::Cone, ConeKind::Relaxed}) {
-        ConeBuildOptions o;
-        o.node_budget = 24;
-        expect_same(build_cone_map_gpu(f, kind, o), build_cone_map_cpu(f, kind, o), ConeFormat::Rg16,
-                    kind == ConeKind::Cone ? "cone ramp budget" : "relaxed ramp budget");
-    }
+    // The GPU searches depth first; where its nodes run out the CPU goes on best first, and the
+    // GPU path hands those texels to the CPU: with that part off, running out, and finishing.
+    for (ConeKind kind : {ConeKind::Cone, ConeKind::Relaxed})
+        for (int best_first : {0, 24, 4096}) {
+            ConeBuildOptions o;
+            o.node_budget = 24;
+            o.best_first_budget = best_first;
+            const std::string what = std::string(kind == ConeKind::Cone ? "cone" : "relaxed") +
+                                     " ramp budget, best first " + std::to_string(best_first);
+            expect_same(build_cone_map_gpu(f, kind, o), build_cone_map_cpu(f, kind, o), ConeFormat::Rg16, what.c_str());
+        }
 }
 
 TEST(ConeMapGpu, SpikeAndLargerThanOneChunk)

@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <fstream>
 #include <functional>
 #include <limits>
@@ -385,29 +386,69 @@ TEST(ConeMap, RelaxedBudgetLiesBetweenConeAndExact)
 }
 
 // A node budget (pathological maps: a long ramp) gives a narrower cone where the search runs out,
-// never a wider one: still conservative against brute force.
+// never a wider one: still conservative against brute force. Depth first alone
+// (best_first_budget 0, as the GPU searches), and with a best-first part that runs out too.
 TEST(ConeMap, NodeBudgetStaysConservative)
 {
     const HeightField f = make(64, 48, [](int x, int y) { return q16((x + 0.3 * y) / 80.0); });
-    ConeBuildOptions exact, tight;
+    ConeBuildOptions exact, depth_first, both;
     exact.node_budget = 0;
-    tight.node_budget = 24;
+    exact.relaxed_budget = 0;
+    depth_first.node_budget = 24;
+    depth_first.best_first_budget = 0;
+    both.node_budget = 24;
+    both.best_first_budget = 24;
     for (ConeKind kind : {ConeKind::Cone, ConeKind::Relaxed}) {
         const ConeMap e = build_cone_map_cpu(f, kind, exact);
-        const ConeMap t = build_cone_map_cpu(f, kind, tight);
-        int narrower = 0;
+        const ConeMap d = build_cone_map_cpu(f, kind, depth_first);
+        const ConeMap b = build_cone_map_cpu(f, kind, both);
+        int narrower = 0, wider_than_depth_first = 0;
         for (std::size_t i = 0; i < e.ratios.size(); ++i) {
-            EXPECT_LE(t.ratios[i], e.ratios[i]);
-            narrower += t.ratios[i] < e.ratios[i];
+            EXPECT_LE(d.ratios[i], e.ratios[i]);
+            EXPECT_LE(b.ratios[i], e.ratios[i]) << cone_kind_name(kind) << " texel " << i;
+            EXPECT_GE(b.ratios[i], d.ratios[i]); // going on best first never narrows
+            narrower += d.ratios[i] < e.ratios[i];
+            wider_than_depth_first += b.ratios[i] > d.ratios[i];
         }
         EXPECT_GT(narrower, 0) << cone_kind_name(kind); // the budget did bind
-        if (kind == ConeKind::Cone) expect_conservative(f, t);
+        EXPECT_GT(wider_than_depth_first, 0) << cone_kind_name(kind);
+        if (kind == ConeKind::Cone) {
+            expect_conservative(f, d);
+            expect_conservative(f, b);
+        }
     }
     // The default budget does not bind on the test maps: the exact result (brute-force tested).
     for (const Case& c : cases()) {
         const ConeMap d = build_cone_map_cpu(c.field, ConeKind::Cone, {});
         const ConeMap e = build_cone_map_cpu(c.field, ConeKind::Cone, exact);
         EXPECT_EQ(d.ratios, e.ratios) << c.name;
+    }
+}
+
+// Where the depth-first search runs out of nodes it leaves the near siblings of the nodes it went
+// down into, whose bounds are small; counted by those, the cones of a ramp or a hill came out
+// far too narrow (on a 512² ramp a sixth of the texels stored less than half their ratio, on a
+// hill a third). Best first from there, the default budget proves the exact ratio on both here,
+// with a node budget that binds as 1024 does at 512².
+TEST(ConeMap, BestFirstFinishesWhereTheNodesRunOut)
+{
+    const HeightField ramp = make(64, 48, [](int x, int y) { return q16((x + 0.3 * y) / 80.0); });
+    const HeightField hill = make(64, 64, [](int x, int y) {
+        return q16(std::max(0.0, 1.0 - 2.0 * std::hypot((x + 0.5) / 64.0 - 0.5, (y + 0.5) / 64.0 - 0.5)));
+    });
+    for (const HeightField* f : {&ramp, &hill}) {
+        ConeBuildOptions exact, depth_first, both;
+        exact.node_budget = 0;
+        depth_first.node_budget = both.node_budget = 24;
+        depth_first.best_first_budget = 0;
+        const ConeMap e = build_cone_map_cpu(*f, ConeKind::Cone, exact);
+        const ConeMap d = build_cone_map_cpu(*f, ConeKind::Cone, depth_first);
+        int half = 0;
+        for (std::size_t i = 0; i < e.ratios.size(); ++i) half += d.ratios[i] < 0.5f * e.ratios[i];
+        std::printf("%s: %d of %zu texels under half their ratio depth first\n", f == &ramp ? "ramp" : "hill", half,
+                    e.ratios.size());
+        EXPECT_GT(half, int(e.ratios.size() / 50)) << (f == &ramp ? "ramp" : "hill");
+        EXPECT_EQ(build_cone_map_cpu(*f, ConeKind::Cone, both).ratios, e.ratios) << (f == &ramp ? "ramp" : "hill");
     }
 }
 
@@ -487,11 +528,11 @@ TEST(ConeMap, CancelledBuildThrowsAndCachesNothing)
         ConeBuildOptions o;
         o.cancel = &cancel;
         EXPECT_THROW(cached_cone_map(f, kind, dir.path(), o), ConeBuildCancelled);
-        EXPECT_FALSE(fs::exists(cone_cache_entry(f, kind, o.format, dir.path())));
+        EXPECT_FALSE(fs::exists(cone_cache_entry(f, kind, o, dir.path())));
         cancel = false;
         EXPECT_EQ(build_cone_map_cpu(f, kind, o).ratios, build_cone_map_cpu(f, kind).ratios);
         EXPECT_FALSE(cached_cone_map(f, kind, dir.path(), o).from_cache);
-        EXPECT_TRUE(fs::exists(cone_cache_entry(f, kind, o.format, dir.path())));
+        EXPECT_TRUE(fs::exists(cone_cache_entry(f, kind, o, dir.path())));
     }
 }
 
@@ -625,6 +666,13 @@ TEST(ConeMap, CacheRoundTripAndCorruptEntryIsRebuilt)
     HeightField g = f;
     g.texels[5] = 0.0f;
     EXPECT_FALSE(cached_cone_map(g, ConeKind::Cone, dir.path()).from_cache);
+    // Other budgets (which change the map where they bind): another entry.
+    for (int which = 0; which < 3; ++which) {
+        ConeBuildOptions o;
+        (which == 0 ? o.node_budget : which == 1 ? o.best_first_budget : o.relaxed_budget) = 24;
+        EXPECT_FALSE(cached_cone_map(f, ConeKind::Relaxed, dir.path(), o).from_cache) << which;
+        EXPECT_TRUE(cached_cone_map(f, ConeKind::Relaxed, dir.path(), o).from_cache) << which;
+    }
 }
 
 // An entry of the wrong length (cut short, or with bytes appended) is rebuilt, and the warning

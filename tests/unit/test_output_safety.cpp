@@ -346,7 +346,7 @@ TEST(ConeCacheLocation, NoAbsoluteHomeOrXdgMeansNoCache)
     EXPECT_FALSE(r.from_cache);
     EXPECT_TRUE(r.entry.empty());
     EXPECT_EQ(r.map.ratios.size(), 256u);
-    EXPECT_EQ(cone_cache_entry(f, ConeKind::Cone, ConeFormat::Rg16, {}), fs::path());
+    EXPECT_EQ(cone_cache_entry(f, ConeKind::Cone, ConeBuildOptions{}, {}), fs::path());
     EXPECT_EQ(trim_cone_cache({}, 0), 0u);
 }
 
