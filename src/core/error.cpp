@@ -15,13 +15,46 @@ void warn(const std::string& message)
     if (said.insert(message).second) std::fprintf(stderr, "prismrelief: warning: %s\n", one_line(message).c_str());
 }
 
+namespace {
+
+// The length of the well-formed UTF-8 character at the start of `s` (RFC 3629: no overlong forms,
+// no surrogates, nothing past U+10FFFF), or 0 if it does not start with one.
+std::size_t utf8_length(std::string_view s)
+{
+    const auto at = [&s](std::size_t i) { return i < s.size() ? static_cast<unsigned char>(s[i]) : 0u; };
+    const unsigned lead = at(0);
+    std::size_t n = 0;
+    unsigned lo = 0x80, hi = 0xBF; // the second byte's range
+    if (lead >= 0xC2 && lead <= 0xDF) n = 2;
+    else if (lead >= 0xE0 && lead <= 0xEF) n = 3, lo = lead == 0xE0 ? 0xA0 : 0x80, hi = lead == 0xED ? 0x9F : 0xBF;
+    else if (lead >= 0xF0 && lead <= 0xF4) n = 4, lo = lead == 0xF0 ? 0x90 : 0x80, hi = lead == 0xF4 ? 0x8F : 0xBF;
+    else return 0;
+    if (at(1) < lo || at(1) > hi) return 0;
+    for (std::size_t i = 2; i < n; ++i)
+        if (at(i) < 0x80 || at(i) > 0xBF) return 0;
+    return n;
+}
+
+} // namespace
+
 std::string one_line(std::string_view text)
 {
     std::string out;
     out.reserve(text.size());
-    for (const char c : text) {
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
         const auto u = static_cast<unsigned char>(c);
-        if (u >= 0x20 && u != 0x7f) {
+        // UTF-8 as it is (file names in other scripts); a byte that is not part of a character
+        // written out, as control characters are (a scene in UTF-16 or Latin-1 echoed its raw
+        // bytes in the JSON parser's message; found by an exploratory session).
+        if (u >= 0x80) {
+            if (const std::size_t n = utf8_length(text.substr(i)); n > 0) {
+                out.append(text.substr(i, n));
+                i += n - 1;
+                continue;
+            }
+        }
+        if (u >= 0x20 && u < 0x7f) {
             out.push_back(c);
         } else if (c == '\n') {
             out += "\\n";

@@ -10,6 +10,19 @@ TEST(OneLine, ControlCharactersAreWrittenOut)
     EXPECT_EQ(pr::one_line("a\nb\tc\x01"), "a\\nb\\tc\\x01");
 }
 
+// UTF-8 is kept; bytes that are not UTF-8 are written out as control characters are (a scene in
+// Latin-1 or UTF-16 echoed its raw bytes in the JSON parser's message).
+TEST(OneLine, BytesThatAreNotUtf8AreWrittenOut)
+{
+    EXPECT_EQ(pr::one_line("caf\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x98\x80"), "caf\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x98\x80");
+    EXPECT_EQ(pr::one_line("caf\xE9!"), "caf\\xe9!");                  // Latin-1 é
+    EXPECT_EQ(pr::one_line("\xFF\xFE{"), "\\xff\\xfe{");                // a UTF-16 byte-order mark
+    EXPECT_EQ(pr::one_line("\xC3"), "\\xc3");                           // cut short
+    EXPECT_EQ(pr::one_line("\xC0\xAF"), "\\xc0\\xaf");                 // overlong '/'
+    EXPECT_EQ(pr::one_line("\xED\xA0\x80"), "\\xed\\xa0\\x80");       // a surrogate
+    EXPECT_EQ(pr::one_line("a\x7f"), "a\\x7f");
+}
+
 // A scene naming its mesh by a 5 MB path printed a 5 MB line (found by an exploratory session,
 // sixteenth session): the start and the end (the problem) stay, the middle is left out and said
 // so, cut between UTF-8 characters.
