@@ -328,6 +328,16 @@ void check_prism_flags_apply(const TechniqueOptions& o, bool any_prism, const st
             throw Error(flag->get_name(), "applies to the prism technique only, and " + drawn + " draws none");
 }
 
+void check_shadows_apply(const TechniqueOptions& o, const std::vector<Technique>& drawn_techniques,
+                         const std::string& drawn)
+{
+    if (parse_shadows(o.shadows, "--shadows") == Shadows::None) return;
+    const bool any = std::any_of(drawn_techniques.begin(), drawn_techniques.end(), [](Technique t) {
+        return t != Technique::Flat && t != Technique::Reference;
+    });
+    if (!any) throw Error("--shadows", "has no effect: " + drawn + " draws no self-shadowing (flat and reference never do)");
+}
+
 ReferenceOptions make_reference_options(const TechniqueOptions& o)
 {
     if (o.reference_level < 0 || o.reference_level > 256)

@@ -123,6 +123,11 @@ DrawSettings make_draw_settings(const TechniqueOptions& o, const std::string& te
 // the technique or list, named in the error): they were ignored silently (render, compare,
 // bench; the viewer keeps them for when its panel turns to the prism: check_prism_flags_used).
 void check_prism_flags_apply(const TechniqueOptions& o, bool any_prism, const std::string& drawn);
+// Refuses --shadows hard|soft where every technique drawn is flat or reference, which never shade
+// self-shadowing: it was ignored silently (render, compare, bench; not the viewer, whose panel
+// may turn to another technique).
+void check_shadows_apply(const TechniqueOptions& o, const std::vector<Technique>& drawn_techniques,
+                         const std::string& drawn);
 
 // "x,y,z" -> vec3; throws pr::Error(option, …).
 glm::vec3 parse_vec3(const std::string& text, const std::string& option);

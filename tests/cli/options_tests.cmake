@@ -137,6 +137,16 @@ pr_cli(marcher_without_prism EXIT 1 ONE_LINE NO_FILE o.png
 pr_cli(prism_exit_without_prism_in_list EXIT 1 ONE_LINE NO_FILE c.json
        STDERR "${E}--prism-exit: applies to the prism technique only, and --techniques pom,relief draws none"
        ARGS compare --mesh ${M}/torus.obj --techniques pom,relief --prism-exit exact --size 8x8 --json c.json)
+# --shadows where nothing drawn shades self-shadowing (flat, reference) was ignored silently (found
+# by an exploratory session, nineteenth session); a list with one technique that takes it is fine.
+pr_cli(shadows_with_flat EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}--shadows: has no effect: --technique flat draws no self-shadowing \\(flat and reference never do\\)"
+       ARGS render --mesh ${M}/torus.obj --technique flat --shadows hard --size 8x8 --out o.png)
+pr_cli(shadows_with_flat_and_reference EXIT 1 ONE_LINE NO_FILE c.json
+       STDERR "${E}--shadows: has no effect: --techniques flat,reference draws no self-shadowing"
+       ARGS compare --mesh ${M}/torus.obj --techniques flat,reference --shadows soft --size 8x8 --json c.json)
+pr_cli(shadows_taken_by_one_technique EXIT 0 EXPECT_FILE c.json
+       ARGS compare --mesh ${M}/torus.obj --techniques flat,pom --shadows soft --size 8x8 --json c.json)
 # A prism flag that every prism entry of the list overrides by naming its own value did nothing
 # (compare --techniques prism:cone,pom --marcher relief; found by a review).
 pr_cli(marcher_every_prism_names_its_own EXIT 1 ONE_LINE NO_FILE c.json
