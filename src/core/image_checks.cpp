@@ -81,6 +81,18 @@ void check_pnm(const std::string& subject, const Bytes& b)
     const std::uint64_t sample = h->maxval > 255 ? 2 : 1;
     const std::uint64_t needed = h->data + h->width * h->height * std::uint64_t(h->channels) * sample;
     if (needed > b.size()) cut_short(subject, "PNM", needed, b.size());
+    // Samples run from 0 to maxval (netpbm refuses one past it). stb returns them as stored and
+    // image.cpp scales them by maxval: one past it came out clamped to the top height without a
+    // word (maxval 100 and a sample of 255: found by an exploratory session).
+    if (h->maxval == 255 || h->maxval == 65535) return; // every sample fits
+    const std::uint64_t count = h->width * h->height * std::uint64_t(h->channels);
+    for (std::uint64_t k = 0; k < count && h->data + sample * (k + 1) <= b.size(); ++k) { // (bounded twice: w*h may wrap)
+        const std::uint64_t v = sample == 2 ? be16(b, h->data + 2 * k) : b[h->data + k];
+        if (v > h->maxval)
+            throw Error(subject, fmt::format("not a supported image (corrupt PNM: a sample is {}, more than its "
+                                             "maxval of {})",
+                                             v, h->maxval));
+    }
 }
 
 // A TGA's pixel data: raw (types 1-3) or run-length (9-11) packets, each a header byte and then

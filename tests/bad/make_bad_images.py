@@ -76,6 +76,11 @@ write("huge_header.png", b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIB
 write("huge_area.png", b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 16000, 16000, 8, 0, 0, 0, 0))
       + chunk(b"IEND", b""))
 
+# ---- PNM ----------------------------------------------------------------------------------------
+
+# A sample past the maxval (found by an exploratory session): it was clamped to the top height.
+write("over_maxval.pgm", b"P5\n4 4\n100\n" + bytes([100] * 15 + [255]))
+
 # ---- JPEG (baseline, one grey component, every coefficient zero: a uniform 50 % grey) ---------
 
 def segment(marker, payload):

@@ -11,6 +11,8 @@ endfunction()
 # ---- images: refused, for --height and --color alike --------------------------------------------
 foreach(case "truncated.png|not a supported image \\(truncated or corrupt data"
              "truncated_header.png|not a supported image \\(corrupt or unsupported PNG\\)"
+             # Found by an exploratory session: a PGM sample past its maxval was clamped without a word.
+             "over_maxval.pgm|not a supported image \\(corrupt PNM: a sample is 255, more than its maxval of 100\\)"
              "zero_size.png|the image is 0x0 pixels: nothing to use"
              "not_an_image.png|not a supported image \\(unknown format"
              "truncated.jpg|not a supported image \\(truncated or corrupt data"

@@ -627,6 +627,29 @@ TEST_F(ImageFiles, PnmSamplesAreScaledByTheirMaxval)
     EXPECT_TRUE(contains(error_of([&] { pr::load_height(zero); }).problem(), "PNM maxval 0: must be 1 to 65535"));
 }
 
+// A sample past its PNM's maxval is a damaged file (netpbm refuses it too): it came out clamped
+// to the top height without a word (found by an exploratory session).
+TEST_F(ImageFiles, PnmSamplesPastTheirMaxvalAreRefused)
+{
+    const auto refused = [&](const std::string& name, const Bytes& bytes, const std::string& why) {
+        const std::string p = put(name, bytes);
+        for (const bool colour : {false, true}) {
+            const pr::Error e = error_of([&] { colour ? (void)pr::load_color(p) : (void)pr::load_height(p); });
+            EXPECT_EQ(e.subject(), p);
+            EXPECT_TRUE(contains(e.problem(), why)) << name << ": " << e.problem();
+        }
+    };
+    refused("over.pgm", {'P', '5', '\n', '2', ' ', '1', '\n', '1', '0', '0', '\n', 100, 255},
+            "corrupt PNM: a sample is 255, more than its maxval of 100");
+    refused("over16.pgm", {'P', '5', '\n', '2', ' ', '1', '\n', '1', '0', '0', '0', '\n', 0x03, 0xE8, 0x03, 0xE9},
+            "corrupt PNM: a sample is 1001, more than its maxval of 1000");
+    refused("over.ppm", {'P', '6', '\n', '1', ' ', '1', '\n', '9', '\n', 9, 9, 10},
+            "corrupt PNM: a sample is 10, more than its maxval of 9");
+    // At the maxval: the top height.
+    EXPECT_FLOAT_EQ(pr::load_height(put("top.pgm", {'P', '5', '\n', '1', ' ', '1', '\n', '1', '0', '0', '\n', 100})).at(0, 0),
+                    1.0f);
+}
+
 // An uncompressed 16-bit PSD keeps its 16 bits: stb 2.27's stbi_is_16_bit says no to every PSD
 // (its test reads the height's first bytes as the depth), and they were read at 8 bits (an
 // exploratory session saw 2053 come out as 2056).
