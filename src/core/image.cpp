@@ -102,6 +102,10 @@ std::string stb_reason()
     if (code == "0-pixel image" || code == "0 width") return "the image has no pixels (0x0)";
     if (code == "too large") return "its header claims absurd dimensions";
     if (code == "outofmem") return "out of memory while decoding";
+    // stb names an unknown critical PNG chunk by its type, whatever its bytes: four zeros made
+    // the reason empty ("corrupt or unsupported: "). check_png leaves few such files to stb.
+    if (code.empty() || !std::all_of(code.begin(), code.end(), [](char ch) { return ch >= ' ' && ch <= '~'; }))
+        return "corrupt data";
     return "corrupt or unsupported: " + code;
 }
 
@@ -244,7 +248,7 @@ void check_jpeg_tables(const std::string& subject, const std::vector<std::uint8_
 // empty; for an empty IDAT before any data the destination is a null pointer (undefined
 // behaviour, found by tests/fuzz/fuzz_image). Empty IDAT chunks carry nothing: drop them before
 // stb sees the file. Chunks are walked as stb walks them (length, type, data, CRC); a chunk that
-// runs past the end stops the walk and is left for stb to refuse.
+// runs past the end stops the walk and is left for check_png to refuse.
 } // namespace
 
 void drop_empty_png_idat(std::vector<std::uint8_t>& b)
@@ -286,6 +290,7 @@ Checked check_header(const std::string& subject, std::vector<std::uint8_t>& byte
     const std::optional<Sniffed> sniffed = sniff(bytes);
     if (sniffed && sniffed->width && sniffed->height)
         check_image_dimensions(subject, *sniffed->width, *sniffed->height, limits);
+    check_png(subject, bytes);
     const Checked c{bytes.data(), static_cast<int>(bytes.size())};
     int w = 0, h = 0, comp = 0;
     if (!stbi_info_from_memory(c.data, c.len, &w, &h, &comp)) {

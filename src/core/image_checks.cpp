@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <string_view>
 
@@ -251,6 +252,36 @@ void check_hdr(const std::string& subject, const Bytes& b)
 
 bool is_hdr(const Bytes& b) { return starts_with(b, "#?RADIANCE\n") || starts_with(b, "#?RGBE\n"); }
 
+bool is_png(const Bytes& b) { return starts_with(b, "\x89PNG\r\n\x1a\n"); }
+
+// The CRC-32 of PNG chunks (ISO 3309, as zlib's crc32), a table of the 256 byte values.
+std::uint32_t png_crc(const std::uint8_t* p, std::size_t n)
+{
+    static const auto table = [] {
+        std::array<std::uint32_t, 256> t{};
+        for (std::uint32_t i = 0; i < 256; ++i) {
+            std::uint32_t c = i;
+            for (int k = 0; k < 8; ++k) c = c & 1 ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+            t[i] = c;
+        }
+        return t;
+    }();
+    std::uint32_t c = 0xFFFFFFFFu;
+    for (std::size_t i = 0; i < n; ++i) c = table[(c ^ p[i]) & 0xFF] ^ (c >> 8);
+    return c ^ 0xFFFFFFFFu;
+}
+
+// A chunk's type as the message can show it: its four letters, or its bytes in hex where they
+// are not letters (a damaged length puts any bytes there).
+std::string chunk_name(const Bytes& b, std::size_t o)
+{
+    const bool letters = std::all_of(b.begin() + std::ptrdiff_t(o), b.begin() + std::ptrdiff_t(o + 4), [](std::uint8_t c) {
+        return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z');
+    });
+    if (letters) return std::string(b.begin() + std::ptrdiff_t(o), b.begin() + std::ptrdiff_t(o + 4));
+    return fmt::format("0x{:08X}", be32(b, o));
+}
+
 } // namespace
 
 bool psd_is_16_bit(const std::vector<std::uint8_t>& b)
@@ -287,6 +318,32 @@ void check_image_data(const std::string& subject, const std::vector<std::uint8_t
         check_hdr(subject, bytes);
     else if (is_tga(bytes))
         check_tga(subject, bytes);
+}
+
+void check_png(const std::string& subject, const std::vector<std::uint8_t>& b)
+{
+    if (!is_png(b)) return;
+    std::size_t at = 8;
+    std::string last = "its signature";
+    for (;;) {
+        if (b.size() - at < 12) {
+            if (b.size() == at)
+                throw Error(subject, fmt::format("not a supported image (truncated PNG: the file ends after {}, "
+                                                 "without the IEND chunk that closes a PNG)",
+                                                 last));
+            cut_short(subject, "PNG", at + 12, b.size());
+        }
+        const std::uint64_t length = be32(b, at), end = at + 12 + length;
+        if (end > b.size()) cut_short(subject, "PNG", end, b.size());
+        const std::string name = chunk_name(b, at + 4);
+        if (png_crc(&b[at + 4], std::size_t(length) + 4) != be32(b, std::size_t(end) - 4))
+            throw Error(subject, fmt::format("not a supported image (corrupt PNG: the CRC of its {} chunk does not "
+                                             "match its data: a damaged file)",
+                                             name));
+        if (name == "IEND") return; // stb reads no further, nor do we: trailing bytes are left alone
+        last = "its " + name + " chunk";
+        at = std::size_t(end);
+    }
 }
 
 bool needs_padding_check(const std::vector<std::uint8_t>& bytes)

@@ -3,7 +3,8 @@
 // does not notice that the file ends early (sixteenth session, found by an exploratory session):
 // a truncated PNM, raw TGA or PIC came out as uninitialised memory (a different map each run),
 // BMP, GIF, PSD and run-length TGA rows past the end as zeros, and a truncated run-length Radiance
-// HDR file hung stb's scanline loop forever. PNG and JPEG are left to stb, which refuses them.
+// HDR file hung stb's scanline loop forever. A short JPEG is left to stb, which refuses it; a
+// short PNG is refused by check_png, which also checks what stb does not (its CRCs).
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -16,6 +17,13 @@ namespace pr {
 // run-length scanlines are cut short or hold a run stb's decoder would loop on, and for PSD
 // run-length data of 16 bits, which stb decodes as 8 (garbage).
 void check_image_data(const std::string& subject, const std::vector<std::uint8_t>& bytes);
+
+// Throws Error(subject, ...) when a PNG's chunks, walked from its signature to IEND, run past
+// the end of the file, end without IEND, or carry a CRC that does not match their type and data.
+// stb_image 2.27 checks no CRC: a damaged IDAT decoded to wrong heights with exit 0 (found by an
+// exploratory session), and a file without IEND was refused for a reason it left empty. Other
+// formats are left alone.
+void check_png(const std::string& subject, const std::vector<std::uint8_t>& bytes);
 
 // Whether stb could read past the end of these bytes without failing: every format but PNG,
 // JPEG and HDR (whose readers check, or check_image_data() did). Such files are decoded twice,

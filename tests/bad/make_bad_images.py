@@ -75,6 +75,14 @@ write("huge_header.png", b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIB
       + chunk(b"IEND", b""))
 write("huge_area.png", b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 16000, 16000, 8, 0, 0, 0, 0))
       + chunk(b"IEND", b""))
+# Found by an exploratory session: stb_image 2.27 checks no CRC (nor zlib's Adler-32), and
+# decoded a damaged IDAT to wrong heights with exit 0 (here one bit flipped where the deflate
+# stream still inflates to as many bytes); it refused a file without IEND for an empty reason.
+damaged = bytearray(valid_grey)
+damaged[valid_grey.index(b"IDAT") + 4 + 66] ^= 0x01
+assert len(zlib.decompressobj(-15).decompress(bytes(damaged[valid_grey.index(b"IDAT") + 6:]))) == N * (N + 1)
+write("damaged_idat.png", bytes(damaged))
+write("no_iend.png", valid_grey[:-12])
 
 # ---- PNM ----------------------------------------------------------------------------------------
 

@@ -9,8 +9,12 @@ function(pr_refuse name file message)
 endfunction()
 
 # ---- images: refused, for --height and --color alike --------------------------------------------
-foreach(case "truncated.png|not a supported image \\(truncated or corrupt data"
-             "truncated_header.png|not a supported image \\(corrupt or unsupported PNG\\)"
+foreach(case "truncated.png|not a supported image \\(truncated PNG: it needs at least 293 bytes, the file has 203\\)"
+             "truncated_header.png|not a supported image \\(truncated PNG: it needs at least 33 bytes, the file has 20\\)"
+             # Found by an exploratory session: stb_image 2.27 checks no CRC (a damaged IDAT gave
+             # wrong heights, exit 0) and refused a PNG without IEND for an empty reason.
+             "damaged_idat.png|not a supported image \\(corrupt PNG: the CRC of its IDAT chunk does not match its data: a damaged file\\)"
+             "no_iend.png|not a supported image \\(truncated PNG: the file ends after its IDAT chunk, without the IEND chunk that closes a PNG\\)"
              # Found by an exploratory session: a PGM sample past its maxval was clamped without a word.
              "over_maxval.pgm|not a supported image \\(corrupt PNM: a sample is 255, more than its maxval of 100\\)"
              "zero_size.png|the image is 0x0 pixels: nothing to use"

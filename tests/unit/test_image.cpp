@@ -9,8 +9,10 @@
 
 #include <stb_image_write.h>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -605,6 +607,38 @@ TEST_F(ImageFiles, FilesThatEndBeforeTheirPixelsAreRefused)
     psd.insert(psd.end(), {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 3, 0, 3, 0, 3});
     for (int channel = 0; channel < 3; ++channel) psd.insert(psd.end(), {1, 0x12, 0x34});
     refused("rle16.psd", psd, "16-bit PSD with run-length compression");
+}
+
+// stb_image 2.27 checks no PNG CRC (nor zlib's Adler-32): a damaged byte in IDAT decoded to
+// wrong heights with exit 0 (found by an exploratory session). Every chunk up to IEND is
+// checked; a file cut short or without IEND is named as such (stb's reason was empty).
+TEST_F(ImageFiles, DamagedOrShortPngsAreRefused)
+{
+    const auto refused = [&](const std::string& name, const Bytes& bytes, const std::string& why) {
+        const std::string p = put(name, bytes);
+        for (const bool colour : {false, true}) {
+            const pr::Error e = error_of([&] { colour ? (void)pr::load_color(p) : (void)pr::load_height(p); });
+            EXPECT_EQ(e.subject(), p);
+            EXPECT_TRUE(contains(e.problem(), why)) << name << ": " << e.problem();
+        }
+    };
+    const Bytes png = make_png(4, 8, 0, {{0, 8, 16, 24}, {32, 40, 48, 56}});
+    const auto idat = std::size_t(std::search(png.begin(), png.end(), std::begin("IDAT"), std::end("IDAT") - 1) - png.begin());
+    Bytes damaged = png;
+    damaged[idat + 4 + 2 + 5 + 1 + 2] ^= 0x20; // the first row's third pixel (zlib header, block header, filter)
+    refused("idat.png", damaged, "corrupt PNG: the CRC of its IDAT chunk does not match its data: a damaged file");
+    damaged = png;
+    damaged.back() ^= 1; // IEND's CRC
+    refused("iend.png", damaged, "corrupt PNG: the CRC of its IEND chunk does not match its data");
+    refused("no_iend.png", Bytes(png.begin(), png.end() - 12),
+            "truncated PNG: the file ends after its IDAT chunk, without the IEND chunk that closes a PNG");
+    refused("cut.png", Bytes(png.begin(), png.begin() + std::ptrdiff_t(idat + 10)),
+            fmt::format("truncated PNG: it needs at least {} bytes, the file has {}", png.size() - 12, idat + 10));
+    refused("cut_header.png", Bytes(png.begin(), png.end() - 5), "truncated PNG: it needs at least");
+    // Bytes after IEND are left alone, as stb leaves them.
+    Bytes trailing = png;
+    trailing.insert(trailing.end(), 100, 0xAB);
+    EXPECT_FLOAT_EQ(pr::load_height(put("trailing.png", trailing)).at(2, 1), 16.0f / 255.0f);
 }
 
 // A PNM's samples run from 0 to its maxval: stb returns them as stored, so maxval 127 gave
