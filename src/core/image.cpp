@@ -311,12 +311,34 @@ Checked check_header(const std::string& subject, std::vector<std::uint8_t>& byte
 // read past the end without failing (needs_padding_check: every format but PNG, JPEG and HDR),
 // it decodes the bytes followed by kPadding zeros and again followed by as many 0xFF bytes: a
 // file that ends before its pixels do gives two different images (stb read zeros past the end,
-// and such rows came out black: BMP, GIF, PSD, run-length TGA cut short).
+// and such rows came out black: BMP, GIF, PSD, run-length TGA cut short). A palette PNG whose
+// indices could run past its PLTE is decoded twice the same way, with two palettes filled up.
 template <typename T, typename Decode>
 StbiPtr<T> decode_image(const std::string& subject, const std::vector<std::uint8_t>& bytes, const Checked& c,
                         int* w, int* h, int* n, int channels, Decode decode)
 {
     constexpr std::size_t kPadding = 64;
+    if (std::optional<PngPaletteProbe> probe = png_palette_probe(bytes)) {
+        // A palette PNG whose PLTE leaves some indices uncovered: decoded with the palette filled
+        // up two ways (png_palette_probe), a pixel whose index is past the file's own entries
+        // comes out different, its index in the first's red.
+        if (probe->low.size() > std::size_t(INT_MAX)) // (stb takes an int length)
+            throw Error(subject, "not a supported image (a palette PNG of 2 GiB)");
+        StbiPtr<T> low(decode(probe->low.data(), int(probe->low.size()), w, h, n, channels));
+        if (!low) return low;
+        int w2 = 0, h2 = 0, n2 = 0;
+        StbiPtr<T> high(decode(probe->high.data(), int(probe->high.size()), &w2, &h2, &n2, channels));
+        if (!high || w2 != *w || h2 != *h || n2 != *n) fail_decode(subject); // (it decoded once)
+        const std::size_t stride = std::size_t(channels ? channels : *n), count = std::size_t(*w) * std::size_t(*h);
+        std::optional<unsigned> index;
+        for (std::size_t k = 0; k < count; ++k)
+            if (low.get()[k * stride] != high.get()[k * stride]) index = std::max(index.value_or(0), unsigned(low.get()[k * stride]));
+        if (index)
+            throw Error(subject, fmt::format("not a supported image (corrupt PNG: a pixel's colour index is {}, past "
+                                             "its palette of {} colours)",
+                                             *index, probe->entries));
+        return low;
+    }
     if (!needs_padding_check(bytes) || c.len > INT_MAX - int(kPadding))
         return StbiPtr<T>(decode(c.data, c.len, w, h, n, channels));
     std::vector<stbi_uc> padded(c.data, c.data + c.len);

@@ -346,6 +346,46 @@ void check_png(const std::string& subject, const std::vector<std::uint8_t>& b)
     }
 }
 
+std::optional<PngPaletteProbe> png_palette_probe(const std::vector<std::uint8_t>& b)
+{
+    // IHDR first (stb refuses anything else), colour type 3.
+    if (!is_png(b) || b.size() < 33 || std::memcmp(&b[12], "IHDR", 4) != 0 || b[25] != 3) return std::nullopt;
+    const unsigned depth = b[24];
+    std::size_t at = 8, plte = 0;
+    std::uint32_t entries = 0;
+    while (b.size() - at >= 12) {
+        const std::uint64_t length = be32(b, at), end = at + 12 + length;
+        if (end > b.size()) return std::nullopt; // check_png refuses it
+        const std::string_view type(reinterpret_cast<const char*>(&b[at + 4]), 4);
+        if (type == "IEND") break;
+        if (type == "PLTE") {
+            if (length > 256 * 3 || length % 3 != 0) return std::nullopt; // stb refuses it
+            plte = at;
+            entries = std::uint32_t(length / 3);
+        }
+        // A tRNS longer than the palette before it: stb refuses it, and would not once the
+        // palette is full.
+        if (type == "tRNS" && length > entries) return std::nullopt;
+        at = std::size_t(end);
+    }
+    // No PLTE (stb refuses it), or one no index can get past.
+    if (plte == 0 || entries >= 256 || (depth < 8 && entries >= (1u << depth))) return std::nullopt;
+    PngPaletteProbe probe{{}, {}, entries};
+    for (const bool high : {false, true}) {
+        Bytes& out = high ? probe.high : probe.low;
+        out.reserve(b.size() + 3 * (256 - entries));
+        out.assign(b.begin(), b.begin() + std::ptrdiff_t(plte));
+        Bytes body = {0, 0, 3, 0, 'P', 'L', 'T', 'E'}; // length 768, type
+        body.insert(body.end(), b.begin() + std::ptrdiff_t(plte + 8), b.begin() + std::ptrdiff_t(plte + 8 + 3 * entries));
+        for (unsigned k = entries; k < 256; ++k) body.insert(body.end(), 3, std::uint8_t(high ? 255 - k : k));
+        const std::uint32_t crc = png_crc(body.data() + 4, body.size() - 4);
+        body.insert(body.end(), {std::uint8_t(crc >> 24), std::uint8_t(crc >> 16), std::uint8_t(crc >> 8), std::uint8_t(crc)});
+        out.insert(out.end(), body.begin(), body.end());
+        out.insert(out.end(), b.begin() + std::ptrdiff_t(plte + 12 + 3 * entries), b.end());
+    }
+    return probe;
+}
+
 bool needs_padding_check(const std::vector<std::uint8_t>& bytes)
 {
     return !starts_with(bytes, "\x89PNG") && !is_hdr(bytes) && !jpeg_start(bytes);

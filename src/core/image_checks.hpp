@@ -25,6 +25,20 @@ void check_image_data(const std::string& subject, const std::vector<std::uint8_t
 // formats are left alone.
 void check_png(const std::string& subject, const std::vector<std::uint8_t>& bytes);
 
+// stb_image 2.27 looks a palette PNG's indices up unchecked in a palette array of 256 entries,
+// of which only those of its (last) PLTE chunk are set: an index past them coloured pixels with
+// uninitialised stack memory (found by an exploratory session). Where the PLTE leaves indices
+// that the bit depth allows uncovered, these are two copies of the file whose PLTE is filled up
+// to 256 entries, entry k grey k in `low` and grey 255 - k in `high`: decoded, they agree
+// wherever the pixels' indices lie within the `entries` the file gives, and where they do not,
+// `low`'s red is the index. nullopt for every other file, and for those stb refuses anyway (no
+// PLTE, a tRNS longer than the palette) or check_png does.
+struct PngPaletteProbe {
+    std::vector<std::uint8_t> low, high;
+    unsigned entries = 0;
+};
+std::optional<PngPaletteProbe> png_palette_probe(const std::vector<std::uint8_t>& bytes);
+
 // Whether stb could read past the end of these bytes without failing: every format but PNG,
 // JPEG and HDR (whose readers check, or check_image_data() did). Such files are decoded twice,
 // padded with zeros and with 0xFF bytes (image.cpp): a decoder that reads past the end gives

@@ -83,6 +83,10 @@ damaged[valid_grey.index(b"IDAT") + 4 + 66] ^= 0x01
 assert len(zlib.decompressobj(-15).decompress(bytes(damaged[valid_grey.index(b"IDAT") + 6:]))) == N * (N + 1)
 write("damaged_idat.png", bytes(damaged))
 write("no_iend.png", valid_grey[:-12])
+# Found by an exploratory session: stb_image 2.27 looked palette indices past the PLTE up in
+# uninitialised stack memory (exit 0). A 2-entry PLTE, indices 0 to 7.
+write("palette_index_past_plte.png", png(N, N, 8, 3, [bytes(x % 8 for x in range(N)) for y in range(N)],
+                                         [(0, 0, 0), (255, 255, 255)]))
 
 # ---- PNM ----------------------------------------------------------------------------------------
 

@@ -15,6 +15,9 @@ foreach(case "truncated.png|not a supported image \\(truncated PNG: it needs at 
              # wrong heights, exit 0) and refused a PNG without IEND for an empty reason.
              "damaged_idat.png|not a supported image \\(corrupt PNG: the CRC of its IDAT chunk does not match its data: a damaged file\\)"
              "no_iend.png|not a supported image \\(truncated PNG: the file ends after its IDAT chunk, without the IEND chunk that closes a PNG\\)"
+             # Found by an exploratory session: stb_image 2.27 read palette indices past the PLTE
+             # from uninitialised stack memory (exit 0).
+             "palette_index_past_plte.png|not a supported image \\(corrupt PNG: a pixel's colour index is 7, past its palette of 2 colours\\)"
              # Found by an exploratory session: a PGM sample past its maxval was clamped without a word.
              "over_maxval.pgm|not a supported image \\(corrupt PNM: a sample is 255, more than its maxval of 100\\)"
              "zero_size.png|the image is 0x0 pixels: nothing to use"

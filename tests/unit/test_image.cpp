@@ -641,6 +641,31 @@ TEST_F(ImageFiles, DamagedOrShortPngsAreRefused)
     EXPECT_FLOAT_EQ(pr::load_height(put("trailing.png", trailing)).at(2, 1), 16.0f / 255.0f);
 }
 
+// stb_image 2.27 looks a palette PNG's indices up unchecked in a palette array of 256 entries,
+// only the PLTE's set: index 7 of a 2-colour palette read uninitialised stack memory, with
+// exit 0 (found by an exploratory session).
+TEST_F(ImageFiles, PngPaletteIndicesPastThePlteAreRefused)
+{
+    const auto refused = [&](const std::string& name, const Bytes& bytes, const std::string& why) {
+        const std::string p = put(name, bytes);
+        for (const bool colour : {false, true}) {
+            const pr::Error e = error_of([&] { colour ? (void)pr::load_color(p) : (void)pr::load_height(p); });
+            EXPECT_EQ(e.subject(), p);
+            EXPECT_TRUE(contains(e.problem(), why)) << name << ": " << e.problem();
+        }
+    };
+    const Bytes two = {0, 0, 0, 255, 255, 255};
+    refused("index7.png", make_png(4, 8, 3, {{0, 1, 7, 1}, {3, 0, 0, 0}}, two),
+            "corrupt PNG: a pixel's colour index is 7, past its palette of 2 colours");
+    // 4 bits a pixel, two pixels a byte: index 2 in the second.
+    refused("index2.png", make_png(2, 4, 3, {{0x12}}, two), "a pixel's colour index is 2, past its palette of 2 colours");
+    // Indices within a short palette load, also those of 1-bit rows with padding bits set.
+    const pr::HeightField h = pr::load_height(put("short.png", make_png(3, 4, 3, {{0x10, 0x00}}, two)));
+    EXPECT_FLOAT_EQ(h.at(0, 0), 1.0f);
+    EXPECT_FLOAT_EQ(h.at(1, 0), 0.0f);
+    EXPECT_EQ(pr::load_color(put("padded.png", make_png(3, 1, 3, {{0x5F}}, two))).at(1, 0), glm::u8vec4(255, 255, 255, 255));
+}
+
 // A PNM's samples run from 0 to its maxval: stb returns them as stored, so maxval 127 gave
 // heights of at most 127/255, and 4095 (12-bit data in 16-bit samples) 1/16 of the range.
 TEST_F(ImageFiles, PnmSamplesAreScaledByTheirMaxval)
