@@ -14,7 +14,8 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
 # Pathological maps as 16-bit PNGs (standard library only): a single spike on a flat floor (every
-# texel's nearest higher texel is far: ring searches see the whole map), a step, a ramp, white
+# texel's nearest higher texel is far: ring searches see the whole map), a step, a ramp, a hill
+# (a cone across the map: like the ramp, many far texels limit a cone almost equally), white
 # noise (every texel has a higher neighbour: tiny cones, the cheapest case for pruning).
 python3 - "$work" "$(dirname "$0")" "${sizes[@]}" <<'EOF'
 import random, struct, sys
@@ -29,6 +30,7 @@ for n in sizes:
     png16(f"{out}/spike{n}.png", n, lambda x, y: 1.0 if (x, y) == (n // 3, n // 2) else 0.0)
     png16(f"{out}/step{n}.png", n, lambda x, y: 1.0 if x >= n // 2 else 0.0)
     png16(f"{out}/ramp{n}.png", n, lambda x, y: x / (n - 1))
+    png16(f"{out}/hill{n}.png", n, lambda x, y: 1.0 - 2.0 * ((x + 0.5 - n / 2) ** 2 + (y + 0.5 - n / 2) ** 2) ** 0.5 / n)
     png16(f"{out}/white{n}.png", n, lambda x, y: rnd.random())
 EOF
 
@@ -41,9 +43,9 @@ done
 echo "| height map | size | cone cpu s | relaxed cpu s | cone gpu s | relaxed gpu s | cone gpu search s | relaxed gpu search s |"
 echo "|---|---:|---:|---:|---:|---:|---:|---:|"
 for n in "${sizes[@]}"; do
-    for map in bumps bricks noise pyramids boxes const:0.5 spike step ramp white; do
+    for map in bumps bricks noise pyramids boxes const:0.5 spike step ramp hill white; do
         case $map in
-            spike|step|ramp|white) height=$work/$map$n.png; label="$map (file)";;
+            spike|step|ramp|hill|white) height=$work/$map$n.png; label="$map (file)";;
             *) height=builtin:$map@$n; label=$map;;
         esac
         row="| $label | $n"
