@@ -103,6 +103,47 @@ constexpr size_t kEarClipCorners = 4096;
 // before the seventeenth session).
 constexpr size_t kEarRoundCorners = 8;
 
+// Edge directions turn round a polygon this many times counter-clockwise (in the 2D points
+// `q`, ring `r`): corners where the direction passes "east" (+x) turning left count +1, turning
+// right -1. A convex polygon goes round once; a triangle listed 30,000 times in one face (all
+// of its corners turning left, so it passed for convex and was cut by rounds of ears into
+// triangles of both windings) 30,000 times, a pentagram twice.
+long turns_round(const std::vector<dvec2>& q, const std::vector<uint32_t>& r)
+{
+    const auto upper = [](dvec2 e) { return e.y > 0.0 || (e.y == 0.0 && e.x > 0.0); }; // angle in [0, pi)
+    long turns = 0;
+    const size_t m = r.size();
+    for (size_t i = 0; i < m; ++i) {
+        const dvec2 e1 = q[r[(i + 1) % m]] - q[r[i]], e2 = q[r[(i + 2) % m]] - q[r[(i + 1) % m]];
+        const double c = cross2(e1, e2);
+        if (!upper(e1) && upper(e2) && c > 0.0) ++turns;
+        if (upper(e1) && !upper(e2) && c < 0.0) --turns;
+    }
+    return turns;
+}
+
+// Twice the area of the convex hull of the points of ring `r` (Andrew's monotone chain).
+double hull_area2(const std::vector<dvec2>& q, const std::vector<uint32_t>& r)
+{
+    std::vector<dvec2> s;
+    s.reserve(r.size());
+    for (uint32_t i : r) s.push_back(q[i]);
+    std::sort(s.begin(), s.end(), [](dvec2 a, dvec2 b) { return a.x != b.x ? a.x < b.x : a.y < b.y; });
+    std::vector<dvec2> h(2 * s.size() + 1);
+    size_t k = 0;
+    for (size_t i = 0; i < s.size(); ++i) {
+        while (k >= 2 && cross2(h[k - 1] - h[k - 2], s[i] - h[k - 2]) <= 0.0) --k;
+        h[k++] = s[i];
+    }
+    for (size_t i = s.size() - 1, lower = k + 1; i-- > 0;) {
+        while (k >= lower && cross2(h[k - 1] - h[k - 2], s[i] - h[k - 2]) <= 0.0) --k;
+        h[k++] = s[i];
+    }
+    double a = 0.0;
+    for (size_t i = 0; i + 1 < k; ++i) a += cross2(h[i], h[i + 1]);
+    return a;
+}
+
 // Triangulates polygon `face` (n >= 3 corners, positions in `p`) into local corner triples.
 // Ear clipping in the plane of the Newell normal, so concave polygons come out right; a convex
 // polygon gives the fan from its first corner (from kEarRoundCorners corners on, rounds of ears). Self-intersecting polygons, and concave ones past
@@ -130,11 +171,13 @@ bool triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
         return true;
     }
     dvec3 normal(0.0);
+    double magnitude = 0.0; // the largest coordinate: what float rounding is relative to
     for (size_t i = 0; i < n; ++i) {
         const dvec3& a = p[i];
         const dvec3& b = p[(i + 1) % n];
         normal +=
             dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+        magnitude = std::max({magnitude, std::abs(a.x), std::abs(a.y), std::abs(a.z)});
     }
     const dvec3 an = glm::abs(normal);
     const int k = an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2);
@@ -147,44 +190,11 @@ bool triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
     const double flip = normal[k] > 0.0 ? 1.0 : -1.0;
     std::vector<dvec2> q(n);
     for (size_t i = 0; i < n; ++i) q[i] = dvec2(p[i][(k + 1) % 3], flip * p[i][(k + 2) % 3]);
-    // Strictly convex (a flat corner is not: its fan's first triangle would have no area, and
-    // the triangles left would not share the edges on either side of it with the neighbours).
-    bool convex = true;
-    for (size_t i = 0; i < n && convex; ++i)
-        convex = cross2(q[(i + 1) % n] - q[i], q[(i + 2) % n] - q[(i + 1) % n]) > 0.0;
-    if (convex) {
-        if (n < kEarRoundCorners) {
-            fan(whole);
-            return true;
-        }
-        // Every other corner cut off as an ear, round after round on the corners left: triangles
-        // of the polygon's own scale inside, slivers only along its rim, and no corner in more
-        // than about two per round. The fan put every triangle around the first corner, a sliver
-        // each, and a ray in the prism's walk crosses them one by one. In ring order each
-        // triangle keeps the polygon's orientation.
-        std::vector<uint32_t> ring = whole, next;
-        while (ring.size() > 3) {
-            next.clear();
-            size_t c = 0;
-            for (; c + 2 < ring.size(); c += 2) {
-                out.push_back({ring[c], ring[c + 1], ring[c + 2]});
-                next.push_back(ring[c]);
-            }
-            for (; c < ring.size(); ++c) next.push_back(ring[c]);
-            ring.swap(next);
-        }
-        out.push_back({ring[0], ring[1], ring[2]});
-        return true;
-    }
-    if (n > kEarClipCorners) {
-        // Convex but for corners on a straight side: no triangle of the fan lies outside it (those
-        // of no area are dropped), so no warning.
-        bool weakly_convex = true;
-        for (size_t i = 0; i < n && weakly_convex; ++i)
-            weakly_convex = cross2(q[(i + 1) % n] - q[i], q[(i + 2) % n] - q[(i + 1) % n]) >= 0.0;
-        fan(whole);
-        return weakly_convex;
-    }
+    const auto turn = [&](const std::vector<uint32_t>& r, size_t i) {
+        const size_t m = r.size();
+        return cross2(q[r[(i + 1) % m]] - q[r[i]], q[r[(i + 2) % m]] - q[r[(i + 1) % m]]);
+    };
+
     // The budget: false once `visits` more corners would pass it.
     bool within_budget = true;
     const auto charge = [&](size_t visits) {
@@ -192,6 +202,68 @@ bool triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
         if (visits > work_left) return within_budget = false;
         work_left -= visits;
         return true;
+    };
+
+    // Every other corner cut off as an ear, round after round on the corners left: triangles
+    // of the polygon's own scale inside, slivers only along its rim, and no corner in more
+    // than about two per round. The fan put every triangle around the first corner, a sliver
+    // each, and a ray in the prism's walk crosses them one by one. In ring order each
+    // triangle keeps the polygon's orientation. A corner that does not turn left (in a convex
+    // polygon only where float rounding bent it, or on a straight side) is no ear's tip: its
+    // triangle would have no area or the other winding; it waits for a later round, where its
+    // neighbours lie farther off. A round that takes less than an eighth of the corners (long
+    // straight sides, which make no progress that way) leaves the rest to the fan, which lies
+    // inside the outline there.
+    auto rounds_of_ears = [&](std::vector<uint32_t> ring) {
+        std::vector<uint32_t> next;
+        while (ring.size() > 3) {
+            next.clear();
+            size_t c = 0;
+            while (c + 2 < ring.size()) {
+                if (cross2(q[ring[c + 1]] - q[ring[c]], q[ring[c + 2]] - q[ring[c + 1]]) > 0.0) {
+                    out.push_back({ring[c], ring[c + 1], ring[c + 2]});
+                    next.push_back(ring[c]);
+                    c += 2;
+                } else {
+                    next.push_back(ring[c++]);
+                }
+            }
+            for (; c < ring.size(); ++c) next.push_back(ring[c]);
+            const bool slow = (ring.size() - next.size()) * 8 < ring.size();
+            ring.swap(next);
+            if (slow) break;
+        }
+        fan(ring);
+    };
+
+    // Convex: every corner turns left and the outline goes round once. A strictly convex polygon
+    // of fewer than kEarRoundCorners corners is its fan.
+    auto strictly_convex = [&](const std::vector<uint32_t>& r) {
+        for (size_t i = 0; i < r.size(); ++i)
+            if (!(turn(r, i) > 0.0)) return false;
+        return turns_round(q, r) == 1;
+    };
+    // Convex to float precision: the file's positions are floats, rounded by up to `d` (relative
+    // to the largest coordinate) from where they were meant to be. On a circle of 200,000 corners
+    // neighbours are 3e-5 apart and their corners bend by 1e-10, far below that: about half of
+    // them turned right or not at all, and the circle was "a concave polygon too large to clip
+    // ... triangulated as a fan, which may cover area outside its outline" (found by an
+    // exploratory session). Such a polygon is convex when no corner turns right by more than
+    // rounding can make it, the outline goes round once, and it covers its convex hull, but for
+    // a rim as wide as the rounding (a real dent made of many small turns, each within the
+    // rounding, does not).
+    auto convex_to_float_precision = [&](const std::vector<uint32_t>& r) {
+        const size_t m = r.size();
+        const double d = 2.0 * magnitude * std::ldexp(1.0, -24); // 2D rounding of a point, with room
+        double perimeter = 0.0;
+        for (size_t i = 0; i < m; ++i) {
+            const double e1 = glm::length(q[r[(i + 1) % m]] - q[r[i]]);
+            const double e2 = glm::length(q[r[(i + 2) % m]] - q[r[(i + 1) % m]]);
+            if (turn(r, i) < -(2.0 * d * (e1 + e2) + 4.0 * d * d)) return false;
+            perimeter += e1;
+        }
+        if (turns_round(q, r) != 1) return false;
+        return ring_area2(q, r) >= hull_area2(q, r) - 2.0 * (4.0 * d * perimeter + double(m) * 4.0 * d * d);
     };
 
     auto clip = [&](std::vector<uint32_t> ring) {
@@ -230,34 +302,85 @@ bool triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
         fan(ring);
     };
 
-    // Whether any point repeats at all, by sorting (the pairwise search below only then).
-    std::vector<dvec3> sorted(p);
-    std::sort(sorted.begin(), sorted.end(),
-              [](const dvec3& a, const dvec3& b) { return a.x != b.x ? a.x < b.x : a.y != b.y ? a.y < b.y : a.z < b.z; });
-    const bool repeats = std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end();
-    std::vector<std::vector<uint32_t>> rings{whole};
-    while (!rings.empty()) {
-        std::vector<uint32_t> r = std::move(rings.back());
-        rings.pop_back();
-        if (r.size() < 3) continue;
+    // One loop: convex ones by rounds of ears at no cost, the others clipped within the limits,
+    // or fanned past them (false, with the caller's warning, unless convex to float precision).
+    bool fanned_concave = false;
+    auto triangulate_ring = [&](std::vector<uint32_t> ring) {
+        if (ring.size() < 3) return;
+        if (strictly_convex(ring)) {
+            if (ring.size() < kEarRoundCorners)
+                fan(ring);
+            else
+                rounds_of_ears(std::move(ring));
+        } else if (ring.size() > kEarClipCorners) {
+            if (convex_to_float_precision(ring))
+                rounds_of_ears(std::move(ring));
+            else {
+                fan(ring);
+                fanned_concave = true;
+            }
+        } else {
+            clip(std::move(ring));
+        }
+    };
+
+    if (strictly_convex(whole)) {
+        triangulate_ring(std::move(whole));
+        return true;
+    }
+
+    // Points the outline passes more than once: equal positions get one id (by sorting).
+    std::vector<uint32_t> order(whole), id(n);
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+        return p[a].x != p[b].x ? p[a].x < p[b].x : p[a].y != p[b].y ? p[a].y < p[b].y : p[a].z < p[b].z;
+    });
+    bool repeats = false;
+    for (size_t i = 0, next_id = 0; i < n; ++i) {
+        if (i > 0 && p[order[i]] != p[order[i - 1]]) ++next_id;
+        repeats = repeats || (i > 0 && p[order[i]] == p[order[i - 1]]);
+        id[order[i]] = uint32_t(next_id);
+    }
+    if (!repeats) {
+        triangulate_ring(std::move(whole));
+        return within_budget && !fanned_concave;
+    }
+    // Cut into loops in one walk along the outline, on a stack of the corners of what is left:
+    // where a point comes again, the corners since its earlier visit (on the stack) close a
+    // loop, whose area follows from running sums of the stack's edges, and what is left is the
+    // rest (its area the remainder). A cut pops the loop; the point stays on the stack for both.
+    // Each corner is pushed and popped once, so the time is linear (each cut copied and measured
+    // what was left of the outline: a triangle listed 30,000 times in one face took 30,000 such
+    // copies of up to 90,000 corners). Trying an earlier visit of a point costs a visit of the
+    // budget: a point visited many times on loops that are not cut (holes) tries them all.
+    std::vector<uint32_t> stack, below(n, kNone), last(n, kNone); // below: the slot of the point's previous visit
+    std::vector<double> along{0.0}; // along[s]: twice the area swept by the stack's edges up to slot s
+    double left_area2 = ring_area2(q, whole);
+    size_t left_corners = n;
+    std::vector<std::vector<uint32_t>> loops;
+    for (uint32_t v = 0; v < n; ++v) {
         bool cut = false;
-        for (size_t i = 0; repeats && i < r.size() && !cut && charge(r.size()); ++i) {
-            for (size_t j = i + 1; j < r.size() && !cut; ++j) {
-                if (p[r[i]] != p[r[j]] || !charge(r.size())) continue;
-                std::vector<uint32_t> first(r.begin() + std::ptrdiff_t(i), r.begin() + std::ptrdiff_t(j));
-                std::vector<uint32_t> second(r.begin() + std::ptrdiff_t(j), r.end());
-                second.insert(second.end(), r.begin(), r.begin() + std::ptrdiff_t(i));
-                if (first.size() < 3 || second.size() < 3 ||
-                    (ring_area2(q, first) > 0.0 && ring_area2(q, second) > 0.0)) {
-                    rings.push_back(std::move(second));
-                    rings.push_back(std::move(first));
-                    cut = true;
-                }
+        for (uint32_t s = last[id[v]]; s != kNone && !cut && charge(1); s = below[s]) {
+            const size_t top = stack.size() - 1, corners = stack.size() - s;
+            const double area2 = along[top] - along[s] + cross2(q[stack[top]], q[v]);
+            if (corners < 3 || left_corners - corners < 3 || (area2 > 0.0 && left_area2 - area2 > 0.0)) {
+                if (corners >= 3) loops.emplace_back(stack.begin() + std::ptrdiff_t(s), stack.end());
+                for (size_t t = top; t > s; --t) last[id[stack[t]]] = below[t];
+                stack.resize(s + 1);
+                along.resize(s + 1);
+                left_corners -= corners;
+                left_area2 -= area2;
+                cut = true;
             }
         }
-        if (!cut) clip(std::move(r));
+        if (cut) continue;
+        if (!stack.empty()) along.push_back(along.back() + cross2(q[stack.back()], q[v]));
+        below[stack.size()] = last[id[v]];
+        last[id[v]] = uint32_t(stack.size());
+        stack.push_back(v);
     }
-    return within_budget;
+    loops.push_back(std::move(stack));
+    for (std::vector<uint32_t>& loop : loops) triangulate_ring(std::move(loop));
+    return within_budget && !fanned_concave;
 }
 
 // Interior angle at corner `a` of triangle (a, b, c); atan2 stays accurate for thin corners.
@@ -336,9 +459,13 @@ struct TriangleWelds {
 };
 
 // The faces across each shared edge of the faces for which generated(f) holds, from the other
-// such faces: of the triangles around the edge's end with fewer of them, the one other triangle that has
-// the edge too, if it lies in another face (a polygon's own diagonals do not count; nor do edges
-// of three or more triangles).
+// such faces: the one other triangle that has the edge too, if it lies in another face (a
+// polygon's own diagonals do not count; nor do edges of three or more triangles). Edges are
+// bucketed by their smaller end and sorted by the other within each bucket (as edge_adjacency
+// does), so the time does not depend on how many triangles meet at a point or an edge: scanning
+// the triangles around an edge's end, as it was done, took the square of their number where
+// thousands met at both ends (30,000 copies of one triangle in one OBJ face: 21 s, found by an
+// exploratory session).
 template <class Generated>
 FaceNeighbours generated_face_neighbours(const std::vector<Triangle>& tris, const TriangleWelds& welds,
                                          size_t weld_count, size_t face_count, Generated generated)
@@ -346,35 +473,36 @@ FaceNeighbours generated_face_neighbours(const std::vector<Triangle>& tris, cons
     std::vector<uint32_t> corner(tris.size() * 3); // welded position per triangle corner
     for (size_t i = 0; i < tris.size(); ++i)
         for (int k = 0; k < 3; ++k) corner[3 * i + size_t(k)] = welds(tris[i], k);
-    std::vector<uint32_t> around_offsets(weld_count + 1, 0), around; // triangles per position
-    for (size_t i = 0; i < tris.size(); ++i)
-        if (generated(tris[i].face))
-            for (int k = 0; k < 3; ++k) ++around_offsets[corner[3 * i + size_t(k)] + 1];
-    for (size_t w = 0; w < weld_count; ++w) around_offsets[w + 1] += around_offsets[w];
-    around.resize(around_offsets[weld_count]);
-    std::vector<uint32_t> fill(around_offsets.begin(), around_offsets.end() - 1);
-    for (size_t i = 0; i < tris.size(); ++i)
-        if (generated(tris[i].face))
-            for (int k = 0; k < 3; ++k) around[fill[corner[3 * i + size_t(k)]]++] = uint32_t(i);
-
+    const auto ends = [&](size_t edge) {
+        const uint32_t a = corner[edge], b = corner[3 * (edge / 3) + (edge % 3 + 1) % 3];
+        return std::pair{std::min(a, b), std::max(a, b)};
+    };
+    std::vector<uint32_t> start(weld_count + 1, 0), bucket;
+    for (size_t e = 0; e < corner.size(); ++e)
+        if (generated(tris[e / 3].face)) ++start[ends(e).first + 1];
+    for (size_t w = 0; w < weld_count; ++w) start[w + 1] += start[w];
+    bucket.resize(start[weld_count]);
+    {
+        std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+        for (size_t e = 0; e < corner.size(); ++e)
+            if (generated(tris[e / 3].face)) bucket[fill[ends(e).first]++] = uint32_t(e);
+    }
     std::vector<uint32_t> across(tris.size() * 3, kNone); // the face across each triangle edge
-    for (size_t i = 0; i < tris.size(); ++i) {
-        if (!generated(tris[i].face)) continue;
-        for (int k = 0; k < 3; ++k) {
-            uint32_t a = corner[3 * i + size_t(k)], b = corner[3 * i + size_t((k + 1) % 3)];
-            // Around the end with fewer triangles: around one vertex of a million triangles (a fan,
-            // a cone's apex) every edge scanned them all, and a 50 MB STL took some 15 minutes
-            // (found by an exploratory session); now each edge at the apex scans its rim end's.
-            if (around_offsets[a + 1] - around_offsets[a] > around_offsets[b + 1] - around_offsets[b]) std::swap(a, b);
-            uint32_t other = kNone, count = 0;
-            for (uint32_t j = around_offsets[a]; j < around_offsets[a + 1]; ++j) {
-                const uint32_t* c = &corner[3 * size_t(around[j])];
-                if (around[j] != i && (c[0] == b || c[1] == b || c[2] == b)) {
-                    other = around[j];
-                    ++count;
+    for (size_t w = 0; w < weld_count; ++w) {
+        const auto first = bucket.begin() + start[w], last = bucket.begin() + start[w + 1];
+        std::sort(first, last, [&](uint32_t x, uint32_t y) { return std::pair{ends(x).second, x} < std::pair{ends(y).second, y}; });
+        for (auto it = first; it != last;) {
+            auto same = it;
+            while (same != last && ends(*same).second == ends(*it).second) ++same;
+            if (same - it == 2) {
+                const uint32_t x = *it, y = *(it + 1);
+                const uint32_t fx = tris[x / 3].face, fy = tris[y / 3].face;
+                if (fx != fy) {
+                    across[x] = fy;
+                    across[y] = fx;
                 }
             }
-            if (count == 1 && tris[other].face != tris[i].face) across[3 * i + size_t(k)] = tris[other].face;
+            it = same;
         }
     }
 
@@ -383,7 +511,7 @@ FaceNeighbours generated_face_neighbours(const std::vector<Triangle>& tris, cons
     for (size_t e = 0; e < across.size(); ++e) neighbours.offsets[tris[e / 3].face + 1] += across[e] != kNone;
     for (size_t f = 0; f < face_count; ++f) neighbours.offsets[f + 1] += neighbours.offsets[f];
     neighbours.faces.resize(neighbours.offsets[face_count]);
-    fill.assign(neighbours.offsets.begin(), neighbours.offsets.end() - 1);
+    std::vector<uint32_t> fill(neighbours.offsets.begin(), neighbours.offsets.end() - 1);
     for (size_t e = 0; e < across.size(); ++e)
         if (across[e] != kNone) neighbours.faces[fill[tris[e / 3].face]++] = across[e];
     return neighbours;
@@ -501,6 +629,9 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     std::vector<std::array<uint32_t, 3>> local;
     size_t clip_work_left = options.ear_clip_work;
     size_t fanned = 0; // concave polygons past the ear clipping's limits
+    size_t repeated_in_faces = 0, faces_repeating_triangles = 0;
+    std::vector<std::pair<std::array<uint32_t, 3>, uint32_t>> in_face; // a polygon's triangles by their sorted welds
+    std::vector<uint8_t> in_face_drop;
     for (size_t f = 0; f < face_count; ++f) {
         const uint32_t begin = raw.face_offsets[f];
         const size_t n = raw.face_offsets[f + 1] - begin;
@@ -515,6 +646,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         } else {
             if (!triangulate_polygon(poly, local, clip_work_left)) ++fanned;
         }
+        const size_t first_triangle = tris.size();
         for (const auto& t : local) {
             const uint32_t w0 = weld_of[raw.corners[begin + t[0]]];
             const uint32_t w1 = weld_of[raw.corners[begin + t[1]]];
@@ -526,7 +658,43 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
             }
             tris.push_back({{begin + t[0], begin + t[1], begin + t[2]}, uint32_t(f)});
         }
+        // A polygon whose outline runs over itself (a triangle listed 30,000 times in one face)
+        // gives the same triangle again: the repeated-face pass below compares faces, not the
+        // triangles of one, so the copies stayed, every edge shared by 30,000 of them, and the
+        // prism's walk crossed them all. Dropped as a repeated face's are, in the same or the
+        // opposite winding; the first is kept. (Only an outline through one point twice can
+        // repeat a triangle.)
+        if (n > 3 && tris.size() - first_triangle > 1) {
+            in_face.clear();
+            for (size_t i = first_triangle; i < tris.size(); ++i) {
+                std::array<uint32_t, 3> w;
+                for (int c = 0; c < 3; ++c) w[size_t(c)] = weld_of[raw.corners[tris[i].corner[c]]];
+                std::sort(w.begin(), w.end());
+                in_face.push_back({w, uint32_t(i)});
+            }
+            std::sort(in_face.begin(), in_face.end());
+            size_t kept = first_triangle, dropped = 0;
+            std::vector<uint8_t>& drop = in_face_drop;
+            drop.assign(tris.size() - first_triangle, 0);
+            for (size_t i = 1; i < in_face.size(); ++i)
+                if (in_face[i].first == in_face[i - 1].first) {
+                    drop[in_face[i].second - first_triangle] = 1; // the later in the triangulation
+                    ++dropped;
+                }
+            if (dropped > 0) {
+                for (size_t i = first_triangle; i < tris.size(); ++i)
+                    if (!drop[i - first_triangle]) tris[kept++] = tris[i];
+                tris.resize(kept);
+                repeated_in_faces += dropped;
+                ++faces_repeating_triangles;
+            }
+        }
     }
+    if (repeated_in_faces > 0)
+        warn(name + ": dropped " + std::to_string(repeated_in_faces) + " triangle" + (repeated_in_faces == 1 ? "" : "s") +
+             " that repeat" + (repeated_in_faces == 1 ? "s" : "") + " another of the same face (" +
+             std::to_string(faces_repeating_triangles) + " face" + (faces_repeating_triangles == 1 ? " whose outline runs" : "s whose outlines run") +
+             " over itself; the first is kept)");
     if (fanned > 0)
         warn(name + ": " + std::to_string(fanned) + " concave polygon" + (fanned == 1 ? "" : "s") +
              " too large to clip (more than " + std::to_string(kEarClipCorners) +

@@ -1701,3 +1701,123 @@ TEST(MeshErrors, PlyFacesBeforeVerticesAreNamed)
                                            "end_header\n3 0 1 2\n0 0 0\n1 0 0\n0 1 0\n");
     EXPECT_ERROR_MENTIONS(load_error(p), p, "PLY element 'face' comes before 'vertex', which the reader cannot take");
 }
+
+// One OBJ face listing a triangle's corners 30,000 times: its outline is cut into its loops in one
+// walk, and the copies of the triangle are dropped as repeated faces are (before: 21 s to load,
+// every edge shared by 30,000 coincident triangles, and the prism timed out; found by an
+// exploratory session). Each copy used to pass for a convex polygon's ear too, in both windings.
+TEST(MeshLoad, TriangleRepeatedInOneFaceIsDroppedQuickly)
+{
+    TempDir dir;
+    std::string text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf";
+    for (int i = 0; i < 30000; ++i) text += " 1 2 3";
+    const fs::path p = dir.write("rep.obj", text + "\n");
+    const auto start = std::chrono::steady_clock::now();
+    ::testing::internal::CaptureStderr();
+    const pr::PreparedMesh m = pr::load_mesh(p);
+    const std::string said = ::testing::internal::GetCapturedStderr();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_EQ(m.triangle_count(), 1u);
+    EXPECT_GT(face_normal(m, 0).z, 0.0f);
+    EXPECT_NE(said.find("dropped 29999 triangles that repeat another of the same face (1 face whose outline runs over "
+                        "itself; the first is kept)"),
+              std::string::npos)
+        << said;
+    EXPECT_EQ(said.find("more than two faces"), std::string::npos) << said;
+    EXPECT_LT(seconds, 3.0);
+
+    // A concave hexagon (an L) listed 20,000 times: clipped once per loop, each copy dropped.
+    std::string l = "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\nv 1 2 0\nv 0 2 0\nf";
+    for (int i = 0; i < 20000; ++i) l += " 1 2 3 4 5 6";
+    ::testing::internal::CaptureStderr();
+    const pr::PreparedMesh lm = pr::load_mesh(dir.write("l.obj", l + "\n"));
+    EXPECT_NE(::testing::internal::GetCapturedStderr().find("dropped 79996 triangles that repeat"), std::string::npos);
+    EXPECT_EQ(lm.triangle_count(), 4u);
+    double area = 0.0;
+    for (std::size_t t = 0; t < lm.triangle_count(); ++t) area += 0.5 * double(face_normal(lm, t).z);
+    EXPECT_NEAR(area, 3.0, 1e-6);
+}
+
+// Many faces sharing an edge, none a repeat (30,000 pages of a book on one spine): finding the
+// faces across each edge for the generated UVs scanned the triangles around an edge's end, the
+// square of their number where thousands meet at both ends (4 s here; now edges are sorted).
+TEST(MeshLoad, ManyFacesOnOneEdgeLoadQuickly)
+{
+    TempDir dir;
+    const int pages = 30000;
+    std::string text = "v 0 0 0\nv 1 0 0\n";
+    char line[96];
+    for (int i = 0; i < pages; ++i) {
+        const double a = 3.14159265358979 * i / pages;
+        std::snprintf(line, sizeof line, "v 0.5 %.9f %.9f\n", std::cos(a), std::sin(a));
+        text += line;
+    }
+    for (int i = 0; i < pages; ++i) text += "f 1 2 " + std::to_string(i + 3) + "\n";
+    const fs::path p = dir.write("book.obj", text);
+    const auto start = std::chrono::steady_clock::now();
+    ::testing::internal::CaptureStderr();
+    const pr::PreparedMesh m = pr::load_mesh(p);
+    ::testing::internal::GetCapturedStderr();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_EQ(m.triangle_count(), std::size_t(pages));
+    EXPECT_LT(seconds, 2.0);
+}
+
+// A circle of 200,000 corners in one face, its positions floats: neighbours 3e-5 apart bend by
+// 1e-10, far below float rounding, so about half of its corners turned right or not at all, and
+// it was "a concave polygon too large to clip … triangulated as a fan, which may cover area
+// outside its outline" (a fan of slivers the prism took 14 s a frame to cross at 50,000 corners;
+// found by an exploratory session). Convex to float precision, it is cut by rounds of ears: no
+// warning, no triangle wound the other way, its area, and few triangles at any corner.
+TEST(MeshLoad, FineCircleInFloatsIsConvex)
+{
+    TempDir dir;
+    const int n = 200000;
+    std::string text = "OFF\n" + std::to_string(n) + " 1 0\n";
+    char line[96];
+    for (int i = 0; i < n; ++i) {
+        const double a = 2.0 * 3.14159265358979323846 * i / n;
+        std::snprintf(line, sizeof line, "%.17g %.17g 0\n", std::cos(a), std::sin(a));
+        text += line;
+    }
+    text += std::to_string(n);
+    for (int i = 0; i < n; ++i) text += " " + std::to_string(i);
+    ::testing::internal::CaptureStderr();
+    const pr::PreparedMesh m = pr::load_mesh(dir.write("circle.off", text + "\n"));
+    const std::string said = ::testing::internal::GetCapturedStderr();
+    EXPECT_EQ(said.find("concave"), std::string::npos) << said;
+    double area = 0.0;
+    int negative = 0;
+    std::vector<int> around(m.weld_count, 0);
+    for (std::size_t t = 0; t < m.triangle_count(); ++t) {
+        const float z = face_normal(m, t).z;
+        negative += z < 0.0f;
+        area += 0.5 * double(z);
+        for (int k = 0; k < 3; ++k) ++around[m.vertices[m.indices[3 * t + std::size_t(k)]].weld_id];
+    }
+    EXPECT_EQ(negative, 0);
+    EXPECT_NEAR(area, 3.14159265358979, 1e-4);
+    EXPECT_EQ(m.triangle_count() + m.dropped_triangles, std::size_t(n - 2));
+    EXPECT_LE(*std::max_element(around.begin(), around.end()), 40);
+    EXPECT_EQ(m.weld_count, std::uint32_t(n));
+
+    // A real dent made of many small turns, each within rounding, is not convex: the circle with
+    // 2,000 of its corners pushed in behind the chord across them.
+    std::string dent = "OFF\n" + std::to_string(n) + " 1 0\n";
+    const double a0 = 2.0 * 3.14159265358979323846 * 1000 / n;
+    for (int i = 0; i < n; ++i) {
+        const double a = 2.0 * 3.14159265358979323846 * i / n;
+        double x = std::cos(a), y = std::sin(a);
+        if (i < 1000 || i > n - 1000) {
+            const double s = std::sin(3.14159265358979 * (i < 1000 ? 1000 - i : i - n + 1000) / 2000.0);
+            x = std::cos(a0) - 0.01 * s * s; // smooth: every turn within rounding, 0.01 deep
+        }
+        std::snprintf(line, sizeof line, "%.17g %.17g 0\n", x, y);
+        dent += line;
+    }
+    dent += std::to_string(n);
+    for (int i = 0; i < n; ++i) dent += " " + std::to_string(i);
+    ::testing::internal::CaptureStderr();
+    pr::load_mesh(dir.write("dent.off", dent + "\n"));
+    EXPECT_NE(::testing::internal::GetCapturedStderr().find("1 concave polygon too large to clip"), std::string::npos);
+}
