@@ -1738,13 +1738,14 @@ TEST(MeshLoad, TriangleRepeatedInOneFaceIsDroppedQuickly)
     EXPECT_NEAR(area, 3.0, 1e-6);
 }
 
-// Many faces sharing an edge, none a repeat (30,000 pages of a book on one spine): finding the
+// Many faces sharing an edge, none a repeat (100,000 pages of a book on one spine): finding the
 // faces across each edge for the generated UVs scanned the triangles around an edge's end, the
-// square of their number where thousands meet at both ends (4 s here; now edges are sorted).
+// square of their number where thousands meet at both ends (30,000 copies of a triangle took
+// 21 s so; 100,000 pages here about 6 s; now edges are sorted).
 TEST(MeshLoad, ManyFacesOnOneEdgeLoadQuickly)
 {
     TempDir dir;
-    const int pages = 30000;
+    const int pages = 100000;
     std::string text = "v 0 0 0\nv 1 0 0\n";
     char line[96];
     for (int i = 0; i < pages; ++i) {
@@ -1760,7 +1761,7 @@ TEST(MeshLoad, ManyFacesOnOneEdgeLoadQuickly)
     ::testing::internal::GetCapturedStderr();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     EXPECT_EQ(m.triangle_count(), std::size_t(pages));
-    EXPECT_LT(seconds, 2.0);
+    EXPECT_LT(seconds, 3.0);
 }
 
 // A circle of 200,000 corners in one face, its positions floats: neighbours 3e-5 apart bend by
@@ -1821,3 +1822,4 @@ TEST(MeshLoad, FineCircleInFloatsIsConvex)
     pr::load_mesh(dir.write("dent.off", dent + "\n"));
     EXPECT_NE(::testing::internal::GetCapturedStderr().find("1 concave polygon too large to clip"), std::string::npos);
 }
+
