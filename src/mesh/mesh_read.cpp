@@ -219,14 +219,25 @@ void check_triangle_budget(const string& subject, unsigned long long triangles,
                           std::to_string(options.max_triangles));
 }
 
+// Old Mac OS ended lines with CR alone. Neither the scan nor OpenMesh's readers take that for a
+// line end: an OBJ read as one comment-like line "contains no faces", an OFF's counts were "on
+// the line after 'OFF'" (found by an exploratory session). Say what it is instead.
+void refuse_cr_line_ends(const string& subject, string_view text)
+{
+    const size_t cr = text.find('\r');
+    if (cr != string_view::npos && cr + 1 < text.size() && text.find('\n') == string_view::npos)
+        fail(subject, "uses CR line ends (classic Mac OS), which the reader does not take: convert them to LF or CR LF");
+}
+
 // ---- OBJ -----------------------------------------------------------------------------------
 
 Expect scan_obj(const string& subject, string_view text, const MeshOptions& options)
 {
+    refuse_cr_line_ends(subject, text);
     Expect e;
-    size_t nv = 0, nvt = 0;
-    long long max_v = 0, max_vt = 0;
-    size_t max_v_line = 0, max_vt_line = 0;
+    size_t nv = 0, nvt = 0, nvn = 0;
+    long long max_v = 0, max_vt = 0, max_vn = 0;
+    size_t max_v_line = 0, max_vt_line = 0, max_vn_line = 0;
     unsigned long long triangles = 0;
     std::vector<long long> face;
     LineReader lines(text);
@@ -252,12 +263,19 @@ Expect scan_obj(const string& subject, string_view text, const MeshOptions& opti
             ++nv;
         } else if (key == "vt") {
             const size_t n = tokenize(rest, tok, 2);
-            if (n < 2 || !parse_finite_float(tok[0]) || !parse_finite_float(tok[1]))
+            if (n < 2)
                 fail(subject,
                      line_prefix(lines.line()) +
                          "texture coordinate is not two finite numbers (1D texture coordinates "
                          "are not supported)");
+            // (A "nan" was called 1D.)
+            for (int k = 0; k < 2; ++k)
+                if (!parse_finite_float(tok[k]))
+                    fail(subject, line_prefix(lines.line()) + "texture coordinate value " + shown(tok[k]) +
+                                      " is not a finite number");
             ++nvt;
+        } else if (key == "vn") {
+            ++nvn;
         } else if (key == "f") {
             face.clear();
             size_t pos = 0;
@@ -270,14 +288,16 @@ Expect scan_obj(const string& subject, string_view text, const MeshOptions& opti
                 // v, v/vt, v//vn or v/vt/vn
                 const size_t s1 = corner.find('/');
                 const string_view vs = corner.substr(0, s1);
-                string_view ts;
+                string_view ts, ns;
                 if (s1 != string_view::npos) {
                     const size_t s2 = corner.find('/', s1 + 1);
                     ts = corner.substr(s1 + 1,
                                        s2 == string_view::npos ? string_view::npos : s2 - s1 - 1);
+                    if (s2 != string_view::npos) ns = corner.substr(s2 + 1);
                 }
-                long long v = 0, t = 0;
-                if (!parse_int(vs, v) || v == 0 || (!ts.empty() && (!parse_int(ts, t) || t == 0)))
+                long long v = 0, t = 0, vn = 0;
+                if (!parse_int(vs, v) || v == 0 || (!ts.empty() && (!parse_int(ts, t) || t == 0)) ||
+                    (!ns.empty() && (!parse_int(ns, vn) || vn == 0)))
                     fail(subject,
                          line_prefix(lines.line()) + "malformed face corner " + shown(corner));
                 if (v < 0) {
@@ -299,6 +319,18 @@ Expect scan_obj(const string& subject, string_view text, const MeshOptions& opti
                 } else if (t > max_vt) {
                     max_vt = t;
                     max_vt_line = lines.line();
+                }
+                // Normal indices too, though the file's normals are not used (docs/mesh-input.md):
+                // every index is checked, and one past the normals (`f 1//5` with one `vn`) was
+                // taken without a word.
+                if (vn < 0) {
+                    vn += static_cast<long long>(nvn) + 1;
+                    if (vn < 1)
+                        fail(subject, line_prefix(lines.line()) + "normal index " + string(ns) +
+                                          " is out of range (" + std::to_string(nvn) + " so far)");
+                } else if (vn > max_vn) {
+                    max_vn = vn;
+                    max_vn_line = lines.line();
                 }
                 face.push_back(v);
             }
@@ -326,6 +358,9 @@ Expect scan_obj(const string& subject, string_view text, const MeshOptions& opti
         fail(subject, line_prefix(max_vt_line) + "texture coordinate index " +
                           std::to_string(max_vt) + " is out of range (the file has " +
                           std::to_string(nvt) + ")");
+    if (max_vn > static_cast<long long>(nvn))
+        fail(subject, line_prefix(max_vn_line) + "normal index " + std::to_string(max_vn) +
+                          " is out of range (the file has " + std::to_string(nvn) + ")");
     check_triangle_budget(subject, triangles, options);
     e.vertices = nv;
     return e;
@@ -415,6 +450,7 @@ string binary_off_in_openmesh_layout(string_view body, size_t vertex_words)
 
 Expect scan_off(const string& subject, string_view text, const MeshOptions& options)
 {
+    refuse_cr_line_ends(subject, text);
     Expect e;
     LineReader lines(text);
     string_view header;
@@ -506,12 +542,22 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
         (n > 2 && !parse_int(tok[2], ce)) || cv < 0 || cf < 0 || cv > 0xffffffffLL ||
         cf > 0xffffffffLL)
         fail(subject, line_prefix(lines.line()) + "expected vertex, face and edge counts");
+    // OpenMesh reads a vertex's position and takes the rest of its line for its colour and texture
+    // coordinate: vertices on the counts' line (an OFF on one line) would be misread, and the scan
+    // reads a vertex and a face per line. It said "header claims 3 vertices and 1 faces, more than a
+    // file of 38 bytes can hold" (found by an exploratory session).
+    if (n > 3)
+        fail(subject, line_prefix(lines.line()) + "values after the vertex, face and edge counts: each vertex and "
+                                                  "each face must be on a line of its own (the reader takes one to a line)");
     nv = static_cast<unsigned long long>(cv);
     nf = static_cast<unsigned long long>(cf);
     if (n == 2) e.off_counts_end = static_cast<size_t>(tok[1].data() + tok[1].size() - text.data());
-    // Shortest text a vertex ("0 0 0\n") and a triangle ("3 0 1 2\n") can take.
+    // Shortest text any vertex or face line can take, a value and a line end ("0\n"), so that only
+    // counts no file of this size can hold fail here (nothing is allocated for them), and a short
+    // line the checks below name: a face "0" said "header claims 3 vertices and 1 faces, more than
+    // a file of 24 bytes can hold" when the bound was a triangle's 8 bytes.
     const unsigned long long left = text.size() - lines.offset();
-    if (nv * 6 + nf * 8 > left + 2)
+    if ((nv + nf) * 2 > left + 1)
         fail(subject, "header claims " + std::to_string(nv) + " vertices and " +
                           std::to_string(nf) + " faces, more than a file of " +
                           std::to_string(text.size()) + " bytes can hold");
@@ -590,6 +636,13 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
         }
         triangles += static_cast<unsigned long long>(count) - 2;
     }
+    // OpenMesh stops after the faces the header counts: a count too small dropped the faces after
+    // them, silently (a cube with "8 1 0" drew one face, exit 0; found by an exploratory session).
+    // Blank lines and comments may follow.
+    while (lines.next(line))
+        if (tokenize(line, tok, 1) > 0 && tok[0][0] != '#')
+            fail(subject, line_prefix(lines.line()) + shown(line) + " follows the " + std::to_string(nf) +
+                              " face" + (nf == 1 ? "" : "s") + " the header counts (is its face count too small?)");
     check_triangle_budget(subject, triangles, options);
     e.add_face_calls = e.file_faces = nf;
     e.vertices = nv;
@@ -676,8 +729,30 @@ std::vector<glm::dvec3> binary_ply_positions(string_view body, const std::vector
     return positions;
 }
 
+// Where a binary PLY's elements end in its body (after end_header), walking its lists by their
+// counts; the body's size when it ends first (the reader then says what is missing).
+size_t binary_ply_end(string_view body, const std::vector<PlyElement>& elements, bool big_endian)
+{
+    size_t at = 0;
+    for (const PlyElement& el : elements)
+        for (unsigned long long i = 0; i < el.count; ++i)
+            for (const PlyProperty& p : el.properties) {
+                if (p.count_size == 0) {
+                    at += size_t(p.size);
+                } else {
+                    if (at + size_t(p.count_size) > body.size()) return body.size();
+                    const double count = ply_binary_value(body.data() + at, p.count_type, big_endian);
+                    if (!(count >= 0.0) || count > double(body.size())) return body.size();
+                    at += size_t(p.count_size) + size_t(count) * size_t(p.size);
+                }
+                if (at > body.size()) return body.size();
+            }
+    return at;
+}
+
 Expect scan_ply(const string& subject, string_view text, const MeshOptions& options)
 {
+    refuse_cr_line_ends(subject, text);
     Expect e;
     LineReader lines(text);
     string_view line;
@@ -825,20 +900,16 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
         warn(subject + ": vertex properties " + ignored_uv +
              " are not read as texture coordinates (u v or s t are)");
 
-    // Smallest body the header allows: binary sizes, or two characters per ASCII value; faces
-    // have at least three indices.
+    // Smallest body the header allows: binary sizes, or two characters per ASCII value, a list
+    // counting as its count alone. A true lower bound, so that only counts no file of this size can
+    // hold fail here, and a short face the checks after name: with three indices a list, a face
+    // "2 0 1" said "header claims 3 vertices and 1 faces, more than a file of 178 bytes can hold".
     const unsigned long long body = text.size() - lines.offset();
     unsigned long long need = 0;
     for (const PlyElement& el : elements) {
         unsigned long long per = 0;
-        for (const PlyProperty& p : el.properties) {
-            const unsigned long long items = (&el == face && p.count_size > 0) ? 3 : 0;
-            if (ascii)
-                per += p.count_size > 0 ? 2 + 2 * items : 2;
-            else
-                per += p.count_size > 0 ? unsigned(p.count_size) + items * unsigned(p.size)
-                                        : unsigned(p.size);
-        }
+        for (const PlyProperty& p : el.properties)
+            per += ascii ? 2 : unsigned(p.count_size > 0 ? p.count_size : p.size);
         need += per * el.count;
     }
     if (need > body + 1)
@@ -886,6 +957,12 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
                     continue;
                 }
                 if (&el != vertex) continue;
+                // One value per property: the reader reads values, not lines, so a missing one
+                // took the next line's first.
+                if (values != vertex->properties.size())
+                    fail(subject, line_prefix(lines.line()) + "vertex line has " + std::to_string(values) +
+                                      " values; its " + std::to_string(vertex->properties.size()) +
+                                      " properties call for " + std::to_string(vertex->properties.size()));
                 size_t pos = 0;
                 glm::dvec3 p(0.0);
                 for (size_t k = 0; pos < line.size(); ++k) {
@@ -904,8 +981,21 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
                 e.positions.push_back(p);
             }
         }
+        // The reader stops after the elements the header counts: a face count too small dropped
+        // the faces after it, silently (found by an exploratory session). Only white space may follow.
+        while (lines.next(line))
+            if (tokenize(line, tok, 1) > 0)
+                fail(subject, line_prefix(lines.line()) + shown(line) + " follows the elements the header counts (" +
+                                  std::to_string(face->count) + " face" + (face->count == 1 ? "" : "s") +
+                                  "; is a count too small?)");
     }
     if (!ascii) {
+        const string_view data = text.substr(lines.offset());
+        const size_t end = binary_ply_end(data, elements, big_endian);
+        if (end < data.size() && !std::all_of(data.begin() + std::ptrdiff_t(end), data.end(), is_space))
+            fail(subject, "binary PLY has " + std::to_string(data.size() - end) + " bytes after the elements the header "
+                          "counts (" + std::to_string(face->count) + " face" + (face->count == 1 ? "" : "s") +
+                          "; is a count too small?)");
         e.positions = binary_ply_positions(text.substr(lines.offset()), elements, *vertex, big_endian);
         for (const PlyProperty& p : vertex->properties)
             if (p.name == "x" || p.name == "y" || p.name == "z")

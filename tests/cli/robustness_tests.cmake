@@ -87,8 +87,8 @@ foreach(case "garbage.stl|is neither ASCII STL .* nor binary STL"
              "huge_header.stl|.*its header claims 42949672 triangles, 2147483684 bytes, but the file has 84"
              "huge_header.ply|header claims 2147483647 vertices and 2147483647 faces, more than a file of 251 bytes can hold"
              "truncated.obj|line 4: vertex position is not three finite numbers"
-             "truncated.off|header claims 4 vertices and 2 faces, more than a file of 42 bytes can hold"
-             "truncated.ply|header claims 4 vertices and 2 faces, more than a file of 192 bytes can hold")
+             "truncated.off|file ends after 1 of 2 faces"
+             "truncated.ply|line 15: face line has 3 values; its count '3' and 0 other face properties call for 4")
     string(REPLACE "|" ";" parts "${case}")
     list(GET parts 0 file)
     list(GET parts 1 message)

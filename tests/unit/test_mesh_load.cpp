@@ -1823,3 +1823,75 @@ TEST(MeshLoad, FineCircleInFloatsIsConvex)
     EXPECT_NE(::testing::internal::GetCapturedStderr().find("1 concave polygon too large to clip"), std::string::npos);
 }
 
+// OpenMesh stops after the elements a header counts: a cube whose OFF or PLY header counts 1 face
+// drew one (exit 0, no word), and garbage after the last face was read past. What follows the
+// counted elements must be white space (or, in an OFF, comments); found by an exploratory session.
+TEST(MeshErrors, ContentAfterTheCountedElementsIsRefused)
+{
+    TempDir dir;
+    const std::string verts = "0 0 0\n1 0 0\n0 1 0\n1 1 0\n";
+    const fs::path off = dir.write("under.off", "OFF\n4 1 0\n" + verts + "3 0 1 2\n3 1 3 2\n");
+    EXPECT_ERROR_MENTIONS(load_error(off), off, "line 8: '3 1 3 2' follows the 1 face the header counts (is its face count too small?)");
+    const std::string head = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                             "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    const fs::path ply = dir.write("under.ply", head + verts + "3 0 1 2\n3 1 3 2\n");
+    EXPECT_ERROR_MENTIONS(load_error(ply), ply, "line 15: '3 1 3 2' follows the elements the header counts (1 face; is a count too small?)");
+    // Blank lines, and comments in an OFF, may follow.
+    const pr::PreparedMesh m = pr::load_mesh(dir.write("ok.off", "OFF\n4 1 0\n" + verts + "3 0 1 2\n\n# end\n  \n"));
+    EXPECT_EQ(m.triangle_count(), 1u);
+    EXPECT_EQ(pr::load_mesh(dir.write("ok.ply", head + verts + "3 0 1 2\n\n")).triangle_count(), 1u);
+    // Binary PLY: bytes after the last face (white space may follow, as after a binary OFF).
+    std::vector<char> bin;
+    const std::string bhead = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                              "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    bin.assign(bhead.begin(), bhead.end());
+    for (const float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) put(bin, v);
+    bin.push_back(3);
+    for (const std::int32_t i : {0, 1, 2}) put(bin, i);
+    std::vector<char> trailing = bin;
+    for (char c : std::string("xxxx")) trailing.push_back(c);
+    const fs::path bt = dir.write_bytes("trail.ply", trailing);
+    EXPECT_ERROR_MENTIONS(load_error(bt), bt, "binary PLY has 4 bytes after the elements the header counts (1 face; is a count too small?)");
+    bin.push_back('\n');
+    EXPECT_EQ(pr::load_mesh(dir.write_bytes("nl.ply", bin)).triangle_count(), 1u);
+}
+
+// Messages that named the wrong thing (found by an exploratory session).
+TEST(MeshErrors, MessagesNameWhatIsWrong)
+{
+    TempDir dir;
+    // The early size check took 8 bytes for any face, a triangle's: a face "0" or "2 0 1" was "more
+    // than a file of … bytes can hold". Any line takes 2.
+    const fs::path f0 = dir.write("f0.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n0\n");
+    EXPECT_ERROR_MENTIONS(load_error(f0), f0, "line 6: face 0 has fewer than 3 vertices");
+    const fs::path f2 = dir.write("f2.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                            "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                            "end_header\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n");
+    EXPECT_ERROR_MENTIONS(load_error(f2), f2, "face 0 has fewer than 3 vertices");
+    // The shortest OFF loads: no line end after its face, no edge count.
+    EXPECT_EQ(pr::load_mesh(dir.write("min.off", "OFF\n3 1\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2")).triangle_count(), 1u);
+    // An OFF on one line: the reader takes a vertex a line.
+    const fs::path one = dir.write("one.off", "OFF\n3 1 0 0 0 0 1 0 0 0 1 0 3 0 1 2\n");
+    EXPECT_ERROR_MENTIONS(load_error(one), one, "line 2: values after the vertex, face and edge counts: each vertex and each face must be on a line of its own");
+    // An ASCII PLY vertex line short of a value took the next line's first.
+    const fs::path sv = dir.write("sv.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                            "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                            "end_header\n0 0\n1 0 0 0\n0 1 0\n3 0 1 2\n");
+    EXPECT_ERROR_MENTIONS(load_error(sv), sv, "line 10: vertex line has 2 values; its 3 properties call for 3");
+    // CR line ends: "contains no faces", "the counts must be on the line after 'OFF'".
+    for (const auto& [name, text] : {std::pair<std::string, std::string>{"cr.obj", "v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 3\r"},
+                                     {"cr.off", "OFF\r3 1 0\r0 0 0\r1 0 0\r0 1 0\r3 0 1 2\r"},
+                                     {"cr.ply", "ply\rformat ascii 1.0\relement vertex 3\r"}}) {
+        const fs::path p = dir.write(name, text);
+        EXPECT_ERROR_MENTIONS(load_error(p), p, "uses CR line ends (classic Mac OS)");
+    }
+    // A NaN texture coordinate was "(1D texture coordinates are not supported)".
+    const fs::path vt = dir.write("vt.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt nan 0\nf 1/1 2/1 3/1\n");
+    EXPECT_ERROR_MENTIONS(load_error(vt), vt, "line 4: texture coordinate value 'nan' is not a finite number");
+    // A normal index past the normals was taken without a word; every index is checked.
+    const fs::path vn = dir.write("vn.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//5 2//5 3//5\n");
+    EXPECT_ERROR_MENTIONS(load_error(vn), vn, "line 5: normal index 5 is out of range (the file has 1)");
+    const fs::path vnneg = dir.write("vnneg.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//-2 2//1 3//1\n");
+    EXPECT_ERROR_MENTIONS(load_error(vnneg), vnneg, "normal index -2 is out of range (1 so far)");
+    EXPECT_EQ(pr::load_mesh(dir.write("vnok.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//-1 3//1\n")).triangle_count(), 1u);
+}
