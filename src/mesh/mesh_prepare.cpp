@@ -94,7 +94,10 @@ double ring_area2(const std::vector<dvec2>& q, const std::vector<uint32_t>& r)
 // points they pass twice, add up to no more than MeshOptions::ear_clip_work (2^30, 1.2 s here;
 // a 4096-corner star takes 30-50 ms of it). What is left of a concave polygon past either limit
 // becomes a fan, which may cover area outside its outline; the caller warns. A strictly convex
-// polygon is its fan (from 8 corners on, rounds of ears: below), at any size, and costs nothing. (Before the fifteenth session polygons of up to 64 corners were
+// polygon costs nothing at any size: its fan, or from kEarRoundCorners on rounds of ears (below),
+// as does one past kEarClipCorners that is convex to float precision (a fine circle whose
+// neighbouring corners rounded to collinear or slightly reflex: it was fanned, with a warning
+// that called it concave). (Before the fifteenth session polygons of up to 64 corners were
 // clipped whatever they cost: up to 64^3 visits each, and the triangle limit lets a mesh hold
 // 160,000 of them, some 4·10^10 visits at worst.)
 constexpr size_t kEarClipCorners = 4096;
@@ -1306,6 +1309,26 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
                  " faces have no usable texture coordinates (one at every corner); generated box-projected "
                  "UVs for them, the others keep the file's");
     }
+
+    // Texture coordinates too large for single precision: past 2^20 a float resolves no finer
+    // than an eighth of a texture repeat, and the shaders work in floats (the prism drew nothing
+    // at 1e38 with a warning to check the camera, a flat dark colour at 1e20, where the reference
+    // showed the object; found by an exploratory session).
+    constexpr float kLargestUv = 1048576.0f;
+    float largest_uv = 0.0f;
+    bool largest_generated = false;
+    for (size_t i = 0; i < tri_uv.size(); ++i) {
+        const float m = std::max(std::fabs(tri_uv[i].x), std::fabs(tri_uv[i].y));
+        if (m <= largest_uv) continue;
+        largest_uv = m;
+        largest_generated = !face_uses_file_uv(tris[i / 3].face);
+    }
+    if (largest_uv > kLargestUv)
+        throw Error(name, std::string(largest_generated ? "generated " : "") + "texture coordinates reach " +
+                              format_number(largest_uv) +
+                              ", past 1048576 (2^20), where single precision resolves no finer than an eighth of "
+                              "a texture repeat: " +
+                              (largest_generated ? "use a smaller --uv-scale" : "scale them down in the file"));
 
     // ---- per-triangle metric frames ---------------------------------------------------------
     // dP/du and dP/dv of each triangle: P is linear in UV over a triangle, so

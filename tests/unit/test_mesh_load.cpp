@@ -1895,3 +1895,25 @@ TEST(MeshErrors, MessagesNameWhatIsWrong)
     EXPECT_ERROR_MENTIONS(load_error(vnneg), vnneg, "normal index -2 is out of range (1 so far)");
     EXPECT_EQ(pr::load_mesh(dir.write("vnok.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//-1 3//1\n")).triangle_count(), 1u);
 }
+
+// Texture coordinates past 2^20, where a float resolves no finer than an eighth of a repeat: the
+// prism drew nothing at 1e38 (a warning to check the camera) and a flat colour at 1e20, where the
+// reference drew the object (found by an exploratory session). Refused, the file's and generated
+// ones alike; up to 2^20 they load.
+TEST(MeshErrors, TextureCoordinatesPastSinglePrecisionAreRefused)
+{
+    TempDir dir;
+    const auto triangle = [&](const char* name, const char* u) {
+        return dir.write(name, std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt ") + u + " 0\nvt 0 1\nf 1/1 2/2 3/3\n");
+    };
+    EXPECT_ERROR_MENTIONS(load_error(triangle("big.obj", "1e38")), triangle("big.obj", "1e38"),
+                          "texture coordinates reach 1e+38, past 1048576 (2^20)");
+    EXPECT_NE(load_error(triangle("neg.obj", "-2e6")).problem().find("scale them down in the file"), std::string::npos);
+    EXPECT_NO_THROW(pr::load_mesh(triangle("edge.obj", "1048576")));
+    pr::MeshOptions huge;
+    huge.force_generated_uvs = true;
+    huge.uv_scale = 1e7f;
+    const pr::Error e = load_error(triangle("gen.obj", "1"), huge);
+    EXPECT_NE(e.problem().find("generated texture coordinates reach"), std::string::npos) << e.problem();
+    EXPECT_NE(e.problem().find("use a smaller --uv-scale"), std::string::npos) << e.problem();
+}
