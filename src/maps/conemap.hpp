@@ -62,7 +62,7 @@ struct ConeBuildOptions {
     // most this many more, and only then count by their bounds (docs/cone-maps.md, "The search").
     // The GPU generator searches depth first only and hands such texels to the CPU's threads
     // (cone_steps_of_texels), so both give the same map. 0: none.
-    int best_first_budget = 4096;
+    int best_first_budget = 1024;
     // GPU generator only: read the max pyramid from storage buffers, as it does by itself where the
     // pyramid has more texels than GL_MAX_TEXTURE_BUFFER_SIZE, instead of from buffer textures
     // (faster on llvmpipe). The same map either way; tests use it to cover that path.

@@ -96,7 +96,7 @@ TEST(ConeMapGpu, EqualsCpuWithABindingNodeBudget)
     // The GPU searches depth first; where its nodes run out the CPU goes on best first, and the
     // GPU path hands those texels to the CPU: with that part off, running out, and finishing.
     for (ConeKind kind : {ConeKind::Cone, ConeKind::Relaxed})
-        for (int best_first : {0, 24, 4096}) {
+        for (int best_first : {0, 24, 1024}) {
             ConeBuildOptions o;
             o.node_budget = 24;
             o.best_first_budget = best_first;
