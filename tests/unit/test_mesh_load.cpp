@@ -29,6 +29,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// The loads that guard against work growing with the square of a face's corners or of the faces
+// on an edge (in release builds 0.25 s and 0.3 s now, 21 s and 6 s before) allow ten times their
+// bound under AddressSanitizer, which slows them about tenfold.
+#ifdef __SANITIZE_ADDRESS__
+constexpr double kSlower = 10.0;
+#else
+constexpr double kSlower = 1.0;
+#endif
+
 using prtest::TempDir;
 
 
@@ -1724,7 +1733,7 @@ TEST(MeshLoad, TriangleRepeatedInOneFaceIsDroppedQuickly)
               std::string::npos)
         << said;
     EXPECT_EQ(said.find("more than two faces"), std::string::npos) << said;
-    EXPECT_LT(seconds, 3.0);
+    EXPECT_LT(seconds, 3.0 * kSlower);
 
     // A concave hexagon (an L) listed 20,000 times: clipped once per loop, each copy dropped.
     std::string l = "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\nv 1 2 0\nv 0 2 0\nf";
@@ -1761,7 +1770,7 @@ TEST(MeshLoad, ManyFacesOnOneEdgeLoadQuickly)
     ::testing::internal::GetCapturedStderr();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     EXPECT_EQ(m.triangle_count(), std::size_t(pages));
-    EXPECT_LT(seconds, 3.0);
+    EXPECT_LT(seconds, 3.0 * kSlower);
 }
 
 // A circle of 200,000 corners in one face, its positions floats: neighbours 3e-5 apart bend by
