@@ -1,5 +1,6 @@
 #include "core/error.hpp"
 
+#include <cstdint>
 #include <cstdio>
 #include <mutex>
 #include <set>
@@ -35,6 +36,18 @@ std::size_t utf8_length(std::string_view s)
     return n;
 }
 
+// Characters that break a line or steer a terminal's output although they are UTF-8: the C1
+// controls (U+0085 is a line break, U+009B starts an escape sequence on some terminals), the line
+// and paragraph separators and the bidirectional overrides and isolates, which reorder the text
+// shown (found by a review). Written out as their bytes.
+bool steers_output(std::string_view s, std::size_t n)
+{
+    std::uint32_t cp = static_cast<unsigned char>(s[0]) & (n == 2 ? 0x1Fu : n == 3 ? 0x0Fu : 0x07u);
+    for (std::size_t i = 1; i < n; ++i) cp = (cp << 6) | (static_cast<unsigned char>(s[i]) & 0x3Fu);
+    return (cp >= 0x80 && cp <= 0x9F) || cp == 0x2028 || cp == 0x2029 || (cp >= 0x202A && cp <= 0x202E) ||
+           (cp >= 0x2066 && cp <= 0x2069);
+}
+
 } // namespace
 
 std::string one_line(std::string_view text)
@@ -48,7 +61,7 @@ std::string one_line(std::string_view text)
         // written out, as control characters are (a scene in UTF-16 or Latin-1 echoed its raw
         // bytes in the JSON parser's message; found by an exploratory session).
         if (u >= 0x80) {
-            if (const std::size_t n = utf8_length(text.substr(i)); n > 0) {
+            if (const std::size_t n = utf8_length(text.substr(i)); n > 0 && !steers_output(text.substr(i), n)) {
                 out.append(text.substr(i, n));
                 i += n - 1;
                 continue;

@@ -21,6 +21,11 @@ TEST(OneLine, BytesThatAreNotUtf8AreWrittenOut)
     EXPECT_EQ(pr::one_line("\xC0\xAF"), "\\xc0\\xaf");                 // overlong '/'
     EXPECT_EQ(pr::one_line("\xED\xA0\x80"), "\\xed\\xa0\\x80");       // a surrogate
     EXPECT_EQ(pr::one_line("a\x7f"), "a\\x7f");
+    // UTF-8 that breaks the line or steers the terminal: C1 controls (NEL, CSI), the line
+    // separator, a right-to-left override.
+    EXPECT_EQ(pr::one_line("a\xC2\x85" "b\xC2\x9B"), "a\\xc2\\x85b\\xc2\\x9b");
+    EXPECT_EQ(pr::one_line("\xE2\x80\xA8|\xE2\x80\xAE"), "\\xe2\\x80\\xa8|\\xe2\\x80\\xae");
+    EXPECT_EQ(pr::one_line("\xC2\xA0\xE2\x80\x94"), "\xC2\xA0\xE2\x80\x94"); // no-break space, em dash: as they are
 }
 
 // A scene naming its mesh by a 5 MB path printed a 5 MB line (found by an exploratory session,
