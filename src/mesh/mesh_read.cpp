@@ -734,7 +734,18 @@ std::vector<glm::dvec3> binary_ply_positions(string_view body, const std::vector
 size_t binary_ply_end(string_view body, const std::vector<PlyElement>& elements, bool big_endian)
 {
     size_t at = 0;
-    for (const PlyElement& el : elements)
+    for (const PlyElement& el : elements) {
+        // An element without lists in one step: items of fixed size (none at all for an element
+        // without properties, which a header may count by the billion: 4e9 empty items took 1.5 s
+        // one by one; found by a review).
+        if (std::none_of(el.properties.begin(), el.properties.end(),
+                         [](const PlyProperty& p) { return p.count_size != 0; })) {
+            unsigned long long stride = 0;
+            for (const PlyProperty& p : el.properties) stride += unsigned(p.size);
+            if (stride != 0 && el.count > (body.size() - at) / stride) return body.size();
+            at += size_t(stride * el.count);
+            continue;
+        }
         for (unsigned long long i = 0; i < el.count; ++i)
             for (const PlyProperty& p : el.properties) {
                 if (p.count_size == 0) {
@@ -747,6 +758,7 @@ size_t binary_ply_end(string_view body, const std::vector<PlyElement>& elements,
                 }
                 if (at > body.size()) return body.size();
             }
+    }
     return at;
 }
 
