@@ -60,7 +60,7 @@ CommandAction add_conemap_command(CLI::App& app)
                     "Derived-map cache (default $XDG_CACHE_HOME/prismrelief, else ~/.cache/prismrelief; the "
                     "least recently used go beyond $PRISMRELIEF_CACHE_MAX_MB, default 2048)");
     cmd->add_flag("--no-cache", s->no_cache, "Neither read nor write the cache");
-    cmd->add_option("--json", s->json, "JSON report: size, kind, format, backend, ms (search_ms: the GPU's dispatches alone), from_cache, ratio statistics");
+    cmd->add_option("--json", s->json, "JSON report: size, kind, format, backend, ms (search_ms: the GPU's dispatches and read-back, and the CPU's search of texels the GPU ran out of nodes on), from_cache, ratio statistics");
     cmd->footer("Example:\n  prismrelief conemap --height builtin:bricks --kind relaxed --out out/bricks_relaxed.png");
 
     return [s, cmd]() {
@@ -92,7 +92,7 @@ CommandAction add_conemap_command(CLI::App& app)
         ProgressBar bar("conemap");
         options.progress = [&bar](double f) { bar(f); };
         std::string device = gpu ? "gpu" : "cpu";
-        double search_ms = -1.0; // the GPU's dispatches and read-back alone (below)
+        double search_ms = -1.0; // the GPU's dispatches and read-back, and the CPU's share (below)
         const ConeBuilder build = [&](const HeightField& f, ConeKind k, const ConeBuildOptions& o) {
             if (!gpu) {
                 const unsigned n = o.threads > 0 ? unsigned(o.threads) : std::max(1u, std::thread::hardware_concurrency());

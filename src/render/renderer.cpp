@@ -212,11 +212,6 @@ WalkTriangles walk_triangles(const std::vector<MeshVertex>& vertices, const std:
     return w;
 }
 
-// The second pass's work, tile by tile: for each tile the first pass marked in `tiles` (tw x th),
-// the prisms whose bottom cap's screen box covers it, and those it is unsure of (a corner behind
-// the eye, a box of more than 64 tiles) in every marked tile; each tile's list is drawn with the
-// tile as scissor. The lists one after the other in `prisms`, tile t's from offsets[t] to
-// offsets[t + 1]; `marked` the tiles (y * tw + x) in that order.
 // The scissor as the caller left it: `clip` bounds a box by it (unchanged where the test is
 // off), `restore` sets it back.
 struct ScissorState {
@@ -244,6 +239,11 @@ struct ScissorState {
     }
 };
 
+// The second pass's work, tile by tile: for each tile the first pass marked in `tiles` (tw x th),
+// the prisms whose bottom cap's screen box covers it, and those it is unsure of (a corner behind
+// the eye, a box of more than 64 tiles) in every marked tile; each tile's list is drawn with the
+// tile as scissor. The lists one after the other in `prisms`, tile t's from offsets[t] to
+// offsets[t + 1]; `marked` the tiles (y * tw + x) in that order.
 struct TileLists {
     std::vector<std::uint32_t> prisms, offsets, marked;
 };
