@@ -370,6 +370,10 @@ bool triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
                 for (size_t t = top; t > s; --t) last[id[stack[t]]] = below[t];
                 stack.resize(s + 1);
                 along.resize(s + 1);
+                // The loop keeps the earlier visit's corner, the rest goes on from the later one's
+                // (the same point; their texture coordinates may differ: the second petal of a
+                // flower took the first petal's UV at its tip; found by a review).
+                stack[s] = v;
                 left_corners -= corners;
                 left_area2 -= area2;
                 cut = true;

@@ -236,6 +236,22 @@ TEST(MeshLoad, ObjFacesRepeatingACornerKeepTheirUvsAndOutline)
         EXPECT_NEAR(area, 2.0f, 1e-5f) << face; // the two lobes; a triangle outside adds to it
         EXPECT_EQ(m.triangle_count(), 2u) << face;
     }
+    // Each lobe has a corner of its own at the shared point, with its texture coordinate: the
+    // loop closed there keeps the earlier visit's (u + v = 1 here), the rest of the outline the
+    // later one's (2). The loop cutting of the nineteenth session gave both the earlier corner,
+    // until a review found it.
+    for (const std::string& face : {"f 1/1 2/2 3/3 4/4 5/5 3/6\n", "f 3/3 4/4 5/5 3/6 1/1 2/2\n"}) {
+        const pr::PreparedMesh m = pr::load_mesh(dir.write(
+            "bowtie_uv.obj", bowtie + "vt 0 0\nvt 1 0\nvt 0.5 0.5\nvt 1 1\nvt 0 1\nvt 1 1\n" + face));
+        for (std::size_t t = 0; t < m.triangle_count(); ++t) {
+            const pr::MeshVertex* c[3] = {&m.vertices[m.indices[3 * t]], &m.vertices[m.indices[3 * t + 1]],
+                                          &m.vertices[m.indices[3 * t + 2]]};
+            const bool upper = c[0]->position.y + c[1]->position.y + c[2]->position.y > 3.0f;
+            for (const pr::MeshVertex* v : c)
+                if (v->position == glm::vec3(1.0f, 1.0f, 0.0f))
+                    EXPECT_FLOAT_EQ(v->uv.x + v->uv.y, upper ? 1.0f : 2.0f) << face << "triangle " << t;
+        }
+    }
     // A keyhole (a 4 x 4 square with a 2 x 2 hole, joined by a bridge from corner 1 to corner 5)
     // passes twice through two points too, but its second loop is the hole: not cut, clipped as
     // one polygon.
