@@ -253,24 +253,19 @@ void check_jpeg_tables(const std::string& subject, const std::vector<std::uint8_
 
 void drop_empty_png_idat(std::vector<std::uint8_t>& b)
 {
-    static constexpr std::uint8_t signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-    if (b.size() < 8 || !std::equal(signature, signature + 8, b.begin())) return;
-    std::size_t in = 8, out = 8;
-    while (b.size() - in >= 12) {
-        const std::size_t length = std::size_t(b[in]) << 24 | std::size_t(b[in + 1]) << 16 |
-                                   std::size_t(b[in + 2]) << 8 | std::size_t(b[in + 3]);
-        if (length > b.size() - in - 12) break;
-        const std::size_t chunk = 12 + length;
-        if (length != 0 || std::memcmp(&b[in + 4], "IDAT", 4) != 0) {
-            if (out != in) std::memmove(b.data() + out, b.data() + in, chunk);
-            out += chunk;
-        }
-        in += chunk;
+    std::vector<std::size_t> empty; // the empty IDAT chunks' offsets
+    walk_png_chunks(b, [&](std::size_t at, std::uint32_t length, std::string_view type) {
+        if (length == 0 && type == "IDAT") empty.push_back(at);
+        return true;
+    });
+    if (empty.empty()) return;
+    std::size_t out = empty.front();
+    for (std::size_t k = 0; k < empty.size(); ++k) { // what lies between one and the next (or the end) moves up
+        const std::size_t from = empty[k] + 12, to = k + 1 < empty.size() ? empty[k + 1] : b.size();
+        std::memmove(b.data() + out, b.data() + from, to - from);
+        out += to - from;
     }
-    if (out == in) return;
-    const std::size_t tail = b.size() - in;
-    std::memmove(b.data() + out, b.data() + in, tail);
-    b.resize(out + tail);
+    b.resize(out);
 }
 
 namespace {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <functional>
 #include <string_view>
 
 namespace pr {
@@ -320,32 +321,43 @@ void check_image_data(const std::string& subject, const std::vector<std::uint8_t
         check_tga(subject, bytes);
 }
 
+std::size_t walk_png_chunks(const std::vector<std::uint8_t>& b,
+                            const std::function<bool(std::size_t, std::uint32_t, std::string_view)>& visit)
+{
+    if (!is_png(b)) return 0;
+    std::size_t at = 8;
+    while (b.size() - at >= 12) {
+        const std::uint32_t length = be32(b, at);
+        if (length > b.size() - at - 12) break; // runs past the end
+        if (!visit(at, length, std::string_view(reinterpret_cast<const char*>(&b[at + 4]), 4))) break;
+        at += 12 + std::size_t(length);
+    }
+    return at;
+}
+
 void check_png(const std::string& subject, const std::vector<std::uint8_t>& b)
 {
     if (!is_png(b)) return;
-    std::size_t at = 8;
     std::string last = "its signature";
-    for (;;) {
-        if (b.size() - at < 12) {
-            if (b.size() == at)
-                throw Error(subject, fmt::format("not a supported image (truncated PNG: the file ends after {}, "
-                                                 "without the IEND chunk that closes a PNG)",
-                                                 last));
-            cut_short(subject, "PNG", at + 12, b.size());
-        }
-        const std::uint64_t length = be32(b, at), end = at + 12 + length;
-        if (end > b.size()) cut_short(subject, "PNG", end, b.size());
-        const std::string name = chunk_name(b, at + 4);
+    bool iend = false;
+    const std::size_t at = walk_png_chunks(b, [&](std::size_t chunk, std::uint32_t length, std::string_view type) {
+        const std::string name = chunk_name(b, chunk + 4);
 #ifndef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION // (fuzz builds: mutated files would stop here)
-        if (png_crc(&b[at + 4], std::size_t(length) + 4) != be32(b, std::size_t(end) - 4))
+        if (png_crc(&b[chunk + 4], std::size_t(length) + 4) != be32(b, chunk + 8 + length))
             throw Error(subject, fmt::format("not a supported image (corrupt PNG: the CRC of its {} chunk does not "
                                              "match its data: a damaged file)",
                                              name));
 #endif
-        if (name == "IEND") return; // stb reads no further, nor do we: trailing bytes are left alone
+        iend = type == "IEND"; // stb reads no further, nor do we: trailing bytes are left alone
         last = "its " + name + " chunk";
-        at = std::size_t(end);
-    }
+        return !iend;
+    });
+    if (iend) return;
+    if (b.size() == at)
+        throw Error(subject, fmt::format("not a supported image (truncated PNG: the file ends after {}, "
+                                         "without the IEND chunk that closes a PNG)",
+                                         last));
+    cut_short(subject, "PNG", b.size() - at < 12 ? at + 12 : at + 12 + std::uint64_t(be32(b, at)), b.size());
 }
 
 std::optional<PngPaletteProbe> png_palette_probe(const std::vector<std::uint8_t>& b)
@@ -353,25 +365,24 @@ std::optional<PngPaletteProbe> png_palette_probe(const std::vector<std::uint8_t>
     // IHDR first (stb refuses anything else), colour type 3.
     if (!is_png(b) || b.size() < 33 || std::memcmp(&b[12], "IHDR", 4) != 0 || b[25] != 3) return std::nullopt;
     const unsigned depth = b[24];
-    std::size_t at = 8, plte = 0;
+    std::size_t plte = 0;
     std::uint32_t entries = 0;
-    while (b.size() - at >= 12) {
-        const std::uint64_t length = be32(b, at), end = at + 12 + length;
-        if (end > b.size()) return std::nullopt; // check_png refuses it
-        const std::string_view type(reinterpret_cast<const char*>(&b[at + 4]), 4);
-        if (type == "IEND") break;
+    bool refused = false; // by stb, or check_png (a chunk past the end)
+    const std::size_t at = walk_png_chunks(b, [&](std::size_t chunk, std::uint32_t length, std::string_view type) {
+        if (type == "IEND") return false;
         if (type == "PLTE") {
-            if (length > 256 * 3 || length % 3 != 0) return std::nullopt; // stb refuses it
-            plte = at;
-            entries = std::uint32_t(length / 3);
+            refused = length > 256 * 3 || length % 3 != 0;
+            plte = chunk;
+            entries = length / 3;
         }
         // A tRNS longer than the palette before it: stb refuses it, and would not once the
         // palette is full.
-        if (type == "tRNS" && length > entries) return std::nullopt;
-        at = std::size_t(end);
-    }
+        refused = refused || (type == "tRNS" && length > entries);
+        return !refused;
+    });
+    refused = refused || (b.size() - at >= 12 && be32(b, at) > b.size() - at - 12);
     // No PLTE (stb refuses it), or one no index can get past.
-    if (plte == 0 || entries >= 256 || (depth < 8 && entries >= (1u << depth))) return std::nullopt;
+    if (refused || plte == 0 || entries >= 256 || (depth < 8 && entries >= (1u << depth))) return std::nullopt;
     PngPaletteProbe probe{{}, {}, entries};
     for (const bool high : {false, true}) {
         Bytes& out = high ? probe.high : probe.low;

@@ -6,8 +6,10 @@
 // HDR file hung stb's scanline loop forever. A short JPEG is left to stb, which refuses it; a
 // short PNG is refused by check_png, which also checks what stb does not (its CRCs).
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace pr {
@@ -17,6 +19,14 @@ namespace pr {
 // run-length scanlines are cut short or hold a run stb's decoder would loop on, and for PSD
 // run-length data of 16 bits, which stb decodes as 8 (garbage).
 void check_image_data(const std::string& subject, const std::vector<std::uint8_t>& bytes);
+
+// Walks a PNG's chunks from its signature on as stb walks them (a big-endian length, the type,
+// the data, the CRC), calling visit(offset, length, type) for each whole one until it returns
+// false. Returns the offset where the walk stopped: at the chunk `visit` declined, the end of the
+// file, or a chunk that runs past it (or fewer than its 12 bytes left). 0 for bytes that are not
+// a PNG. (check_png, png_palette_probe and drop_empty_png_idat walk the same way.)
+std::size_t walk_png_chunks(const std::vector<std::uint8_t>& bytes,
+                            const std::function<bool(std::size_t, std::uint32_t, std::string_view)>& visit);
 
 // Throws Error(subject, ...) when a PNG's chunks, walked from its signature to IEND, run past
 // the end of the file, end without IEND, or carry a CRC that does not match their type and data.

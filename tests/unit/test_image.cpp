@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <string_view>
 #include <unistd.h>
 #include <vector>
 
@@ -761,4 +762,35 @@ TEST(ImageEncode, PngsPastTheEncodersIntAreRefused)
     EXPECT_FALSE(pr::png_encodable(49184, 32880));
     EXPECT_FALSE(pr::png_encodable(536870912, 1)); // one row of 2 GiB
     EXPECT_FALSE(pr::png_encodable(0, 16));
+}
+
+// Empty IDAT chunks are dropped before stb sees a PNG (stb copied one's data from a null
+// pointer): each of them, wherever it stands, and nothing else, bytes after IEND included.
+TEST(PngChunks, EmptyIdatChunksAreDroppedAndNothingElse)
+{
+    const auto chunk = [](std::string_view type, const std::vector<std::uint8_t>& data) {
+        std::vector<std::uint8_t> c = {0, 0, 0, std::uint8_t(data.size())};
+        for (const char ch : type) c.push_back(std::uint8_t(ch));
+        for (const std::uint8_t v : data) c.push_back(v);
+        c.insert(c.end(), {1, 2, 3, 4}); // (no CRC is checked here)
+        return c;
+    };
+    const std::vector<std::uint8_t> sig = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    const std::vector<std::vector<std::uint8_t>> kept = {chunk("IHDR", {1, 2, 3}), chunk("IDAT", {9, 9}),
+                                                         chunk("tEXt", {}), chunk("IEND", {})};
+    const std::vector<std::uint8_t> empty = chunk("IDAT", {}), tail = {'x', 'y', 'z'};
+    std::vector<std::uint8_t> with = sig, without = sig;
+    for (std::size_t k = 0; k < kept.size(); ++k) {
+        if (k == 1 || k == 2) with.insert(with.end(), empty.begin(), empty.end()); // two before data, one after
+        if (k == 1) with.insert(with.end(), empty.begin(), empty.end());
+        with.insert(with.end(), kept[k].begin(), kept[k].end());
+        without.insert(without.end(), kept[k].begin(), kept[k].end());
+    }
+    with.insert(with.end(), tail.begin(), tail.end());
+    without.insert(without.end(), tail.begin(), tail.end());
+    pr::drop_empty_png_idat(with);
+    EXPECT_EQ(with, without);
+    std::vector<std::uint8_t> none = without;
+    pr::drop_empty_png_idat(none);
+    EXPECT_EQ(none, without);
 }
