@@ -698,6 +698,15 @@ double ply_binary_value(const char* at, string_view type, bool big_endian)
     return as(double{});
 }
 
+// Bytes of one item of a binary PLY element, its lists counted as their length prefix alone (the
+// whole item for an element without lists).
+size_t fixed_item_size(const PlyElement& el)
+{
+    size_t n = 0;
+    for (const PlyProperty& p : el.properties) n += size_t(p.count_size > 0 ? p.count_size : p.size);
+    return n;
+}
+
 // A binary PLY's vertex positions in double, from its body (after end_header): the elements
 // before the vertex element have no lists (scan_ply refuses lists outside the face element, which
 // comes after the vertices), so the vertices start at a fixed place and are all the same size.
@@ -705,17 +714,12 @@ double ply_binary_value(const char* at, string_view type, bool big_endian)
 std::vector<glm::dvec3> binary_ply_positions(string_view body, const std::vector<PlyElement>& elements,
                                              const PlyElement& vertex, bool big_endian)
 {
-    const auto stride = [](const PlyElement& el) {
-        size_t n = 0;
-        for (const PlyProperty& p : el.properties) n += size_t(p.size);
-        return n;
-    };
     size_t at = 0;
     for (const PlyElement& el : elements) {
         if (&el == &vertex) break;
-        at += stride(el) * el.count;
+        at += fixed_item_size(el) * el.count;
     }
-    const size_t size = stride(vertex);
+    const size_t size = fixed_item_size(vertex);
     if (at > body.size() || (body.size() - at) / size < vertex.count) return {};
     std::vector<glm::dvec3> positions(vertex.count, glm::dvec3(0.0));
     size_t offset = 0;
@@ -740,8 +744,7 @@ size_t binary_ply_end(string_view body, const std::vector<PlyElement>& elements,
         // one by one; found by a review).
         if (std::none_of(el.properties.begin(), el.properties.end(),
                          [](const PlyProperty& p) { return p.count_size != 0; })) {
-            unsigned long long stride = 0;
-            for (const PlyProperty& p : el.properties) stride += unsigned(p.size);
+            const unsigned long long stride = fixed_item_size(el);
             if (stride != 0 && el.count > (body.size() - at) / stride) return body.size();
             at += size_t(stride * el.count);
             continue;
@@ -918,12 +921,8 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
     // "2 0 1" said "header claims 3 vertices and 1 faces, more than a file of 178 bytes can hold".
     const unsigned long long body = text.size() - lines.offset();
     unsigned long long need = 0;
-    for (const PlyElement& el : elements) {
-        unsigned long long per = 0;
-        for (const PlyProperty& p : el.properties)
-            per += ascii ? 2 : unsigned(p.count_size > 0 ? p.count_size : p.size);
-        need += per * el.count;
-    }
+    for (const PlyElement& el : elements)
+        need += (ascii ? 2 * el.properties.size() : fixed_item_size(el)) * el.count;
     if (need > body + 1)
         fail(subject, "header claims " + std::to_string(vertex->count) + " vertices and " +
                           std::to_string(face->count) + " faces, more than a file of " +
