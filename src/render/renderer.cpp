@@ -1058,6 +1058,9 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         glGetTextureImage(tear_tiles_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(tiles.size() * sizeof(GLuint)),
                           tiles.data());
         if (std::any_of(tiles.begin(), tiles.end(), [](GLuint t) { return t != 0; })) {
+            // A caller's scissor (the viewer's split view draws each half in its own columns)
+            // bounds the tiles below and is set back after each object's.
+            const ScissorState outer = ScissorState::current();
             for (std::size_t k = 0; k < objects_.size(); ++k) {
                 const GpuObject& o = objects_[k];
                 if (!goes_inside(k)) continue;
@@ -1079,10 +1082,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
                 glBindTextureUnit(PR_TEX_PRISM_LIST, pass_list_texels_.id());
                 glBindVertexArray(o.base.vao.id());
                 // Each marked tile's prisms with the tile as scissor: only its pixels are shaded
-                // (llvmpipe runs the whole shader even for fragments that discard at once). A
-                // caller's scissor (the viewer's split view draws each half in its own columns)
-                // bounds the tiles and is set back afterwards.
-                const ScissorState outer = ScissorState::current();
+                // (llvmpipe runs the whole shader even for fragments that discard at once).
                 glEnable(GL_SCISSOR_TEST);
                 for (std::size_t m = 0; m < lists.marked.size(); ++m) {
                     const GLsizei count = GLsizei(lists.offsets[m + 1] - lists.offsets[m]);
