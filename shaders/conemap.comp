@@ -30,8 +30,15 @@ layout(binding = 1) uniform samplerBuffer t_groups;
 float pyramid_at(int i) { return texelFetch(t_pyramid, i).r; }
 vec4 group_at(int i) { return texelFetch(t_groups, i); }
 #endif
-// Result: the ratio in format steps k (ratio = k / u_steps), one per texel.
+// Result: the ratio in format steps k (ratio = k / u_steps), one per texel; where a search ran
+// out of nodes, bit 31 (the cone search) or 30 (the relaxed search) set, k then the other
+// search's (0 where both ran out), and the search's state in b_resume.
 layout(std430, binding = 1) writeonly buffer Steps { uint b_steps[]; };
+// The searches that ran out of nodes, where the CPU goes on with them (save_search; read by
+// render/conemap_gpu.cpp as maps::ConeSearchState): b_resume_count counts them all, the first
+// u_resume_capacity are written, kResumeWords words each.
+layout(std430, binding = 3) buffer Resume { uint b_resume_count; uint b_resume[]; };
+const uint kResumeWords = 17u;
 
 layout(location = 0) uniform ivec2 u_size;  // texels
 layout(location = 1) uniform int u_levels;  // pyramid levels (the last is 1x1)
@@ -40,6 +47,7 @@ layout(location = 3) uniform uint u_first;  // first texel of this dispatch
 layout(location = 4) uniform uint u_count;  // texels in this dispatch
 layout(location = 5) uniform int u_budget;  // kind relaxed: march steps per texel (ConeBuildOptions)
 layout(location = 6) uniform int u_node_budget; // nodes per search (ConeBuildOptions::node_budget)
+layout(location = 7) uniform uint u_resume_capacity; // entries b_resume holds
 layout(location = 8) uniform int u_level_w[PR_CONE_MAX_LEVELS];
 layout(location = 24) uniform int u_level_h[PR_CONE_MAX_LEVELS];
 layout(location = 40) uniform int u_level_offset[PR_CONE_MAX_LEVELS];
@@ -227,10 +235,32 @@ double rest_bound(double c, double threshold, uint filled, int top, int m, int l
     return c;
 }
 
+// Where the node budget ran out: the search's state, for the CPU's search to go on from (best
+// first, maps::Searcher::resume). Words: texel, relaxed, filled, the node visited last (level, i,
+// j), best (two words), march steps left, the lists of levels 0-7 (two to a word: 16 bits each).
+void save_search(uint texel, bool relaxed, uint filled, int m, int li, int lj, double best, int budget)
+{
+    uint e = atomicAdd(b_resume_count, 1u);
+    if (e >= u_resume_capacity) return; // the CPU searches this texel again from the start
+    uint at = e * kResumeWords;
+    uvec2 b = unpackDouble2x32(best);
+    b_resume[at] = texel;
+    b_resume[at + 1u] = relaxed ? 1u : 0u;
+    b_resume[at + 2u] = filled;
+    b_resume[at + 3u] = uint(m);
+    b_resume[at + 4u] = uint(li);
+    b_resume[at + 5u] = uint(lj);
+    b_resume[at + 6u] = b.x;
+    b_resume[at + 7u] = b.y;
+    b_resume[at + 8u] = uint(budget);
+    for (int l = 0; l < PR_CONE_MAX_LEVELS; l += 2)
+        b_resume[at + 9u + uint(l / 2)] = (s_list[l] & 0xffffu) | (s_list[l + 1] << 16u);
+}
+
 // maps::Searcher::search: the ratio of texel (px, py) in format steps, for cones or relaxed cones.
-// `ran_out_of_nodes` is set where the node budget ran out: the CPU's search goes on best first there,
-// and the CPU finishes such texels (render/conemap_gpu.cpp).
-int search(int px, int py, bool relaxed, inout bool ran_out_of_nodes)
+// `ran_out_of_nodes` is set where the node budget ran out: the CPU's search goes on best first
+// from there (save_search; render/conemap_gpu.cpp).
+int search(int px, int py, bool relaxed, out bool ran_out_of_nodes)
 {
     float hp = height_at(px, py);
     int top = u_levels - 1;
@@ -292,12 +322,13 @@ int search(int px, int py, bool relaxed, inout bool ran_out_of_nodes)
         s_list[m - 1] = children;
         if ((children & 7u) != 0u) filled |= 1u << (m - 1);
     }
-    if (out_of_nodes || out_of_steps >= 0.0lf) {
-        double rest = rest_bound(out_of_nodes ? best : out_of_steps, threshold, filled, top, m, li, lj,
-                                 px, py, hp, inv_w2, inv_h2);
+    ran_out_of_nodes = out_of_nodes;
+    if (out_of_nodes) {
+        save_search(uint(py) * uint(u_size.x) + uint(px), relaxed, filled, m, li, lj, best, budget);
+    } else if (out_of_steps >= 0.0lf) {
+        double rest = rest_bound(out_of_steps, threshold, filled, top, m, li, lj, px, py, hp, inv_w2, inv_h2);
         if (rest < best) k = ratio_steps(rest);
     }
-    ran_out_of_nodes = ran_out_of_nodes || out_of_nodes;
     return k;
 }
 
@@ -307,10 +338,12 @@ void main()
     if (index >= u_count) return;
     uint texel = u_first + index;
     int px = int(texel % uint(u_size.x)), py = int(texel / uint(u_size.x));
-    bool out_of_nodes = false;
-    int k = search(px, py, false, out_of_nodes);
+    bool cone_out, relaxed_out = false;
+    int k = search(px, py, false, cone_out);
+    if (cone_out) k = 0;
 #if PR_CONE_KIND == 1
-    k = max(k, search(px, py, true, out_of_nodes));
+    int kr = search(px, py, true, relaxed_out);
+    if (!relaxed_out) k = max(k, kr);
 #endif
-    b_steps[texel] = uint(k) | (out_of_nodes ? 0x80000000u : 0u);
+    b_steps[texel] = uint(k) | (cone_out ? 0x80000000u : 0u) | (relaxed_out ? 0x40000000u : 0u);
 }

@@ -60,7 +60,7 @@ CommandAction add_conemap_command(CLI::App& app)
                     "Derived-map cache (default $XDG_CACHE_HOME/prismrelief, else ~/.cache/prismrelief; the "
                     "least recently used go beyond $PRISMRELIEF_CACHE_MAX_MB, default 2048)");
     cmd->add_flag("--no-cache", s->no_cache, "Neither read nor write the cache");
-    cmd->add_option("--json", s->json, "JSON report: size, kind, format, backend, ms (search_ms: the GPU's dispatches and read-back, and the CPU's search of texels the GPU ran out of nodes on), from_cache, ratio statistics");
+    cmd->add_option("--json", s->json, "JSON report: size, kind, format, backend, ms (a GPU build's search_ms: its dispatches and read-back, and search_cpu_ms of it the CPU's threads finishing the searches that ran out of nodes there, searches_resumed from the GPU's state or searches_restarted), from_cache, ratio statistics");
     cmd->footer("Example:\n  prismrelief conemap --height builtin:bricks --kind relaxed --out out/bricks_relaxed.png");
 
     return [s, cmd]() {
@@ -92,7 +92,7 @@ CommandAction add_conemap_command(CLI::App& app)
         ProgressBar bar("conemap");
         options.progress = [&bar](double f) { bar(f); };
         std::string device = gpu ? "gpu" : "cpu";
-        double search_ms = -1.0; // the GPU's dispatches and read-back, and the CPU's share (below)
+        std::optional<ConeGpuReport> gpu_report; // a GPU build's
         const ConeBuilder build = [&](const HeightField& f, ConeKind k, const ConeBuildOptions& o) {
             if (!gpu) {
                 const unsigned n = o.threads > 0 ? unsigned(o.threads) : std::max(1u, std::thread::hardware_concurrency());
@@ -101,7 +101,8 @@ CommandAction add_conemap_command(CLI::App& app)
             }
             preload_backend(gl_backend); // (started already with --no-cache)
             std::unique_ptr<Context> context;
-            return build_cone_map_gpu(f, k, o, &search_ms, [&] {
+            gpu_report.emplace();
+            return build_cone_map_gpu(f, k, o, &*gpu_report, [&] {
                 context = create_headless_context(gl_backend, "--gl-backend");
                 device = "gpu, " + context->description();
             });
@@ -138,9 +139,15 @@ CommandAction add_conemap_command(CLI::App& app)
                                            {"cache_entry", s->no_cache || result.entry.empty() ? nlohmann::json()
                                                                                               : nlohmann::json(result.entry.string())},
                                            {"ms", ms},
-                                           // GPU only: the dispatches and read-back, without creating
-                                           // the context, uploading and compiling; null otherwise.
-                                           {"search_ms", search_ms >= 0.0 ? nlohmann::json(search_ms) : nlohmann::json()},
+                                           // A GPU build only (null otherwise): the dispatches and
+                                           // read-back, without creating the context, uploading and
+                                           // compiling, with the CPU's share: finishing the searches
+                                           // that ran out of nodes on the GPU (resumed from its state,
+                                           // or restarted where it had no room to save it).
+                                           {"search_ms", gpu_report ? nlohmann::json(gpu_report->search_ms) : nlohmann::json()},
+                                           {"search_cpu_ms", gpu_report ? nlohmann::json(gpu_report->cpu_ms) : nlohmann::json()},
+                                           {"searches_resumed", gpu_report ? nlohmann::json(gpu_report->resumed) : nlohmann::json()},
+                                           {"searches_restarted", gpu_report ? nlohmann::json(gpu_report->restarted) : nlohmann::json()},
                                            {"ratio_min", lo},
                                            {"ratio_mean", mean},
                                            {"ratio_max", hi}};

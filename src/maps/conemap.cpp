@@ -284,13 +284,45 @@ public:
     {
         const float hp = f_.texels[std::size_t(py) * std::size_t(f_.width) + std::size_t(px)];
         if (!(hp < global_max_)) return steps_; // nothing is higher: the cap
-        int k = steps_;
-        double best = 1.0;
-        double threshold = 1.0; // steps_squared(k): a candidate c lowers k only if c * m < this
         stack_.clear();
         stack_.push_back({top_, 0, 0, 0.0});
-        int budget = budget_;
-        int visits = 0, limit = node_budget_;
+        return run(px, py, hp, relaxed, steps_, 1.0, budget_, 0, cut);
+    }
+
+    // A depth-first search the GPU stopped where its node budget ran out, from where it stopped:
+    // its nodes left to visit become this search's stack, in the order the CPU's own depth-first
+    // search holds them at that point (each level's list above the lists of the levels over it,
+    // each list with the child to visit next on top), each bound computed as the CPU computes it,
+    // and the search goes on from its next visit, which finds the node budget spent. So the
+    // result is the one search(px, py, state.relaxed, cut) gives, without its depth-first part.
+    int resume(const ConeSearchState& state, bool& cut)
+    {
+        const int px = int(state.texel % std::uint32_t(f_.width)), py = int(state.texel / std::uint32_t(f_.width));
+        const float hp = f_.texels[std::size_t(state.texel)];
+        const int m = state.last_level;
+        stack_.clear();
+        for (int level = top_ - 1; level >= 0; --level) {
+            if (!(state.filled & (1u << level))) continue; // (the lowest is m - 1: m's children)
+            const int shift = level + 1 - m;
+            const int pi = state.last_i >> shift, pj = state.last_j >> shift;
+            const std::uint32_t list = state.lists[std::size_t(level)];
+            for (int n = int(list & 7u) - 1; n >= 0; --n) {
+                const std::uint32_t q = (list >> (3u + 2u * std::uint32_t(n))) & 3u;
+                const int ci = 2 * pi + int(q & 1u), cj = 2 * pj + int(q >> 1u);
+                stack_.push_back({level, ci, cj, node_distance(level, ci, cj, px, py) / rise(pyr_.at(level, ci, cj), hp)});
+            }
+        }
+        const int k = cone_ratio_steps(state.best, format_);
+        return run(px, py, hp, state.relaxed, k, state.best, state.march_budget, node_budget_, cut);
+    }
+
+private:
+    // The search loop over stack_, from k (its best c so far `best`), `budget` march steps left
+    // and `visits` nodes visited.
+    int run(int px, int py, float hp, bool relaxed, int k, double best, int budget, int visits, bool& cut)
+    {
+        double threshold = steps_squared(k, steps_); // a candidate c lowers k only if c * m < this
+        int limit = node_budget_;
         bool heap = false; // stack_ is a min-heap of bounds: the best-first part
         const auto later = [](const Node& a, const Node& b) { return a.bound > b.bound; };
         while (!stack_.empty()) {
@@ -365,7 +397,6 @@ public:
         return k;
     }
 
-private:
     // From h_p up to h, in the format's height steps, as the map stores heights (R: every texel
     // of the field is a whole number of them, cone_source_field), so that a ratio is conservative
     // against the stored heights exactly. The difference of the float texels, each rounded by up
@@ -527,6 +558,25 @@ void cone_steps_of_texels(const HeightField& field, const MaxPyramid& pyramid, C
         const std::size_t end = std::min(texels.size(), std::size_t(item + 1) * kPerItem);
         for (std::size_t t = std::size_t(item) * kPerItem; t < end; ++t)
             steps[texels[t]] = std::uint32_t(searcher.search(int(texels[t] % w), int(texels[t] / w)));
+    });
+}
+
+void cone_steps_resumed(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind,
+                        const ConeBuildOptions& options, const std::vector<ConeSearchState>& states,
+                        std::vector<std::uint32_t>& k)
+{
+    k.assign(states.size(), 0u);
+    if (states.empty()) return;
+    ConeBuildOptions quiet = options;
+    quiet.progress = nullptr; // (the caller's own progress goes on around it)
+    constexpr int kPerItem = 64; // searches handed out at a time
+    const int items = int((states.size() + kPerItem - 1) / kPerItem);
+    for_each_item(field, pyramid, kind, quiet, items, [&](Searcher& searcher, int item) {
+        const std::size_t end = std::min(states.size(), std::size_t(item + 1) * kPerItem);
+        for (std::size_t i = std::size_t(item) * kPerItem; i < end; ++i) {
+            bool cut = false;
+            k[i] = std::uint32_t(searcher.resume(states[i], cut));
+        }
     });
 }
 

@@ -67,6 +67,10 @@ struct ConeBuildOptions {
     // pyramid has more texels than GL_MAX_TEXTURE_BUFFER_SIZE, instead of from buffer textures
     // (faster on llvmpipe). The same map either way; tests use it to cover that path.
     bool gpu_storage_buffers = false;
+    // GPU generator only: how many searches that ran out of nodes one dispatch hands to the CPU
+    // with their state (the CPU goes on from there); beyond that, the CPU searches their texels
+    // again from the start (the same map, slower). 0: the default, 32768. Tests set it low.
+    int gpu_resume_capacity = 0;
 };
 
 // Thrown by build_cone_map_cpu() when ConeBuildOptions::cancel turned true.
@@ -137,6 +141,26 @@ struct MaxPyramid {
     }
 };
 MaxPyramid build_max_pyramid(const HeightField& field);
+
+// Where the GPU generator's depth-first search of one texel stopped because its node budget ran
+// out (shaders/conemap.comp, save_search): enough to go on from there on the CPU.
+struct ConeSearchState {
+    std::uint32_t texel = 0;   // y * width + x
+    bool relaxed = false;      // the relaxed search (else the cone search)
+    std::uint32_t filled = 0;  // bit l: lists[l] holds nodes left to visit
+    int last_level = 0, last_i = 0, last_j = 0; // the node visited last
+    double best = 1.0;         // the smallest constraint found
+    int march_budget = 0;      // relaxed: march steps left
+    // Per level l: the children of the node visited last at level l + 1 still to visit, in order
+    // (3 bits count, then 2 bits per child: x + 2 y in its parent, the next one lowest).
+    std::uint32_t lists[16] = {};
+};
+
+// The CPU generator's ratio, in format steps, of each search listed, each going on from where
+// the GPU stopped it (best first, as the CPU's own search does there): k[i] for states[i].
+void cone_steps_resumed(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind,
+                        const ConeBuildOptions& options, const std::vector<ConeSearchState>& states,
+                        std::vector<std::uint32_t>& k);
 
 // The CPU generator's ratio, in format steps, of each texel listed (y * width + x), written to
 // steps[texel]; `field` is cone_source_field()'s, `pyramid` its max pyramid. On options.threads

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <string>
 
 namespace pr {
@@ -23,11 +24,35 @@ constexpr GLuint kGroupSize = 64;  // local_size_x in conemap.comp
 constexpr std::size_t kFirstChunkTexels = 16384;
 constexpr std::size_t kMaxChunkTexels = std::size_t(1) << 20;
 constexpr double kChunkSeconds = 0.25;
+constexpr std::size_t kResumeWords = 17; // conemap.comp, save_search
+constexpr std::size_t kDefaultResumeCapacity = 32768;
+
+// The searches the GPU left to the CPU in one dispatch (conemap.comp, b_resume), as
+// maps::ConeSearchState.
+std::vector<ConeSearchState> read_searches(const std::vector<std::uint32_t>& words, std::size_t count)
+{
+    std::vector<ConeSearchState> states(count);
+    for (std::size_t e = 0; e < count; ++e) {
+        const std::uint32_t* w = words.data() + e * kResumeWords;
+        ConeSearchState& s = states[e];
+        s.texel = w[0];
+        s.relaxed = w[1] != 0;
+        s.filled = w[2];
+        s.last_level = int(w[3]);
+        s.last_i = int(w[4]);
+        s.last_j = int(w[5]);
+        const std::uint64_t bits = std::uint64_t(w[6]) | (std::uint64_t(w[7]) << 32);
+        std::memcpy(&s.best, &bits, sizeof s.best);
+        s.march_budget = int(w[8]);
+        for (int l = 0; l < 16; ++l) s.lists[l] = (w[9 + l / 2] >> (16 * (l % 2))) & 0xffffu;
+    }
+    return states;
+}
 
 } // namespace
 
 ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBuildOptions& options,
-                           double* search_ms, const std::function<void()>& make_current)
+                           ConeGpuReport* report, const std::function<void()>& make_current)
 {
     const std::string subject = given.name.empty() ? "height map" : given.name; // for error lines
     const std::size_t n = std::size_t(std::max(given.width, 0)) * std::size_t(std::max(given.height, 0));
@@ -80,6 +105,12 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
     }
     gl::Buffer steps = gl::Buffer::create();
     glNamedBufferStorage(steps.id(), GLsizeiptr(n * sizeof(std::uint32_t)), nullptr, 0);
+    // The searches that ran out of nodes: a count, then their states (conemap.comp, b_resume).
+    const std::size_t capacity =
+        options.gpu_resume_capacity > 0 ? std::size_t(options.gpu_resume_capacity) : kDefaultResumeCapacity;
+    gl::Buffer resume = gl::Buffer::create();
+    glNamedBufferStorage(resume.id(), GLsizeiptr((1 + capacity * kResumeWords) * sizeof(std::uint32_t)), nullptr,
+                         GL_DYNAMIC_STORAGE_BIT);
 
     const GLuint p = program.id();
     glProgramUniform2i(p, 0, field.width, field.height);
@@ -87,6 +118,7 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
     glProgramUniform1i(p, 2, cone_format_steps(options.format));
     glProgramUniform1i(p, 5, options.relaxed_budget > 0 ? options.relaxed_budget : 0x7fffffff);
     glProgramUniform1i(p, 6, options.node_budget > 0 ? options.node_budget : 0x7fffffff);
+    glProgramUniform1ui(p, 7, GLuint(capacity));
     int w[kMaxLevels] = {}, h[kMaxLevels] = {}, off[kMaxLevels] = {};
     for (int l = 0; l < pyramid.levels(); ++l) {
         w[l] = pyramid.widths[std::size_t(l)];
@@ -107,13 +139,20 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, children.id());
     }
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, steps.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, resume.id());
     const auto search_start = std::chrono::steady_clock::now();
     std::size_t chunk = kFirstChunkTexels;
     std::vector<std::uint32_t> k(n);
-    std::vector<std::uint32_t> unfinished; // texels whose search ran out of nodes
+    std::vector<std::uint32_t> words, resumed, again;
+    double cpu_seconds = 0.0;
+    std::size_t resumed_count = 0, restarted_count = 0;
+    std::size_t max_chunk = kMaxChunkTexels; // lowered where the searches saved overflow b_resume
+    constexpr std::uint32_t kRanOut = 0xc0000000u; // conemap.comp: bit 31 cone, bit 30 relaxed search
     for (std::size_t first = 0; first < n;) {
         const std::size_t count = std::min(chunk, n - first);
         const auto start = std::chrono::steady_clock::now();
+        const GLuint zero = 0;
+        glNamedBufferSubData(resume.id(), 0, sizeof zero, &zero);
         glProgramUniform1ui(p, 3, GLuint(first));
         glProgramUniform1ui(p, 4, GLuint(count));
         glDispatchCompute(GLuint((count + kGroupSize - 1) / kGroupSize), 1, 1);
@@ -121,27 +160,50 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
         glGetNamedBufferSubData(steps.id(), GLintptr(first * sizeof(std::uint32_t)),
                                 GLsizeiptr(count * sizeof(std::uint32_t)), k.data() + first); // waits for it
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        // Where the node budget ran out (the top bit), the CPU's search goes on best first
-        // (maps::Searcher): those texels are searched again on the CPU's threads, so that the
-        // map is the CPU generator's.
-        unfinished.clear();
-        for (std::size_t t = first; t < first + count; ++t) {
-            if (k[t] & 0x80000000u && options.best_first_budget > 0) unfinished.push_back(std::uint32_t(t));
-            k[t] &= 0x7fffffffu;
+        // Where the node budget ran out, the CPU's search goes on best first (maps::Searcher), so
+        // that the map is the CPU generator's: from the GPU's state where it saved one, else
+        // from the start (a search the GPU had no room for).
+        GLuint saved = 0;
+        glGetNamedBufferSubData(resume.id(), 0, sizeof saved, &saved);
+        const std::size_t stored = std::min<std::size_t>(saved, capacity);
+        words.resize(stored * kResumeWords);
+        if (stored > 0)
+            glGetNamedBufferSubData(resume.id(), sizeof(GLuint), GLsizeiptr(words.size() * sizeof(std::uint32_t)),
+                                    words.data());
+        const auto cpu_start = std::chrono::steady_clock::now();
+        again.clear();
+        if (stored < saved) { // some not saved: their texels again from the start
+            max_chunk = std::max(std::size_t(kGroupSize), capacity / 2 / kGroupSize * kGroupSize);
+            for (std::size_t t = first; t < first + count; ++t)
+                if (k[t] & kRanOut) again.push_back(std::uint32_t(t));
+        } else {
+            const std::vector<ConeSearchState> states = read_searches(words, stored);
+            cone_steps_resumed(field, pyramid, kind, options, states, resumed);
+            for (std::size_t e = 0; e < stored; ++e)
+                k[states[e].texel] = std::max(k[states[e].texel] & ~kRanOut, resumed[e]);
         }
-        cone_steps_of_texels(field, pyramid, kind, options, unfinished, k);
+        for (std::size_t t = first; t < first + count; ++t) k[t] &= ~kRanOut;
+        cone_steps_of_texels(field, pyramid, kind, options, again, k);
+        resumed_count += again.empty() ? stored : 0;
+        restarted_count += again.size();
+        cpu_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - cpu_start).count();
         first += count;
         if (options.progress) options.progress(double(first) / double(n));
         // The next one: to take kChunkSeconds at this one's pace, growing at most fourfold.
         const double scale = seconds > 0.0 ? std::clamp(kChunkSeconds / seconds, 0.25, 4.0) : 4.0;
         chunk = std::clamp(std::size_t(double(count) * scale) / kGroupSize * kGroupSize, std::size_t(kGroupSize),
-                           kMaxChunkTexels);
+                           max_chunk);
     }
-    if (search_ms)
-        *search_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - search_start).count();
+    if (report) {
+        report->search_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - search_start).count();
+        report->cpu_ms = cpu_seconds * 1000.0;
+        report->resumed = resumed_count;
+        report->restarted = restarted_count;
+    }
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, 0);
     glBindTextureUnit(0, 0);
     glBindTextureUnit(1, 0);
     glUseProgram(0);

@@ -6,16 +6,25 @@
 
 namespace pr {
 
+// What a GPU build did besides the map (prismrelief conemap --json reports it).
+struct ConeGpuReport {
+    double search_ms = 0.0;     // the dispatches, the read-back and the CPU's share below, without
+                                // creating the context, uploading and compiling
+    double cpu_ms = 0.0;        // of that, the CPU's threads finishing searches that ran out of nodes
+    std::size_t resumed = 0;    // searches the CPU went on with from the GPU's state
+    std::size_t restarted = 0;  // texels the CPU searched again from the start (no room for their state)
+};
+
 // Splits the work into dispatches of a few thousand texels, each finished before the next, so a
 // software rasterizer (llvmpipe) never runs one long dispatch; options.progress is called
-// between them. The texels whose search ran out of nodes (ConeBuildOptions::node_budget) are
-// searched again on options.threads CPU threads after their dispatch (the CPU goes on best first
-// there). Throws pr::Error("conemap", …) on GL failure. With `search_ms`, the time of the
-// dispatches, the read-back and those CPU searches, without uploading and compiling
-// (prismrelief conemap --json reports both). With `make_current`, the context is made
-// by that call, after the CPU's share of the work (the max pyramid) and before the first GL call:
+// between them. Where a texel's search ran out of nodes (ConeBuildOptions::node_budget), the GPU
+// saves its state and the CPU's threads go on from there after the dispatch, best first as the
+// CPU's own search does, so the map is the CPU generator's (where more searches ran out than
+// ConeBuildOptions::gpu_resume_capacity holds, those texels are searched again from the start).
+// Throws pr::Error("conemap", …) on GL failure. With `make_current`, the context is made by
+// that call, after the CPU's share of the work (the max pyramid) and before the first GL call:
 // `prismrelief conemap` loads Mesa on another thread meanwhile (preload_backend).
 ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBuildOptions& options = {},
-                           double* search_ms = nullptr, const std::function<void()>& make_current = {});
+                           ConeGpuReport* report = nullptr, const std::function<void()>& make_current = {});
 
 } // namespace pr

@@ -93,17 +93,30 @@ TEST(ConeMapGpu, EqualsCpuWithABindingNodeBudget)
     HeightField f = field_of(64, 48, 8, true);
     for (int y = 0; y < f.height; ++y) // a ramp: the search runs out of nodes on most texels
         for (int x = 0; x < f.width; ++x) f.texels[std::size_t(y * f.width + x)] = float(x + 0.3 * y) / 80.0f;
-    // The GPU searches depth first; where its nodes run out the CPU goes on best first, and the
-    // GPU path hands those texels to the CPU: with that part off, running out, and finishing.
+    // The GPU searches depth first; where its nodes run out the CPU goes on best first, from the
+    // state the GPU saved: with that part off, running out, and finishing; and with room for the
+    // state of one search per dispatch, so that the CPU searches those texels again from the start.
     for (ConeKind kind : {ConeKind::Cone, ConeKind::Relaxed})
-        for (int best_first : {0, 24, 1024}) {
-            ConeBuildOptions o;
-            o.node_budget = 24;
-            o.best_first_budget = best_first;
-            const std::string what = std::string(kind == ConeKind::Cone ? "cone" : "relaxed") +
-                                     " ramp budget, best first " + std::to_string(best_first);
-            expect_same(build_cone_map_gpu(f, kind, o), build_cone_map_cpu(f, kind, o), ConeFormat::Rg16, what.c_str());
-        }
+        for (int best_first : {0, 24, 1024})
+            for (int capacity : {0, 1}) {
+                ConeBuildOptions o;
+                o.node_budget = 24;
+                o.best_first_budget = best_first;
+                o.gpu_resume_capacity = capacity;
+                const std::string what = std::string(kind == ConeKind::Cone ? "cone" : "relaxed") +
+                                         " ramp budget, best first " + std::to_string(best_first) +
+                                         (capacity == 1 ? ", no room" : "");
+                ConeGpuReport report;
+                expect_same(build_cone_map_gpu(f, kind, o, &report), build_cone_map_cpu(f, kind, o), ConeFormat::Rg16,
+                            what.c_str());
+                // Most texels of a ramp run out of 24 nodes (kind relaxed: in both its searches).
+                if (capacity == 0) {
+                    EXPECT_GT(report.resumed, f.texels.size() / 2) << what;
+                    EXPECT_EQ(report.restarted, 0u) << what;
+                } else {
+                    EXPECT_GT(report.restarted, f.texels.size() / 2) << what;
+                }
+            }
 }
 
 TEST(ConeMapGpu, SpikeAndLargerThanOneChunk)
