@@ -544,20 +544,34 @@ ConeMap build_cone_map_cpu(const HeightField& given, ConeKind kind, const ConeBu
     return map;
 }
 
+namespace {
+
+// `per_index(searcher, i)` for i in [0, count), 64 at a time on options.threads threads, without
+// calling options.progress (the caller's own progress goes on around it).
+template <class PerIndex>
+void for_each_search(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind,
+                     const ConeBuildOptions& options, std::size_t count, PerIndex per_index)
+{
+    if (count == 0) return;
+    ConeBuildOptions quiet = options;
+    quiet.progress = nullptr;
+    constexpr std::size_t kPerItem = 64;
+    const int items = int((count + kPerItem - 1) / kPerItem);
+    for_each_item(field, pyramid, kind, quiet, items, [&](Searcher& searcher, int item) {
+        const std::size_t end = std::min(count, std::size_t(item + 1) * kPerItem);
+        for (std::size_t i = std::size_t(item) * kPerItem; i < end; ++i) per_index(searcher, i);
+    });
+}
+
+} // namespace
+
 void cone_steps_of_texels(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind,
                           const ConeBuildOptions& options, const std::vector<std::uint32_t>& texels,
                           std::vector<std::uint32_t>& steps)
 {
-    if (texels.empty()) return;
-    ConeBuildOptions quiet = options;
-    quiet.progress = nullptr; // (the caller's own progress goes on around it)
-    const std::size_t w = std::size_t(field.width);
-    constexpr int kPerItem = 64; // texels handed out at a time
-    const int items = int((texels.size() + kPerItem - 1) / kPerItem);
-    for_each_item(field, pyramid, kind, quiet, items, [&](Searcher& searcher, int item) {
-        const std::size_t end = std::min(texels.size(), std::size_t(item + 1) * kPerItem);
-        for (std::size_t t = std::size_t(item) * kPerItem; t < end; ++t)
-            steps[texels[t]] = std::uint32_t(searcher.search(int(texels[t] % w), int(texels[t] / w)));
+    const std::uint32_t w = std::uint32_t(field.width);
+    for_each_search(field, pyramid, kind, options, texels.size(), [&](Searcher& searcher, std::size_t i) {
+        steps[texels[i]] = std::uint32_t(searcher.search(int(texels[i] % w), int(texels[i] / w)));
     });
 }
 
@@ -566,17 +580,9 @@ void cone_steps_resumed(const HeightField& field, const MaxPyramid& pyramid, Con
                         std::vector<std::uint32_t>& k)
 {
     k.assign(states.size(), 0u);
-    if (states.empty()) return;
-    ConeBuildOptions quiet = options;
-    quiet.progress = nullptr; // (the caller's own progress goes on around it)
-    constexpr int kPerItem = 64; // searches handed out at a time
-    const int items = int((states.size() + kPerItem - 1) / kPerItem);
-    for_each_item(field, pyramid, kind, quiet, items, [&](Searcher& searcher, int item) {
-        const std::size_t end = std::min(states.size(), std::size_t(item + 1) * kPerItem);
-        for (std::size_t i = std::size_t(item) * kPerItem; i < end; ++i) {
-            bool cut = false;
-            k[i] = std::uint32_t(searcher.resume(states[i], cut));
-        }
+    for_each_search(field, pyramid, kind, options, states.size(), [&](Searcher& searcher, std::size_t i) {
+        bool cut = false;
+        k[i] = std::uint32_t(searcher.resume(states[i], cut));
     });
 }
 

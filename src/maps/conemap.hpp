@@ -45,8 +45,8 @@ struct ConeBuildOptions {
     ConeFormat format = ConeFormat::Rg16;
     // Called now and then with the fraction done (0..1), from the calling thread.
     std::function<void(double)> progress;
-    // CPU generator only: when set and it turns true, the threads stop at their next row and the
-    // build throws ConeBuildCancelled (the viewer's background builds, when the scene changes or
+    // When set and it turns true, the CPU's threads stop at their next row (the GPU generator
+    // before its next dispatch) and the build throws ConeBuildCancelled (the viewer's background builds, when the scene changes or
     // the window closes). Nothing is cached then.
     const std::atomic<bool>* cancel = nullptr;
     // Kind relaxed: march steps per texel (see docs/cone-maps.md). Where the search needs more, the
@@ -73,7 +73,7 @@ struct ConeBuildOptions {
     int gpu_resume_capacity = 0;
 };
 
-// Thrown by build_cone_map_cpu() when ConeBuildOptions::cancel turned true.
+// Thrown by build_cone_map_cpu() and build_cone_map_gpu() when ConeBuildOptions::cancel turned true.
 class ConeBuildCancelled : public std::runtime_error {
 public:
     ConeBuildCancelled() : std::runtime_error("cone-map build cancelled") {}

@@ -131,6 +131,17 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
     glProgramUniform1iv(p, 56, kMaxLevels, group_offset);
 
     glUseProgram(p);
+    // Everything bound here is unbound on every way out: a CPU share that throws (a cancelled
+    // build, ConeBuildOptions::cancel; memory) leaves the caller's context as it was.
+    struct Unbind {
+        ~Unbind()
+        {
+            for (GLuint b : {0u, 1u, 2u, 3u}) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, 0);
+            glBindTextureUnit(0, 0);
+            glBindTextureUnit(1, 0);
+            glUseProgram(0);
+        }
+    } unbind;
     if (texels) {
         glBindTextureUnit(0, data_texels.id());
         glBindTextureUnit(1, children_texels.id());
@@ -149,6 +160,7 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
     std::size_t max_chunk = kMaxChunkTexels; // lowered where the searches saved overflow b_resume
     constexpr std::uint32_t kRanOut = 0xc0000000u; // conemap.comp: bit 31 cone, bit 30 relaxed search
     for (std::size_t first = 0; first < n;) {
+        if (options.cancel && options.cancel->load(std::memory_order_relaxed)) throw ConeBuildCancelled();
         const std::size_t count = std::min(chunk, n - first);
         const auto start = std::chrono::steady_clock::now();
         const GLuint zero = 0;
@@ -200,13 +212,6 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
         report->resumed = resumed_count;
         report->restarted = restarted_count;
     }
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, 0);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, 0);
-    glBindTextureUnit(0, 0);
-    glBindTextureUnit(1, 0);
-    glUseProgram(0);
     if (const GLenum e = glGetError(); e != GL_NO_ERROR)
         throw Error(subject, "OpenGL error " + std::to_string(e) + " while building the cone map on the GPU");
 

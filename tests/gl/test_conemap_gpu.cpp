@@ -119,6 +119,26 @@ TEST(ConeMapGpu, EqualsCpuWithABindingNodeBudget)
             }
 }
 
+// A cancelled build (the viewer's, when the scene changes) throws and leaves nothing of its own
+// bound in the caller's context.
+TEST(ConeMapGpu, ACancelledBuildLeavesTheContextAsItWas)
+{
+    prtest::context();
+    const std::atomic<bool> cancel{true};
+    ConeBuildOptions o;
+    o.cancel = &cancel;
+    EXPECT_THROW(build_cone_map_gpu(field_of(32, 32, 3, true), ConeKind::Relaxed, o), ConeBuildCancelled);
+    GLint program = -1, storage = -1, texture = -1;
+    glGetIntegerv(GL_CURRENT_PROGRAM, &program);
+    glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, 1, &storage);
+    glActiveTexture(GL_TEXTURE0);
+    glGetIntegerv(GL_TEXTURE_BINDING_BUFFER, &texture);
+    EXPECT_EQ(program, 0);
+    EXPECT_EQ(storage, 0);
+    EXPECT_EQ(texture, 0);
+    EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+}
+
 TEST(ConeMapGpu, SpikeAndLargerThanOneChunk)
 {
     prtest::context();
