@@ -80,8 +80,8 @@ void load_prism(uint prim, out BaseVertex bv[3], out bool from_a[3])
 
 // One march from `tex_in` to `tex_out` in texture space (linear in the ray parameter between
 // them). Steps: --steps per full height range (as the base-surface techniques, so equal --steps
-// means equal step length), and at least one sample per two texels along the uv path, so grazing
-// rays near the silhouette do not step over bumps. March and refinement are apart: the walk
+// means equal step length), and at least texel_samples() per texel along the uv path (one per two
+// texels at the default --steps 32), so grazing rays near the silhouette do not step over bumps. March and refinement are apart: the walk
 // brackets the hit prism by prism and refines once, after its loop (llvmpipe would run the
 // refinement's loop in every prism of every lane's walk).
 // The segment's ray is not kept in it: the walk carries a segment from pass to pass (for the lanes
@@ -97,13 +97,14 @@ MarchRay segment_ray(vec3 tex_in, vec3 tex_out)
 {
     vec3 seg = tex_out - tex_in;
     vec2 texels = seg.xy * u_displace.zw; // the height map's size in texels
-    // Bounded (a prism's uv may span many repeats of the map), but not below what one per two
-    // texels takes over four lengths of the map: merged triangles (flat_merge.hpp, at most two
+    // Bounded (a prism's uv may span many repeats of the map), but not below what texel_samples()
+    // per texel takes over four lengths of the map: merged triangles (flat_merge.hpp, at most two
     // repeats long) are sampled in full. (Bounded by 4 * --steps + 64 alone, a segment across the
     // merged plane took a sample every 7 texels of a 1024-texel map and stepped over thin walls.)
     // Bounded before the conversion to int, which a prism's uv a million repeats long overflows.
-    int bound = max(4 * max(u_march.x, 1) + 64, int(2.0 * max(u_displace.z, u_displace.w)));
-    int steps = int(min(ceil(max(float(u_march.x) * abs(seg.z), 0.5 * length(texels))), float(bound)));
+    float per_texel = texel_samples();
+    int bound = max(4 * max(u_march.x, 1) + 64, int(4.0 * per_texel * max(u_displace.z, u_displace.w)));
+    int steps = int(min(ceil(max(float(u_march.x) * abs(seg.z), per_texel * length(texels))), float(bound)));
     steps = max(steps, 1);
     return MarchRay(tex_in, seg, 1.0, steps);
 }

@@ -42,6 +42,12 @@ float height_at(vec2 uv, UvGrad g)
 #endif
 }
 
+// The least samples per texel a march takes along its path (the prism's segments, the light's
+// march): one per two texels at the default --steps 32, and --steps / 64 above it (64: one per
+// texel; 1024: 16), so that --steps raises the accuracy of grazing rays too, which cross many
+// texels for little height (a wall one texel thick seen side-on was stepped over at any --steps).
+float texel_samples() { return max(0.5, float(u_march.x) / 64.0); }
+
 vec3 albedo_at(vec2 uv, UvGrad g)
 {
     if ((u_march.w & PR_FLAG_COLOR_TEXTURE) != 0) return textureGrad(s_color, uv, g.dx, g.dy).rgb;

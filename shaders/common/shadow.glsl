@@ -20,13 +20,13 @@
 
 // The light ray from `origin` along `dir` in texture space, up to t_end: samples at every step
 // after the origin (the origin's own is the caller's), `rise` the height it gains there (the
-// linear steps' count: --steps per full height range), at least one sample per two texels of
+// linear steps' count: --steps per full height range), at least texel_samples() per texel of
 // the way. `run_before`: the distance in UV units the ray has gone before `origin` (the soft
 // penumbra's), `visibility` as light_visibility's, both updated.
 int march_light(vec3 origin, vec3 dir, float t_end, float rise, inout float run_before, inout float visibility, UvGrad g)
 {
 #ifdef PR_SHADOWS
-    // --steps per full height range, and at least one sample per two texels along the way (as the
+    // --steps per full height range, and at least texel_samples() per texel along the way (as the
     // prism's march), bounded as the prism's march is: in full over four lengths of the map (by
     // 2 * --steps + 64 alone, a light low over a plane with a 2048-texel map came through a
     // wall's shadow in stripes).
@@ -34,8 +34,9 @@ int march_light(vec3 origin, vec3 dir, float t_end, float rise, inout float run_
     // for more than an int holds.)
     vec2 size = vec2(textureSize(s_height, 0));
     vec2 texels = t_end * dir.xy * size;
-    int bound = max(2 * max(u_march.x, 1) + 64, int(2.0 * max(size.x, size.y)));
-    int steps = max(int(min(ceil(float(u_march.x) * rise + 0.5 * length(texels)), float(bound))), 1);
+    float per_texel = texel_samples();
+    int bound = max(2 * max(u_march.x, 1) + 64, int(4.0 * per_texel * max(size.x, size.y)));
+    int steps = max(int(min(ceil(float(u_march.x) * rise + per_texel * length(texels)), float(bound))), 1);
     float dt = t_end / float(steps);
     const float bias = 2e-3;
     float run = length(dir.xy); // UV units per unit t

@@ -440,6 +440,41 @@ TEST(Prism, LongSegmentsAreSampledEveryTwoTexels)
     EXPECT_GT(coarse, full * 97 / 100) << coarse << " of " << full;
 }
 
+// --steps raises the least samples per texel a segment takes (one per two texels at 32, 16 at
+// 1024): a wall one texel thick seen side-on, across the rays, is a tent two texels wide at its
+// foot, which one sample per two texels mostly steps over (IoU 0.68 at the default; found by an
+// exploratory session, where --steps changed nothing for such grazing rays).
+TEST(Prism, StepsRaiseTheSamplesPerTexelOfGrazingRays)
+{
+    prtest::context();
+    auto wall = prtest::height_from(32, [](float u, float) { return int(u * 32.0f) == 7 ? 1.0f : 0.0f; });
+    PreparedMesh plane = load_mesh(std::string(PR_SOURCE_DIR) + "/meshes/plane.obj");
+    Scene scene = prtest::one_object(std::move(plane), wall, 0.5f);
+    Renderer r(192, 64);
+    r.upload(scene);
+    Camera side; // level with the plane, looking along -x: every ray crosses the wall
+    side.eye = {30.0f, 0.25f, 0.0f};
+    side.target = {0.0f, 0.25f, 0.0f};
+    side.fovy_deg = 1.528f;
+    fit_clip_planes(side, scene.shell_bounds);
+    ReferenceOptions fine;
+    fine.level = 16;
+    r.prepare_reference(scene, side, fine);
+    const FrameCapture ref = capture(r, side, Technique::Reference);
+    for (Marcher m : {Marcher::Relief, Marcher::RelaxedCone}) {
+        const auto iou = [&](int steps) {
+            DrawSettings s;
+            s.technique = Technique::Prism;
+            s.marcher = m;
+            s.steps = steps;
+            r.draw(side, glm::normalize(glm::vec3(-0.3f, 0.6f, 1.0f)), s);
+            return compare_frames(FrameCapture{r.read_color(), r.read_depth(), side}, ref).iou;
+        };
+        EXPECT_LT(iou(32), 0.8) << int(m);
+        EXPECT_GT(iou(1024), 0.98) << int(m);
+    }
+}
+
 // The seed's per-vertex exit (distances to the texture-space prism's planes, interpolated):
 // near-exact on a flat plane (parallel normals), close on curved meshes, never better than the
 // exact per-fragment exit.
