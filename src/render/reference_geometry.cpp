@@ -115,7 +115,8 @@ ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::dmat4
             max_pixel_edge = std::max(max_pixel_edge, displaced * focal_px / std::max(dist, camera.near_plane));
         }
     }
-    r.texel_level = std::max(1, static_cast<int>(std::ceil(max_texel_edge)));
+    const float texels_per_edge = step > kSharpStep ? 0.5f : 1.0f;
+    r.texel_level = std::max(1, static_cast<int>(std::ceil(max_texel_edge / texels_per_edge)));
     r.pixel_level = std::max(1, static_cast<int>(std::ceil(max_pixel_edge)));
     r.level = std::min(r.texel_level, r.pixel_level);
     const std::size_t tris = std::max<std::size_t>(mesh.triangle_count(), 1);

@@ -93,7 +93,9 @@ TEST(Reference, DepthZeroCoverageEqualsFlatExactly)
 }
 
 // On a curved mesh at an automatic level, subdivided silhouette points are within float rounding
-// of the original edges: only a pixel centre lying on an edge may round the other way.
+// of the original edges: only a pixel centre lying on an edge may round the other way (0 to 2 of
+// about 3,400 pixels at levels 1 to 8 here; u * v wraps to a sharp step, so the level is the
+// sharp maps' finer one).
 TEST(Reference, DepthZeroCoverageEqualsFlatOnATorus)
 {
     prtest::context();
@@ -105,7 +107,7 @@ TEST(Reference, DepthZeroCoverageEqualsFlatOnATorus)
     r.prepare_reference(scene, c, ReferenceOptions{});
     const CompareMetrics m = compare_frames(capture(r, c, Technique::Flat), capture(r, c, Technique::Reference));
     EXPECT_LE(m.silhouette_wrong_px, 2u);
-    EXPECT_GT(m.iou, 0.9997);
+    EXPECT_GT(m.iou, 0.9993);
 }
 
 // Outward bumps on the sphere: the reference compared with itself is perfect, POM (which cannot
