@@ -339,6 +339,43 @@ TEST(Shadows, EveryTechniqueStartsTheLightMarchOnTheSurface)
     }
 }
 
+// The same on steep walls seen from low: a box and a platform half its height. POM's hit,
+// interpolated between its samples, lay inside a wall, and a light overhead was blocked there by
+// the wall itself (found by an exploratory session; the bumps above have no such walls).
+TEST(Shadows, ALightOverheadLeavesSteepWallsLit)
+{
+    prtest::context();
+    auto h = prtest::height_from(128, [](float u, float v) {
+        if (v < 0.3f || v > 0.6f) return 0.0f;
+        return u >= 0.3f && u < 0.5f ? 1.0f : u >= 0.5f && u < 0.75f ? 0.5f : 0.0f;
+    });
+    Renderer r(160, 120);
+    r.set_cache_dir(prtest::cache_dir());
+    r.upload(prtest::one_object(prtest::square(), h, 0.2f));
+    Camera c;
+    c.eye = {0.2f, -2.4f, 0.9f};
+    c.target = {0.1f, 0.05f, 0.0f};
+    c.up = {0.0f, 0.0f, 1.0f};
+    c.fovy_deg = 40.0f;
+    c.near_plane = 0.5f;
+    c.far_plane = 8.0f;
+    for (Technique t : {Technique::Steep, Technique::Pom, Technique::Relief, Technique::Cone, Technique::Prism})
+        for (Marcher m : {Marcher::Linear, Marcher::Relief, Marcher::RelaxedCone}) {
+            if (t != Technique::Prism && m != Marcher::Relief) continue;
+            const std::string what = technique_name(t) + (t == Technique::Prism ? " " + marcher_name(m) : "");
+            const auto draw = [&](Shadows mode) {
+                DrawSettings s = settings(t, m);
+                s.shadows = mode;
+                r.draw(c, glm::vec3(0.0f, 0.0f, 1.0f), s);
+                return r.read_color();
+            };
+            const RgbaImage lit = draw(Shadows::None), hard = draw(Shadows::Hard);
+            int dark = 0;
+            for (std::size_t p = 0; p < lit.pixels.size() / 4; ++p) dark += darkened(lit, hard, p);
+            EXPECT_EQ(dark, 0) << what;
+        }
+}
+
 // The prism's light ray walks the prisms as its view ray does, so only heights the mesh shows cast
 // shadows: a square whose uvs cover 0.05..0.8 of a map whose only relief, a wall, stands at
 // u 0.85..0.95, is a flat floor, lit all over by a light low from the wall's side. Marched through
