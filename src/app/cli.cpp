@@ -149,6 +149,7 @@ int run_cli(int argc, char** argv)
         return kExitUsage;
     }
 
+    std::string running = "prismrelief"; // the subcommand run, for a message that has no subject
     try {
         // Subcommands were registered in the order of `actions`; run the one that was parsed.
         const std::vector<CLI::App*> all = app.get_subcommands({});
@@ -156,6 +157,7 @@ int run_cli(int argc, char** argv)
             if (!all[i]->parsed()) continue;
             if (scene_missing(*all[i])) return kExitUsage;
             refuse_empty_file_names(*all[i]);
+            running = all[i]->get_name();
             const int status = actions[i]();
             return status == kExitOk ? check_stdout() : status;
         }
@@ -165,7 +167,8 @@ int run_cli(int argc, char** argv)
         std::fprintf(stderr, "prismrelief: error: %s\n", one_line(e.subject() + ": " + e.problem()).c_str());
         if (!e.detail().empty()) std::fprintf(stderr, "%s\n", e.detail().c_str());
     } catch (const std::bad_alloc&) {
-        std::fprintf(stderr, "prismrelief: error: out of memory\n");
+        // Where no step named its input (a map, a mesh, the reference: those do), the command.
+        std::fprintf(stderr, "prismrelief: error: %s: out of memory\n", running.c_str());
     } catch (const std::exception& e) {
         std::fprintf(stderr, "prismrelief: error: %s\n", one_line(e.what()).c_str());
     }

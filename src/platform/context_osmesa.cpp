@@ -107,6 +107,9 @@ public:
                                OSMESA_PROFILE, OSMESA_CORE_PROFILE,
                                OSMESA_CONTEXT_MAJOR_VERSION, 4, OSMESA_CONTEXT_MINOR_VERSION, 5, 0};
         ctx_ = a.create_attribs(attribs, nullptr);
+        if (!ctx_ && driver != nullptr && std::strcmp(driver, "softpipe") == 0)
+            throw Error("--backend", "osmesa: GALLIUM_DRIVER=softpipe has no OpenGL 4.5 core context: unset it "
+                                     "(llvmpipe), or draw with the egl backend");
         if (!ctx_) throw Error("--backend", "osmesa: could not create an OpenGL 4.5 core context");
         // The context's own surface is never drawn to (rendering goes to FBOs): keep it tiny.
         buffer_.assign(16 * 16 * 4, 0);

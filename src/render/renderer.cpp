@@ -24,7 +24,14 @@
 #include <glm/gtc/type_ptr.hpp>
 
 namespace pr {
+
 namespace {
+
+// GL_OUT_OF_MEMORY while uploading (make_vertex_array): a caller that knows what set the size
+// names it (prepare_reference).
+struct GpuOutOfMemory : Error {
+    using Error::Error;
+};
 
 // Bins of the histogram of height samples per fragment (bench's p95): the last holds that many
 // or more. (256 before: every p95 above 255 read 255, at --steps 1024 on a flat map too.)
@@ -454,9 +461,22 @@ gl::VertexArray Renderer::make_vertex_array(GLuint vertices, GLuint indices)
     glEnableVertexArrayAttrib(vao, PR_ATTR_WELD_ID);
     glVertexArrayAttribIFormat(vao, PR_ATTR_WELD_ID, 1, GL_UNSIGNED_INT, offsetof(MeshVertex, weld_id));
     glVertexArrayAttribBinding(vao, PR_ATTR_WELD_ID, 0);
-    if (glGetError() == GL_OUT_OF_MEMORY) throw Error("scene", "out of GPU memory while uploading geometry");
+    if (glGetError() == GL_OUT_OF_MEMORY) throw GpuOutOfMemory("scene", "out of GPU memory while uploading geometry");
     return array;
 }
+
+namespace {
+
+// Memory (the CPU's or the GPU's) ran out for the reference's triangles: named by the option
+// that sets their number.
+Error reference_out_of_memory(const ReferenceOptions& options, std::size_t triangles, int level)
+{
+    const std::string option = options.level > 0 ? "--reference-level" : "--reference-max-triangles";
+    return Error(option, "out of memory for the reference's " + std::to_string(triangles) + " triangles (level " +
+                             std::to_string(level) + "): give a lower " + option);
+}
+
+} // namespace
 
 Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const Camera& camera,
                                                      const ReferenceOptions& options)
@@ -484,14 +504,25 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
         const std::size_t per_base = std::size_t(lv.level) * std::size_t(lv.level);
         const std::size_t batch = std::max<std::size_t>(1, kChunkTriangles / per_base);
         const std::size_t count = so.mesh.triangle_count();
-        for (std::size_t first = 0; first < count; first += batch) {
-            vertices.clear();
-            indices.clear();
-            tessellate_reference(so.mesh, linear_part(so.transform), *so.height, so.depth, so.midlevel, lv.level, first,
-                                 std::min(count, first + batch), vertices, indices);
-            stats.triangles += indices.size() / 3;
-            stats.bytes += vertices.size() * sizeof(MeshVertex) + indices.size() * sizeof(std::uint32_t);
-            o.reference.push_back(make_geometry(vertices, indices));
+        try {
+            for (std::size_t first = 0; first < count; first += batch) {
+                vertices.clear();
+                indices.clear();
+                tessellate_reference(so.mesh, linear_part(so.transform), *so.height, so.depth, so.midlevel, lv.level,
+                                     first, std::min(count, first + batch), vertices, indices);
+                stats.triangles += indices.size() / 3;
+                stats.bytes += vertices.size() * sizeof(MeshVertex) + indices.size() * sizeof(std::uint32_t);
+                o.reference.push_back(make_geometry(vertices, indices));
+                if (glGetError() == GL_OUT_OF_MEMORY) throw std::bad_alloc();
+            }
+        } catch (const GpuOutOfMemory&) {
+            o.reference.clear();
+            throw reference_out_of_memory(options, count * per_base, lv.level);
+        } catch (const std::bad_alloc&) {
+            // Named by what sets its size (the one line was "scene: out of GPU memory…", or "out of
+            // memory" alone, found by an exploratory session).
+            o.reference.clear();
+            throw reference_out_of_memory(options, count * per_base, lv.level);
         }
     }
     stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -104,6 +104,11 @@ pr_cli(no_gl_context EXIT 1 ONE_LINE STDERR "${E}--backend: osmesa: cannot load"
 pr_cli(osmesa_foreign_gallium_driver EXIT 1 ONE_LINE NO_FILE out.png ENV GALLIUM_DRIVER=nonexistent
        STDERR "${E}--backend: osmesa: GALLIUM_DRIVER=nonexistent is not a driver OSMesa draws with"
        ARGS render --mesh ${M}/cube.obj --size 8x8 --out out.png)
+# softpipe has no OpenGL 4.5: said so (it was "could not create an OpenGL 4.5 core context", while
+# the README listed softpipe as allowed; found by an exploratory session).
+pr_cli(osmesa_softpipe EXIT 1 ONE_LINE NO_FILE out.png ENV GALLIUM_DRIVER=softpipe
+       STDERR "${E}--backend: osmesa: GALLIUM_DRIVER=softpipe has no OpenGL 4.5 core context"
+       ARGS render --mesh ${M}/cube.obj --size 8x8 --out out.png)
 pr_cli(out_folder_missing EXIT 1 ONE_LINE STDERR "${E}no/such/dir/out.png: " 
        ARGS render --mesh ${M}/cube.obj --size 32x32 --out no/such/dir/out.png)
 pr_cli(scene_bad_value EXIT 1 ONE_LINE STDERR "${E}.*bad_scene.json: objects\\[0\\].mesh: expected a string" NO_FILE out.png
