@@ -262,6 +262,7 @@ void save_search(uint texel, bool relaxed, uint filled, int m, int li, int lj, d
 // from there (save_search; render/conemap_gpu.cpp).
 int search(int px, int py, bool relaxed, out bool ran_out_of_nodes)
 {
+    ran_out_of_nodes = false; // (an out parameter is undefined until written: the early return below)
     float hp = height_at(px, py);
     int top = u_levels - 1;
     if (!(hp < node_max(top, 0, 0))) return u_steps;
@@ -338,7 +339,7 @@ void main()
     if (index >= u_count) return;
     uint texel = u_first + index;
     int px = int(texel % uint(u_size.x)), py = int(texel / uint(u_size.x));
-    bool cone_out, relaxed_out = false;
+    bool cone_out = false, relaxed_out = false;
     int k = search(px, py, false, cone_out);
     if (cone_out) k = 0;
 #if PR_CONE_KIND == 1

@@ -155,9 +155,9 @@ int run_cli(int argc, char** argv)
         const std::vector<CLI::App*> all = app.get_subcommands({});
         for (std::size_t i = 0; i < all.size(); ++i) {
             if (!all[i]->parsed()) continue;
+            running = all[i]->get_name();
             if (scene_missing(*all[i])) return kExitUsage;
             refuse_empty_file_names(*all[i]);
-            running = all[i]->get_name();
             const int status = actions[i]();
             return status == kExitOk ? check_stdout() : status;
         }

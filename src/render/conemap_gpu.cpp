@@ -7,6 +7,7 @@
 #include "render/shader_program.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cstring>
 #include <string>
@@ -131,8 +132,8 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
     glProgramUniform1iv(p, 56, kMaxLevels, group_offset);
 
     glUseProgram(p);
-    // Everything bound here is unbound on every way out: a CPU share that throws (a cancelled
-    // build, ConeBuildOptions::cancel; memory) leaves the caller's context as it was.
+    // Everything bound here is unbound (to 0) on every way out, a CPU share that throws too (a
+    // cancelled build, ConeBuildOptions::cancel; memory): nothing of the build stays bound.
     struct Unbind {
         ~Unbind()
         {
@@ -155,9 +156,9 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
     std::size_t chunk = kFirstChunkTexels;
     std::vector<std::uint32_t> k(n);
     std::vector<std::uint32_t> words, resumed, again;
+    std::vector<int> missing;
     double cpu_seconds = 0.0;
     std::size_t resumed_count = 0, restarted_count = 0;
-    std::size_t max_chunk = kMaxChunkTexels; // lowered where the searches saved overflow b_resume
     constexpr std::uint32_t kRanOut = 0xc0000000u; // conemap.comp: bit 31 cone, bit 30 relaxed search
     for (std::size_t first = 0; first < n;) {
         if (options.cancel && options.cancel->load(std::memory_order_relaxed)) throw ConeBuildCancelled();
@@ -183,28 +184,39 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
             glGetNamedBufferSubData(resume.id(), sizeof(GLuint), GLsizeiptr(words.size() * sizeof(std::uint32_t)),
                                     words.data());
         const auto cpu_start = std::chrono::steady_clock::now();
-        again.clear();
-        if (stored < saved) { // some not saved: their texels again from the start
-            max_chunk = std::max(std::size_t(kGroupSize), capacity / 2 / kGroupSize * kGroupSize);
-            for (std::size_t t = first; t < first + count; ++t)
-                if (k[t] & kRanOut) again.push_back(std::uint32_t(t));
-        } else {
-            const std::vector<ConeSearchState> states = read_searches(words, stored);
-            cone_steps_resumed(field, pyramid, kind, options, states, resumed);
-            for (std::size_t e = 0; e < stored; ++e)
-                k[states[e].texel] = std::max(k[states[e].texel] & ~kRanOut, resumed[e]);
+        // Per texel of the chunk, its searches that ran out less those saved: a texel with one
+        // missing (no room for it in b_resume) is searched again from the start, the others go on
+        // from their saved states.
+        missing.assign(count, 0);
+        for (std::size_t t = first; t < first + count; ++t) {
+            missing[t - first] = std::popcount(k[t] & kRanOut);
+            k[t] &= ~kRanOut; // (the low bits: the other search's k, or 0)
         }
-        for (std::size_t t = first; t < first + count; ++t) k[t] &= ~kRanOut;
+        std::vector<ConeSearchState> states = read_searches(words, stored);
+        std::erase_if(states, [&](const ConeSearchState& st) {
+            return st.texel < first || st.texel >= first + count || missing[st.texel - first]-- <= 0;
+        });
+        again.clear();
+        for (std::size_t t = first; t < first + count; ++t)
+            if (missing[t - first] > 0) again.push_back(std::uint32_t(t));
+        std::erase_if(states, [&](const ConeSearchState& st) { return missing[st.texel - first] > 0; });
+        cone_steps_resumed(field, pyramid, kind, options, states, resumed);
+        for (std::size_t e = 0; e < states.size(); ++e) k[states[e].texel] = std::max(k[states[e].texel], resumed[e]);
         cone_steps_of_texels(field, pyramid, kind, options, again, k);
-        resumed_count += again.empty() ? stored : 0;
+        resumed_count += states.size();
         restarted_count += again.size();
         cpu_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - cpu_start).count();
         first += count;
         if (options.progress) options.progress(double(first) / double(n));
-        // The next one: to take kChunkSeconds at this one's pace, growing at most fourfold.
+        // The next one: to take kChunkSeconds at this one's pace, growing at most fourfold, and,
+        // where searches ran out of nodes, to about three quarters of the searches b_resume holds
+        // at this one's rate (a ramp's second dispatch had four times the first one's texels and
+        // more searches to save than room).
         const double scale = seconds > 0.0 ? std::clamp(kChunkSeconds / seconds, 0.25, 4.0) : 4.0;
+        std::size_t most = kMaxChunkTexels;
+        if (saved > 0) most = std::min(most, std::size_t(0.75 * double(capacity) * double(count) / double(saved)));
         chunk = std::clamp(std::size_t(double(count) * scale) / kGroupSize * kGroupSize, std::size_t(kGroupSize),
-                           max_chunk);
+                           std::max(most / kGroupSize * kGroupSize, std::size_t(kGroupSize)));
     }
     if (report) {
         report->search_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - search_start).count();

@@ -12,7 +12,7 @@ struct ConeGpuReport {
                                 // creating the context, uploading and compiling
     double cpu_ms = 0.0;        // of that, the CPU's threads finishing searches that ran out of nodes
     std::size_t resumed = 0;    // searches the CPU went on with from the GPU's state
-    std::size_t restarted = 0;  // texels the CPU searched again from the start (no room for their state)
+    std::size_t restarted = 0;  // texels the CPU searched again from the start (no room for a state)
 };
 
 // Splits the work into dispatches of a few thousand texels, each finished before the next, so a

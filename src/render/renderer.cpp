@@ -512,16 +512,16 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
                                      first, std::min(count, first + batch), vertices, indices);
                 stats.triangles += indices.size() / 3;
                 stats.bytes += vertices.size() * sizeof(MeshVertex) + indices.size() * sizeof(std::uint32_t);
-                o.reference.push_back(make_geometry(vertices, indices));
-                if (glGetError() == GL_OUT_OF_MEMORY) throw std::bad_alloc();
+                o.reference.push_back(make_geometry(vertices, indices)); // (GpuOutOfMemory)
             }
-        } catch (const GpuOutOfMemory&) {
-            o.reference.clear();
-            throw reference_out_of_memory(options, count * per_base, lv.level);
         } catch (const std::bad_alloc&) {
             // Named by what sets its size (the one line was "scene: out of GPU memory…", or "out of
-            // memory" alone, found by an exploratory session).
-            o.reference.clear();
+            // memory" alone, found by an exploratory session). No object keeps a reference: the
+            // memory is given back, and a draw asks for prepare_reference() again.
+            for (GpuObject& each : objects_) each.reference.clear();
+            throw reference_out_of_memory(options, count * per_base, lv.level);
+        } catch (const GpuOutOfMemory&) {
+            for (GpuObject& each : objects_) each.reference.clear();
             throw reference_out_of_memory(options, count * per_base, lv.level);
         }
     }

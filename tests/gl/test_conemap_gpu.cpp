@@ -128,13 +128,16 @@ TEST(ConeMapGpu, ACancelledBuildLeavesTheContextAsItWas)
     ConeBuildOptions o;
     o.cancel = &cancel;
     EXPECT_THROW(build_cone_map_gpu(field_of(32, 32, 3, true), ConeKind::Relaxed, o), ConeBuildCancelled);
-    GLint program = -1, storage = -1, texture = -1;
+    GLint program = -1, texture = -1;
     glGetIntegerv(GL_CURRENT_PROGRAM, &program);
-    glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, 1, &storage);
+    EXPECT_EQ(program, 0);
+    for (GLuint binding : {0u, 1u, 2u, 3u}) {
+        GLint storage = -1;
+        glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, binding, &storage);
+        EXPECT_EQ(storage, 0) << binding;
+    }
     glActiveTexture(GL_TEXTURE0);
     glGetIntegerv(GL_TEXTURE_BINDING_BUFFER, &texture);
-    EXPECT_EQ(program, 0);
-    EXPECT_EQ(storage, 0);
     EXPECT_EQ(texture, 0);
     EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
 }
