@@ -167,4 +167,40 @@ std::string configuration_name(const DrawSettings& s)
     return name;
 }
 
+namespace {
+
+bool base_surface_search(Technique t)
+{
+    return t == Technique::Steep || t == Technique::Pom || t == Technique::Relief || t == Technique::Cone ||
+           t == Technique::RelaxedCone;
+}
+
+} // namespace
+
+bool reads_steps(const DrawSettings& s)
+{
+    if (s.technique == Technique::Flat || s.technique == Technique::Reference) return false;
+    if (s.shadows != Shadows::None) return true; // the light's march (common/shadow.glsl)
+    if (s.technique == Technique::Prism) return s.marcher != Marcher::MaxMip || s.prism_walk();
+    return base_surface_search(s.technique);
+}
+
+bool reads_refine(const DrawSettings& s)
+{
+    if (s.technique == Technique::Prism)
+        return s.marcher == Marcher::Relief || s.marcher == Marcher::Cone || s.marcher == Marcher::RelaxedCone ||
+               (s.marcher == Marcher::MaxMip && s.prism_walk());
+    return s.technique == Technique::Relief || s.technique == Technique::Cone || s.technique == Technique::RelaxedCone;
+}
+
+bool reads_normal_quality(const DrawSettings& s)
+{
+    return s.technique != Technique::Flat;
+}
+
+bool reads_depth_write(const DrawSettings& s)
+{
+    return base_surface_search(s.technique);
+}
+
 } // namespace pr

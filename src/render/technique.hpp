@@ -89,4 +89,25 @@ struct ReferenceOptions {
 // The technique as a list names it in full: "pom", "prism:cone:walk:tight", "prism:relief:exact".
 std::string configuration_name(const DrawSettings& s);
 
+// Whether a draw with these settings reads each quality setting at all, as the shaders do
+// (shaders/surface.frag, prism.frag, march/, common/shadow.glsl); a setting a draw does not read
+// leaves its image and depth as they are (gl test TechniqueUse). The command line refuses a flag
+// that nothing it draws reads (app/options.cpp, check_quality_flags_apply).
+// Linear steps: the searches of steep, pom, relief, the cone marchers (their shortest step) and
+// the prism's marchers; the light's march with shadows (every technique but flat and reference).
+// Max-mip traverses its pyramid without steps, but the walk marches linearly under a torn or
+// open surface.
+bool reads_steps(const DrawSettings& s);
+// Binary refinement: relief and the cone marchers, as techniques or as the prism's marcher, and
+// the walk's linear march under a torn surface with max-mip. Not pom or the linear marcher
+// (interpolation), steep, nor max-mip's exact patch intersection.
+bool reads_refine(const DrawSettings& s);
+// The normal from the heights: every technique but flat (the mesh's normal).
+bool reads_normal_quality(const DrawSettings& s);
+// --depth-write: the base-surface techniques that show a point off the polygon (steep, pom,
+// relief, cone, relaxed-cone). Flat, normal and offset show the polygon's own point (its depth
+// is the one written anyway), the reference its own geometry, and the prism always writes the
+// depth of what it shows.
+bool reads_depth_write(const DrawSettings& s);
+
 } // namespace pr
