@@ -69,6 +69,11 @@ CommandAction add_bench_command(CLI::App& app)
     return [s]() {
         const std::vector<TechniqueRun> runs = parse_technique_list(s->quality.techniques, s->quality);
         const ReferenceOptions ref_options = make_reference_options(s->quality);
+        {
+            std::vector<DrawSettings> drawn;
+            for (const TechniqueRun& run : runs) drawn.push_back(run.settings);
+            check_quality_flags_apply(s->quality, drawn, "--techniques " + s->quality.techniques);
+        }
         if (s->frames < 1 || s->frames > 100000) throw Error("--frames", "must be between 1 and 100000");
         if (s->warmup < 0 || s->warmup > 1000) throw Error("--warmup", "must be between 0 and 1000");
         if (!s->json.empty()) check_output_folder(s->json);

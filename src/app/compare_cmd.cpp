@@ -68,6 +68,14 @@ CommandAction add_compare_command(CLI::App& app)
     return [s]() {
         std::vector<TechniqueRun> runs = parse_technique_list(s->quality.techniques, s->quality);
         const ReferenceOptions ref_options = make_reference_options(s->quality);
+        // The reference is drawn too, with the same flags: it reads --normal-quality and the
+        // reference's own flags, whatever the list.
+        const DrawSettings ref_settings = make_draw_settings(s->quality, "reference");
+        {
+            std::vector<DrawSettings> drawn = {ref_settings};
+            for (const TechniqueRun& run : runs) drawn.push_back(run.settings);
+            check_quality_flags_apply(s->quality, drawn, "--techniques " + s->quality.techniques);
+        }
         if (!s->out.empty()) check_png_output(s->out);
         if (!s->json.empty()) check_output_folder(s->json);
         std::vector<NamedPath> outputs = {{"--out", s->out}, {"--json", s->json}};
@@ -106,7 +114,6 @@ CommandAction add_compare_command(CLI::App& app)
         for (const TechniqueRun& run : runs) session.renderer->check_drawable(run.settings, "--techniques");
 
         const auto ref_stats = session.renderer->prepare_reference(session.scene, session.camera, ref_options);
-        DrawSettings ref_settings = make_draw_settings(s->quality, "reference");
         double ref_ms = 0.0;
         const FrameCapture reference = capture(session, ref_settings, ref_ms);
 

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <optional>
@@ -269,12 +270,12 @@ void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_techn
                            "; prism:MARCHER[:EXIT[:SHELL]] for the prism's options)")
             ->group("Technique")
             ->capture_default_str();
-    app.add_option("--steps", o.steps,
+    o.steps_flag = app.add_option("--steps", o.steps,
                    "Linear search steps over the full height range (1-" + std::to_string(kMaxSteps) + ")")
         ->transform(saturating<int>())
         ->group("Technique")
         ->capture_default_str();
-    app.add_option("--refine", o.refine,
+    o.refine_flag = app.add_option("--refine", o.refine,
                    "Binary refinement steps after the linear search (0-" + std::to_string(kMaxRefine) + ")")
         ->transform(saturating<int>())
         ->group("Technique")
@@ -295,7 +296,7 @@ void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_techn
                    "corners) or full (top caps at height 1). In lists: prism:MARCHER:walk:SHELL")
         ->group("Technique")
         ->capture_default_str();
-    app.add_option("--normal-quality", o.normal_quality,
+    o.normal_quality_flag = app.add_option("--normal-quality", o.normal_quality,
                    "Normal from heights: gather (4-tap), central (differences), sobel (3x3)")
         ->group("Technique")
         ->capture_default_str();
@@ -304,16 +305,16 @@ void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_techn
                    "(none|hard|soft)")
         ->group("Technique")
         ->capture_default_str();
-    app.add_flag("--depth-write", o.depth_write,
+    o.depth_write_flag = app.add_flag("--depth-write", o.depth_write,
                  "Base-surface techniques write the depth of the point they show")
         ->group("Technique");
-    app.add_option("--reference-level", o.reference_level,
+    o.reference_level_flag = app.add_option("--reference-level", o.reference_level,
                    "reference: split each triangle into LEVEL^2 (0: automatic, edges about one texel "
                    "or one pixel, whichever is coarser)")
         ->transform(saturating<int>())
         ->group("Technique")
         ->capture_default_str();
-    app.add_option("--reference-max-triangles", o.reference_max_triangles,
+    o.reference_max_triangles_flag = app.add_option("--reference-max-triangles", o.reference_max_triangles,
                    "reference: lower an automatic level to stay within this many triangles")
         ->transform(saturating<std::size_t>())
         ->group("Technique")
@@ -328,14 +329,39 @@ void check_prism_flags_apply(const TechniqueOptions& o, bool any_prism, const st
             throw Error(flag->get_name(), "applies to the prism technique only, and " + drawn + " draws none");
 }
 
-void check_shadows_apply(const TechniqueOptions& o, const std::vector<Technique>& drawn_techniques,
-                         const std::string& drawn)
+void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<DrawSettings>& drawn_settings,
+                               const std::string& drawn)
 {
-    if (parse_shadows(o.shadows, "--shadows") == Shadows::None) return;
-    const bool any = std::any_of(drawn_techniques.begin(), drawn_techniques.end(), [](Technique t) {
-        return t != Technique::Flat && t != Technique::Reference;
-    });
-    if (!any) throw Error("--shadows", "has no effect: " + drawn + " draws no self-shadowing (flat and reference never do)");
+    const auto any = [&](bool (*reads)(const DrawSettings&)) {
+        return std::any_of(drawn_settings.begin(), drawn_settings.end(), reads);
+    };
+    const auto shades_shadows = [](const DrawSettings& s) {
+        return s.technique != Technique::Flat && s.technique != Technique::Reference;
+    };
+    if (parse_shadows(o.shadows, "--shadows") != Shadows::None && !any(shades_shadows))
+        throw Error("--shadows", "has no effect: " + drawn + " draws no self-shadowing (flat and reference never do)");
+    const auto given = [](const CLI::Option* flag) { return flag != nullptr && flag->count() > 0; };
+    if (given(o.steps_flag) && !any(reads_steps))
+        throw Error("--steps", "has no effect: " + drawn +
+                                   " takes no linear steps (flat and reference never do; normal, offset and the "
+                                   "prism's max-mip with the exact or vertex exit only with --shadows)");
+    if (given(o.refine_flag) && !any(reads_refine))
+        throw Error("--refine", "has no effect: " + drawn +
+                                    " refines no hit (only relief, cone and relaxed-cone do, as techniques or as the "
+                                    "prism's marcher, and the prism's walk with max-mip)");
+    if (given(o.normal_quality_flag) && !any(reads_normal_quality))
+        throw Error("--normal-quality",
+                    "has no effect: " + drawn + " takes no normal from the heights (flat shades with the mesh's)");
+    if (given(o.depth_write_flag) && !any(reads_depth_write))
+        throw Error("--depth-write", "has no effect: " + drawn +
+                                         " writes the same depth without it (only steep, pom, relief, cone and "
+                                         "relaxed-cone show points below the polygon; the prism always writes its depth)");
+    const bool reference = std::any_of(drawn_settings.begin(), drawn_settings.end(),
+                                       [](const DrawSettings& s) { return s.technique == Technique::Reference; });
+    if (!reference)
+        for (const CLI::Option* flag : {o.reference_level_flag, o.reference_max_triangles_flag})
+            if (given(flag))
+                throw Error(flag->get_name(), "applies to the reference technique only, and " + drawn + " draws none");
 }
 
 ReferenceOptions make_reference_options(const TechniqueOptions& o)

@@ -55,6 +55,14 @@ struct TechniqueOptions {
     std::string shadows = "none";
     int reference_level = 0; // 0: automatic
     std::size_t reference_max_triangles = ReferenceOptions{}.max_triangles;
+    // These flags too, given or not: one that nothing drawn reads is refused
+    // (check_quality_flags_apply).
+    const CLI::Option* steps_flag = nullptr;
+    const CLI::Option* refine_flag = nullptr;
+    const CLI::Option* normal_quality_flag = nullptr;
+    const CLI::Option* depth_write_flag = nullptr;
+    const CLI::Option* reference_level_flag = nullptr;
+    const CLI::Option* reference_max_triangles_flag = nullptr;
 };
 
 // For an integer flag (->transform(saturating<int>())): a whole number beyond the type's range
@@ -123,11 +131,18 @@ DrawSettings make_draw_settings(const TechniqueOptions& o, const std::string& te
 // the technique or list, named in the error): they were ignored silently (render, compare,
 // bench; the viewer keeps them for when its panel turns to the prism: check_prism_flags_used).
 void check_prism_flags_apply(const TechniqueOptions& o, bool any_prism, const std::string& drawn);
-// Refuses --shadows hard|soft where every technique drawn is flat or reference, which never shade
-// self-shadowing: it was ignored silently (render, compare, bench; not the viewer, whose panel
-// may turn to another technique).
-void check_shadows_apply(const TechniqueOptions& o, const std::vector<Technique>& drawn_techniques,
-                         const std::string& drawn);
+// Refuses a quality flag given where nothing drawn reads it: they were ignored silently (render,
+// compare, bench; not the viewer, whose panel may turn to another technique or change the flag's
+// setting). `drawn_settings`: every draw (compare: its reference's too), named `drawn` in the
+// error ("--technique flat", "--techniques flat,pom"). In this order:
+// - --shadows hard|soft where every technique is flat or reference, which shade none (--shadows
+//   none asks for nothing, and is taken anywhere);
+// - --steps, --refine, --normal-quality and --depth-write where no draw reads them
+//   (reads_steps and the others, render/technique.hpp);
+// - --reference-level and --reference-max-triangles where the reference is not drawn (compare
+//   always draws it).
+void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<DrawSettings>& drawn_settings,
+                               const std::string& drawn);
 
 // "x,y,z" -> vec3; throws pr::Error(option, …).
 glm::vec3 parse_vec3(const std::string& text, const std::string& option);

@@ -42,8 +42,8 @@ CommandAction add_render_command(CLI::App& app)
         const DrawSettings settings = make_draw_settings(s->technique, s->technique.technique);
         check_prism_flags_apply(s->technique, settings.technique == Technique::Prism,
                                 "--technique " + s->technique.technique);
-        check_shadows_apply(s->technique, {settings.technique}, "--technique " + s->technique.technique);
         const ReferenceOptions ref = make_reference_options(s->technique);
+        check_quality_flags_apply(s->technique, {settings}, "--technique " + s->technique.technique);
         const std::span<const glm::vec2> offsets = sample_offsets(s->msaa); // refuses other counts, naming --msaa
         check_png_output(s->out);
         if (!s->json.empty()) check_output_folder(s->json);

@@ -149,9 +149,6 @@ std::vector<TechniqueRun> parse_technique_list(const std::string& list, const Te
                 return r.settings.technique == Technique::Prism;
             });
             check_prism_flags_apply(quality, any_prism, drawn);
-            std::vector<Technique> techniques;
-            for (const TechniqueRun& r : runs) techniques.push_back(r.settings.technique);
-            check_shadows_apply(quality, techniques, drawn);
         }
         check_prism_flags_used(quality, runs, drawn, panel);
     }

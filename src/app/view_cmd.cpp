@@ -111,6 +111,11 @@ CommandAction add_view_command(CLI::App& app)
                 check_prism_flags_used(s->technique, {{s->technique.technique, o.left}},
                                        "--technique " + s->technique.technique, true);
         }
+        // Unlike render, compare and bench, the viewer does not refuse --steps, --refine,
+        // --normal-quality, --depth-write, --shadows or the reference's flags where the techniques
+        // it starts with do not read them (check_quality_flags_apply): its panel and keys turn to
+        // any technique (the reference, --reference-overlay's too) while it runs, and the flags
+        // are the settings it starts them with.
         if (!(s->divider >= 0.0f && s->divider <= 1.0f)) throw Error("--divider", "must be between 0 and 1");
         o.divider = s->divider;
         o.overlay = view::parse_wire_overlay(s->overlay);

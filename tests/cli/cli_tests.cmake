@@ -190,11 +190,12 @@ pr_cli(bench_nothing_in_view EXIT 0 JSON b.json STDOUT "prism +[0-9.]+ +[0-9.]+ 
        CHECKS "${R}.0.fragments:EQUAL:0|${R}.0.samples_per_fragment_mean:TYPE:NULL|${R}.0.samples_per_fragment_p95:TYPE:NULL"
        ARGS bench --mesh ${M}/cube.obj --eye 0,0,50 --target 0,0,100 --size 32x24 --frames 1 --warmup 0
             --techniques prism --json b.json)
-# bench counters: flat takes no height samples; pom with --steps 8 --refine 0 takes 1..9.
+# bench counters: flat takes no height samples; pom with --steps 8 takes 1..9 (it refines
+# nothing: with --refine, which only the list's flat and pom were given, it is refused).
 pr_cli(bench_counters EXIT 0 JSON b.json
        CHECKS "${R}.0.technique:STREQUAL:flat|${R}.0.samples_per_fragment_mean:EQUAL:0|${R}.0.fragments:GREATER:1000|${R}.1.samples_per_fragment_mean:GREATER_EQUAL:1|${R}.1.samples_per_fragment_mean:LESS_EQUAL:9|${R}.1.samples_per_fragment_p95:LESS_EQUAL:9|${R}.1.ms_median:GREATER:0|${R}.1.ms_min:EXISTS|${R}.1.ms_max:EXISTS|${R}.1.samples_per_fragment_p95:GREATER_EQUAL:1"
        ARGS bench --mesh ${M}/torus.obj --height builtin:bricks --size 96x64 --frames 2 --warmup 1
-            --steps 8 --refine 0 --techniques flat,pom --json b.json)
+            --steps 8 --techniques flat,pom --json b.json)
 # Every fragment of a flat floor at height 0 takes --steps + 1 samples and --refine more: the p95
 # is that count (it read 255, the histogram's last bin, whenever fragments took more).
 pr_cli(bench_p95_above_255 EXIT 0 JSON b.json

@@ -154,3 +154,67 @@ pr_cli(marcher_every_prism_names_its_own EXIT 1 ONE_LINE NO_FILE c.json
        ARGS compare --mesh ${M}/torus.obj --techniques prism:cone,pom --marcher relief --size 8x8 --json c.json)
 pr_cli(marcher_taken_by_one_prism EXIT 0 EXPECT_FILE c.json
        ARGS compare --mesh ${M}/torus.obj --techniques prism:cone,prism --marcher relief --size 8x8 --json c.json)
+
+# Quality flags that nothing drawn reads (render/technique.hpp, reads_steps and the others; the gl
+# test TechniqueUse checks that such a setting changes neither image nor depth) were accepted and
+# did nothing: `render --technique flat --steps 8` wrote the PNG it writes without it (found by
+# an audit, twentieth session). Refused now as --shadows is; one technique in a list that reads
+# the flag is enough, and compare's reference counts (it reads --normal-quality and its own flags).
+set(TQ --mesh ${M}/torus.obj --size 8x8)
+pr_cli(steps_with_flat EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}--steps: has no effect: --technique flat takes no linear steps \\(flat and reference never do; normal, offset and the prism's max-mip with the exact or vertex exit only with --shadows\\)"
+       ARGS render ${TQ} --technique flat --steps 8 --out o.png)
+pr_cli(steps_with_reference EXIT 1 ONE_LINE NO_FILE o.png STDERR "${E}--steps: has no effect: --technique reference takes no linear steps"
+       ARGS render ${TQ} --technique reference --steps 8 --out o.png)
+pr_cli(steps_with_offset EXIT 1 ONE_LINE NO_FILE o.png STDERR "${E}--steps: has no effect: --technique offset takes no linear steps"
+       ARGS render ${TQ} --technique offset --steps 8 --out o.png)
+pr_cli(steps_with_max_mip_exact EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}--steps: has no effect: --technique prism:max-mip:exact takes no linear steps"
+       ARGS render ${TQ} --technique prism:max-mip:exact --steps 8 --out o.png)
+# With --shadows the light's march takes them.
+pr_cli(steps_with_offset_and_shadows EXIT 0 EXPECT_FILE o.png
+       ARGS render ${TQ} --technique offset --steps 8 --shadows hard --out o.png)
+pr_cli(steps_with_max_mip_walk EXIT 0 EXPECT_FILE o.png ARGS render ${TQ} --technique prism:max-mip --steps 8 --out o.png)
+pr_cli(refine_with_pom EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}--refine: has no effect: --technique pom refines no hit \\(only relief, cone and relaxed-cone do, as techniques or as the prism's marcher, and the prism's walk with max-mip\\)"
+       ARGS render ${TQ} --technique pom --refine 0 --out o.png)
+pr_cli(refine_with_prism_linear EXIT 1 ONE_LINE NO_FILE c.json
+       STDERR "${E}--refine: has no effect: --techniques steep,prism:linear refines no hit"
+       ARGS compare ${TQ} --techniques steep,prism:linear --refine 2 --json c.json)
+pr_cli(refine_with_flat_and_prism EXIT 0 EXPECT_FILE c.json ARGS compare ${TQ} --techniques flat,prism --refine 2 --json c.json)
+pr_cli(normal_quality_with_flat EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}--normal-quality: has no effect: --technique flat takes no normal from the heights \\(flat shades with the mesh's\\)"
+       ARGS render ${TQ} --technique flat --normal-quality gather --out o.png)
+pr_cli(normal_quality_with_reference EXIT 0 EXPECT_FILE o.png
+       ARGS render ${TQ} --technique reference --normal-quality gather --out o.png)
+pr_cli(depth_write_with_reference EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}--depth-write: has no effect: --technique reference writes the same depth without it \\(only steep, pom, relief, cone and relaxed-cone show points below the polygon; the prism always writes its depth\\)"
+       ARGS render ${TQ} --technique reference --depth-write --out o.png)
+pr_cli(depth_write_with_prism EXIT 1 ONE_LINE NO_FILE o.png STDERR "${E}--depth-write: has no effect: --technique prism writes the same depth"
+       ARGS render ${TQ} --technique prism --depth-write --out o.png)
+pr_cli(depth_write_with_offset EXIT 1 ONE_LINE NO_FILE b.json STDERR "${E}--depth-write: has no effect: --techniques flat,normal,offset writes the same depth"
+       ARGS bench ${TQ} --techniques flat,normal,offset --depth-write --frames 1 --warmup 0 --json b.json)
+# compare draws the reference as well, which takes no --depth-write either.
+pr_cli(compare_depth_write_with_flat EXIT 1 ONE_LINE NO_FILE c.json
+       STDERR "${E}--depth-write: has no effect: --techniques flat writes the same depth without it"
+       ARGS compare ${TQ} --techniques flat --depth-write --json c.json)
+pr_cli(compare_steps_with_flat EXIT 1 ONE_LINE NO_FILE c.json STDERR "${E}--steps: has no effect: --techniques flat takes no linear steps"
+       ARGS compare ${TQ} --techniques flat --steps 8 --json c.json)
+# ... but it reads --normal-quality and the reference's own flags.
+pr_cli(compare_reference_flags_with_flat EXIT 0 EXPECT_FILE c.json JSON c.json CHECKS "reference.level:EQUAL:2"
+       ARGS compare ${TQ} --techniques flat --normal-quality gather --reference-level 2 --reference-max-triangles 100000 --json c.json)
+# The reference's flags where the reference is not drawn (render, bench).
+pr_cli(reference_level_without_reference EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}--reference-level: applies to the reference technique only, and --technique relief draws none"
+       ARGS render ${TQ} --technique relief --reference-level 3 --out o.png)
+pr_cli(reference_max_triangles_without_reference EXIT 1 ONE_LINE NO_FILE b.json
+       STDERR "${E}--reference-max-triangles: applies to the reference technique only, and --techniques flat,pom draws none"
+       ARGS bench ${TQ} --techniques flat,pom --reference-max-triangles 1000 --frames 1 --warmup 0 --json b.json)
+pr_cli(bench_reference_level_with_reference EXIT 0 EXPECT_FILE b.json
+       ARGS bench ${TQ} --techniques flat,reference --reference-level 2 --frames 1 --warmup 0 --json b.json)
+# The default lists read every quality flag (compare: flat,pom,relief; bench: ...,relief).
+pr_cli(compare_default_list_takes_quality_flags EXIT 0 EXPECT_FILE c.json
+       ARGS compare ${TQ} --steps 8 --refine 2 --normal-quality central --depth-write --json c.json)
+pr_cli(bench_default_list_takes_quality_flags EXIT 0 EXPECT_FILE b.json
+       ARGS bench ${TQ} --steps 8 --refine 2 --normal-quality central --depth-write --frames 1 --warmup 0 --json b.json)
+
