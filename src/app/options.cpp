@@ -214,7 +214,7 @@ void add_scene_options(CLI::App& app, SceneOptions& o)
                    "side (default 16384 per side and 64 Mpixel in all; 1-16384)")
         ->transform(saturating<int>())
         ->group("Scene");
-    app.add_option("--uv-scale", o.uv_scale,
+    o.uv_scale_option = app.add_option("--uv-scale", o.uv_scale,
                    "Generated UVs (meshes without UVs): texture repeats across the largest extent")
         ->check(a_number())
         ->group("Scene")

@@ -35,6 +35,11 @@ struct SceneOptions {
     std::string cone_backend = "cpu"; // where missing cone maps are built: cpu or gpu
 
     CLI::Option* size_option = nullptr;
+    // Given or not: --uv-scale where every mesh has UVs of its own is refused (open_session).
+    const CLI::Option* uv_scale_option = nullptr;
+    // The viewer: a mesh dropped on its window later is loaded with these options too, and may
+    // have no UVs, so --uv-scale is kept whatever the meshes given first.
+    bool more_meshes_later = false;
 };
 
 struct TechniqueOptions {

@@ -55,6 +55,15 @@ Session open_session(const SceneOptions& options, const std::vector<NamedPath>& 
     const Backend backend = parse_backend(options.backend);
     if (!make_context) preload_backend(backend); // loads Mesa while the scene is read
     s.scene = load_scene(s.spec);
+    // --uv-scale sizes generated UVs only: where every mesh has its own (and --generate-uvs does
+    // not replace them), it was ignored silently. Known once the meshes are read, before any GL.
+    const bool uv_scale_given = options.uv_scale_option != nullptr && options.uv_scale_option->count() > 0;
+    if (uv_scale_given && !options.generate_uvs && !options.more_meshes_later &&
+        std::all_of(s.scene.objects.begin(), s.scene.objects.end(), [](const SceneObject& o) { return o.mesh.had_uvs; }))
+        throw Error("--uv-scale", std::string("has no effect: ") +
+                                      (s.scene.objects.size() > 1 ? "every mesh has" : "the mesh has") +
+                                      " UVs of its own (it sizes generated ones; --generate-uvs generates them "
+                                      "instead of the file's)");
     // Before the context: a bad camera fails fast, without GL.
     try {
         s.camera = scene_camera(s.spec, s.scene);

@@ -39,6 +39,8 @@ CommandAction add_view_command(CLI::App& app)
     };
     auto s = std::make_shared<State>();
     s->technique.technique = "pom"; // with split on: POM | prism
+    // A mesh dropped on the window later is loaded with --uv-scale too, and may have no UVs.
+    s->scene.more_meshes_later = true;
     CLI::App* cmd = app.add_subcommand(
         "view", "Interactive viewer (GLFW window, Dear ImGui panel): orbit, compare techniques side by side");
     add_scene_options(*cmd, s->scene);

@@ -218,3 +218,17 @@ pr_cli(compare_default_list_takes_quality_flags EXIT 0 EXPECT_FILE c.json
 pr_cli(bench_default_list_takes_quality_flags EXIT 0 EXPECT_FILE b.json
        ARGS bench ${TQ} --steps 8 --refine 2 --normal-quality central --depth-write --frames 1 --warmup 0 --json b.json)
 
+# --uv-scale sizes generated UVs only: on meshes with UVs of their own it did nothing (the same
+# torus at --uv-scale 4). Refused where no mesh gets generated UVs; a scene with one that does
+# takes it, as does --generate-uvs.
+pr_cli(uv_scale_with_own_uvs EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}--uv-scale: has no effect: the mesh has UVs of its own \\(it sizes generated ones; --generate-uvs generates them instead of the file's\\)"
+       ARGS render ${TQ} --uv-scale 4 --out o.png)
+pr_cli(uv_scale_with_generated_uvs EXIT 0 EXPECT_FILE o.png ARGS render ${TQ} --uv-scale 4 --generate-uvs --out o.png)
+pr_cli(uv_scale_without_uvs EXIT 0 EXPECT_FILE o.png STDERR "blob.off: no texture coordinates; generated box-projected UVs \\(4 repeats"
+       ARGS render --mesh ${M}/blob.off --size 8x8 --uv-scale 4 --out o.png)
+pr_cli(uv_scale_scene_with_own_uvs EXIT 1 ONE_LINE NO_FILE c.json STDERR "${E}--uv-scale: has no effect: every mesh has UVs of its own"
+       ARGS compare --scene ${M}/scenes/plane_and_torus.json --size 8x8 --uv-scale 4 --json c.json)
+pr_scene(torus_and_blob "}, {\"mesh\": \"${M}/blob.off\"}]}")
+pr_cli(uv_scale_scene_with_one_without_uvs EXIT 0 EXPECT_FILE b.json
+       ARGS bench --scene ${OS}/torus_and_blob.json --size 8x8 --uv-scale 4 --frames 1 --warmup 0 --json b.json)

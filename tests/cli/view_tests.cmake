@@ -96,10 +96,10 @@ if(TARGET pr_view)
     # A half that is not a prism takes the marcher for the panel, though the prism half names its own.
     pr_cli(view_split_marcher_for_the_panel EXIT 1 ONE_LINE STDERR "${E}view: cannot open a window" ENV DISPLAY= WAYLAND_DISPLAY=
            ARGS view --mesh ${M}/torus.obj --split pom,prism:cone --marcher relief --frames 1)
-    # The quality flags and the reference's that render refuses where nothing drawn reads them
-    # are the viewer's settings for the techniques its panel turns to: kept (the options are
-    # checked before the window opens).
+    # The quality flags, the reference's and --uv-scale that render refuses where nothing drawn
+    # reads them are the viewer's settings for the techniques its panel turns to, and for meshes
+    # dropped on it: kept (the options are checked, and the mesh read, before the window opens).
     pr_cli(view_keeps_quality_flags EXIT 1 ONE_LINE STDERR "${E}view: cannot open a window" ENV DISPLAY= WAYLAND_DISPLAY=
            ARGS view --mesh ${M}/torus.obj --technique flat --steps 8 --refine 2 --normal-quality gather --depth-write
-                --shadows hard --reference-level 2 --reference-max-triangles 1000 --frames 1)
+                --shadows hard --reference-level 2 --reference-max-triangles 1000 --uv-scale 4 --frames 1)
 endif()
