@@ -100,6 +100,13 @@ void check_prism_flags_used(const TechniqueOptions& quality, const std::vector<T
     const auto named = [](const TechniqueRun& r) {
         return std::size_t(std::count(r.label.begin(), r.label.end(), ':'));
     };
+    // The value an entry draws with, and the flag's, as text.
+    const auto value = [](const DrawSettings& s, int k) {
+        return k == 0 ? marcher_name(s.marcher)
+               : k == 1 ? prism_exit_name(s.prism_exit)
+                        : std::string(s.full_shell ? "full" : "tight");
+    };
+    const std::string flagged[3] = {quality.marcher, quality.prism_exit, quality.prism_shell};
     for (int k = 0; k < 3; ++k) {
         if (flags[k] == nullptr || flags[k]->count() == 0) continue;
         const bool used = std::any_of(runs.begin(), runs.end(), [&](const TechniqueRun& r) {
@@ -108,6 +115,20 @@ void check_prism_flags_used(const TechniqueOptions& quality, const std::vector<T
                    (k < 2 || r.settings.prism_exit == PrismExit::Walk);
         });
         if (used) continue;
+        // No entry takes it, because every prism names its own value: a flag that says what each
+        // of those names says is redundant, and taken as render takes "prism:cone --marcher cone";
+        // one that says otherwise is refused (the names won, silently), as render refuses
+        // "prism:cone --marcher relief".
+        const auto names_it = [&](const TechniqueRun& r) {
+            return r.settings.technique == Technique::Prism && named(r) > std::size_t(k);
+        };
+        const auto other = std::find_if(runs.begin(), runs.end(), [&](const TechniqueRun& r) {
+            return names_it(r) && value(r.settings, k) != flagged[k];
+        });
+        if (other == runs.end() && std::any_of(runs.begin(), runs.end(), names_it)) continue;
+        const std::string which =
+            other == runs.end() ? ""
+                                : ", and '" + other->label + "' names " + value(other->settings, k) + ", not " + flagged[k];
         // In the viewer an entry that takes the exit from --prism-exit would take the shell too,
         // but for that exit: the message of a single prism (make_draw_settings).
         const bool flag_exit = panel && std::any_of(runs.begin(), runs.end(), [&](const TechniqueRun& r) {
@@ -116,9 +137,10 @@ void check_prism_flags_used(const TechniqueOptions& quality, const std::vector<T
         if (k == 2 && flag_exit)
             throw Error(flags[k]->get_name(), "only the walk takes a shell (the exit is " + quality.prism_exit + ")");
         throw Error(flags[k]->get_name(),
-                    k < 2 ? "has no effect: every prism in " + drawn + " names its own " + what[k]
-                          : "has no effect: no prism in " + drawn +
-                                " takes it (each names its own shell, or an exit that has none)");
+                    (k < 2 ? "has no effect: every prism in " + drawn + " names its own " + what[k]
+                           : "has no effect: no prism in " + drawn +
+                                 " takes it (each names its own shell, or an exit that has none)") +
+                        which);
     }
 }
 

@@ -46,9 +46,11 @@ struct TechniqueRun {
 std::vector<TechniqueRun> parse_technique_list(const std::string& list, const TechniqueOptions& quality,
                                                const std::string& option = "--techniques");
 // Refuses --marcher, --prism-exit or --prism-shell, given, where no entry of `runs` takes it: every
-// prism names its own value, or (the shell) an exit that has none. `drawn` names the list in the
-// error. With `panel` (the viewer) an entry that is not a prism takes the flags, for when the panel
-// turns it to the prism: the shell only with the walk.
+// prism names its own value, or (the shell) an exit that has none. Where the prisms that name one
+// all name the flag's value, the flag is redundant and taken (as render takes "prism:cone
+// --marcher cone"). `drawn` names the list in the error. With `panel` (the viewer) an entry that
+// is not a prism takes the flags, for when the panel turns it to the prism: the shell only with
+// the walk.
 void check_prism_flags_used(const TechniqueOptions& quality, const std::vector<TechniqueRun>& runs,
                             const std::string& drawn, bool panel);
 

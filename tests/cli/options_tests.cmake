@@ -150,10 +150,30 @@ pr_cli(shadows_taken_by_one_technique EXIT 0 EXPECT_FILE c.json
 # A prism flag that every prism entry of the list overrides by naming its own value did nothing
 # (compare --techniques prism:cone,pom --marcher relief; found by a review).
 pr_cli(marcher_every_prism_names_its_own EXIT 1 ONE_LINE NO_FILE c.json
-       STDERR "${E}--marcher: has no effect: every prism in --techniques prism:cone,pom names its own marcher"
+       STDERR "${E}--marcher: has no effect: every prism in --techniques prism:cone,pom names its own marcher, and 'prism:cone' names cone, not relief"
        ARGS compare --mesh ${M}/torus.obj --techniques prism:cone,pom --marcher relief --size 8x8 --json c.json)
 pr_cli(marcher_taken_by_one_prism EXIT 0 EXPECT_FILE c.json
        ARGS compare --mesh ${M}/torus.obj --techniques prism:cone,prism --marcher relief --size 8x8 --json c.json)
+# A flag that says what every prism naming its own value says is redundant, and taken in lists as
+# render takes `--technique prism:cone --marcher cone` (compare and bench refused it until the
+# twentieth session, render took it): one rule for the three. One prism naming another value is
+# enough to refuse it.
+pr_cli(marcher_agrees_with_every_prism EXIT 0 JSON c.json CHECKS "${R}.0.marcher:STREQUAL:cone|${R}.1.marcher:STREQUAL:cone|${R}.1.prism_exit:STREQUAL:exact"
+       ARGS compare --mesh ${M}/torus.obj --techniques prism:cone,prism:cone:exact,pom --marcher cone --size 8x8 --json c.json)
+pr_cli(shell_agrees_with_every_prism EXIT 0 EXPECT_FILE b.json
+       ARGS bench --mesh ${M}/torus.obj --techniques prism:relief:walk:full --prism-shell full --size 8x8 --frames 1 --warmup 0 --json b.json)
+# (The exact exit takes no shell: the walk's is the only name to agree with.)
+pr_cli(shell_agrees_with_the_walk EXIT 0 EXPECT_FILE c.json
+       ARGS compare --mesh ${M}/torus.obj --techniques prism:relief:walk:full,prism:relief:exact --prism-shell full --size 8x8 --json c.json)
+pr_cli(marcher_disagrees_with_one_prism EXIT 1 ONE_LINE NO_FILE c.json
+       STDERR "${E}--marcher: has no effect: every prism in --techniques prism:cone,prism:linear names its own marcher, and 'prism:linear' names linear, not cone"
+       ARGS compare --mesh ${M}/torus.obj --techniques prism:cone,prism:linear --marcher cone --size 8x8 --json c.json)
+pr_cli(shell_disagrees_with_one_prism EXIT 1 ONE_LINE NO_FILE b.json
+       STDERR "${E}--prism-shell: has no effect: no prism in --techniques prism:relief:walk:full,prism:cone:walk:tight takes it \\(each names its own shell, or an exit that has none\\), and 'prism:cone:walk:tight' names tight, not full"
+       ARGS bench --mesh ${M}/torus.obj --techniques prism:relief:walk:full,prism:cone:walk:tight --prism-shell full --size 8x8 --frames 1 --warmup 0 --json b.json)
+pr_cli(shell_with_no_walk_in_list EXIT 1 ONE_LINE NO_FILE c.json
+       STDERR "${E}--prism-shell: has no effect: no prism in --techniques prism:relief:exact takes it \\(each names its own shell, or an exit that has none\\)"
+       ARGS compare --mesh ${M}/torus.obj --techniques prism:relief:exact --prism-shell full --size 8x8 --json c.json)
 
 # Quality flags that nothing drawn reads (render/technique.hpp, reads_steps and the others; the gl
 # test TechniqueUse checks that such a setting changes neither image nor depth) were accepted and

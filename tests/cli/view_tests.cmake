@@ -96,6 +96,9 @@ if(TARGET pr_view)
     # A half that is not a prism takes the marcher for the panel, though the prism half names its own.
     pr_cli(view_split_marcher_for_the_panel EXIT 1 ONE_LINE STDERR "${E}view: cannot open a window" ENV DISPLAY= WAYLAND_DISPLAY=
            ARGS view --mesh ${M}/torus.obj --split pom,prism:cone --marcher relief --frames 1)
+    # A marcher that every half names is redundant, as in compare's lists and render.
+    pr_cli(view_split_marcher_agrees_with_both EXIT 1 ONE_LINE STDERR "${E}view: cannot open a window" ENV DISPLAY= WAYLAND_DISPLAY=
+           ARGS view --mesh ${M}/torus.obj --split prism:cone,prism:cone:exact --marcher cone --frames 1)
     # The quality flags, the reference's and --uv-scale that render refuses where nothing drawn
     # reads them are the viewer's settings for the techniques its panel turns to, and for meshes
     # dropped on it: kept (the options are checked, and the mesh read, before the window opens).
