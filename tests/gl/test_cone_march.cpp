@@ -21,18 +21,21 @@ namespace {
 
 const glm::vec3 kLight = glm::normalize(glm::vec3(-0.3f, 0.6f, 1.0f));
 
-// The flat square seen at 45 degrees, so rays cross several texels on their way down.
-Camera oblique_camera()
+// From `eye` towards `target`, z up, a 40 degree field of view.
+Camera looking(glm::vec3 eye, glm::vec3 target, float far_plane)
 {
     Camera c;
-    c.eye = {0.0f, -1.9f, 1.9f};
-    c.target = {0.0f, 0.0f, 0.0f};
+    c.eye = eye;
+    c.target = target;
     c.up = {0.0f, 0.0f, 1.0f};
     c.fovy_deg = 40.0f;
     c.near_plane = 0.5f;
-    c.far_plane = 6.0f;
+    c.far_plane = far_plane;
     return c;
 }
+
+// The flat square seen at 45 degrees, so rays cross several texels on their way down.
+Camera oblique_camera() { return looking({0.0f, -1.9f, 1.9f}, {0.0f, 0.0f, 0.0f}, 6.0f); }
 
 // Straight down onto the square from `height` above it.
 Camera top_down_camera(float height, float fovy_deg)
@@ -352,13 +355,7 @@ TEST(Shadows, ALightOverheadLeavesSteepWallsLit)
     Renderer r(160, 120);
     r.set_cache_dir(prtest::cache_dir());
     r.upload(prtest::one_object(prtest::square(), h, 0.2f));
-    Camera c;
-    c.eye = {0.2f, -2.4f, 0.9f};
-    c.target = {0.1f, 0.05f, 0.0f};
-    c.up = {0.0f, 0.0f, 1.0f};
-    c.fovy_deg = 40.0f;
-    c.near_plane = 0.5f;
-    c.far_plane = 8.0f;
+    const Camera c = looking({0.2f, -2.4f, 0.9f}, {0.1f, 0.05f, 0.0f}, 8.0f); // low, along the walls
     for (Technique t : {Technique::Steep, Technique::Pom, Technique::Relief, Technique::Cone, Technique::Prism})
         for (Marcher m : {Marcher::Linear, Marcher::Relief, Marcher::RelaxedCone}) {
             if (t != Technique::Prism && m != Marcher::Relief) continue;
