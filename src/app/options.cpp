@@ -361,7 +361,11 @@ void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<Draw
     if (!reference)
         for (const CLI::Option* flag : {o.reference_level_flag, o.reference_max_triangles_flag})
             if (given(flag))
-                throw Error(flag->get_name(), "applies to the reference technique only, and " + drawn + " draws none");
+                throw Error(flag->get_name(), "applies to the reference technique only, and " + drawn +
+                                                  " draws none: draw reference too, or leave the flag out");
+    if (given(o.reference_max_triangles_flag) && o.reference_level > 0)
+        throw Error("--reference-max-triangles", "has no effect: it bounds the automatic level only, and --reference-level " +
+                                                     std::to_string(o.reference_level) + " is given");
 }
 
 ReferenceOptions make_reference_options(const TechniqueOptions& o)

@@ -332,7 +332,9 @@ ShaderDefines defines_for(const DrawSettings& s)
         if (s.prism_walk()) d.emplace_back("PR_PRISM_WALK", "1");
         if (s.prism_walk() && s.full_shell) d.emplace_back("PR_PRISM_FULL_SHELL", "1");
     }
-    if (s.depth_write && s.technique != Technique::Prism) d.emplace_back("PR_DEPTH_WRITE", "1");
+    // Only where the point shown lies below the polygon (reads_depth_write): flat, normal and
+    // offset show the polygon's own depth, which the rasterizer's is.
+    if (s.depth_write && reads_depth_write(s)) d.emplace_back("PR_DEPTH_WRITE", "1");
     if (s.shadows != Shadows::None && s.technique != Technique::Flat && s.technique != Technique::Reference)
         d.emplace_back("PR_SHADOWS", shadows[static_cast<int>(s.shadows)]);
     if (s.aux_map() == AuxMap::Cone || s.aux_map() == AuxMap::Relaxed) d.emplace_back("PR_HEIGHT_FROM_CONE", "1");
@@ -883,8 +885,11 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     // before the frame's clock starts. (Outside the sphere around the shell, not by the parity of
     // crossings: an eye inside two nested parts of one mesh counted as outside, and everything
     // was culled.)
-    const bool depth_writing_base = settings.depth_write && settings.technique != Technique::Prism &&
-                                    settings.technique != Technique::Reference;
+    // (Only the techniques whose depth the flag changes, reads_depth_write: it culled flat's,
+    // normal's and offset's back faces too, which changed their fragment counts and a pixel or
+    // two of z-fighting, while the command line called the flag of no effect there; found by a
+    // review.)
+    const bool depth_writing_base = settings.depth_write && reads_depth_write(settings);
     std::vector<char> cull_back(objects_.size(), 0);
     if (depth_writing_base)
         for (std::size_t k = 0; k < objects_.size(); ++k)

@@ -222,7 +222,14 @@ pr_cli(compare_steps_with_flat EXIT 1 ONE_LINE NO_FILE c.json STDERR "${E}--step
        ARGS compare ${TQ} --techniques flat --steps 8 --json c.json)
 # ... but it reads --normal-quality and the reference's own flags.
 pr_cli(compare_reference_flags_with_flat EXIT 0 EXPECT_FILE c.json JSON c.json CHECKS "reference.level:EQUAL:2"
-       ARGS compare ${TQ} --techniques flat --normal-quality gather --reference-level 2 --reference-max-triangles 100000 --json c.json)
+       ARGS compare ${TQ} --techniques flat --normal-quality gather --reference-level 2 --json c.json)
+pr_cli(compare_reference_max_triangles_with_flat EXIT 0 EXPECT_FILE c.json JSON c.json
+       CHECKS "reference.capped:STREQUAL:ON|reference.level:EQUAL:1"
+       ARGS compare --mesh ${M}/torus.obj --size 64x64 --techniques flat --reference-max-triangles 3000 --json c.json)
+# An explicit level is never capped (found by a review: the bound was taken and did nothing).
+pr_cli(reference_max_triangles_with_a_level EXIT 1 ONE_LINE NO_FILE c.json
+       STDERR "${E}--reference-max-triangles: has no effect: it bounds the automatic level only, and --reference-level 2 is given"
+       ARGS compare ${TQ} --techniques flat --reference-level 2 --reference-max-triangles 100000 --json c.json)
 # The reference's flags where the reference is not drawn (render, bench).
 pr_cli(reference_level_without_reference EXIT 1 ONE_LINE NO_FILE o.png
        STDERR "${E}--reference-level: applies to the reference technique only, and --technique relief draws none"
