@@ -126,9 +126,11 @@ void check_prism_flags_used(const TechniqueOptions& quality, const std::vector<T
             return names_it(r) && value(r.settings, k) != flagged[k];
         });
         if (other == runs.end() && std::any_of(runs.begin(), runs.end(), names_it)) continue;
-        const std::string which =
-            other == runs.end() ? ""
-                                : ", and '" + other->label + "' names " + value(other->settings, k) + ", not " + flagged[k];
+        // A name that says otherwise: the words of render's refusal (make_draw_settings).
+        if (other != runs.end())
+            throw Error(flags[k]->get_name(), "'" + other->label + "' in " + drawn + " names the " + what[k] + " " +
+                                                  value(other->settings, k) + ", " + flags[k]->get_name() + " " +
+                                                  flagged[k] + ": give one");
         // In the viewer an entry that takes the exit from --prism-exit would take the shell too,
         // but for that exit: the message of a single prism (make_draw_settings).
         const bool flag_exit = panel && std::any_of(runs.begin(), runs.end(), [&](const TechniqueRun& r) {
@@ -139,8 +141,7 @@ void check_prism_flags_used(const TechniqueOptions& quality, const std::vector<T
         throw Error(flags[k]->get_name(),
                     (k < 2 ? "has no effect: every prism in " + drawn + " names its own " + what[k]
                            : "has no effect: no prism in " + drawn +
-                                 " takes it (each names its own shell, or an exit that has none)") +
-                        which);
+                                 " takes it (each names its own shell, or an exit that has none)"));
     }
 }
 

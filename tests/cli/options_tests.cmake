@@ -150,7 +150,7 @@ pr_cli(shadows_taken_by_one_technique EXIT 0 EXPECT_FILE c.json
 # A prism flag that every prism entry of the list overrides by naming its own value did nothing
 # (compare --techniques prism:cone,pom --marcher relief; found by a review).
 pr_cli(marcher_every_prism_names_its_own EXIT 1 ONE_LINE NO_FILE c.json
-       STDERR "${E}--marcher: has no effect: every prism in --techniques prism:cone,pom names its own marcher, and 'prism:cone' names cone, not relief"
+       STDERR "${E}--marcher: 'prism:cone' in --techniques prism:cone,pom names the marcher cone, --marcher relief: give one"
        ARGS compare --mesh ${M}/torus.obj --techniques prism:cone,pom --marcher relief --size 8x8 --json c.json)
 pr_cli(marcher_taken_by_one_prism EXIT 0 EXPECT_FILE c.json
        ARGS compare --mesh ${M}/torus.obj --techniques prism:cone,prism --marcher relief --size 8x8 --json c.json)
@@ -166,10 +166,10 @@ pr_cli(shell_agrees_with_every_prism EXIT 0 EXPECT_FILE b.json
 pr_cli(shell_agrees_with_the_walk EXIT 0 EXPECT_FILE c.json
        ARGS compare --mesh ${M}/torus.obj --techniques prism:relief:walk:full,prism:relief:exact --prism-shell full --size 8x8 --json c.json)
 pr_cli(marcher_disagrees_with_one_prism EXIT 1 ONE_LINE NO_FILE c.json
-       STDERR "${E}--marcher: has no effect: every prism in --techniques prism:cone,prism:linear names its own marcher, and 'prism:linear' names linear, not cone"
+       STDERR "${E}--marcher: 'prism:linear' in --techniques prism:cone,prism:linear names the marcher linear, --marcher cone: give one"
        ARGS compare --mesh ${M}/torus.obj --techniques prism:cone,prism:linear --marcher cone --size 8x8 --json c.json)
 pr_cli(shell_disagrees_with_one_prism EXIT 1 ONE_LINE NO_FILE b.json
-       STDERR "${E}--prism-shell: has no effect: no prism in --techniques prism:relief:walk:full,prism:cone:walk:tight takes it \\(each names its own shell, or an exit that has none\\), and 'prism:cone:walk:tight' names tight, not full"
+       STDERR "${E}--prism-shell: 'prism:cone:walk:tight' in --techniques prism:relief:walk:full,prism:cone:walk:tight names the shell tight, --prism-shell full: give one"
        ARGS bench --mesh ${M}/torus.obj --techniques prism:relief:walk:full,prism:cone:walk:tight --prism-shell full --size 8x8 --frames 1 --warmup 0 --json b.json)
 pr_cli(shell_with_no_walk_in_list EXIT 1 ONE_LINE NO_FILE c.json
        STDERR "${E}--prism-shell: has no effect: no prism in --techniques prism:relief:exact takes it \\(each names its own shell, or an exit that has none\\)"

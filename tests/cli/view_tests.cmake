@@ -86,7 +86,7 @@ if(TARGET pr_view)
            STDERR "${E}--prism-shell: only the walk takes a shell \\(the exit is vertex\\)"
            ARGS view --mesh ${M}/torus.obj --technique relief --prism-exit vertex --prism-shell full --frames 1)
     pr_cli(view_split_marcher_every_half_names_its_own EXIT 1 ONE_LINE ENV DISPLAY= WAYLAND_DISPLAY=
-           STDERR "${E}--marcher: has no effect: every prism in --split prism:cone,prism:linear names its own marcher"
+           STDERR "${E}--marcher: 'prism:cone' in --split prism:cone,prism:linear names the marcher cone, --marcher relief: give one"
            ARGS view --mesh ${M}/torus.obj --split prism:cone,prism:linear --marcher relief --frames 1)
     pr_cli(view_split_and_technique EXIT 1 ONE_LINE ENV DISPLAY= WAYLAND_DISPLAY=
            STDERR "${E}--technique: has no effect with --split"
