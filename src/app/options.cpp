@@ -344,18 +344,19 @@ void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<Draw
     if (given(o.steps_flag) && !any(reads_steps))
         throw Error("--steps", "has no effect: " + drawn +
                                    " takes no linear steps (flat and reference never do; normal, offset and the "
-                                   "prism's max-mip with the exact or vertex exit only with --shadows)");
+                                   "prism's max-mip with the exact or vertex exit only with --shadows): leave it out");
     if (given(o.refine_flag) && !any(reads_refine))
         throw Error("--refine", "has no effect: " + drawn +
                                     " refines no hit (only relief, cone and relaxed-cone do, as techniques or as the "
-                                    "prism's marcher, and the prism's walk with max-mip)");
+                                    "prism's marcher, and the prism's walk with max-mip): leave it out");
     if (given(o.normal_quality_flag) && !any(reads_normal_quality))
         throw Error("--normal-quality",
-                    "has no effect: " + drawn + " takes no normal from the heights (flat shades with the mesh's)");
+                    "has no effect: " + drawn + " takes no normal from the heights (flat shades with the mesh's): leave it out");
     if (given(o.depth_write_flag) && !any(reads_depth_write))
         throw Error("--depth-write", "has no effect: " + drawn +
                                          " writes the same depth without it (only steep, pom, relief, cone and "
-                                         "relaxed-cone show points below the polygon; the prism always writes its depth)");
+                                         "relaxed-cone show points below the polygon; the prism always writes its depth): "
+                                         "leave it out");
     const bool reference = std::any_of(drawn_settings.begin(), drawn_settings.end(),
                                        [](const DrawSettings& s) { return s.technique == Technique::Reference; });
     if (!reference)

@@ -182,7 +182,7 @@ pr_cli(shell_with_no_walk_in_list EXIT 1 ONE_LINE NO_FILE c.json
 # the flag is enough, and compare's reference counts (it reads --normal-quality and its own flags).
 set(TQ --mesh ${M}/torus.obj --size 8x8)
 pr_cli(steps_with_flat EXIT 1 ONE_LINE NO_FILE o.png
-       STDERR "${E}--steps: has no effect: --technique flat takes no linear steps \\(flat and reference never do; normal, offset and the prism's max-mip with the exact or vertex exit only with --shadows\\)"
+       STDERR "${E}--steps: has no effect: --technique flat takes no linear steps \\(flat and reference never do; normal, offset and the prism's max-mip with the exact or vertex exit only with --shadows\\): leave it out"
        ARGS render ${TQ} --technique flat --steps 8 --out o.png)
 pr_cli(steps_with_reference EXIT 1 ONE_LINE NO_FILE o.png STDERR "${E}--steps: has no effect: --technique reference takes no linear steps"
        ARGS render ${TQ} --technique reference --steps 8 --out o.png)
