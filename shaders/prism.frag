@@ -287,6 +287,8 @@ float light_walk(uint prim, vec3 tex, vec3 hit, vec3 light_dir)
         // or the sheet, is in the way.
         blocked = blocked || ex.face == 1;
         ended = blocked || ex.face == 0;
+        // Out through a top: soft light goes on past it, in this prism's frame.
+        if (ex.face == 0 && !blocked) soft_past_top(tex_out, tex_out - tex_in, run, visibility, g);
         if (ended) break;
         uvec3 across = prism_across;
         int edge = ex.face - 2;
@@ -540,7 +542,9 @@ void main()
         // meshes; folded prisms (--midlevel 1) streaked (found by an exploratory session).
         if (visibility < 1.0 && light_above_horizon(l_tex)) {
             float walked = light_walk(prim, tex, hit, light_dir);
-            if (walked >= 0.0) visibility = max(visibility, walked);
+            // (Soft: never above the part of the disc over the base surface's horizon, which
+            // the march in the hit's frame counts and the walk does not.)
+            if (walked >= 0.0) visibility = max(visibility, min(walked, soft_horizon(l_tex)));
         }
 #endif
     }

@@ -10,9 +10,37 @@
 // the surface below it (march/cone.glsl; a rising ray, so the conservative ratio: a relaxed cone
 // promises nothing to it), and a ray steeper than that cone never leaves it, so nothing further
 // on can block it. Each step is at least the linear march's, so it never takes more samples.
-#ifndef PR_SHADOW_SOFTNESS
-#define PR_SHADOW_SOFTNESS 6.0 // clearance slope (height/run) of full light is 1/this
+//
+// Soft shadows: a round light of angular radius PR_SOFT_LIGHT_TAN (its tangent; about 1 degree)
+// whose disc rises over the nearest occluder's edge: the light seen along the ray is the smallest
+// clearance angle over the disc's diameter, the angle taken in the world (clearance in height
+// units times the depth, over the run in UV units times the world length of one along the ray:
+// g_soft_scale), so that the penumbra is the same whatever the depth and the texture's scale.
+// (Until the twentieth session it was the clearance over the run in texture units, times 6: it
+// narrowed as the depth grew, and darkened flat ground under a low light depending on --depth.)
+#ifndef PR_SOFT_LIGHT_TAN
+#define PR_SOFT_LIGHT_TAN 0.01745
 #endif
+
+float g_soft_scale = 1.0; // world clearance angle per texture-space clearance slope (light_in_texture_space)
+
+// The light seen past a clearance (height units) over a run (UV units) from the start.
+float soft_light(float clearance, float run)
+{
+    return clamp(g_soft_scale * clearance / ((2.0 * PR_SOFT_LIGHT_TAN) * run + 1e-30), 0.0, 1.0);
+}
+
+// The light a soft shadow leaves above a flat surface: the part of the disc above the base
+// surface's horizon (`l_tex` in texture space: its slope). 1 with hard shadows.
+float soft_horizon(vec3 l_tex)
+{
+#if defined(PR_SHADOWS) && PR_SHADOWS == PR_SHADOWS_SOFT
+    float run = length(l_tex.xy);
+    return run > 0.0 ? soft_light(l_tex.z, run) : 1.0;
+#else
+    return 1.0;
+#endif
+}
 
 // How a light march along a stretch of its ray ended (march_light).
 #define PR_LIGHT_ON 1      // not blocked along the stretch: the march goes on past its end
@@ -55,7 +83,7 @@ int march_light(vec3 origin, vec3 dir, float t_end, float rise, inout float run_
 #if PR_SHADOWS == PR_SHADOWS_HARD
         if (clearance < 0.0) return PR_LIGHT_BLOCKED;
 #else
-        visibility = min(visibility, clamp(PR_SHADOW_SOFTNESS * clearance / (run_before + t * run + 1e-6), 0.0, 1.0));
+        visibility = min(visibility, soft_light(clearance, run_before + t * run));
         if (visibility <= 0.0) return PR_LIGHT_BLOCKED;
 #endif
 #ifdef PR_HEIGHT_FROM_CONE
@@ -70,6 +98,35 @@ int march_light(vec3 origin, vec3 dir, float t_end, float rise, inout float run_
     run_before += t_end * run;
 #endif
     return PR_LIGHT_ON;
+}
+
+// Soft shadows: the light ray past the top of the height range (from `top`, along `dir`, `run_before`
+// UV units from its start), where nothing blocks it but an occluder as high as the top still
+// covers part of the disc. On, one sample per step as march_light's, until no height (none is
+// above 1) could dim it more than `visibility` says. (The march used to end at the top, and such
+// an occluder cast no penumbra outside its hard shadow.)
+void soft_past_top(vec3 top, vec3 dir, float run_before, inout float visibility, UvGrad g)
+{
+#if defined(PR_SHADOWS) && PR_SHADOWS == PR_SHADOWS_SOFT
+    float run = length(dir.xy);
+    if (!(run > 0.0) || !(dir.z > 0.0) || visibility <= 0.0) return;
+    vec2 size = vec2(textureSize(s_height, 0));
+    float per_t = max(texel_samples() * length(dir.xy * size), float(max(u_march.x, 1)) * dir.z);
+    float dt = 1.0 / max(per_t, 1e-30);
+    int bound = max(2 * max(u_march.x, 1) + 64, int(4.0 * texel_samples() * max(size.x, size.y)));
+    const float bias = 2e-3;
+    for (int i = 1; i <= bound; ++i) {
+        vec3 p = top + (float(i) * dt) * dir;
+        float total = run_before + float(i) * dt * run;
+        if (soft_light(p.z - 1.0 + bias, total) >= visibility) break;
+#ifdef PR_HEIGHT_FROM_CONE
+        float h = cone_at(p.xy).x;
+#else
+        float h = height_at(p.xy, g);
+#endif
+        visibility = min(visibility, soft_light(p.z + bias - h, total));
+    }
+#endif
 }
 
 // Whether a light along texture-space direction `l_tex` rises above the base surface's horizon
@@ -101,10 +158,11 @@ float light_visibility(vec3 tex, vec3 l_tex, UvGrad g)
     // and a sphere's night side showed them, shadows on or off.)
     if (!light_above_horizon(l_tex)) return 0.0;
     tex = light_start(tex);
-    float t_end = (1.0 - tex.z) / l_tex.z;
-    if (t_end <= 0.0) return 1.0;
-    float visibility = 1.0, run = 0.0;
-    return march_light(tex, l_tex, t_end, 1.0 - tex.z, run, visibility, g) == PR_LIGHT_BLOCKED ? 0.0 : visibility;
+    float t_end = max((1.0 - tex.z) / l_tex.z, 0.0);
+    float visibility = soft_horizon(l_tex), run = 0.0;
+    if (t_end > 0.0 && march_light(tex, l_tex, t_end, 1.0 - tex.z, run, visibility, g) == PR_LIGHT_BLOCKED) return 0.0;
+    soft_past_top(tex + t_end * l_tex, l_tex, run, visibility, g);
+    return visibility;
 #else
     return 1.0;
 #endif
@@ -117,5 +175,13 @@ vec3 light_in_texture_space(vec3 t_axis, vec3 b_axis, vec3 n, float depth, vec3 
     float scale = frame_scale(frame); // (the solution does not change: height.glsl)
     frame *= scale;
     if (!(abs(determinant(frame)) > 1e-30)) return vec3(0.0, 0.0, 1.0);
-    return inverse(frame) * (scale * light_dir);
+    vec3 l_tex = inverse(frame) * (scale * light_dir);
+    // World length of one UV unit along the light's horizontal direction (the mean of the axes'
+    // for a light along the normal), for the soft penumbra's angle: a clearance of one height unit
+    // is `depth` in the world.
+    float uv_run = length(l_tex.xy);
+    float world_per_uv = uv_run > 1e-6 * abs(l_tex.z) ? length(l_tex.x * t_axis + l_tex.y * b_axis) / uv_run
+                                                      : 0.5 * (length(t_axis) + length(b_axis));
+    g_soft_scale = depth / max(world_per_uv, 1e-30);
+    return l_tex;
 }

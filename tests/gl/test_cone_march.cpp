@@ -373,6 +373,55 @@ TEST(Shadows, ALightOverheadLeavesSteepWallsLit)
         }
 }
 
+// Soft shadows are a light of a fixed angular size in the world (about 1 degree): flat ground
+// under a light 5 degrees up is fully lit whatever the depth (the penumbra was 6 x a slope in
+// texture space: at --depth 2 on this square the light was half gone), and a box as high as the
+// range casts a penumbra in the prism too (its march ended at the top, so its soft shadows were
+// its hard ones); nothing is lighter than the hard shadow. Found by an exploratory session.
+TEST(Shadows, SoftShadowsAreALightOfAFixedSizeInTheWorld)
+{
+    prtest::context();
+    Renderer r(128, 128);
+    r.set_cache_dir(prtest::cache_dir());
+    const Camera c = top_down_camera(4.0f, 35.0f);
+    const auto toward = [](float elevation_deg) {
+        const float e = glm::radians(elevation_deg);
+        return glm::vec3(std::cos(e), 0.0f, std::sin(e));
+    };
+    const auto flat = prtest::height_from(64, [](float, float) { return 0.5f; });
+    const auto box = prtest::height_from(128, [](float u, float v) {
+        return std::abs(u - 0.5f) < 0.1f && std::abs(v - 0.5f) < 0.1f ? 1.0f : 0.0f;
+    });
+    for (Technique t : {Technique::Relief, Technique::RelaxedCone, Technique::Prism})
+        for (Marcher m : {Marcher::Relief, Marcher::RelaxedCone, Marcher::MaxMip}) {
+            if (t != Technique::Prism && m != Marcher::Relief) continue;
+            const std::string what = technique_name(t) + (t == Technique::Prism ? " " + marcher_name(m) : "");
+            const auto draw = [&](const Scene& scene, glm::vec3 light, Shadows mode) {
+                r.upload(scene);
+                DrawSettings s = settings(t, m);
+                s.shadows = mode;
+                r.draw(c, light, s);
+                return r.read_color();
+            };
+            for (float depth : {0.05f, 2.0f}) {
+                const Scene ground = prtest::one_object(prtest::square(), flat, depth);
+                const RgbaImage soft = draw(ground, toward(5.0f), Shadows::Soft), hard = draw(ground, toward(5.0f), Shadows::Hard);
+                int darker = 0;
+                for (std::size_t p = 0; p < hard.pixels.size() / 4; ++p) darker += rgb_sum(soft, p) != rgb_sum(hard, p);
+                EXPECT_EQ(darker, 0) << what << " depth " << depth;
+            }
+            const Scene tall = prtest::one_object(prtest::square(), box, 0.1f);
+            const RgbaImage hard = draw(tall, toward(15.0f), Shadows::Hard), soft = draw(tall, toward(15.0f), Shadows::Soft);
+            int penumbra = 0, lighter = 0;
+            for (std::size_t p = 0; p < hard.pixels.size() / 4; ++p) {
+                penumbra += rgb_sum(soft, p) + 6 < rgb_sum(hard, p);
+                lighter += rgb_sum(soft, p) > rgb_sum(hard, p);
+            }
+            EXPECT_GT(penumbra, 15) << what;
+            EXPECT_EQ(lighter, 0) << what;
+        }
+}
+
 // The prism's light ray walks the prisms as its view ray does, so only heights the mesh shows cast
 // shadows: a square whose uvs cover 0.05..0.8 of a map whose only relief, a wall, stands at
 // u 0.85..0.95, is a flat floor, lit all over by a light low from the wall's side. Marched through
