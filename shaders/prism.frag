@@ -540,11 +540,13 @@ void main()
         // face was blocked by its own first sample (dashed lines along the triangles' diagonals in
         // close-ups); past its limit of prisms a grazing light's shadows stopped short on fine
         // meshes; folded prisms (--midlevel 1) streaked (found by an exploratory session).
-        if (visibility < 1.0 && light_above_horizon(l_tex)) {
+        // (Soft: never above the part of the disc over the base surface's horizon, which the
+        // march in the hit's frame counts and the walk does not; so only where that march found
+        // less light than the horizon leaves.)
+        float horizon = soft_horizon(l_tex);
+        if (visibility < horizon && light_above_horizon(l_tex)) {
             float walked = light_walk(prim, tex, hit, light_dir);
-            // (Soft: never above the part of the disc over the base surface's horizon, which
-            // the march in the hit's frame counts and the walk does not.)
-            if (walked >= 0.0) visibility = max(visibility, min(walked, soft_horizon(l_tex)));
+            if (walked >= 0.0) visibility = max(visibility, min(walked, horizon));
         }
 #endif
     }
