@@ -102,9 +102,8 @@ MarchRay segment_ray(vec3 tex_in, vec3 tex_out)
     // repeats long) are sampled in full. (Bounded by 4 * --steps + 64 alone, a segment across the
     // merged plane took a sample every 7 texels of a 1024-texel map and stepped over thin walls.)
     // Bounded before the conversion to int, which a prism's uv a million repeats long overflows.
-    float per_texel = texel_samples();
-    int bound = max(4 * max(u_march.x, 1) + 64, int(4.0 * per_texel * max(u_displace.z, u_displace.w)));
-    int steps = int(min(ceil(max(float(u_march.x) * abs(seg.z), per_texel * length(texels))), float(bound)));
+    int bound = march_sample_bound(4, u_displace.zw);
+    int steps = int(min(ceil(max(float(u_march.x) * abs(seg.z), texel_samples() * length(texels))), float(bound)));
     steps = max(steps, 1);
     return MarchRay(tex_in, seg, 1.0, steps);
 }

@@ -48,6 +48,14 @@ float height_at(vec2 uv, UvGrad g)
 // texels for little height (a wall one texel thick seen side-on was stepped over at any --steps).
 float texel_samples() { return max(0.5, float(u_march.x) / 64.0); }
 
+// The most samples one stretch of a march takes: `per_steps` times --steps, plus 64, or
+// texel_samples() per texel over four lengths of the map's longer side (`size`, texels), whichever
+// is more (the prism's segments: 4; the light's march: 2).
+int march_sample_bound(int per_steps, vec2 size)
+{
+    return max(per_steps * max(u_march.x, 1) + 64, int(4.0 * texel_samples() * max(size.x, size.y)));
+}
+
 vec3 albedo_at(vec2 uv, UvGrad g)
 {
     if ((u_march.w & PR_FLAG_COLOR_TEXTURE) != 0) return textureGrad(s_color, uv, g.dx, g.dy).rgb;

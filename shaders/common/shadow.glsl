@@ -62,9 +62,8 @@ int march_light(vec3 origin, vec3 dir, float t_end, float rise, inout float run_
     // for more than an int holds.)
     vec2 size = vec2(textureSize(s_height, 0));
     vec2 texels = t_end * dir.xy * size;
-    float per_texel = texel_samples();
-    int bound = max(2 * max(u_march.x, 1) + 64, int(4.0 * per_texel * max(size.x, size.y)));
-    int steps = max(int(min(ceil(float(u_march.x) * rise + per_texel * length(texels)), float(bound))), 1);
+    int bound = march_sample_bound(2, size);
+    int steps = max(int(min(ceil(float(u_march.x) * rise + texel_samples() * length(texels)), float(bound))), 1);
     float dt = t_end / float(steps);
     const float bias = 2e-3;
     float run = length(dir.xy); // UV units per unit t
@@ -117,7 +116,7 @@ void soft_past_top(vec3 top, vec3 dir, float run_before, inout float visibility,
     vec2 size = vec2(textureSize(s_height, 0));
     float per_t = max(texel_samples() * length(dir.xy * size), float(max(u_march.x, 1)) * dir.z);
     float dt = 1.0 / max(per_t, 1e-30);
-    int bound = max(2 * max(u_march.x, 1) + 64, int(4.0 * texel_samples() * max(size.x, size.y)));
+    int bound = march_sample_bound(2, size);
     float run_limit = max(1.5 * run_before, run_before + 4.0 / max(size.x, size.y));
     const float bias = 2e-3;
     for (int i = 1; i <= bound; ++i) {

@@ -335,10 +335,7 @@ void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<Draw
     const auto any = [&](bool (*reads)(const DrawSettings&)) {
         return std::any_of(drawn_settings.begin(), drawn_settings.end(), reads);
     };
-    const auto shades_shadows = [](const DrawSettings& s) {
-        return s.technique != Technique::Flat && s.technique != Technique::Reference;
-    };
-    if (parse_shadows(o.shadows, "--shadows") != Shadows::None && !any(shades_shadows))
+    if (parse_shadows(o.shadows, "--shadows") != Shadows::None && !any(reads_shadows))
         throw Error("--shadows", "has no effect: " + drawn + " draws no self-shadowing (flat and reference never do)");
     const auto given = [](const CLI::Option* flag) { return flag != nullptr && flag->count() > 0; };
     if (given(o.steps_flag) && !any(reads_steps))

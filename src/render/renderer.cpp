@@ -335,8 +335,7 @@ ShaderDefines defines_for(const DrawSettings& s)
     // Only where the point shown lies below the polygon (reads_depth_write): flat, normal and
     // offset show the polygon's own depth, which the rasterizer's is.
     if (s.depth_write && reads_depth_write(s)) d.emplace_back("PR_DEPTH_WRITE", "1");
-    if (s.shadows != Shadows::None && s.technique != Technique::Flat && s.technique != Technique::Reference)
-        d.emplace_back("PR_SHADOWS", shadows[static_cast<int>(s.shadows)]);
+    if (s.shadows != Shadows::None && reads_shadows(s)) d.emplace_back("PR_SHADOWS", shadows[static_cast<int>(s.shadows)]);
     if (s.aux_map() == AuxMap::Cone || s.aux_map() == AuxMap::Relaxed) d.emplace_back("PR_HEIGHT_FROM_CONE", "1");
     if (s.count_samples) d.emplace_back("PR_COUNT_SAMPLES", "1");
     return d;
@@ -506,6 +505,14 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
         const std::size_t per_base = std::size_t(lv.level) * std::size_t(lv.level);
         const std::size_t batch = std::max<std::size_t>(1, kChunkTriangles / per_base);
         const std::size_t count = so.mesh.triangle_count();
+        // Out of memory, the CPU's or the GPU's: named by what sets its size (the one line was
+        // "scene: out of GPU memory…", or "out of memory" alone, found by an exploratory session).
+        // No object keeps a reference: the memory is given back, and a draw asks for
+        // prepare_reference() again.
+        const auto out_of_memory = [&] {
+            for (GpuObject& each : objects_) each.reference.clear();
+            return reference_out_of_memory(options, count * per_base, lv.level);
+        };
         try {
             for (std::size_t first = 0; first < count; first += batch) {
                 vertices.clear();
@@ -517,14 +524,9 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
                 o.reference.push_back(make_geometry(vertices, indices)); // (GpuOutOfMemory)
             }
         } catch (const std::bad_alloc&) {
-            // Named by what sets its size (the one line was "scene: out of GPU memory…", or "out of
-            // memory" alone, found by an exploratory session). No object keeps a reference: the
-            // memory is given back, and a draw asks for prepare_reference() again.
-            for (GpuObject& each : objects_) each.reference.clear();
-            throw reference_out_of_memory(options, count * per_base, lv.level);
+            throw out_of_memory();
         } catch (const GpuOutOfMemory&) {
-            for (GpuObject& each : objects_) each.reference.clear();
-            throw reference_out_of_memory(options, count * per_base, lv.level);
+            throw out_of_memory();
         }
     }
     stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -179,7 +179,7 @@ bool base_surface_search(Technique t)
 
 bool reads_steps(const DrawSettings& s)
 {
-    if (s.technique == Technique::Flat || s.technique == Technique::Reference) return false;
+    if (!reads_shadows(s)) return false; // (flat and the reference march nothing)
     if (s.shadows != Shadows::None) return true; // the light's march (common/shadow.glsl)
     if (s.technique == Technique::Prism) return s.marcher != Marcher::MaxMip || s.prism_walk();
     return base_surface_search(s.technique);
@@ -196,6 +196,11 @@ bool reads_refine(const DrawSettings& s)
 bool reads_normal_quality(const DrawSettings& s)
 {
     return s.technique != Technique::Flat;
+}
+
+bool reads_shadows(const DrawSettings& s)
+{
+    return s.technique != Technique::Flat && s.technique != Technique::Reference;
 }
 
 bool reads_depth_write(const DrawSettings& s)

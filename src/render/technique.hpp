@@ -104,6 +104,8 @@ bool reads_steps(const DrawSettings& s);
 bool reads_refine(const DrawSettings& s);
 // The normal from the heights: every technique but flat (the mesh's normal).
 bool reads_normal_quality(const DrawSettings& s);
+// Self-shadowing: every technique but flat and the reference.
+bool reads_shadows(const DrawSettings& s);
 // --depth-write: the base-surface techniques that show a point off the polygon (steep, pom,
 // relief, cone, relaxed-cone). Flat, normal and offset show the polygon's own point (its depth
 // is the one written anyway), the reference its own geometry, and the prism always writes the
