@@ -11,23 +11,21 @@
 // promises nothing to it), and a ray steeper than that cone never leaves it, so nothing further
 // on can block it. Each step is at least the linear march's, so it never takes more samples.
 //
-// Soft shadows: a round light of angular radius PR_SOFT_LIGHT_TAN (its tangent; about 1 degree)
-// whose disc rises over the nearest occluder's edge: the light seen along the ray is the smallest
+// Soft shadows: a round light of angular radius u_light_dir.w (its tangent; --light-size is the
+// diameter in degrees, 2 by default) whose disc rises over the nearest occluder's edge: the light seen along the ray is the smallest
 // clearance angle over the disc's diameter, the angle taken in the world (clearance in height
 // units times the depth, over the run in UV units times the world length of one along the ray:
 // g_soft_scale), so that the penumbra is the same whatever the depth and the texture's scale.
 // (Until the twentieth session it was the clearance over the run in texture units, times 6: it
 // narrowed as the depth grew, and darkened flat ground under a low light depending on --depth.)
-#ifndef PR_SOFT_LIGHT_TAN
-#define PR_SOFT_LIGHT_TAN 0.01745
-#endif
+// (The radius was a constant of this file, tan 1 degree, until the twenty-first session.)
 
 float g_soft_scale = 1.0; // world clearance angle per texture-space clearance slope (light_in_texture_space)
 
 // The light seen past a clearance (height units) over a run (UV units) from the start.
 float soft_light(float clearance, float run)
 {
-    return clamp(g_soft_scale * clearance / ((2.0 * PR_SOFT_LIGHT_TAN) * run + 1e-30), 0.0, 1.0);
+    return clamp(g_soft_scale * clearance / ((2.0 * u_light_dir.w) * run + 1e-30), 0.0, 1.0);
 }
 
 // The light a soft shadow leaves above a flat surface: the part of the disc above the base
@@ -104,8 +102,9 @@ int march_light(vec3 origin, vec3 dir, float t_end, float rise, inout float run_
 // covers part of the disc. On, one sample per step as march_light's, until no height (none is
 // above 1) could dim it by more than 1/128 below what `visibility` says, and for at most half the
 // run before the top; not for a light whose disc is partly under the base surface's horizon
-// (under 2 degrees: the horizon dims it, soft_horizon). Such a light rises over a top-high
-// plateau by less than the disc for ever: unbounded, frames took 3 times as long at 1.5 degrees.
+// (lower than its diameter, 2 degrees by default: the horizon dims it, soft_horizon). Such a light
+// rises over a top-high plateau by less than the disc for ever: unbounded, frames took 3 times as
+// long at 1.5 degrees.
 // (The march used to end at the top, and such an occluder cast no penumbra outside its hard
 // shadow.)
 void soft_past_top(vec3 top, vec3 dir, float run_before, inout float visibility, UvGrad g)

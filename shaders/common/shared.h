@@ -86,7 +86,7 @@ PR_UNIFORM_BLOCK(FrameBlock, PR_UBO_FRAME)
     mat4 u_proj;
     mat4 u_view_proj;
     vec4 u_eye;       // xyz: eye position
-    vec4 u_light_dir; // xyz: unit direction towards the light
+    vec4 u_light_dir; // xyz: unit direction towards the light; w: tangent of its angular radius (soft shadows)
     vec4 u_viewport;  // width, height, 1/width, 1/height (pixels)
 };
 

@@ -305,6 +305,12 @@ void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_techn
                    "(none|hard|soft)")
         ->group("Technique")
         ->capture_default_str();
+    o.light_size_flag = app.add_option("--light-size", o.light_size,
+                   "Soft shadows: the light's angular diameter in degrees, more than 0 and at most " +
+                       std::to_string(int(kMaxLightSize)) + " (the sun: about 0.5)")
+        ->check(a_number())
+        ->group("Technique")
+        ->capture_default_str();
     o.depth_write_flag = app.add_flag("--depth-write", o.depth_write,
                  "Base-surface techniques write the depth of the point they show")
         ->group("Technique");
@@ -349,6 +355,10 @@ void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<Draw
     if (given(o.normal_quality_flag) && !any(reads_normal_quality))
         throw Error("--normal-quality",
                     "has no effect: " + drawn + " takes no normal from the heights (flat shades with the mesh's): leave it out");
+    if (given(o.light_size_flag) && !any(reads_light_size))
+        throw Error("--light-size", "has no effect: " + drawn +
+                                        " draws no soft shadows (the light's size shapes --shadows soft only, of "
+                                        "every technique but flat and reference): leave it out");
     if (given(o.depth_write_flag) && !any(reads_depth_write))
         throw Error("--depth-write", "has no effect: " + drawn +
                                          " writes the same depth without it (only steep, pom, relief, cone and "
@@ -436,6 +446,12 @@ DrawSettings make_draw_settings(const TechniqueOptions& o, const std::string& te
     s.normal_quality = parse_normal_quality(o.normal_quality);
     s.depth_write = o.depth_write;
     s.shadows = parse_shadows(o.shadows, "--shadows");
+    // (Not past the model: the light is the part of its disc above the occluder's edge over the
+    // disc's diameter, a small-angle estimate.)
+    if (!(o.light_size > 0.0 && o.light_size <= double(kMaxLightSize)))
+        throw Error("--light-size", "must be more than 0 and at most " + std::to_string(int(kMaxLightSize)) +
+                                        " degrees (--shadows hard is a point light)");
+    s.light_size = static_cast<float>(o.light_size);
     return s;
 }
 

@@ -58,6 +58,7 @@ struct TechniqueOptions {
     const CLI::Option* prism_shell_flag = nullptr;
     bool depth_write = false;
     std::string shadows = "none";
+    double light_size = kDefaultLightSize; // degrees
     int reference_level = 0; // 0: automatic
     std::size_t reference_max_triangles = ReferenceOptions{}.max_triangles;
     // These flags too, given or not: one that nothing drawn reads is refused
@@ -66,6 +67,7 @@ struct TechniqueOptions {
     const CLI::Option* refine_flag = nullptr;
     const CLI::Option* normal_quality_flag = nullptr;
     const CLI::Option* depth_write_flag = nullptr;
+    const CLI::Option* light_size_flag = nullptr;
     const CLI::Option* reference_level_flag = nullptr;
     const CLI::Option* reference_max_triangles_flag = nullptr;
 };
@@ -142,7 +144,7 @@ void check_prism_flags_apply(const TechniqueOptions& o, bool any_prism, const st
 // error ("--technique flat", "--techniques flat,pom"). In this order:
 // - --shadows hard|soft where every technique is flat or reference, which shade none (--shadows
 //   none asks for nothing, and is taken anywhere);
-// - --steps, --refine, --normal-quality and --depth-write where no draw reads them
+// - --steps, --refine, --normal-quality, --depth-write and --light-size where no draw reads them
 //   (reads_steps and the others, render/technique.hpp);
 // - --reference-level and --reference-max-triangles where the reference is not drawn (compare
 //   always draws it).

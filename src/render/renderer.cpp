@@ -824,10 +824,11 @@ void Renderer::use_reversed_depth()
     glDepthFunc(GL_GREATER);
 }
 
-void Renderer::upload_frame(const Camera& camera, glm::vec3 light_dir, glm::vec2 pixel_offset)
+void Renderer::upload_frame(const Camera& camera, glm::vec3 light_dir, glm::vec2 pixel_offset, float light_size)
 {
     frame_camera_ = camera;
     frame_light_ = light_dir;
+    frame_light_tan_ = static_cast<float>(std::tan(glm::radians(0.5 * double(light_size))));
     frame_offset_ = pixel_offset;
     upload_frame_block(glm::dvec3(0.0));
     glBindBufferBase(GL_UNIFORM_BUFFER, PR_UBO_FRAME, frame_ubo_.id());
@@ -846,7 +847,7 @@ void Renderer::upload_frame_block(const glm::dvec3& origin)
     frame.u_proj = glm::translate(glm::mat4(1.0f), glm::vec3(shift, 0.0f)) * camera.projection(aspect);
     frame.u_view_proj = frame.u_proj * frame.u_view;
     frame.u_eye = glm::vec4(glm::vec3(glm::dvec3(camera.eye) - origin), 1.0f);
-    frame.u_light_dir = glm::vec4(frame_light_, 0.0f);
+    frame.u_light_dir = glm::vec4(frame_light_, frame_light_tan_);
     frame.u_viewport = glm::vec4(width_, height_, 1.0f / width_, 1.0f / height_);
     glNamedBufferSubData(frame_ubo_.id(), 0, sizeof(frame), &frame);
 }
@@ -897,7 +898,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         for (std::size_t k = 0; k < objects_.size(); ++k)
             cull_back[k] = glm::distance(camera.eye, objects_[k].shell_center) > double(objects_[k].shell_radius) &&
                            closed_shell(objects_[k]);
-    upload_frame(camera, glm::normalize(light_dir), settings.pixel_offset);
+    upload_frame(camera, glm::normalize(light_dir), settings.pixel_offset, settings.light_size);
     if (settings.count_samples) {
         const GLuint zero = 0;
         glClearNamedBufferData(counters_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);

@@ -266,12 +266,15 @@ private:
     // GL_GREATER, cleared to 0). Set before every draw: the viewer's panel shares the context.
     static void use_reversed_depth();
     // Fills and binds the frame block (camera, light, viewport) and binds the object block.
-    void upload_frame(const Camera& camera, glm::vec3 light_dir, glm::vec2 pixel_offset = glm::vec2(0.0f));
+    // `light_size`: the light's angular diameter in degrees (soft shadows, DrawSettings::light_size).
+    void upload_frame(const Camera& camera, glm::vec3 light_dir, glm::vec2 pixel_offset = glm::vec2(0.0f),
+                      float light_size = kDefaultLightSize);
     // The frame block of upload_frame()'s camera, light and shift with its origin at `origin`
     // (an object's frame, GpuObject::origin): upload_object() calls it for each object.
     void upload_frame_block(const glm::dvec3& origin);
     Camera frame_camera_;
     glm::vec3 frame_light_{0.0f, 1.0f, 0.0f};
+    float frame_light_tan_ = 0.0f; // tangent of the light's angular radius
     glm::vec2 frame_offset_{0.0f};
     // Fills the object block for `o` drawn with `settings` (draw() and draw_overlay()).
     // `eye`: the prism that holds the eye, for the walk from the eye (ShellDraw::FromEye).

@@ -203,6 +203,11 @@ bool reads_shadows(const DrawSettings& s)
     return s.technique != Technique::Flat && s.technique != Technique::Reference;
 }
 
+bool reads_light_size(const DrawSettings& s)
+{
+    return reads_shadows(s) && s.shadows == Shadows::Soft;
+}
+
 bool reads_depth_write(const DrawSettings& s)
 {
     return base_surface_search(s.technique);

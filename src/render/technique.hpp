@@ -59,6 +59,10 @@ enum class AuxMap { None, Cone, Relaxed, MaxMip };
 // offers.
 constexpr int kMaxSteps = 1024;
 constexpr int kMaxRefine = 32;
+// Soft shadows' light: its angular diameter in degrees (--light-size), the default and the range
+// the command line and the viewer's panel take (more than 0, at most kMaxLightSize).
+constexpr float kDefaultLightSize = 2.0f;
+constexpr float kMaxLightSize = 30.0f;
 
 struct DrawSettings {
     Technique technique = Technique::Relief;
@@ -69,6 +73,7 @@ struct DrawSettings {
     bool full_shell = false; // walk: top caps at height 1, not at the field's local maximum (shell_bounds.hpp)
     NormalQuality normal_quality = NormalQuality::Sobel;
     Shadows shadows = Shadows::None;
+    float light_size = kDefaultLightSize; // soft shadows: the light's angular diameter, degrees
     bool depth_write = false; // base-surface techniques: write the depth of what they show
     bool count_samples = false; // instrumented variant (bench)
     // The image shifted by this much (pixels, x right, y up): one pass of multisampling
@@ -106,6 +111,8 @@ bool reads_refine(const DrawSettings& s);
 bool reads_normal_quality(const DrawSettings& s);
 // Self-shadowing: every technique but flat and the reference.
 bool reads_shadows(const DrawSettings& s);
+// The light's size: soft shadows only (of the techniques that shade any).
+bool reads_light_size(const DrawSettings& s);
 // --depth-write: the base-surface techniques that show a point off the polygon (steep, pom,
 // relief, cone, relaxed-cone). Flat, normal and offset show the polygon's own point (its depth
 // is the one written anyway), the reference its own geometry, and the prism always writes the

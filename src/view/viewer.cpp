@@ -751,6 +751,12 @@ void Viewer::draw_panel()
         static const char* shadows[] = {"none", "hard", "soft"};
         int sh = int(half_[0].shadows);
         changed |= ImGui::Combo("shadows", &sh, shadows, 3);
+        float light_size = half_[0].light_size;
+        if (sh == int(Shadows::Soft)) {
+            changed |= ImGui::SliderFloat("light size", &light_size, 0.1f, kMaxLightSize, "%.2f deg",
+                                          ImGuiSliderFlags_Logarithmic);
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("The light's angular diameter (--light-size; the sun: about 0.5)");
+        }
         bool depth_write = half_[0].depth_write;
         changed |= ImGui::Checkbox("depth write", &depth_write);
         if (changed) {
@@ -759,6 +765,7 @@ void Viewer::draw_panel()
                 d.refine = refine;
                 d.normal_quality = parse_normal_quality(qualities[q]);
                 d.shadows = parse_shadows(shadows[sh]);
+                d.light_size = light_size;
                 d.depth_write = depth_write;
             }
             dirty_ = true;

@@ -214,6 +214,24 @@ pr_cli(depth_write_with_prism EXIT 1 ONE_LINE NO_FILE o.png STDERR "${E}--depth-
        ARGS render ${TQ} --technique prism --depth-write --out o.png)
 pr_cli(depth_write_with_offset EXIT 1 ONE_LINE NO_FILE b.json STDERR "${E}--depth-write: has no effect: --techniques flat,normal,offset writes the same depth"
        ARGS bench ${TQ} --techniques flat,normal,offset --depth-write --frames 1 --warmup 0 --json b.json)
+# --light-size (the soft light's angular diameter, degrees) where no soft shadow is drawn; out of
+# its range; and taken by one technique of a list with soft shadows.
+pr_cli(light_size_with_hard_shadows EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}--light-size: has no effect: --technique pom draws no soft shadows \\(the light's size shapes --shadows soft only, of every technique but flat and reference\\): leave it out"
+       ARGS render ${TQ} --technique pom --shadows hard --light-size 4 --out o.png)
+pr_cli(light_size_without_shadows EXIT 1 ONE_LINE NO_FILE b.json STDERR "${E}--light-size: has no effect: --techniques pom,prism draws no soft shadows"
+       ARGS bench ${TQ} --techniques pom,prism --light-size 4 --frames 1 --warmup 0 --json b.json)
+foreach(bad 0 -1 30.5 nan inf)
+    pr_cli(light_size_${bad} EXIT 1 ONE_LINE NO_FILE o.png
+           STDERR "${E}--light-size: must be more than 0 and at most 30 degrees \\(--shadows hard is a point light\\)"
+           ARGS render ${TQ} --technique pom --shadows soft --light-size ${bad} --out o.png)
+endforeach()
+pr_cli(light_size_taken_by_one_technique EXIT 0 EXPECT_FILE c.json
+       ARGS compare ${TQ} --techniques flat,pom --shadows soft --light-size 0.53 --json c.json)
+pr_cli(light_size_in_render_json EXIT 0 EXPECT_FILE o.png JSON o.json CHECKS "shadows:STREQUAL:soft|light_size:GREATER:0.5299|light_size:LESS:0.5301"
+       ARGS render ${TQ} --technique pom --shadows soft --light-size 0.53 --out o.png --json o.json)
+pr_cli(no_light_size_in_render_json_with_hard_shadows EXIT 0 EXPECT_FILE o.png JSON o.json CHECKS "shadows:STREQUAL:hard|light_size:ABSENT"
+       ARGS render ${TQ} --technique pom --shadows hard --out o.png --json o.json)
 # compare draws the reference as well, which takes no --depth-write either.
 pr_cli(compare_depth_write_with_flat EXIT 1 ONE_LINE NO_FILE c.json
        STDERR "${E}--depth-write: has no effect: --techniques flat writes the same depth without it"

@@ -5,6 +5,7 @@
 #   ONE_LINE (optional: stderr must be exactly one line), TIMEOUT (seconds, default 120),
 #   JSON_FILE + JSON_CHECKS (optional): checks "path:OP:value" separated by '|', path in dots
 #   (results.1.iou), OP one of LESS GREATER EQUAL LESS_EQUAL GREATER_EQUAL STREQUAL EXISTS TYPE (NULL, NUMBER, …)
+#   ABSENT (no value: path:ABSENT)
 #   SETUP (optional): a shell command run in a fresh, empty WORKDIR before the run; exit 77 skips the
 #   test (it prints "SKIPPED: " and the command's output: register the test with that as its
 #   SKIP_REGULAR_EXPRESSION), for what a machine may not allow (another user, a device node).
@@ -96,6 +97,12 @@ if(JSON_FILE)
         list(GET parts 1 op)
         string(REPLACE "." ";" keys "${path}")
         string(JSON value ERROR_VARIABLE jerr GET "${json}" ${keys})
+        if(op STREQUAL "ABSENT")
+            if(NOT jerr)
+                message(FATAL_ERROR "${JSON_FILE}: ${path} = ${value}, expected none\n${ctx}")
+            endif()
+            continue()
+        endif()
         if(jerr)
             message(FATAL_ERROR "${JSON_FILE}: ${path} missing (${jerr})\n${ctx}")
         endif()

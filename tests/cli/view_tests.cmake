@@ -104,5 +104,5 @@ if(TARGET pr_view)
     # dropped on it: kept (the options are checked, and the mesh read, before the window opens).
     pr_cli(view_keeps_quality_flags EXIT 1 ONE_LINE STDERR "${E}view: cannot open a window" ENV DISPLAY= WAYLAND_DISPLAY=
            ARGS view --mesh ${M}/torus.obj --technique flat --steps 8 --refine 2 --normal-quality gather --depth-write
-                --shadows hard --reference-level 2 --reference-max-triangles 1000 --uv-scale 4 --frames 1)
+                --shadows hard --light-size 4 --reference-level 2 --reference-max-triangles 1000 --uv-scale 4 --frames 1)
 endif()

@@ -422,6 +422,62 @@ TEST(Shadows, SoftShadowsAreALightOfAFixedSizeInTheWorld)
         }
 }
 
+// --light-size is the soft light's angular diameter: a box's penumbra widens with it (and is
+// never lighter than the hard shadow), flat ground under a light 5 degrees up is dimmed by a disc
+// 16 degrees across, which the horizon cuts, and not by one of 2; hard shadows do not read it.
+TEST(Shadows, TheLightSizeSetsThePenumbra)
+{
+    prtest::context();
+    Renderer r(128, 128);
+    r.set_cache_dir(prtest::cache_dir());
+    const Camera c = top_down_camera(4.0f, 35.0f);
+    const auto toward = [](float elevation_deg) {
+        const float e = glm::radians(elevation_deg);
+        return glm::vec3(std::cos(e), 0.0f, std::sin(e));
+    };
+    const Scene ground = prtest::one_object(prtest::square(), prtest::height_from(64, [](float, float) { return 0.5f; }), 0.1f);
+    const Scene tall = prtest::one_object(prtest::square(), prtest::height_from(128, [](float u, float v) {
+        return std::abs(u - 0.5f) < 0.1f && std::abs(v - 0.5f) < 0.1f ? 1.0f : 0.0f;
+    }), 0.3f); // (a penumbra a few pixels deep at 2 degrees)
+    for (Technique t : {Technique::Relief, Technique::RelaxedCone, Technique::Prism}) {
+        const std::string what = technique_name(t);
+        const auto draw = [&](const Scene& scene, glm::vec3 light, Shadows mode, float size) {
+            r.upload(scene);
+            DrawSettings s = settings(t, Marcher::Relief);
+            s.shadows = mode;
+            s.light_size = size;
+            r.draw(c, light, s);
+            return r.read_color();
+        };
+        const RgbaImage hard = draw(tall, toward(25.0f), Shadows::Hard, 2.0f);
+        EXPECT_EQ(draw(tall, toward(25.0f), Shadows::Hard, 12.0f).pixels, hard.pixels) << what;
+        int previous = 0;
+        for (float size : {2.0f, 6.0f, 18.0f}) {
+            const RgbaImage soft = draw(tall, toward(25.0f), Shadows::Soft, size);
+            int penumbra = 0, lighter = 0;
+            for (std::size_t p = 0; p < hard.pixels.size() / 4; ++p) {
+                penumbra += rgb_sum(soft, p) + 6 < rgb_sum(hard, p);
+                lighter += rgb_sum(soft, p) > rgb_sum(hard, p);
+            }
+            // (Wider, until the square's edge cuts it: at 18 degrees it would reach 2.4 units
+            // behind the box, past the edge 0.8 units on; the prism 62, 184, 212 pixels.)
+            EXPECT_GT(penumbra, previous + 20) << what << " light size " << size << ": " << penumbra
+                                               << " pixels in the penumbra";
+            EXPECT_EQ(lighter, 0) << what << " light size " << size;
+            previous = penumbra;
+        }
+        const RgbaImage lit = draw(ground, toward(5.0f), Shadows::Hard, 2.0f);
+        EXPECT_EQ(draw(ground, toward(5.0f), Shadows::Soft, 2.0f).pixels, lit.pixels) << what;
+        const RgbaImage wide = draw(ground, toward(5.0f), Shadows::Soft, 16.0f);
+        int dimmed = 0, covered = 0;
+        for (std::size_t p = 0; p < lit.pixels.size() / 4; ++p) {
+            covered += lit.pixels[4 * p + 3] > 0;
+            dimmed += lit.pixels[4 * p + 3] > 0 && rgb_sum(wide, p) + 6 < rgb_sum(lit, p);
+        }
+        EXPECT_GT(dimmed, covered * 9 / 10) << what;
+    }
+}
+
 // The prism's light ray walks the prisms as its view ray does, so only heights the mesh shows cast
 // shadows: a square whose uvs cover 0.05..0.8 of a map whose only relief, a wall, stands at
 // u 0.85..0.95, is a flat floor, lit all over by a light low from the wall's side. Marched through

@@ -88,6 +88,12 @@ TEST(TechniqueUse, ASettingADrawDoesNotReadChangesNothing)
         s.shadows = Shadows::Hard;
         configurations.push_back(s);
     }
+    // Soft shadows read the light's size.
+    configurations.push_back(technique(Technique::Relief, Shadows::Soft));
+    for (DrawSettings s : {prism(Marcher::RelaxedCone, PrismExit::Walk)}) {
+        s.shadows = Shadows::Soft;
+        configurations.push_back(s);
+    }
 
     struct Setting {
         const char* name;
@@ -99,6 +105,7 @@ TEST(TechniqueUse, ASettingADrawDoesNotReadChangesNothing)
         {"refine", reads_refine, [](DrawSettings& s) { s.refine = 0; }},
         {"normal_quality", reads_normal_quality, [](DrawSettings& s) { s.normal_quality = NormalQuality::Gather; }},
         {"depth_write", reads_depth_write, [](DrawSettings& s) { s.depth_write = true; }},
+        {"light_size", reads_light_size, [](DrawSettings& s) { s.light_size = 10.0f; }},
     };
     for (const DrawSettings& base : configurations) {
         const std::string name = configuration_name(base) + (base.shadows != Shadows::None ? " with shadows" : "");
@@ -143,4 +150,8 @@ TEST(TechniqueUse, WhatEachTechniqueReads)
     EXPECT_FALSE(reads_depth_write(technique(Technique::Reference)));
     EXPECT_FALSE(reads_depth_write(prism(Marcher::Relief, PrismExit::Walk)));
     EXPECT_TRUE(reads_depth_write(technique(Technique::Steep)));
+
+    EXPECT_FALSE(reads_light_size(technique(Technique::Pom, Shadows::Hard)));
+    EXPECT_FALSE(reads_light_size(technique(Technique::Flat, Shadows::Soft)));
+    EXPECT_TRUE(reads_light_size(technique(Technique::Offset, Shadows::Soft)));
 }
