@@ -28,6 +28,13 @@ float soft_light(float clearance, float run)
     return clamp(g_soft_scale * clearance / ((2.0 * u_light_dir.w) * run + 1e-30), 0.0, 1.0);
 }
 
+// soft_light's clearance-to-run ratio that lets the whole disc through, inverted: the light seen
+// is min(1, soft_gain() * clearance / run).
+float soft_gain()
+{
+    return g_soft_scale / max(2.0 * u_light_dir.w, 1e-30);
+}
+
 // The light a soft shadow leaves above a flat surface: the part of the disc above the base
 // surface's horizon (`l_tex` in texture space: its slope). 1 with hard shadows.
 float soft_horizon(vec3 l_tex)
@@ -84,12 +91,29 @@ int march_light(vec3 origin, vec3 dir, float t_end, float rise, inout float run_
         if (visibility <= 0.0) return PR_LIGHT_BLOCKED;
 #endif
 #ifdef PR_HEIGHT_FROM_CONE
+        float denom = run - hc.z * dir.z;
+#if PR_SHADOWS == PR_SHADOWS_HARD
         // Steeper than the cone: it stays inside, and nothing further on along this straight
         // stretch can block it. (Only this stretch: the prism's light walk goes on in the next
         // prism's texture frame, where the ray's slope may be less.)
-        float denom = run - hc.z * dir.z;
         if (denom <= 0.0) break;
         t += max(hc.z * (p.z - hc.x) / denom, dt);
+#else
+        // Soft: the cone bounds the heights s further on by hc.x + s * run / c, so the clearance
+        // there is at least clearance - s * denom / c, and the light seen there at least
+        // soft_light of that over the run. The step goes as far as that bound leaves at least
+        // `visibility` (both sides times c: a cone of 0 steps dt), short of the cone's own exit:
+        // a near miss that would dim the light more is sampled, not stepped over. (The hard step
+        // went through such misses: behind a wall lower than the range, the cone marchers drew
+        // no penumbra at all where relief drew one.) Where the bound never falls below
+        // `visibility` (a ray steeper than the cone, rising fast enough), nothing further on along
+        // this stretch dims the light more.
+        float gain = soft_gain();
+        float margin = hc.z * (gain * clearance - visibility * (run_before + t * run));
+        float shrink = gain * denom + hc.z * visibility * run;
+        if (shrink <= 0.0) break;
+        t += max(margin / shrink, dt);
+#endif
 #endif
     }
     run_before += t_end * run;
