@@ -93,6 +93,18 @@ if(CASE STREQUAL "single")
     endif()
     run_render(${torus} --technique prism --out render.png)
     check(same view.png render.png 4)
+    # Soft shadows with a light size: the viewer draws them as render does (and the size matters
+    # here: the images at sizes 8 and 2 differ).
+    set(soft --technique relaxed-cone --shadows soft --light 1,0.35,0.2)
+    run_view(${torus} ${soft} --light-size 8 --frames 2 --screenshot soft_view.png)
+    run_render(${torus} ${soft} --light-size 8 --out soft.png)
+    check(same soft_view.png soft.png 4)
+    run_render(${torus} ${soft} --out soft_default.png)
+    execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${WORKDIR}/soft.png ${WORKDIR}/soft_default.png
+                    RESULT_VARIABLE soft_same)
+    if(soft_same EQUAL 0)
+        message(FATAL_ERROR "--light-size 8 drew the default light's image")
+    endif()
     # A lower render scale is scaled up without blending: alpha stays coverage.
     run_view(${torus} --technique pom --render-scale 0.5 --frames 2 --screenshot half.png)
     check(binary half.png)
