@@ -80,6 +80,7 @@ CommandAction add_bench_command(CLI::App& app)
         Session session = open_session(s->scene, {{"--json", s->json}});
         Renderer& r = *session.renderer;
         for (const TechniqueRun& run : runs) r.check_drawable(run.settings, "--techniques");
+        release_warnings(); // every input accepted (core/error.hpp)
         for (const TechniqueRun& run : runs)
             if (run.settings.technique == Technique::Reference) {
                 r.prepare_reference(session.scene, session.camera, ref_options);

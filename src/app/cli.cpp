@@ -158,18 +158,23 @@ int run_cli(int argc, char** argv)
             running = all[i]->get_name();
             if (scene_missing(*all[i])) return kExitUsage;
             refuse_empty_file_names(*all[i]);
+            hold_warnings(); // until the command has accepted its inputs (release_warnings)
             const int status = actions[i]();
+            release_warnings();
             return status == kExitOk ? check_stdout() : status;
         }
         return kExitUsage;
     } catch (const Error& e) {
+        drop_warnings(); // (those of inputs read before bad input was found: it is one line alone)
         // One line, whatever the names it quotes hold; a compiler's log after it.
         std::fprintf(stderr, "prismrelief: error: %s\n", one_line(e.subject() + ": " + e.problem()).c_str());
         if (!e.detail().empty()) std::fprintf(stderr, "%s\n", e.detail().c_str());
     } catch (const std::bad_alloc&) {
+        drop_warnings();
         // Where no step named its input (a map, a mesh, the reference: those do), the command.
         std::fprintf(stderr, "prismrelief: error: %s: out of memory\n", running.c_str());
     } catch (const std::exception& e) {
+        drop_warnings();
         std::fprintf(stderr, "prismrelief: error: %s\n", one_line(e.what()).c_str());
     }
     return kExitFailure;

@@ -112,6 +112,7 @@ CommandAction add_compare_command(CLI::App& app)
         };
         Session session = open_session(s->scene, outputs, {}, check_grid);
         for (const TechniqueRun& run : runs) session.renderer->check_drawable(run.settings, "--techniques");
+        release_warnings(); // every input accepted (core/error.hpp)
 
         const auto ref_stats = session.renderer->prepare_reference(session.scene, session.camera, ref_options);
         double ref_ms = 0.0;

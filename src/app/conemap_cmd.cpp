@@ -88,6 +88,7 @@ CommandAction add_conemap_command(CLI::App& app)
         // before a cache hit: the process would only wait for it at exit.
         if (gpu && s->no_cache) preload_backend(gl_backend);
         const HeightField field = load_height(s->height);
+        release_warnings(); // every input accepted (core/error.hpp)
 
         ProgressBar bar("conemap");
         options.progress = [&bar](double f) { bar(f); };

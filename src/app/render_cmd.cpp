@@ -49,6 +49,8 @@ CommandAction add_render_command(CLI::App& app)
         if (!s->json.empty()) check_output_folder(s->json);
         Session session = open_session(s->scene, {{"--out", s->out}, {"--json", s->json}});
         Renderer& renderer = *session.renderer;
+        renderer.check_drawable(settings);
+        release_warnings(); // every input accepted (core/error.hpp)
         Renderer::ReferenceStats stats;
         if (settings.technique == Technique::Reference) {
             stats = renderer.prepare_reference(session.scene, session.camera, ref);

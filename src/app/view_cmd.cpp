@@ -157,6 +157,7 @@ CommandAction add_view_command(CLI::App& app)
             for (NamedPath& shader : shader_override_inputs()) inputs.emplace_back("--shader-dir", std::move(shader.second));
         check_distinct_outputs({{"--screenshot", s->screenshot}}, inputs);
         Session session = open_session(s->scene, {{"--screenshot", s->screenshot}}, open_window);
+        release_warnings(); // every input accepted (core/error.hpp): the window shows them from here
         return view::run_viewer(session, *window, o);
 #endif
     };

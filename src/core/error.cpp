@@ -5,15 +5,59 @@
 #include <mutex>
 #include <set>
 #include <string>
+#include <vector>
 
 namespace pr {
 
+namespace {
+
+struct Warnings {
+    std::mutex mutex;
+    std::set<std::string> said;
+    bool holding = false;
+    std::vector<std::string> held; // lines, in order
+};
+
+Warnings& warnings()
+{
+    static Warnings w;
+    return w;
+}
+
+} // namespace
+
 void warn(const std::string& message)
 {
-    static std::mutex mutex;
-    static std::set<std::string> said;
-    std::lock_guard lock(mutex);
-    if (said.insert(message).second) std::fprintf(stderr, "prismrelief: warning: %s\n", one_line(message).c_str());
+    Warnings& w = warnings();
+    std::lock_guard lock(w.mutex);
+    if (!w.said.insert(message).second) return;
+    const std::string line = "prismrelief: warning: " + one_line(message) + "\n";
+    if (w.holding) w.held.push_back(line);
+    else std::fputs(line.c_str(), stderr);
+}
+
+void hold_warnings()
+{
+    Warnings& w = warnings();
+    std::lock_guard lock(w.mutex);
+    w.holding = true;
+}
+
+void release_warnings()
+{
+    Warnings& w = warnings();
+    std::lock_guard lock(w.mutex);
+    for (const std::string& line : w.held) std::fputs(line.c_str(), stderr);
+    w.held.clear();
+    w.holding = false;
+}
+
+void drop_warnings()
+{
+    Warnings& w = warnings();
+    std::lock_guard lock(w.mutex);
+    w.held.clear();
+    w.holding = false;
 }
 
 namespace {

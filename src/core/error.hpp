@@ -33,6 +33,15 @@ enum ExitCode : int { kExitOk = 0, kExitFailure = 1, kExitUsage = 2 };
 // printed as "prismrelief: warning: ..." on stderr, once each (as one line: one_line()).
 void warn(const std::string& message);
 
+// Warnings while a command reads and checks its inputs are held (hold_warnings, run_cli) and
+// printed when the command has accepted them all (release_warnings; at the latest when it
+// returns): bad input found among them is then the one line on stderr the contract gives it, not
+// that line after the warnings of the inputs read before it (a mesh's "no texture coordinates"
+// above a missing height map's error). A failure while they are held drops them (drop_warnings).
+void hold_warnings();
+void release_warnings();
+void drop_warnings();
+
 // `text` with its control characters written out ("\n", "\r", "\t", else "\xNN"), so that a
 // message quoting a file name or a value that holds a line break stays one line on stderr; past
 // kLongestLine bytes, its middle is left out (and said so).

@@ -1227,7 +1227,8 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         }
         if (non_manifold > 0)
             warn(name + ": " + std::to_string(non_manifold) +
-                 " edges are shared by more than two faces (non-manifold); rendered as they are");
+                 (non_manifold == 1 ? " edge is" : " edges are") +
+                 " shared by more than two faces (non-manifold); rendered as they are");
         if (flipped > 0)
             warn(name + ": " + std::to_string(flipped) +
                  " edges join faces of opposite orientation; welded normals may cancel there");

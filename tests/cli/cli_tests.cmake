@@ -292,8 +292,15 @@ foreach(case "nan_coordinate.obj|line 2: vertex position is not three finite num
     pr_cli(bad_${id} EXIT 1 ONE_LINE STDERR "${E}.*${file}: ${message}" NO_FILE o.png
            ARGS render --mesh ${BAD}/${file} --technique prism --size 48x48 --out o.png)
 endforeach()
-pr_cli(odd_non_manifold EXIT 0 EXPECT_FILE o.png STDERR "warning: .*non_manifold.obj: 1 edges are shared by more than two faces"
+pr_cli(odd_non_manifold EXIT 0 EXPECT_FILE o.png STDERR "warning: .*non_manifold.obj: 1 edge is shared by more than two faces"
        ARGS render --mesh ${BAD}/non_manifold.obj --technique prism --size 48x48 --out o.png)
+# Bad input after an odd one is the one line the contract gives it: the warnings of the inputs
+# read before it are held until every input is accepted, and dropped on failure (they came
+# first: a missing height map's error was the third line, after the mesh's two warnings).
+pr_cli(odd_mesh_then_missing_height EXIT 1 ONE_LINE NO_FILE o.png STDERR "${E}.*nonexistent.png: cannot open"
+       ARGS render --mesh ${BAD}/non_manifold.obj --height nonexistent.png --size 48x48 --out o.png)
+pr_cli(odd_mesh_then_a_shell_too_large EXIT 1 ONE_LINE NO_FILE c.json STDERR "${E}--techniques: prism: an object's displacement shell is"
+       ARGS compare --mesh ${BAD}/flipped_face.obj --depth 1e15 --techniques pom,prism --size 48x48 --json c.json)
 pr_cli(odd_flipped_face EXIT 0 EXPECT_FILE o.png STDERR "warning: .*flipped_face.obj: 1 face wound against its neighbours \\(the welded normals cancel there\\) turned"
        ARGS render --mesh ${BAD}/flipped_face.obj --technique pom --size 48x48 --out o.png)
 pr_cli(odd_duplicate_vertices EXIT 0 EXPECT_FILE o.png STDOUT "o.png: 48x48 prism"

@@ -934,7 +934,7 @@ TEST(MeshLoad, ClosedPiecesWoundInwardTouchingAtAnEdgeAreReversed)
                         "f 1 2 5\nf 1 6 2\nf 1 5 6\nf 2 6 5\n"));
     const std::string warnings = ::testing::internal::GetCapturedStderr();
     EXPECT_NE(warnings.find("wind clockwise seen from outside"), std::string::npos) << warnings;
-    EXPECT_NE(warnings.find("1 edges are shared by more than two faces"), std::string::npos) << warnings;
+    EXPECT_NE(warnings.find("1 edge is shared by more than two faces"), std::string::npos) << warnings;
     expect_sane(m);
     for (std::size_t t = 0; t < m.triangle_count(); ++t) {
         const glm::vec3 a = m.vertices[m.indices[3 * t]].position;
