@@ -21,6 +21,25 @@ in vec3 v_bitangent;
 
 layout(location = 0) out vec4 o_color;
 
+#if PR_TECHNIQUE == PR_TECH_REFERENCE && defined(PR_SHADOWS)
+// The reference's hard shadows: the true displaced geometry's own, from a shadow map of it drawn
+// from the light (Renderer::ensure_shadow_map). A point is moved off its triangle towards the light
+// by about a texel of the map and compared a texel nearer, so that a surface does not shadow
+// itself; points outside the map (none: it spans the scene) are lit.
+layout(binding = PR_TEX_SHADOW_MAP) uniform sampler2DShadow s_shadow_map;
+
+float reference_visibility(vec3 world, vec3 light_dir)
+{
+    vec3 face = cross(dFdx(world), dFdy(world));
+    face = dot(face, face) > 0.0 ? normalize(face) : vec3(0.0);
+    if (dot(face, light_dir) < 0.0) face = -face;
+    vec4 clip = u_shadow * vec4(world + u_shadow_bias.x * face, 1.0);
+    vec3 p = vec3(clip.xy / clip.w * 0.5 + 0.5, clip.z / clip.w);
+    if (any(lessThan(p, vec3(0.0))) || any(greaterThan(p, vec3(1.0)))) return 1.0;
+    return texture(s_shadow_map, vec3(p.xy, p.z - u_shadow_bias.y));
+}
+#endif
+
 
 void main()
 {
@@ -95,7 +114,9 @@ void main()
     vec3 to_eye = -normalize(view);
     vec3 light_dir = normalize(u_light_dir.xyz);
     float visibility = 1.0;
-#if defined(PR_SHADOWS) && PR_TECHNIQUE != PR_TECH_FLAT
+#if defined(PR_SHADOWS) && PR_TECHNIQUE == PR_TECH_REFERENCE
+    if (dot(n, light_dir) > 0.0) visibility = reference_visibility(v_world_pos, light_dir);
+#elif defined(PR_SHADOWS) && PR_TECHNIQUE != PR_TECH_FLAT
 #if PR_TECHNIQUE == PR_TECH_NORMAL || PR_TECHNIQUE == PR_TECH_OFFSET || PR_TECHNIQUE == PR_TECH_STEEP
     // The point shown is not on the height field: the polygon (normal), a point shifted by the
     // offset of another texel's height (offset), the first sample under the surface (steep). The

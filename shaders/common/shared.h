@@ -36,6 +36,7 @@ using mat4 = glm::mat4;
 #define PR_TEX_CORNERS 6   // rgba32ui, three texels per vertex: vec4(bottom corner, u), vec4(unit N, v),
                            // vec4(top height, weld, 0, 0) (floats as bits); walk only
 #define PR_TEX_PRISM_LIST 7 // r32ui: prisms drawn one point each (the folded ones; the second pass's, prism.geom)
+#define PR_TEX_SHADOW_MAP 8 // depth32f with comparison: the reference's shadow map (its hard shadows, surface.frag)
 #define PR_SSBO_COUNTERS 0
 #define PR_IMAGE_TEARS 0    // r32ui, per pixel: 1 where a walk went into the object through a tear (prism walk, torn meshes)
 #define PR_IMAGE_TEAR_TILES 1 // r32ui, the same per tile of PR_TEAR_TILE^2 pixels (the second pass's culling)
@@ -102,6 +103,11 @@ PR_UNIFORM_BLOCK(ObjectBlock, PR_UBO_OBJECT)
     vec4 u_base_color;    // albedo when there is no colour texture (rgb), a unused
     vec4 u_eye_tex;       // xyz: the eye in that prism's texture space (u, v, height); w unused
     ivec4 u_walk;         // x: the most prisms a walk crosses before it gives up; yzw unused
+    // The reference with shadows: its shadow map's projection of this object's frame (clip space,
+    // depth 0..1 from the light), and x: how far a point is moved off its triangle towards the
+    // light before the look-up, y: the depth bias (both about a texel of the map); zw unused.
+    mat4 u_shadow;
+    vec4 u_shadow_bias;
 };
 
 #ifdef __cplusplus

@@ -342,7 +342,7 @@ void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<Draw
         return std::any_of(drawn_settings.begin(), drawn_settings.end(), reads);
     };
     if (parse_shadows(o.shadows, "--shadows") != Shadows::None && !any(reads_shadows))
-        throw Error("--shadows", "has no effect: " + drawn + " draws no self-shadowing (flat and reference never do)");
+        throw Error("--shadows", "has no effect: " + drawn + " draws no self-shadowing (flat never does; the reference hard shadows only)");
     const auto given = [](const CLI::Option* flag) { return flag != nullptr && flag->count() > 0; };
     if (given(o.steps_flag) && !any(reads_steps))
         throw Error("--steps", "has no effect: " + drawn +

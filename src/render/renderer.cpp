@@ -389,6 +389,7 @@ void Renderer::resize(int width, int height)
 
 void Renderer::upload(const Scene& scene)
 {
+    shadow_light_.reset();
     objects_.clear();
     texture_cache_.clear();
     aux_cache_.clear();
@@ -485,6 +486,7 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
     if (scene.objects.size() != objects_.size())
         throw Error("reference", "the scene was not uploaded to this renderer");
     const auto start = std::chrono::steady_clock::now();
+    shadow_light_.reset();
     ReferenceStats stats;
     constexpr std::size_t kChunkTriangles = 1u << 20; // output triangles per upload
     std::vector<MeshVertex> vertices;
@@ -814,7 +816,73 @@ void Renderer::upload_object(const GpuObject& o, const DrawSettings& settings, f
     ob.u_walk = glm::ivec4(o.walk_max_prisms, 0, 0, 0);
     ob.u_material = glm::vec4(0.12f, 0.88f, 0.18f, 48.0f);
     ob.u_base_color = glm::vec4(o.base_color, 1.0f);
+    ob.u_shadow = shadow_view_proj_ * glm::translate(glm::mat4(1.0f), glm::vec3(o.origin - shadow_origin_));
+    // A texel and a half off the triangle and nearer the light (depth 0..1 spans the map's
+    // 2 R, a texel 2 R / size: 1.5 / size).
+    ob.u_shadow_bias = glm::vec4(1.5f * shadow_texel_, 1.5f / float(kShadowMapSize), 0.0f, 0.0f);
     glNamedBufferSubData(object_ubo_.id(), 0, sizeof(ob), &ob);
+}
+
+void Renderer::ensure_shadow_map(glm::vec3 light_dir)
+{
+    if (shadow_light_ && *shadow_light_ == light_dir) return;
+    if (!shadow_map_) {
+        shadow_map_ = gl::Texture::create(GL_TEXTURE_2D);
+        glTextureStorage2D(shadow_map_.id(), 1, GL_DEPTH_COMPONENT32F, kShadowMapSize, kShadowMapSize);
+        glTextureParameteri(shadow_map_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(shadow_map_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glTextureParameteri(shadow_map_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTextureParameteri(shadow_map_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        glTextureParameteri(shadow_map_.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+        glTextureParameteri(shadow_map_.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+        shadow_fbo_ = gl::Framebuffer::create();
+        glNamedFramebufferTexture(shadow_fbo_.id(), GL_DEPTH_ATTACHMENT, shadow_map_.id(), 0);
+        glNamedFramebufferDrawBuffer(shadow_fbo_.id(), GL_NONE);
+        if (glGetError() == GL_OUT_OF_MEMORY ||
+            glCheckNamedFramebufferStatus(shadow_fbo_.id(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+            shadow_map_ = {};
+            shadow_fbo_ = {};
+            throw Error("--shadows", "could not create the reference's shadow map (" + std::to_string(kShadowMapSize) +
+                                         "x" + std::to_string(kShadowMapSize) + ", out of GPU memory?)");
+        }
+        shadow_program_ = build_program({{GL_VERTEX_SHADER, "shadow_map.vert"}}, {});
+    }
+    // An orthographic view along the light of the sphere around every object's shell.
+    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (const GpuObject& o : objects_) {
+        lo = glm::min(lo, o.shell_center - double(o.shell_radius));
+        hi = glm::max(hi, o.shell_center + double(o.shell_radius));
+    }
+    shadow_origin_ = objects_.empty() ? glm::dvec3(0.0) : 0.5 * (lo + hi);
+    double radius = 0.0;
+    for (const GpuObject& o : objects_)
+        radius = std::max(radius, glm::distance(shadow_origin_, o.shell_center) + double(o.shell_radius));
+    const float r = float(std::max(radius * 1.01, 1e-20));
+    const glm::vec3 up = std::abs(light_dir.y) < 0.99f ? glm::vec3(0.0f, 1.0f, 0.0f) : glm::vec3(1.0f, 0.0f, 0.0f);
+    shadow_view_proj_ = glm::orthoRH_ZO(-r, r, -r, r, r, 3.0f * r) * glm::lookAt(2.0f * r * light_dir, glm::vec3(0.0f), up);
+    shadow_texel_ = 2.0f * r / float(kShadowMapSize);
+
+    glBindFramebuffer(GL_FRAMEBUFFER, shadow_fbo_.id());
+    glViewport(0, 0, kShadowMapSize, kShadowMapSize);
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE); // depth = z in clip space, as the look-up reads it
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    const GLfloat far_depth = 1.0f;
+    glClearNamedFramebufferfv(shadow_fbo_.id(), GL_DEPTH, 0, &far_depth);
+    // The depth's slope on top of the look-up's bias: steep triangles seen edge-on from the light.
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(1.5f, 0.0f);
+    glUseProgram(shadow_program_.id());
+    for (const GpuObject& o : objects_) {
+        upload_object(o, DrawSettings{}, o.midlevel);
+        for (const Geometry& g : o.reference) {
+            glBindVertexArray(g.vao.id());
+            glDrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
+        }
+    }
+    glDisable(GL_POLYGON_OFFSET_FILL);
+    shadow_light_ = light_dir;
 }
 
 void Renderer::use_reversed_depth()
@@ -899,6 +967,12 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
             cull_back[k] = glm::distance(camera.eye, objects_[k].shell_center) > double(objects_[k].shell_radius) &&
                            closed_shell(objects_[k]);
     upload_frame(camera, glm::normalize(light_dir), settings.pixel_offset, settings.light_size);
+    // The reference's hard shadows: its shadow map, drawn before the frame's clock (as the
+    // reference's geometry is built before it).
+    if (settings.technique == Technique::Reference && settings.shadows != Shadows::None && reads_shadows(settings)) {
+        ensure_shadow_map(glm::normalize(light_dir));
+        glBindTextureUnit(PR_TEX_SHADOW_MAP, shadow_map_.id());
+    }
     if (settings.count_samples) {
         const GLuint zero = 0;
         glClearNamedBufferData(counters_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);

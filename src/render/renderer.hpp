@@ -230,6 +230,16 @@ private:
     gl::Texture tear_tiles_; // r32ui, the same per tile of PR_TEAR_TILE^2 pixels
     gl::Buffer pass_list_;          // the second pass's prisms (r32ui), rewritten per draw
     gl::Texture pass_list_texels_;  // its buffer texture (PR_TEX_PRISM_LIST)
+    // The reference's shadow map (ensure_shadow_map): depth from the light over the sphere around
+    // every object's shell, the projection of the world (less shadow_origin_) into its clip
+    // space, and the light it was drawn for (empty: none yet, or the geometry changed since).
+    gl::Texture shadow_map_;
+    gl::Framebuffer shadow_fbo_;
+    gl::Program shadow_program_;
+    glm::mat4 shadow_view_proj_{1.0f};
+    glm::dvec3 shadow_origin_{0.0};
+    float shadow_texel_ = 0.0f; // world length of one texel of the map
+    std::optional<glm::vec3> shadow_light_;
     gl::Buffer frame_ubo_;
     gl::Buffer object_ubo_;
     gl::Buffer counters_;
@@ -291,6 +301,10 @@ private:
     std::vector<std::uint32_t> walk_triangles_of(const std::vector<MeshVertex>& vertices,
                                                  const std::vector<std::uint32_t>& indices);
     void ensure_prism_data(bool walk); // the buffer textures of every object (and the walk's data)
+    // The reference's shadow map for a light along `light_dir` (unit, towards the light): drawn
+    // unless the one there is for that light and the same geometry. After upload_frame().
+    void ensure_shadow_map(glm::vec3 light_dir);
+    static constexpr int kShadowMapSize = 4096;
     // To their texture units; with `walk`, the walk's triangles.
     static void bind_prism_data(const GpuObject& o, bool walk);
     static const Geometry& walk_geometry(const GpuObject& o) { return o.walk.vao ? o.walk : o.base; }

@@ -179,7 +179,7 @@ bool base_surface_search(Technique t)
 
 bool reads_steps(const DrawSettings& s)
 {
-    if (!reads_shadows(s)) return false; // (flat and the reference march nothing)
+    if (s.technique == Technique::Flat || s.technique == Technique::Reference) return false; // (they march nothing)
     if (s.shadows != Shadows::None) return true; // the light's march (common/shadow.glsl)
     if (s.technique == Technique::Prism) return s.marcher != Marcher::MaxMip || s.prism_walk();
     return base_surface_search(s.technique);
@@ -200,7 +200,9 @@ bool reads_normal_quality(const DrawSettings& s)
 
 bool reads_shadows(const DrawSettings& s)
 {
-    return s.technique != Technique::Flat && s.technique != Technique::Reference;
+    // The reference: hard shadows only, from a shadow map of its geometry (no soft ones).
+    if (s.technique == Technique::Reference) return s.shadows != Shadows::Soft;
+    return s.technique != Technique::Flat;
 }
 
 bool reads_light_size(const DrawSettings& s)

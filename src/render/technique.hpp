@@ -109,7 +109,8 @@ bool reads_steps(const DrawSettings& s);
 bool reads_refine(const DrawSettings& s);
 // The normal from the heights: every technique but flat (the mesh's normal).
 bool reads_normal_quality(const DrawSettings& s);
-// Self-shadowing: every technique but flat and the reference.
+// Self-shadowing: every technique but flat; the reference hard shadows only (a shadow map of its
+// geometry: Renderer::ensure_shadow_map), not soft ones.
 bool reads_shadows(const DrawSettings& s);
 // The light's size: soft shadows only (of the techniques that shade any).
 bool reads_light_size(const DrawSettings& s);

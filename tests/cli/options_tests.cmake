@@ -140,12 +140,19 @@ pr_cli(prism_exit_without_prism_in_list EXIT 1 ONE_LINE NO_FILE c.json
 # --shadows where nothing drawn shades self-shadowing (flat, reference) was ignored silently (found
 # by an exploratory session, nineteenth session); a list with one technique that takes it is fine.
 pr_cli(shadows_with_flat EXIT 1 ONE_LINE NO_FILE o.png
-       STDERR "${E}--shadows: has no effect: --technique flat draws no self-shadowing \\(flat and reference never do\\)"
+       STDERR "${E}--shadows: has no effect: --technique flat draws no self-shadowing \\(flat never does; the reference hard shadows only\\)"
        ARGS render --mesh ${M}/torus.obj --technique flat --shadows hard --size 8x8 --out o.png)
 pr_cli(shadows_with_flat_and_reference EXIT 1 ONE_LINE NO_FILE c.json
        STDERR "${E}--shadows: has no effect: --techniques flat,reference draws no self-shadowing"
        ARGS compare --mesh ${M}/torus.obj --techniques flat,reference --shadows soft --size 8x8 --json c.json)
+# The reference draws hard shadows (a shadow map of its geometry), not soft ones.
+pr_cli(shadows_hard_with_reference EXIT 0 EXPECT_FILE o.png
+       ARGS render --mesh ${M}/torus.obj --size 8x8 --technique reference --shadows hard --out o.png)
+pr_cli(shadows_soft_with_reference EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}--shadows: has no effect: --technique reference draws no self-shadowing \\(flat never does; the reference hard shadows only\\)"
+       ARGS render --mesh ${M}/torus.obj --size 8x8 --technique reference --shadows soft --out o.png)
 pr_cli(shadows_taken_by_one_technique EXIT 0 EXPECT_FILE c.json
+       STDERR "warning: --shadows soft: the reference draws hard shadows only, so its image here has none"
        ARGS compare --mesh ${M}/torus.obj --techniques flat,pom --shadows soft --size 8x8 --json c.json)
 # A prism flag that every prism entry of the list overrides by naming its own value did nothing
 # (compare --techniques prism:cone,pom --marcher relief; found by a review).

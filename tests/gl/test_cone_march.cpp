@@ -527,6 +527,60 @@ TEST(Shadows, ConeMarchersSoftShadowsHaveThePenumbraOfTheLinearMarch)
     }
 }
 
+// The reference's hard shadows come from a shadow map of its displaced triangles: a box in the
+// height map darkens the floor behind it from the light and nothing in front (no acne on the lit
+// floor, seen from the light at 25 degrees), and they agree with the prism's, which march the
+// height field, to a few pixels along the edges.
+TEST(Shadows, TheReferenceCastsItsGeometrysShadows)
+{
+    prtest::context();
+    Renderer r(128, 128);
+    r.set_cache_dir(prtest::cache_dir());
+    const Camera c = top_down_camera(4.0f, 35.0f);
+    const float e = glm::radians(25.0f);
+    const glm::vec3 light(std::cos(e), 0.0f, std::sin(e)); // from +x: the shadow falls towards -x
+    const Scene scene = prtest::one_object(prtest::square(), prtest::height_from(128, [](float u, float v) {
+        return std::abs(u - 0.5f) < 0.1f && std::abs(v - 0.5f) < 0.1f ? 1.0f : 0.0f;
+    }), 0.2f);
+    r.upload(scene);
+    r.prepare_reference(scene, c, ReferenceOptions{});
+    DrawSettings ref;
+    ref.technique = Technique::Reference;
+    const ShadowCount counted = hard_shadows(r, c, light, ref);
+    ref.shadows = Shadows::Hard;
+    r.draw(c, light, ref);
+    const RgbaImage shadowed = r.read_color();
+    ref.shadows = Shadows::None;
+    r.draw(c, light, ref);
+    const RgbaImage lit = r.read_color();
+    DrawSettings prism = settings(Technique::Prism, Marcher::Relief);
+    prism.shadows = Shadows::None;
+    r.draw(c, light, prism);
+    const RgbaImage prism_lit = r.read_color();
+    prism.shadows = Shadows::Hard;
+    r.draw(c, light, prism);
+    const RgbaImage prism_shadowed = r.read_color();
+    // 50.8 pixels per unit (128 over 2 * 4 * tan 17.5 degrees), column 64 at x = 0: the box
+    // spans columns 54..74, and its shadow on the floor 0.2 / tan 25 = 0.43 units on, to column 32.
+    int behind = 0, in_front = 0, disagree = 0, dark = 0;
+    for (int y = 0; y < 128; ++y)
+        for (int x = 0; x < 128; ++x) {
+            const std::size_t p = std::size_t(y) * 128 + std::size_t(x);
+            if (lit.pixels[4 * p + 3] < 128) continue;
+            const bool d = darkened(lit, shadowed, p), pd = darkened(prism_lit, prism_shadowed, p);
+            dark += d;
+            disagree += d != pd;
+            const bool row = std::abs(y - 64) < 6; // the box's middle rows
+            if (row && x >= 38 && x < 44) behind += d;    // in its shadow
+            if (row && x > 84 && x <= 100) in_front += d; // on its lit side
+        }
+    EXPECT_EQ(std::size_t(dark), counted.dark);
+    EXPECT_EQ(behind, 11 * 6) << "the floor behind the box is lit";
+    EXPECT_EQ(in_front, 0) << "the floor in front of the box is shadowed";
+    EXPECT_GT(dark, 300);
+    EXPECT_LT(disagree, dark / 20) << disagree << " pixels shadowed by one of the reference and the prism, of " << dark;
+}
+
 // The prism's light ray walks the prisms as its view ray does, so only heights the mesh shows cast
 // shadows: a square whose uvs cover 0.05..0.8 of a map whose only relief, a wall, stands at
 // u 0.85..0.95, is a flat floor, lit all over by a light low from the wall's side. Marched through
