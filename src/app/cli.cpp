@@ -30,6 +30,16 @@ std::string usage_message(CLI::App& app, const CLI::ParseError& e, int argc, cha
                 if (option->get_items_expected_max() == 1 && option->count() > 1)
                     return option->get_name() + ": given " + std::to_string(option->count()) +
                            " times; give it once";
+        // Arguments the command does not take, named in the order given (CLI11's message listed
+        // them backwards: "not expected: 4 --msaa" for `compare --msaa 4`), an option first.
+        if (dynamic_cast<const CLI::ExtrasError*>(&e)) {
+            const std::vector<std::string> extra = command->remaining();
+            const auto option = std::find_if(extra.begin(), extra.end(),
+                                             [](const std::string& a) { return a.size() > 1 && a[0] == '-'; });
+            if (option != extra.end())
+                return "'" + *option + "': " + command->get_name() + " has no such option";
+            if (!extra.empty()) return "'" + extra.front() + "': " + command->get_name() + " takes no such argument";
+        }
     }
     if (!any_parsed && argc > 1 && argv[1][0] != '-') {
         std::string names;

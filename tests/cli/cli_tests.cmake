@@ -22,6 +22,13 @@ endfunction()
 # Usage (exit 2) and information (exit 0).
 pr_cli(no_arguments EXIT 2 STDERR "usage: .*subcommand")
 pr_cli(unknown_option EXIT 2 STDERR "usage: .*--bogus" ARGS render --bogus --out x.png)
+# An option the command does not take, with its value: named first, not after its value as
+# CLI11 lists extras ("The following arguments were not expected: 4 --msaa"; an exploratory
+# session).
+pr_cli(option_of_another_command EXIT 2 ONE_LINE STDERR "usage: '--msaa': compare has no such option \\(see prismrelief --help\\)"
+       ARGS compare --mesh ${M}/cube.obj --msaa 4)
+pr_cli(stray_argument EXIT 2 ONE_LINE STDERR "usage: 'stray': render takes no such argument"
+       ARGS render --mesh ${M}/cube.obj stray --out x.png NO_FILE x.png)
 pr_cli(render_needs_out EXIT 2 STDERR "usage: .*--out" ARGS render --mesh ${M}/cube.obj)
 pr_cli(non_numeric_steps EXIT 2 STDERR "usage: .*--steps" ARGS render --mesh ${M}/cube.obj --steps many --out x.png NO_FILE x.png)
 pr_cli(version EXIT 0 STDOUT "^prismrelief [0-9]+\\.[0-9]+\\.[0-9]+" ARGS --version)
