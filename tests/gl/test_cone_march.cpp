@@ -122,6 +122,21 @@ bool darkened(const RgbaImage& lit, const RgbaImage& shadowed, std::size_t p)
     return 3 * rgb_sum(shadowed, p) < 2 * rgb_sum(lit, p);
 }
 
+// A light from +x, `elevation_deg` over the xy plane (the squares' surface).
+glm::vec3 light_from_x(float elevation_deg)
+{
+    const float e = glm::radians(elevation_deg);
+    return glm::vec3(std::cos(e), 0.0f, std::sin(e));
+}
+
+// A map with a box as high as the range in the middle fifth of each side, 0 around it.
+std::shared_ptr<HeightField> centre_box(int texels)
+{
+    return prtest::height_from(texels, [](float u, float v) {
+        return std::abs(u - 0.5f) < 0.1f && std::abs(v - 0.5f) < 0.1f ? 1.0f : 0.0f;
+    });
+}
+
 // `s` drawn without shadows and with hard ones: the pixels covered, and of them those darkened.
 struct ShadowCount {
     std::size_t covered = 0, dark = 0;
@@ -384,14 +399,9 @@ TEST(Shadows, SoftShadowsAreALightOfAFixedSizeInTheWorld)
     Renderer r(128, 128);
     r.set_cache_dir(prtest::cache_dir());
     const Camera c = top_down_camera(4.0f, 35.0f);
-    const auto toward = [](float elevation_deg) {
-        const float e = glm::radians(elevation_deg);
-        return glm::vec3(std::cos(e), 0.0f, std::sin(e));
-    };
+    const auto toward = light_from_x;
     const auto flat = prtest::height_from(64, [](float, float) { return 0.5f; });
-    const auto box = prtest::height_from(128, [](float u, float v) {
-        return std::abs(u - 0.5f) < 0.1f && std::abs(v - 0.5f) < 0.1f ? 1.0f : 0.0f;
-    });
+    const auto box = centre_box(128);
     for (Technique t : {Technique::Relief, Technique::RelaxedCone, Technique::Prism})
         for (Marcher m : {Marcher::Relief, Marcher::RelaxedCone, Marcher::MaxMip}) {
             if (t != Technique::Prism && m != Marcher::Relief) continue;
@@ -431,14 +441,9 @@ TEST(Shadows, TheLightSizeSetsThePenumbra)
     Renderer r(128, 128);
     r.set_cache_dir(prtest::cache_dir());
     const Camera c = top_down_camera(4.0f, 35.0f);
-    const auto toward = [](float elevation_deg) {
-        const float e = glm::radians(elevation_deg);
-        return glm::vec3(std::cos(e), 0.0f, std::sin(e));
-    };
+    const auto toward = light_from_x;
     const Scene ground = prtest::one_object(prtest::square(), prtest::height_from(64, [](float, float) { return 0.5f; }), 0.1f);
-    const Scene tall = prtest::one_object(prtest::square(), prtest::height_from(128, [](float u, float v) {
-        return std::abs(u - 0.5f) < 0.1f && std::abs(v - 0.5f) < 0.1f ? 1.0f : 0.0f;
-    }), 0.3f); // (a penumbra a few pixels deep at 2 degrees)
+    const Scene tall = prtest::one_object(prtest::square(), centre_box(128), 0.3f); // (a penumbra a few pixels deep at 2 degrees)
     for (Technique t : {Technique::Relief, Technique::RelaxedCone, Technique::Prism}) {
         const std::string what = technique_name(t);
         const auto draw = [&](const Scene& scene, glm::vec3 light, Shadows mode, float size) {
@@ -491,8 +496,7 @@ TEST(Shadows, ConeMarchersSoftShadowsHaveThePenumbraOfTheLinearMarch)
     Renderer r(128, 128);
     r.set_cache_dir(prtest::cache_dir());
     const Camera c = top_down_camera(4.0f, 35.0f);
-    const float e = glm::radians(25.0f);
-    const glm::vec3 light(std::cos(e), 0.0f, std::sin(e));
+    const glm::vec3 light = light_from_x(25.0f);
     r.upload(prtest::one_object(prtest::square(), prtest::height_from(128, [](float u, float) {
         return std::abs(u - 0.48f) < 0.01f ? 0.8f : 0.0f;
     }), 0.3f));
@@ -537,11 +541,8 @@ TEST(Shadows, TheReferenceCastsItsGeometrysShadows)
     Renderer r(128, 128);
     r.set_cache_dir(prtest::cache_dir());
     const Camera c = top_down_camera(4.0f, 35.0f);
-    const float e = glm::radians(25.0f);
-    const glm::vec3 light(std::cos(e), 0.0f, std::sin(e)); // from +x: the shadow falls towards -x
-    const Scene scene = prtest::one_object(prtest::square(), prtest::height_from(128, [](float u, float v) {
-        return std::abs(u - 0.5f) < 0.1f && std::abs(v - 0.5f) < 0.1f ? 1.0f : 0.0f;
-    }), 0.2f);
+    const glm::vec3 light = light_from_x(25.0f); // the shadow falls towards -x
+    const Scene scene = prtest::one_object(prtest::square(), centre_box(128), 0.2f);
     r.upload(scene);
     r.prepare_reference(scene, c, ReferenceOptions{});
     DrawSettings ref;
