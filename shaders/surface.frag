@@ -28,9 +28,10 @@ layout(location = 0) out vec4 o_color;
 // itself; points outside the map (none: it spans the scene) are lit.
 layout(binding = PR_TEX_SHADOW_MAP) uniform sampler2DShadow s_shadow_map;
 
-float reference_visibility(vec3 world, vec3 light_dir)
+// `face`: the triangle's normal from the position's derivatives (taken in uniform control flow,
+// before the caller's branch on the light's side).
+float reference_visibility(vec3 world, vec3 face, vec3 light_dir)
 {
-    vec3 face = cross(dFdx(world), dFdy(world));
     face = dot(face, face) > 0.0 ? normalize(face) : vec3(0.0);
     if (dot(face, light_dir) < 0.0) face = -face;
     vec4 clip = u_shadow * vec4(world + u_shadow_bias.x * face, 1.0);
@@ -115,7 +116,8 @@ void main()
     vec3 light_dir = normalize(u_light_dir.xyz);
     float visibility = 1.0;
 #if defined(PR_SHADOWS) && PR_TECHNIQUE == PR_TECH_REFERENCE
-    if (dot(n, light_dir) > 0.0) visibility = reference_visibility(v_world_pos, light_dir);
+    vec3 face = cross(dFdx(v_world_pos), dFdy(v_world_pos));
+    if (dot(n, light_dir) > 0.0) visibility = reference_visibility(v_world_pos, face, light_dir);
 #elif defined(PR_SHADOWS) && PR_TECHNIQUE != PR_TECH_FLAT
 #if PR_TECHNIQUE == PR_TECH_NORMAL || PR_TECHNIQUE == PR_TECH_OFFSET || PR_TECHNIQUE == PR_TECH_STEEP
     // The point shown is not on the height field: the polygon (normal), a point shifted by the

@@ -3,6 +3,8 @@
 #include "app/commands.hpp"
 #include "core/error.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -34,10 +36,12 @@ std::string usage_message(CLI::App& app, const CLI::ParseError& e, int argc, cha
         // them backwards: "not expected: 4 --msaa" for `compare --msaa 4`), an option first.
         if (dynamic_cast<const CLI::ExtrasError*>(&e)) {
             const std::vector<std::string> extra = command->remaining();
-            const auto option = std::find_if(extra.begin(), extra.end(),
-                                             [](const std::string& a) { return a.size() > 1 && a[0] == '-'; });
+            // (An option, not a negative number: `--depth 0.1 -3` has an extra value.)
+            const auto option = std::find_if(extra.begin(), extra.end(), [](const std::string& a) {
+                return a.size() > 1 && a[0] == '-' && !std::isdigit(static_cast<unsigned char>(a[1])) && a[1] != '.';
+            });
             if (option != extra.end())
-                return "'" + *option + "': " + command->get_name() + " has no such option";
+                return "'" + option->substr(0, option->find('=')) + "': " + command->get_name() + " has no such option";
             if (!extra.empty()) return "'" + extra.front() + "': " + command->get_name() + " takes no such argument";
         }
     }

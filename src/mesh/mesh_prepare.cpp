@@ -1230,11 +1230,11 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
                  (non_manifold == 1 ? " edge is" : " edges are") +
                  " shared by more than two faces (non-manifold); rendered as they are");
         if (flipped > 0)
-            warn(name + ": " + std::to_string(flipped) +
-                 " edges join faces of opposite orientation; welded normals may cancel there");
+            warn(name + ": " + std::to_string(flipped) + (flipped == 1 ? " edge joins" : " edges join") +
+                 " faces of opposite orientation; welded normals may cancel there");
         if (overlapping_edges > 0)
             warn(name + ": " + std::to_string(overlapping_edges) +
-                 " edges join faces that lie over one another (wound the same way round one plane); rendered as they are");
+                 (overlapping_edges == 1 ? " edge joins" : " edges join") + " faces that lie over one another (wound the same way round one plane); rendered as they are");
     }
 
     // ---- UVs per triangle corner ----------------------------------------------------------------

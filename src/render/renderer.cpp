@@ -818,15 +818,31 @@ void Renderer::upload_object(const GpuObject& o, const DrawSettings& settings, f
     ob.u_base_color = glm::vec4(o.base_color, 1.0f);
     ob.u_shadow = shadow_view_proj_ * glm::translate(glm::mat4(1.0f), glm::vec3(o.origin - shadow_origin_));
     // A texel and a half off the triangle and nearer the light (depth 0..1 spans the map's
-    // 2 R, a texel 2 R / size: 1.5 / size).
-    ob.u_shadow_bias = glm::vec4(1.5f * shadow_texel_, 1.5f / float(kShadowMapSize), 0.0f, 0.0f);
+    // depth range).
+    ob.u_shadow_bias = glm::vec4(1.5f * shadow_texel_, 1.5f * shadow_texel_ / std::max(shadow_depth_range_, 1e-30f), 0.0f, 0.0f);
     glNamedBufferSubData(object_ubo_.id(), 0, sizeof(ob), &ob);
 }
 
 void Renderer::ensure_shadow_map(glm::vec3 light_dir)
 {
-    if (shadow_light_ && *shadow_light_ == light_dir) return;
+    // Drawn for a light and a camera: it covers the points the image shows (whatever casts a
+    // shadow on one lies towards the light from it, which in the map's orthographic view is the
+    // same texel), so its texels are as fine as that part of the scene needs. (Over the sphere
+    // around every object's shell, a second torus 300 units away made them 70 times coarser,
+    // and the first torus's bumps lost their shadows: found by a review.)
+    const float aspect = float(width_) / float(height_);
+    const glm::mat4 view_key = frame_camera_.projection(aspect) * frame_camera_.view();
+    if (shadow_light_ && *shadow_light_ == light_dir && shadow_view_key_ == view_key) return;
+    // The caller's scissor (the viewer's split view) would keep the map's clear and draws to its
+    // own columns: off here, set back at the end.
+    const ScissorState scissor = ScissorState::current();
+    glDisable(GL_SCISSOR_TEST);
+    if (!shadow_program_) {
+        shadow_program_ = build_program({{GL_VERTEX_SHADER, "shadow_map.vert"}}, {});
+        shadow_eye_program_ = build_program({{GL_VERTEX_SHADER, "shadow_map.vert"}}, {{"PR_SHADOW_FROM_EYE", "1"}});
+    }
     if (!shadow_map_) {
+        while (glGetError() != GL_NO_ERROR) {} // (an earlier error is not this one)
         shadow_map_ = gl::Texture::create(GL_TEXTURE_2D);
         glTextureStorage2D(shadow_map_.id(), 1, GL_DEPTH_COMPONENT32F, kShadowMapSize, kShadowMapSize);
         glTextureParameteri(shadow_map_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
@@ -842,12 +858,24 @@ void Renderer::ensure_shadow_map(glm::vec3 light_dir)
             glCheckNamedFramebufferStatus(shadow_fbo_.id(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
             shadow_map_ = {};
             shadow_fbo_ = {};
+            scissor.restore();
             throw Error("--shadows", "could not create the reference's shadow map (" + std::to_string(kShadowMapSize) +
                                          "x" + std::to_string(kShadowMapSize) + ", out of GPU memory?)");
         }
-        shadow_program_ = build_program({{GL_VERTEX_SHADER, "shadow_map.vert"}}, {});
     }
-    // An orthographic view along the light of the sphere around every object's shell.
+    const auto draw_references = [&](GLuint program) {
+        glUseProgram(program);
+        for (const GpuObject& o : objects_) {
+            upload_object(o, DrawSettings{}, o.midlevel);
+            for (const Geometry& g : o.reference) {
+                glBindVertexArray(g.vao.id());
+                glDrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
+            }
+        }
+    };
+
+    // The light's frame, about the centre of the objects' shells: x, y across the light, z along
+    // it towards the light; every shell lies within `radius` of the centre.
     glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
     for (const GpuObject& o : objects_) {
         lo = glm::min(lo, o.shell_center - double(o.shell_radius));
@@ -857,32 +885,72 @@ void Renderer::ensure_shadow_map(glm::vec3 light_dir)
     double radius = 0.0;
     for (const GpuObject& o : objects_)
         radius = std::max(radius, glm::distance(shadow_origin_, o.shell_center) + double(o.shell_radius));
-    const float r = float(std::max(radius * 1.01, 1e-20));
+    radius = std::max(radius * 1.01, 1e-20);
     const glm::vec3 up = std::abs(light_dir.y) < 0.99f ? glm::vec3(0.0f, 1.0f, 0.0f) : glm::vec3(1.0f, 0.0f, 0.0f);
-    shadow_view_proj_ = glm::orthoRH_ZO(-r, r, -r, r, r, 3.0f * r) * glm::lookAt(2.0f * r * light_dir, glm::vec3(0.0f), up);
-    shadow_texel_ = 2.0f * r / float(kShadowMapSize);
+    const float r = float(radius);
+    const glm::mat4 light_view = glm::lookAt(2.0f * r * light_dir, glm::vec3(0.0f), up);
+
+    // The points the image shows: the references' depth from the camera (a pass into the frame's
+    // own depth target, which the frame clears after), read back and taken to the light's frame.
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+    glViewport(0, 0, width_, height_);
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glDepthMask(GL_TRUE);
+    const GLfloat far_eye = 0.0f;
+    glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &far_eye);
+    GLboolean color_mask[4];
+    glGetBooleanv(GL_COLOR_WRITEMASK, color_mask);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE); // (the program has no fragment stage)
+    draw_references(shadow_eye_program_.id());
+    glColorMask(color_mask[0], color_mask[1], color_mask[2], color_mask[3]);
+    const std::vector<float> depth = read_depth();
+    const glm::dmat4 to_world = glm::inverse(glm::dmat4(frame_camera_.projection(aspect)) *
+                                             glm::dmat4(frame_camera_.view_from(shadow_origin_)));
+    const glm::dmat4 light_view_d(light_view);
+    glm::dvec2 box_lo(std::numeric_limits<double>::max()), box_hi(-std::numeric_limits<double>::max());
+    for (int y = 0; y < height_; ++y)
+        for (int x = 0; x < width_; ++x) {
+            const float d = depth[std::size_t(y) * std::size_t(width_) + std::size_t(x)];
+            if (!(d > 0.0f)) continue; // nothing there
+            const glm::dvec4 ndc((x + 0.5) / width_ * 2.0 - 1.0, (y + 0.5) / height_ * 2.0 - 1.0, double(d), 1.0);
+            const glm::dvec4 w = to_world * ndc;
+            const glm::dvec4 l = light_view_d * glm::dvec4(glm::dvec3(w) / w.w, 1.0);
+            box_lo = glm::min(box_lo, glm::dvec2(l));
+            box_hi = glm::max(box_hi, glm::dvec2(l));
+        }
+    if (box_lo.x > box_hi.x) { // nothing shown: any map will do
+        box_lo = glm::dvec2(-radius);
+        box_hi = glm::dvec2(radius);
+    }
+    // A margin for the pixels' spread (a pixel's footprint, and --msaa's shifted passes) and the
+    // look-up's offset towards the light: 2 % of the box and 8 texels of it.
+    const double extent = std::max({box_hi.x - box_lo.x, box_hi.y - box_lo.y, 1e-9 * radius});
+    const double margin = 0.02 * extent + 8.0 * extent / kShadowMapSize;
+    box_lo -= margin;
+    box_hi += margin;
+    const double side = std::max(box_hi.x - box_lo.x, box_hi.y - box_lo.y); // square texels
+    const glm::dvec2 middle = 0.5 * (box_lo + box_hi);
+    shadow_view_proj_ = glm::orthoRH_ZO(float(middle.x - 0.5 * side), float(middle.x + 0.5 * side),
+                                        float(middle.y - 0.5 * side), float(middle.y + 0.5 * side), r, 3.0f * r) *
+                        light_view;
+    shadow_texel_ = float(side / kShadowMapSize);
+    shadow_depth_range_ = 2.0f * r;
 
     glBindFramebuffer(GL_FRAMEBUFFER, shadow_fbo_.id());
     glViewport(0, 0, kShadowMapSize, kShadowMapSize);
-    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE); // depth = z in clip space, as the look-up reads it
-    glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
     const GLfloat far_depth = 1.0f;
     glClearNamedFramebufferfv(shadow_fbo_.id(), GL_DEPTH, 0, &far_depth);
     // The depth's slope on top of the look-up's bias: steep triangles seen edge-on from the light.
     glEnable(GL_POLYGON_OFFSET_FILL);
     glPolygonOffset(1.5f, 0.0f);
-    glUseProgram(shadow_program_.id());
-    for (const GpuObject& o : objects_) {
-        upload_object(o, DrawSettings{}, o.midlevel);
-        for (const Geometry& g : o.reference) {
-            glBindVertexArray(g.vao.id());
-            glDrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
-        }
-    }
+    draw_references(shadow_program_.id());
     glDisable(GL_POLYGON_OFFSET_FILL);
+    scissor.restore();
     shadow_light_ = light_dir;
+    shadow_view_key_ = view_key;
 }
 
 void Renderer::use_reversed_depth()

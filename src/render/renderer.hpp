@@ -140,7 +140,13 @@ public:
 
     // Drops every built program, so the next draw rebuilds them from the shader sources (the
     // viewer's hot reload; sources come from PRISMRELIEF_SHADER_DIR when set).
-    void reload_shaders() { programs_.clear(); }
+    void reload_shaders()
+    {
+        programs_.clear();
+        shadow_program_ = {};
+        shadow_eye_program_ = {};
+        shadow_light_.reset(); // (the reference's shadow map is drawn again with the new shaders)
+    }
 
     // Wireframe overlays (viewer, docs figures), drawn over the current target and depth-tested
     // against what is there: the base mesh's edges, or the edges of the prism shells that
@@ -235,11 +241,14 @@ private:
     // space, and the light it was drawn for (empty: none yet, or the geometry changed since).
     gl::Texture shadow_map_;
     gl::Framebuffer shadow_fbo_;
-    gl::Program shadow_program_;
+    gl::Program shadow_program_;     // the map's depth (shadow_map.vert)
+    gl::Program shadow_eye_program_; // the camera's depth, for what the image shows (the same, PR_SHADOW_FROM_EYE)
     glm::mat4 shadow_view_proj_{1.0f};
     glm::dvec3 shadow_origin_{0.0};
-    float shadow_texel_ = 0.0f; // world length of one texel of the map
+    float shadow_texel_ = 0.0f;       // world length of one texel of the map
+    float shadow_depth_range_ = 0.0f; // world length of its depth 0..1
     std::optional<glm::vec3> shadow_light_;
+    glm::mat4 shadow_view_key_{0.0f}; // the camera's projection * view it was drawn for
     gl::Buffer frame_ubo_;
     gl::Buffer object_ubo_;
     gl::Buffer counters_;
@@ -301,8 +310,9 @@ private:
     std::vector<std::uint32_t> walk_triangles_of(const std::vector<MeshVertex>& vertices,
                                                  const std::vector<std::uint32_t>& indices);
     void ensure_prism_data(bool walk); // the buffer textures of every object (and the walk's data)
-    // The reference's shadow map for a light along `light_dir` (unit, towards the light): drawn
-    // unless the one there is for that light and the same geometry. After upload_frame().
+    // The reference's shadow map for a light along `light_dir` (unit, towards the light), over
+    // what the frame's camera shows: drawn unless the one there is for that light, camera and
+    // geometry. After upload_frame(); uses the frame's target's depth.
     void ensure_shadow_map(glm::vec3 light_dir);
     static constexpr int kShadowMapSize = 4096;
     // To their texture units; with `walk`, the walk's triangles.

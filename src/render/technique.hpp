@@ -99,7 +99,8 @@ std::string configuration_name(const DrawSettings& s);
 // leaves its image and depth as they are (gl test TechniqueUse). The command line refuses a flag
 // that nothing it draws reads (app/options.cpp, check_quality_flags_apply).
 // Linear steps: the searches of steep, pom, relief, the cone marchers (their shortest step) and
-// the prism's marchers; the light's march with shadows (every technique but flat and reference).
+// the prism's marchers; the light's march with shadows (every technique but flat and reference,
+// whose shadows come from a shadow map).
 // Max-mip traverses its pyramid without steps, but the walk marches linearly under a torn or
 // open surface.
 bool reads_steps(const DrawSettings& s);

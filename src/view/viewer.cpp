@@ -422,7 +422,7 @@ std::string Viewer::settings_key() const
         key += std::to_string(int(d.technique)) + "," + std::to_string(int(d.marcher)) + "," +
                std::to_string(int(d.normal_quality)) + "," + std::to_string(int(d.shadows)) + "," +
                std::to_string(int(d.prism_exit)) + "," + std::to_string(d.full_shell) + "," +
-               std::to_string(d.depth_write) + ";";
+               std::to_string(d.depth_write) + "," + std::to_string(d.light_size) + ";";
     }
     return key + std::to_string(int(overlay_)) + std::to_string(reference_overlay_);
 }
@@ -483,6 +483,7 @@ void Viewer::render_scene()
             DrawSettings ref = half_[0];
             ref.technique = Technique::Reference;
             ref.count_samples = false;
+            ref.shadows = Shadows::None; // (its coverage is what the overlay shows: no shadow map to draw)
             r.draw(s_.camera, s_.light, ref);
             compositor_->copy_reference(r.framebuffer(), w, h);
         }

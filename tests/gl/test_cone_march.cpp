@@ -5,6 +5,8 @@
 #include "core/camera.hpp"
 #include "eval/metrics.hpp"
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -580,6 +582,41 @@ TEST(Shadows, TheReferenceCastsItsGeometrysShadows)
     EXPECT_EQ(in_front, 0) << "the floor in front of the box is shadowed";
     EXPECT_GT(dark, 300);
     EXPECT_LT(disagree, dark / 20) << disagree << " pixels shadowed by one of the reference and the prism, of " << dark;
+}
+
+// The reference's shadow map covers what the image shows, not every object: a second torus 300
+// units away, out of view, leaves the first one's shadows as they are. Over the sphere around
+// both shells its texels were 70 times coarser, and the bumps' shadows were lost (found by a
+// review: 528 shadowed pixels of 1,294).
+TEST(Shadows, TheReferencesShadowMapCoversWhatTheImageShows)
+{
+    prtest::context();
+    ObjectSpec torus;
+    torus.mesh = std::string(PR_SOURCE_DIR) + "/meshes/torus.obj";
+    torus.height = "builtin:boxes@128";
+    torus.depth = 0.08f;
+    SceneSpec one;
+    one.objects = {torus};
+    one.width = 160;
+    one.height = 120;
+    SceneSpec two = one;
+    two.objects.push_back(torus);
+    two.objects.back().transform = glm::translate(glm::dmat4(1.0), glm::dvec3(300.0, 0.0, 0.0));
+    const glm::vec3 light = glm::normalize(glm::vec3(1.0f, 0.35f, 0.2f));
+    const Scene scene_one = load_scene(one);
+    const Camera c = scene_camera(one, scene_one);
+    const auto shadowed = [&](const Scene& scene) {
+        Renderer r(one.width, one.height);
+        r.upload(scene);
+        r.prepare_reference(scene, c, ReferenceOptions{});
+        DrawSettings s;
+        s.technique = Technique::Reference;
+        return hard_shadows(r, c, light, s);
+    };
+    const ShadowCount alone = shadowed(scene_one), with_far = shadowed(load_scene(two));
+    EXPECT_GT(alone.dark, 300u);
+    EXPECT_EQ(with_far.covered, alone.covered);
+    EXPECT_NEAR(double(with_far.dark), double(alone.dark), 0.02 * double(alone.dark));
 }
 
 // The prism's light ray walks the prisms as its view ray does, so only heights the mesh shows cast

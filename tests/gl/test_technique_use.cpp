@@ -88,6 +88,8 @@ TEST(TechniqueUse, ASettingADrawDoesNotReadChangesNothing)
         s.shadows = Shadows::Hard;
         configurations.push_back(s);
     }
+    // The reference's hard shadows (a shadow map) take no steps and no light size.
+    configurations.push_back(technique(Technique::Reference, Shadows::Hard));
     // Soft shadows read the light's size.
     configurations.push_back(technique(Technique::Relief, Shadows::Soft));
     for (DrawSettings s : {prism(Marcher::RelaxedCone, PrismExit::Walk)}) {
