@@ -818,8 +818,10 @@ void Renderer::upload_object(const GpuObject& o, const DrawSettings& settings, f
     ob.u_base_color = glm::vec4(o.base_color, 1.0f);
     ob.u_shadow = shadow_view_proj_ * glm::translate(glm::mat4(1.0f), glm::vec3(o.origin - shadow_origin_));
     // A texel and a half off the triangle and nearer the light (depth 0..1 spans the map's
-    // depth range).
-    ob.u_shadow_bias = glm::vec4(1.5f * shadow_texel_, 1.5f * shadow_texel_ / std::max(shadow_depth_range_, 1e-30f), 0.0f, 0.0f);
+    // depth range), and at least 8 steps of the depth's floats near 1 (a view closing in on part
+    // of a large scene makes the texels far finer than the depth).
+    const float depth_bias = std::max(1.5f * shadow_texel_ / std::max(shadow_depth_range_, 1e-30f), 1e-6f);
+    ob.u_shadow_bias = glm::vec4(1.5f * shadow_texel_, depth_bias, 0.0f, 0.0f);
     glNamedBufferSubData(object_ubo_.id(), 0, sizeof(ob), &ob);
 }
 
