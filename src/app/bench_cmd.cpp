@@ -140,6 +140,7 @@ CommandAction add_bench_command(CLI::App& app)
                                {"samples_per_fragment_p95", any ? nlohmann::json(p95) : nlohmann::json()},
                                {"frames", row.ms.size()}});
             results.back().update(prism_configuration(runs[i].settings));
+            results.back().update(shadows_json(runs[i].settings));
         }
         if (!s->json.empty()) {
             const nlohmann::json report = {{"results", results},

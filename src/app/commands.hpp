@@ -34,6 +34,15 @@ inline nlohmann::json prism_configuration(const DrawSettings& s)
             {"prism_shell", s.full_shell || s.prism_exit != PrismExit::Walk ? "full" : "tight"}}; // (other exits: full)
 }
 
+// The shadows a draw drew: "shadows" (none where it draws none: flat, the reference's soft ones),
+// and with soft ones "light_size" (degrees, as a float holds the flag's value).
+inline nlohmann::json shadows_json(const DrawSettings& s)
+{
+    nlohmann::json j = {{"shadows", shadows_name(reads_shadows(s) ? s.shadows : Shadows::None)}};
+    if (reads_light_size(s)) j["light_size"] = s.light_size;
+    return j;
+}
+
 // The camera a report's images were drawn with (compare, render).
 inline nlohmann::json camera_json(const Camera& c)
 {

@@ -155,6 +155,7 @@ CommandAction add_compare_command(CLI::App& app)
                                   {"refine", run.settings.refine},
                                   {"depth_write", run.settings.depth_write}};
             row.update(prism_configuration(run.settings));
+            row.update(shadows_json(run.settings));
             results.push_back(row);
             std::printf("%-*s %8.4f %10zu %12s %12s %8s %9.2f\n", name_width, run.label.c_str(), m.iou,
                         m.silhouette_wrong_px,
@@ -175,6 +176,7 @@ CommandAction add_compare_command(CLI::App& app)
             {"reference", [&] {
                  nlohmann::json r = reference_json(ref_stats);
                  r["ms"] = ref_ms;
+                 r.update(shadows_json(ref_settings));
                  return r;
              }()},
             {"size", {session.spec.width, session.spec.height}},

@@ -40,6 +40,12 @@ pr_cli(render_small_coverage_has_digits EXIT 0 EXPECT_FILE o.png STDOUT "coverag
 pr_cli(compare_reference_with_shadows EXIT 0 JSON c.json CHECKS "results.0.psnr:GREATER:23"
        ARGS compare --mesh ${M}/plane.obj --height builtin:boxes@128 --depth 0.15 --size 128x96 --light 1,0.6,0.3
             --techniques prism --shadows hard --json c.json)
+# Each row says the shadows it drew: none for flat, the reference none under soft ones.
+pr_cli(compare_json_names_the_shadows EXIT 0 JSON c.json
+       CHECKS "results.0.shadows:STREQUAL:none|results.0.light_size:ABSENT|results.1.shadows:STREQUAL:soft|results.1.light_size:EQUAL:4|reference.shadows:STREQUAL:none"
+       ARGS compare --mesh ${M}/torus.obj --size 32x24 --techniques flat,pom --shadows soft --light-size 4 --json c.json)
+pr_cli(bench_json_names_the_shadows EXIT 0 JSON b.json CHECKS "results.0.shadows:STREQUAL:hard|results.0.light_size:ABSENT"
+       ARGS bench --mesh ${M}/torus.obj --size 32x24 --techniques reference --shadows hard --frames 1 --warmup 0 --json b.json)
 pr_cli(compare_json_names_the_prism_configuration EXIT 0 JSON c.json
        CHECKS "results.0.technique:STREQUAL:prism|results.0.marcher:STREQUAL:max-mip|results.0.prism_exit:STREQUAL:walk|results.0.prism_shell:STREQUAL:tight|results.1.prism_exit:STREQUAL:exact|results.1.prism_shell:STREQUAL:full|camera.up.1:EQUAL:1"
        ARGS compare --mesh ${M}/cube.obj --techniques prism,prism:linear:exact --marcher max-mip --size 32x32 --json c.json)
