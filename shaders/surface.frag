@@ -25,7 +25,7 @@ layout(location = 0) out vec4 o_color;
 // The reference's hard shadows: the true displaced geometry's own, from a shadow map of it drawn
 // from the light (Renderer::ensure_shadow_map). A point is moved off its triangle towards the light
 // by about a texel of the map and compared a texel nearer, so that a surface does not shadow
-// itself; points outside the map (none: it spans the scene) are lit.
+// itself; points outside the map (none: it spans the points the image shows) are lit.
 layout(binding = PR_TEX_SHADOW_MAP) uniform sampler2DShadow s_shadow_map;
 
 // `face`: the triangle's normal from the position's derivatives (taken in uniform control flow,

@@ -12,10 +12,11 @@
 // on can block it. Each step is at least the linear march's, so it never takes more samples.
 //
 // Soft shadows: a round light of angular radius u_light_dir.w (its tangent; --light-size is the
-// diameter in degrees, 2 by default) whose disc rises over the nearest occluder's edge: the light seen along the ray is the smallest
-// clearance angle over the disc's diameter, the angle taken in the world (clearance in height
-// units times the depth, over the run in UV units times the world length of one along the ray:
-// g_soft_scale), so that the penumbra is the same whatever the depth and the texture's scale.
+// diameter in degrees, 2 by default) whose disc rises over the nearest occluder's edge: the
+// light seen along the ray is the smallest clearance angle over the disc's diameter, the angle
+// taken in the world (clearance in height units times the depth, over the run in UV units times
+// the world length of one along the ray: g_soft_scale), so that the penumbra is the same
+// whatever the depth and the texture's scale.
 // (Until the twentieth session it was the clearance over the run in texture units, times 6: it
 // narrowed as the depth grew, and darkened flat ground under a low light depending on --depth.)
 // (The radius was a constant of this file, tan 1 degree, until the twenty-first session.)
