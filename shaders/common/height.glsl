@@ -119,10 +119,12 @@ vec2 height_slopes(vec2 uv)
 // World-space normal of the displaced surface S = P + T u + B v + N depth h(u,v) at uv:
 // dS/du = T + N depth dh/du, dS/dv = B + N depth dh/dv (metric frame, contract). Oriented to
 // the side of n_geom, so mirrored UVs (left-handed T, B) give the same result.
-vec3 height_normal(vec2 uv, vec3 t, vec3 b, vec3 n_geom, float depth)
+// `du`, `dv`: dS/du and dS/dv (the prism's colour level, prism.frag).
+vec3 height_normal_frame(vec2 uv, vec3 t, vec3 b, vec3 n_geom, float depth, out vec3 du, out vec3 dv)
 {
     vec2 s = height_slopes(uv) * depth;
-    vec3 du = t + n_geom * s.x, dv = b + n_geom * s.y;
+    du = t + n_geom * s.x;
+    dv = b + n_geom * s.y;
     // Both over their largest component first: |du x dv| grows as the object's scale squared and
     // its length() squares that again, which overflowed past a scale of about 3e9 (the shading
     // went black) and fell under the test below for objects under about 1e-5.
@@ -133,6 +135,12 @@ vec3 height_normal(vec2 uv, vec3 t, vec3 b, vec3 n_geom, float depth)
     if (!(len > 1e-20)) return n_geom;
     n /= len;
     return dot(n, n_geom) < 0.0 ? -n : n;
+}
+
+vec3 height_normal(vec2 uv, vec3 t, vec3 b, vec3 n_geom, float depth)
+{
+    vec3 du, dv;
+    return height_normal_frame(uv, t, b, n_geom, depth, du, dv);
 }
 
 // A power of two that brings the texture-space frame (t, b, n depth) to a largest component in
