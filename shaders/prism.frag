@@ -324,9 +324,20 @@ float hit_color_lod(vec3 hit, vec3 n, vec3 t_axis, vec3 b_axis)
     vec3 ray_x = to_hit + pixel.x * vec3(u_view[0][0], u_view[1][0], u_view[2][0]);
     vec3 ray_y = to_hit + pixel.y * vec3(u_view[0][1], u_view[1][1], u_view[2][1]);
     float along = dot(to_hit, n);
+    // Grazing: a ray past the plane's horizon (or along it) has no footprint there: the coarsest level.
+    if (!(dot(ray_x, n) * along > 0.0 && dot(ray_y, n) * along > 0.0)) return 64.0;
     vec3 off_x = ray_x * (along / dot(ray_x, n)) - to_hit;
     vec3 off_y = ray_y * (along / dot(ray_y, n)) - to_hit;
-    // In UV units: off = du t + dv b (off lies in the plane), by the 2x2 normal equations.
+    // In UV units: off = du t + dv b (off lies in the plane), by the 2x2 normal equations, all
+    // over a power of two that brings the frame's largest component to [1, 2) (as frame_scale:
+    // the determinant grows as the object's scale to the fourth, and overflowed past 1e9, which
+    // read the coarsest level: found by a review).
+    vec3 largest = max(abs(t_axis), abs(b_axis));
+    float k = exp2(-floor(log2(max(max(largest.x, largest.y), max(largest.z, 1e-30)))));
+    t_axis *= k;
+    b_axis *= k;
+    off_x *= k;
+    off_y *= k;
     float tt = dot(t_axis, t_axis), tb = dot(t_axis, b_axis), bb = dot(b_axis, b_axis);
     float det = tt * bb - tb * tb;
     vec2 px = vec2(dot(off_x, t_axis), dot(off_x, b_axis)), py = vec2(dot(off_y, t_axis), dot(off_y, b_axis));
@@ -334,7 +345,7 @@ float hit_color_lod(vec3 hit, vec3 n, vec3 t_axis, vec3 b_axis)
     vec2 dx = vec2(bb * px.x - tb * px.y, tt * px.y - tb * px.x) * size;
     vec2 dy = vec2(bb * py.x - tb * py.y, tt * py.y - tb * py.x) * size;
     float texels = max(dot(dx, dx), dot(dy, dy)); // squared
-    // Grazing (a ray past the plane's horizon, or along it: inf or NaN): the coarsest level.
+    // (A degenerate frame: inf or NaN; the coarsest level.)
     return texels < 1e30 ? 0.5 * log2(max(texels, 1e-30)) : 64.0;
 }
 

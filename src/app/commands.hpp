@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <string>
 #include <vector>
@@ -35,11 +36,15 @@ inline nlohmann::json prism_configuration(const DrawSettings& s)
 }
 
 // The shadows a draw drew: "shadows" (none where it draws none: flat, the reference's soft ones),
-// and with soft ones "light_size" (degrees, as a float holds the flag's value).
+// and with soft ones "light_size" (degrees, to a float's 7 digits: 0.3, not 0.30000001192092896).
 inline nlohmann::json shadows_json(const DrawSettings& s)
 {
     nlohmann::json j = {{"shadows", shadows_name(reads_shadows(s) ? s.shadows : Shadows::None)}};
-    if (reads_light_size(s)) j["light_size"] = s.light_size;
+    if (reads_light_size(s)) {
+        char digits[32];
+        std::snprintf(digits, sizeof digits, "%.7g", double(s.light_size));
+        j["light_size"] = std::strtod(digits, nullptr);
+    }
     return j;
 }
 

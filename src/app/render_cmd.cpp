@@ -104,7 +104,6 @@ CommandAction add_render_command(CLI::App& app)
                                      {"renderer", session.context->description()}};
             report.update(prism_configuration(settings));
             report.update(shadows_json(settings));
-            if (reads_light_size(settings)) report["light_size"] = s->technique.light_size; // (as given, not as a float)
             if (settings.technique == Technique::Reference) report["reference"] = reference_json(stats);
             json.emplace(s->json, report_text(report));
         }

@@ -816,7 +816,7 @@ void Renderer::upload_object(const GpuObject& o, const DrawSettings& settings, f
     ob.u_walk = glm::ivec4(o.walk_max_prisms, 0, 0, 0);
     ob.u_material = glm::vec4(0.12f, 0.88f, 0.18f, 48.0f);
     ob.u_base_color = glm::vec4(o.base_color, 1.0f);
-    ob.u_shadow = shadow_view_proj_ * glm::translate(glm::mat4(1.0f), glm::vec3(o.origin - shadow_origin_));
+    ob.u_shadow = glm::mat4(glm::dmat4(shadow_view_proj_) * glm::translate(glm::dmat4(1.0), o.origin - shadow_origin_));
     // A texel and a half off the triangle and nearer the light (depth 0..1 spans the map's
     // depth range), and at least 8 steps of the depth's floats near 1 (a view closing in on part
     // of a large scene makes the texels far finer than the depth).
@@ -833,8 +833,11 @@ void Renderer::ensure_shadow_map(glm::vec3 light_dir)
     // around every object's shell, a second torus 300 units away made them 70 times coarser,
     // and the first torus's bumps lost their shadows: found by a review.)
     const float aspect = float(width_) / float(height_);
-    const glm::mat4 view_key = frame_camera_.projection(aspect) * frame_camera_.view();
-    if (shadow_light_ && *shadow_light_ == light_dir && shadow_view_key_ == view_key) return;
+    const Camera& c = frame_camera_;
+    const Camera& k = shadow_camera_;
+    const bool same_view = c.eye == k.eye && c.target == k.target && c.up == k.up && c.fovy_deg == k.fovy_deg &&
+                           c.near_plane == k.near_plane && c.far_plane == k.far_plane && aspect == shadow_aspect_;
+    if (shadow_light_ && *shadow_light_ == light_dir && same_view) return;
     // The caller's scissor (the viewer's split view) would keep the map's clear and draws to its
     // own columns: off here, set back at the end.
     const ScissorState scissor = ScissorState::current();
@@ -876,27 +879,28 @@ void Renderer::ensure_shadow_map(glm::vec3 light_dir)
         }
     };
 
-    // The light's frame, about the centre of the objects' shells: x, y across the light, z along
-    // it towards the light; every shell lies within `radius` of the centre.
+    // The light's frame: x, y across the light, z along it towards the light (a rotation, in
+    // double), about the centre of the objects' shells, every one within `radius` of it.
     glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
     for (const GpuObject& o : objects_) {
         lo = glm::min(lo, o.shell_center - double(o.shell_radius));
         hi = glm::max(hi, o.shell_center + double(o.shell_radius));
     }
-    shadow_origin_ = objects_.empty() ? glm::dvec3(0.0) : 0.5 * (lo + hi);
+    const glm::dvec3 centre = objects_.empty() ? glm::dvec3(0.0) : 0.5 * (lo + hi);
     double radius = 0.0;
     for (const GpuObject& o : objects_)
-        radius = std::max(radius, glm::distance(shadow_origin_, o.shell_center) + double(o.shell_radius));
+        radius = std::max(radius, glm::distance(centre, o.shell_center) + double(o.shell_radius));
     radius = std::max(radius * 1.01, 1e-20);
-    const glm::vec3 up = std::abs(light_dir.y) < 0.99f ? glm::vec3(0.0f, 1.0f, 0.0f) : glm::vec3(1.0f, 0.0f, 0.0f);
-    const float r = float(radius);
-    const glm::mat4 light_view = glm::lookAt(2.0f * r * light_dir, glm::vec3(0.0f), up);
+    const glm::dvec3 toward(light_dir);
+    const glm::dvec3 up = std::abs(light_dir.y) < 0.99f ? glm::dvec3(0.0, 1.0, 0.0) : glm::dvec3(1.0, 0.0, 0.0);
+    const glm::dmat4 light_axes = glm::lookAt(glm::dvec3(0.0), -toward, up); // view z = dot(p, toward)
 
     // The points the image shows: the references' depth from the camera (a pass into the frame's
     // own depth target, which the frame clears after), read back and taken to the light's frame.
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
     glViewport(0, 0, width_, height_);
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glDisable(GL_CULL_FACE); // (both sides cast and are seen)
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_GREATER);
     glDepthMask(GL_TRUE);
@@ -908,23 +912,24 @@ void Renderer::ensure_shadow_map(glm::vec3 light_dir)
     draw_references(shadow_eye_program_.id());
     glColorMask(color_mask[0], color_mask[1], color_mask[2], color_mask[3]);
     const std::vector<float> depth = read_depth();
-    const glm::dmat4 to_world = glm::inverse(glm::dmat4(frame_camera_.projection(aspect)) *
-                                             glm::dmat4(frame_camera_.view_from(shadow_origin_)));
-    const glm::dmat4 light_view_d(light_view);
-    glm::dvec2 box_lo(std::numeric_limits<double>::max()), box_hi(-std::numeric_limits<double>::max());
+    // (The camera's view in double about the centre: a float one far from the origin is coarse.)
+    const Camera& cam = frame_camera_;
+    const glm::dmat4 to_light = light_axes *
+                                glm::inverse(glm::dmat4(cam.projection(aspect)) *
+                                             glm::lookAt(cam.eye - centre, cam.target - centre, glm::dvec3(cam.up)));
+    glm::dvec3 box_lo(std::numeric_limits<double>::max()), box_hi(-std::numeric_limits<double>::max());
     for (int y = 0; y < height_; ++y)
         for (int x = 0; x < width_; ++x) {
             const float d = depth[std::size_t(y) * std::size_t(width_) + std::size_t(x)];
             if (!(d > 0.0f)) continue; // nothing there
-            const glm::dvec4 ndc((x + 0.5) / width_ * 2.0 - 1.0, (y + 0.5) / height_ * 2.0 - 1.0, double(d), 1.0);
-            const glm::dvec4 w = to_world * ndc;
-            const glm::dvec4 l = light_view_d * glm::dvec4(glm::dvec3(w) / w.w, 1.0);
-            box_lo = glm::min(box_lo, glm::dvec2(l));
-            box_hi = glm::max(box_hi, glm::dvec2(l));
+            const glm::dvec4 l = to_light * glm::dvec4((x + 0.5) / width_ * 2.0 - 1.0, (y + 0.5) / height_ * 2.0 - 1.0,
+                                                       double(d), 1.0);
+            box_lo = glm::min(box_lo, glm::dvec3(l) / l.w);
+            box_hi = glm::max(box_hi, glm::dvec3(l) / l.w);
         }
     if (box_lo.x > box_hi.x) { // nothing shown: any map will do
-        box_lo = glm::dvec2(-radius);
-        box_hi = glm::dvec2(radius);
+        box_lo = glm::dvec3(-radius);
+        box_hi = glm::dvec3(radius);
     }
     // A margin for the pixels' spread (a pixel's footprint, and --msaa's shifted passes) and the
     // look-up's offset towards the light: 2 % of the box and 8 texels of it.
@@ -932,13 +937,28 @@ void Renderer::ensure_shadow_map(glm::vec3 light_dir)
     const double margin = 0.02 * extent + 8.0 * extent / kShadowMapSize;
     box_lo -= margin;
     box_hi += margin;
-    const double side = std::max(box_hi.x - box_lo.x, box_hi.y - box_lo.y); // square texels
-    const glm::dvec2 middle = 0.5 * (box_lo + box_hi);
-    shadow_view_proj_ = glm::orthoRH_ZO(float(middle.x - 0.5 * side), float(middle.x + 0.5 * side),
-                                        float(middle.y - 0.5 * side), float(middle.y + 0.5 * side), r, 3.0f * r) *
-                        light_view;
-    shadow_texel_ = float(side / kShadowMapSize);
-    shadow_depth_range_ = 2.0f * r;
+    // Its depth, likewise: from the farthest point shown up to the nearest point towards the light
+    // of any shell over the box (only those can shadow a point in it). Over the whole scene's
+    // sphere, and about its centre, a torus a million units off made the depth's steps and bias
+    // coarser than the bumps, and a third of the shadows went (found by a review).
+    for (const GpuObject& o : objects_) {
+        const glm::dvec3 c = glm::dvec3(light_axes * glm::dvec4(o.shell_center - centre, 1.0));
+        const double rr = double(o.shell_radius);
+        if (c.x + rr < box_lo.x || c.x - rr > box_hi.x || c.y + rr < box_lo.y || c.y - rr > box_hi.y) continue;
+        box_hi.z = std::max(box_hi.z, c.z + rr);
+    }
+    box_lo.z -= 0.02 * (box_hi.z - box_lo.z);
+    box_hi.z += 0.02 * (box_hi.z - box_lo.z);
+    // The map's own origin: the box's middle (in the world, double), so that the matrices the
+    // shaders get hold small numbers for the objects shown.
+    const glm::dvec3 middle = 0.5 * (box_lo + box_hi);
+    shadow_origin_ = centre + glm::dvec3(glm::transpose(glm::dmat3(light_axes)) * middle);
+    const glm::dvec3 half = 0.5 * (box_hi - box_lo);
+    const double side = std::max(half.x, half.y); // square texels
+    // (Looking along -z: the near plane at distance -half.z, towards the light, the far at +half.z.)
+    shadow_view_proj_ = glm::mat4(glm::orthoRH_ZO(-side, side, -side, side, -half.z, half.z) * light_axes);
+    shadow_texel_ = float(2.0 * side / kShadowMapSize);
+    shadow_depth_range_ = float(2.0 * half.z);
 
     glBindFramebuffer(GL_FRAMEBUFFER, shadow_fbo_.id());
     glViewport(0, 0, kShadowMapSize, kShadowMapSize);
@@ -952,7 +972,8 @@ void Renderer::ensure_shadow_map(glm::vec3 light_dir)
     glDisable(GL_POLYGON_OFFSET_FILL);
     scissor.restore();
     shadow_light_ = light_dir;
-    shadow_view_key_ = view_key;
+    shadow_camera_ = frame_camera_;
+    shadow_aspect_ = aspect;
 }
 
 void Renderer::use_reversed_depth()

@@ -236,9 +236,9 @@ private:
     gl::Texture tear_tiles_; // r32ui, the same per tile of PR_TEAR_TILE^2 pixels
     gl::Buffer pass_list_;          // the second pass's prisms (r32ui), rewritten per draw
     gl::Texture pass_list_texels_;  // its buffer texture (PR_TEX_PRISM_LIST)
-    // The reference's shadow map (ensure_shadow_map): depth from the light over the sphere around
-    // every object's shell, the projection of the world (less shadow_origin_) into its clip
-    // space, and the light it was drawn for (empty: none yet, or the geometry changed since).
+    // The reference's shadow map (ensure_shadow_map): depth from the light across the points the
+    // image shows, the projection of the world (less shadow_origin_) into its clip space, and the
+    // light and camera it was drawn for (empty: none yet, or the geometry changed since).
     gl::Texture shadow_map_;
     gl::Framebuffer shadow_fbo_;
     gl::Program shadow_program_;     // the map's depth (shadow_map.vert)
@@ -248,7 +248,8 @@ private:
     float shadow_texel_ = 0.0f;       // world length of one texel of the map
     float shadow_depth_range_ = 0.0f; // world length of its depth 0..1
     std::optional<glm::vec3> shadow_light_;
-    glm::mat4 shadow_view_key_{0.0f}; // the camera's projection * view it was drawn for
+    Camera shadow_camera_;        // the camera it was drawn for, and the target's aspect (compared
+    float shadow_aspect_ = 0.0f;  // field by field, in double: a float view matrix far from the origin missed small moves)
     gl::Buffer frame_ubo_;
     gl::Buffer object_ubo_;
     gl::Buffer counters_;

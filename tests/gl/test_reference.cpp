@@ -306,6 +306,38 @@ TEST(Reference, ObjectsDrawTheSameAtAnyScale)
     }
 }
 
+// The same with a colour map, whose level the prism works out from the pixel's footprint on the
+// displaced surface (prism.frag, hit_color_lod): its 2x2 system's determinant grows as the scale to
+// the fourth, overflowed past 1e9 and read the coarsest level (35.4 dB against the unit scale's
+// image at 1e9, 26.7 at 1e10; found by a review).
+TEST(Reference, TheColourIsTheSameAtAnyScale)
+{
+    prtest::context();
+    const auto render = [](double scale) {
+        SceneSpec spec;
+        ObjectSpec o;
+        o.mesh = std::string(PR_SOURCE_DIR) + "/meshes/torus.obj";
+        o.height = "builtin:bumps@64";
+        o.color = "builtin:bricks@128";
+        o.transform = glm::scale(glm::dmat4(1.0), glm::dvec3(scale));
+        spec.objects.push_back(o);
+        spec.width = spec.height = kSize;
+        const Scene scene = load_scene(spec);
+        const Camera c = scene_camera(spec, scene);
+        Renderer r(kSize, kSize);
+        r.upload(scene);
+        DrawSettings s;
+        s.technique = Technique::Prism;
+        r.draw(c, glm::normalize(glm::vec3(0.3f, 1.0f, 0.4f)), s);
+        return FrameCapture{r.read_color(), r.read_depth(), c};
+    };
+    const FrameCapture unit = render(1.0);
+    for (const double scale : {1e-8, 1e10, 1e12}) {
+        const CompareMetrics m = compare_frames(render(scale), unit);
+        EXPECT_GT(m.psnr.value_or(1e9), 33.0) << "scale " << scale;
+    }
+}
+
 // A floor far larger than the eye's distance to it: the near plane was kept at 10^-4 of the far
 // one (the usual depth mapping lost precision below that), which put it 15 units from an eye 1
 // unit above a floor 10^5 wide, and every technique drew only a strip at the horizon (coverage
