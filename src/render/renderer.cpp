@@ -838,14 +838,14 @@ void Renderer::ensure_shadow_map(glm::vec3 light_dir)
     const bool same_view = c.eye == k.eye && c.target == k.target && c.up == k.up && c.fovy_deg == k.fovy_deg &&
                            c.near_plane == k.near_plane && c.far_plane == k.far_plane && aspect == shadow_aspect_;
     if (shadow_light_ && *shadow_light_ == light_dir && same_view) return;
+    if (!shadow_program_ || !shadow_eye_program_) { // (both, or again: a build that threw left one)
+        shadow_program_ = build_program({{GL_VERTEX_SHADER, "shadow_map.vert"}}, {});
+        shadow_eye_program_ = build_program({{GL_VERTEX_SHADER, "shadow_map.vert"}}, {{"PR_SHADOW_FROM_EYE", "1"}});
+    }
     // The caller's scissor (the viewer's split view) would keep the map's clear and draws to its
     // own columns: off here, set back at the end.
     const ScissorState scissor = ScissorState::current();
     glDisable(GL_SCISSOR_TEST);
-    if (!shadow_program_) {
-        shadow_program_ = build_program({{GL_VERTEX_SHADER, "shadow_map.vert"}}, {});
-        shadow_eye_program_ = build_program({{GL_VERTEX_SHADER, "shadow_map.vert"}}, {{"PR_SHADOW_FROM_EYE", "1"}});
-    }
     if (!shadow_map_) {
         while (glGetError() != GL_NO_ERROR) {} // (an earlier error is not this one)
         shadow_map_ = gl::Texture::create(GL_TEXTURE_2D);
