@@ -344,26 +344,29 @@ void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<Draw
     if (parse_shadows(o.shadows, "--shadows") != Shadows::None && !any(reads_shadows))
         throw Error("--shadows", "has no effect: " + drawn + " draws no self-shadowing (flat never does; the reference hard shadows only)");
     const auto given = [](const CLI::Option* flag) { return flag != nullptr && flag->count() > 0; };
-    if (given(o.steps_flag) && !any(reads_steps))
-        throw Error("--steps", "has no effect: " + drawn +
-                                   " takes no linear steps (flat and reference never do; normal, offset and the "
-                                   "prism's max-mip with the exact or vertex exit only with --shadows): leave it out");
-    if (given(o.refine_flag) && !any(reads_refine))
-        throw Error("--refine", "has no effect: " + drawn +
-                                    " refines no hit (only relief, cone and relaxed-cone do, as techniques or as the "
-                                    "prism's marcher, and the prism's walk with max-mip): leave it out");
-    if (given(o.normal_quality_flag) && !any(reads_normal_quality))
-        throw Error("--normal-quality",
-                    "has no effect: " + drawn + " takes no normal from the heights (flat shades with the mesh's): leave it out");
-    if (given(o.light_size_flag) && !any(reads_light_size))
-        throw Error("--light-size", "has no effect: " + drawn +
-                                        " draws no soft shadows (the light's size shapes --shadows soft only, of "
-                                        "every technique but flat and reference): leave it out");
-    if (given(o.depth_write_flag) && !any(reads_depth_write))
-        throw Error("--depth-write", "has no effect: " + drawn +
-                                         " writes the same depth without it (only steep, pom, relief, cone and "
-                                         "relaxed-cone show points below the polygon; the prism always writes its depth): "
-                                         "leave it out");
+    // Each flag, what reads it, and what the draws do not do without it.
+    const struct {
+        const CLI::Option* flag;
+        bool (*reads)(const DrawSettings&);
+        const char* not_done;
+    } unread[] = {
+        {o.steps_flag, reads_steps,
+         "takes no linear steps (flat and reference never do; normal, offset and the prism's max-mip with the "
+         "exact or vertex exit only with --shadows)"},
+        {o.refine_flag, reads_refine,
+         "refines no hit (only relief, cone and relaxed-cone do, as techniques or as the prism's marcher, and the "
+         "prism's walk with max-mip)"},
+        {o.normal_quality_flag, reads_normal_quality, "takes no normal from the heights (flat shades with the mesh's)"},
+        {o.light_size_flag, reads_light_size,
+         "draws no soft shadows (the light's size shapes --shadows soft only, of every technique but flat and "
+         "reference)"},
+        {o.depth_write_flag, reads_depth_write,
+         "writes the same depth without it (only steep, pom, relief, cone and relaxed-cone show points below the "
+         "polygon; the prism always writes its depth)"},
+    };
+    for (const auto& u : unread)
+        if (given(u.flag) && !any(u.reads))
+            throw Error(u.flag->get_name(), "has no effect: " + drawn + " " + u.not_done + ": leave it out");
     const bool reference = std::any_of(drawn_settings.begin(), drawn_settings.end(),
                                        [](const DrawSettings& s) { return s.technique == Technique::Reference; });
     if (!reference)
