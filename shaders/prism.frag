@@ -310,8 +310,9 @@ float light_walk(uint prim, vec3 tex, vec3 hit, vec3 light_dir)
 // footprint: the rays one pixel right and one up (offset at the hit's view depth, from the
 // projection's focal lengths) meet the displaced surface's tangent plane through the hit (`n`,
 // spanned by `t` = dS/du and `b` = dS/dv), and their points' offsets, in that frame, are the uv
-// gradients (those of the reference's triangles there: a wall facing the eye is read sharp). The reference's colour is filtered
-// by its triangles' implicit derivatives; the prism's, read at level 0, aliased in minified views
+// gradients (those of the reference's triangles there: a wall facing the eye is read sharp). The
+// reference's colour is filtered by its triangles' implicit derivatives; the prism's, read at
+// level 0, aliased in minified views
 // (against the reference, with builtin:bricks for colour: the torus at 160x120 24.3 dB, now 29.7;
 // the plane seen 8 degrees up 27.2, now 35.4; plane_and_torus.json 29.2, now 38.0).
 // Implicit derivatives of the hit's uv are no use here: the walk's control flow leaves them
@@ -333,7 +334,7 @@ float hit_color_lod(vec3 hit, vec3 n, vec3 t_axis, vec3 b_axis)
     // the determinant grows as the object's scale to the fourth, and overflowed past 1e9, which
     // read the coarsest level: found by a review).
     vec3 largest = max(abs(t_axis), abs(b_axis));
-    float k = exp2(-floor(log2(max(max(largest.x, largest.y), max(largest.z, 1e-30)))));
+    float k = scale_to_unit(max(max(largest.x, largest.y), largest.z));
     t_axis *= k;
     b_axis *= k;
     off_x *= k;
@@ -596,7 +597,7 @@ void main()
 #endif
     count_fragment();
     vec3 albedo = u_base_color.rgb;
-    if ((u_march.w & PR_FLAG_COLOR_TEXTURE) != 0) {
+    if (has_color_texture()) {
         // (textureLod with that level: llvmpipe's textureGrad with the gradients cost more.)
         albedo = textureLod(s_color, tex.xy, hit_color_lod(hit, shading_n, surface_du, surface_dv)).rgb;
     }

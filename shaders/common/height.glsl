@@ -56,9 +56,11 @@ int march_sample_bound(int per_steps, vec2 size)
     return max(per_steps * max(u_march.x, 1) + 64, int(4.0 * texel_samples() * max(size.x, size.y)));
 }
 
+bool has_color_texture() { return (u_march.w & PR_FLAG_COLOR_TEXTURE) != 0; }
+
 vec3 albedo_at(vec2 uv, UvGrad g)
 {
-    if ((u_march.w & PR_FLAG_COLOR_TEXTURE) != 0) return textureGrad(s_color, uv, g.dx, g.dy).rgb;
+    if (has_color_texture()) return textureGrad(s_color, uv, g.dx, g.dy).rgb;
     return u_base_color.rgb;
 }
 
@@ -143,6 +145,12 @@ vec3 height_normal(vec2 uv, vec3 t, vec3 b, vec3 n_geom, float depth)
     return height_normal_frame(uv, t, b, n_geom, depth, du, dv);
 }
 
+// A power of two that brings `largest` (> 0) to [1, 2); 1 for 0.
+float scale_to_unit(float largest)
+{
+    return largest > 0.0 ? exp2(-floor(log2(largest))) : 1.0;
+}
+
 // A power of two that brings the texture-space frame (t, b, n depth) to a largest component in
 // [1, 2): inverse(s F) * (s v) is inverse(F) * v to the bit (powers of two scale exactly), and the
 // frame's determinant, which grows as the object's scale cubed, stays in float range. Unscaled,
@@ -152,6 +160,5 @@ vec3 height_normal(vec2 uv, vec3 t, vec3 b, vec3 n_geom, float depth)
 float frame_scale(mat3 frame)
 {
     vec3 m = max(max(abs(frame[0]), abs(frame[1])), abs(frame[2]));
-    float largest = max(max(m.x, m.y), m.z);
-    return largest > 0.0 ? exp2(-floor(log2(largest))) : 1.0;
+    return scale_to_unit(max(max(m.x, m.y), m.z));
 }
