@@ -43,21 +43,29 @@ void hold_warnings()
     w.holding = true;
 }
 
-void release_warnings()
+namespace {
+
+// Stops holding warnings, printing those held or not.
+void stop_holding(bool print)
 {
     Warnings& w = warnings();
     std::lock_guard lock(w.mutex);
-    for (const std::string& line : w.held) std::fputs(line.c_str(), stderr);
+    if (print)
+        for (const std::string& line : w.held) std::fputs(line.c_str(), stderr);
     w.held.clear();
     w.holding = false;
 }
 
+} // namespace
+
+void release_warnings()
+{
+    stop_holding(true);
+}
+
 void drop_warnings()
 {
-    Warnings& w = warnings();
-    std::lock_guard lock(w.mutex);
-    w.held.clear();
-    w.holding = false;
+    stop_holding(false);
 }
 
 namespace {
