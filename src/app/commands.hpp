@@ -39,7 +39,7 @@ inline nlohmann::json prism_configuration(const DrawSettings& s)
 // and with soft ones "light_size" (degrees, to a float's 7 digits: 0.3, not 0.30000001192092896).
 inline nlohmann::json shadows_json(const DrawSettings& s)
 {
-    nlohmann::json j = {{"shadows", shadows_name(reads_shadows(s) ? s.shadows : Shadows::None)}};
+    nlohmann::json j = {{"shadows", shadows_name(drawn_shadows(s))}};
     if (reads_light_size(s)) {
         char digits[32];
         std::snprintf(digits, sizeof digits, "%.7g", double(s.light_size));

@@ -335,7 +335,7 @@ ShaderDefines defines_for(const DrawSettings& s)
     // Only where the point shown lies below the polygon (reads_depth_write): flat, normal and
     // offset show the polygon's own depth, which the rasterizer's is.
     if (s.depth_write && reads_depth_write(s)) d.emplace_back("PR_DEPTH_WRITE", "1");
-    if (s.shadows != Shadows::None && reads_shadows(s)) d.emplace_back("PR_SHADOWS", shadows[static_cast<int>(s.shadows)]);
+    if (drawn_shadows(s) != Shadows::None) d.emplace_back("PR_SHADOWS", shadows[static_cast<int>(s.shadows)]);
     if (s.aux_map() == AuxMap::Cone || s.aux_map() == AuxMap::Relaxed) d.emplace_back("PR_HEIGHT_FROM_CONE", "1");
     if (s.count_samples) d.emplace_back("PR_COUNT_SAMPLES", "1");
     return d;
@@ -1060,7 +1060,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     upload_frame(camera, glm::normalize(light_dir), settings.pixel_offset, settings.light_size);
     // The reference's hard shadows: its shadow map, drawn before the frame's clock (as the
     // reference's geometry is built before it).
-    if (settings.technique == Technique::Reference && settings.shadows != Shadows::None && reads_shadows(settings)) {
+    if (settings.technique == Technique::Reference && drawn_shadows(settings) != Shadows::None) {
         ensure_shadow_map(glm::normalize(light_dir));
         glBindTextureUnit(PR_TEX_SHADOW_MAP, shadow_map_.id());
     }

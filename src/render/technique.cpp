@@ -205,6 +205,11 @@ bool reads_shadows(const DrawSettings& s)
     return s.technique != Technique::Flat;
 }
 
+Shadows drawn_shadows(const DrawSettings& s)
+{
+    return reads_shadows(s) ? s.shadows : Shadows::None;
+}
+
 bool reads_light_size(const DrawSettings& s)
 {
     return reads_shadows(s) && s.shadows == Shadows::Soft;

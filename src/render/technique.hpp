@@ -113,6 +113,9 @@ bool reads_normal_quality(const DrawSettings& s);
 // Self-shadowing: every technique but flat; the reference hard shadows only (a shadow map of its
 // geometry: Renderer::ensure_shadow_map), not soft ones.
 bool reads_shadows(const DrawSettings& s);
+// The shadows a draw draws: its setting where it reads it, else none (the shaders' PR_SHADOWS,
+// the reference's shadow map, the reports).
+Shadows drawn_shadows(const DrawSettings& s);
 // The light's size: soft shadows only (of the techniques that shade any).
 bool reads_light_size(const DrawSettings& s);
 // --depth-write: the base-surface techniques that show a point off the polygon (steep, pom,
