@@ -587,12 +587,15 @@ void main()
         // (Soft: never above the part of the disc over the base surface's horizon, which the
         // march in the hit's frame counts and the walk does not; so only where that march found
         // less light than the horizon leaves.)
+        // (The walk follows the light's own ray: soft_light_ray's raise is the texture plane's.)
+        g_soft_offset = 0.5;
         float horizon = soft_horizon(l_tex);
         if (visibility < horizon && light_above_horizon(l_tex)) {
             float walked = light_walk(prim, tex, hit, light_dir);
             if (walked >= 0.0) visibility = max(visibility, min(walked, horizon));
         }
 #endif
+        visibility = disc_share(visibility);
     }
 #endif
     count_fragment();

@@ -22,11 +22,14 @@ in vec3 v_bitangent;
 layout(location = 0) out vec4 o_color;
 
 #if PR_TECHNIQUE == PR_TECH_REFERENCE && defined(PR_SHADOWS)
-// The reference's hard shadows: the true displaced geometry's own, from a shadow map of it drawn
-// from the light (Renderer::ensure_shadow_map). A point is moved off its triangle towards the light
-// by about a texel of the map and compared a texel nearer, so that a surface does not shadow
-// itself; points outside the map (none: it spans the points the image shows) are lit.
-layout(binding = PR_TEX_SHADOW_MAP) uniform sampler2DShadow s_shadow_map;
+// The reference's shadows: the true displaced geometry's own, from shadow maps of it drawn from
+// the light (Renderer::ensure_shadow_map): one along the light with hard shadows; with soft ones,
+// one from each of PR_SHADOW_LAYERS directions spread evenly over the light's disc, and the light
+// seen is the share of them that reach the point (each map's look-up filtered over its 2 x 2
+// texels). A point is moved off its triangle towards the light by about a texel of the maps and
+// compared a texel nearer, so that a surface does not shadow itself; points outside a map (none:
+// each spans the points the image shows) are lit from its direction.
+layout(binding = PR_TEX_SHADOW_MAP) uniform sampler2DArrayShadow s_shadow_map;
 
 // `face`: the triangle's normal from the position's derivatives (taken in uniform control flow,
 // before the caller's branch on the light's side).
@@ -34,10 +37,17 @@ float reference_visibility(vec3 world, vec3 face, vec3 light_dir)
 {
     face = dot(face, face) > 0.0 ? normalize(face) : vec3(0.0);
     if (dot(face, light_dir) < 0.0) face = -face;
-    vec4 clip = u_shadow * vec4(world + u_shadow_bias.x * face, 1.0);
-    vec3 p = vec3(clip.xy / clip.w * 0.5 + 0.5, clip.z / clip.w);
-    if (any(lessThan(p, vec3(0.0))) || any(greaterThan(p, vec3(1.0)))) return 1.0;
-    return texture(s_shadow_map, vec3(p.xy, p.z - u_shadow_bias.y));
+    vec4 moved = vec4(world + u_shadow_bias.x * face, 1.0);
+    int maps = int(u_shadow_bias.z);
+    float lit = 0.0;
+    for (int k = 0; k < maps; ++k) {
+        vec4 clip = u_shadow[k] * moved;
+        vec3 p = vec3(clip.xy / clip.w * 0.5 + 0.5, clip.z / clip.w);
+        lit += any(lessThan(p, vec3(0.0))) || any(greaterThan(p, vec3(1.0)))
+                   ? 1.0
+                   : texture(s_shadow_map, vec4(p.xy, float(k), p.z - u_shadow_bias.y));
+    }
+    return lit / float(max(maps, 1));
 }
 #endif
 
@@ -134,8 +144,8 @@ void main()
     if (depth > 0.0 && dot(n, light_dir) > 0.0) s_hit = max(s_hit, height_at(uv, g));
 #endif
     if (depth > 0.0 && dot(n, light_dir) > 0.0)
-        visibility = light_visibility(vec3(uv, s_hit),
-                                      light_in_texture_space(t_axis, b_axis, n_geom, depth, light_dir), g);
+        visibility = disc_share(light_visibility(vec3(uv, s_hit),
+                                                 light_in_texture_space(t_axis, b_axis, n_geom, depth, light_dir), g));
 #endif
     vec3 color = shade_blinn_phong(albedo_at(uv, g), n, light_dir, to_eye, visibility);
     o_color = vec4(color, 1.0);

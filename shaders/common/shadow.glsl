@@ -12,32 +12,75 @@
 // on can block it. Each step is at least the linear march's, so it never takes more samples.
 //
 // Soft shadows: a round light of angular radius u_light_dir.w (its tangent; --light-size is the
-// diameter in degrees, 2 by default) whose disc rises over the nearest occluder's edge: the
-// light seen along the ray is the smallest clearance angle over the disc's diameter, the angle
-// taken in the world (clearance in height units times the depth, over the run in UV units times
-// the world length of one along the ray: g_soft_scale), so that the penumbra is the same
-// whatever the depth and the texture's scale.
+// diameter in degrees, 2 by default) centred on the light's direction, which the nearest
+// occluder's edge cuts: the ray towards the disc's centre is marched, and the edge lies across
+// the disc as far below (or above) its centre as the smallest clearance angle seen along the
+// way, the angle taken in the world (clearance in height units times the depth, over the run in
+// UV units times the world length of one along the ray: g_soft_scale), so that the penumbra is
+// the same whatever the depth and the texture's scale. The march goes on under the surface while
+// the edge is less than the radius above the centre. soft_light is the edge's offset across the
+// disc's diameter, 0 (edge at the top) to 1 (at the bottom; 1/2 at a clearance of 0); disc_share
+// turns it into the share of the disc's area over the edge, which light_visibility returns.
+// (Until the twenty-second session the disc lay under the light's direction, the direction its
+// top: the whole penumbra fell outside the hard shadow, which it widened by the disc's diameter,
+// where the reference's soft shadows, from shadow maps over the disc, straddle its edge.)
 // (Until the twentieth session it was the clearance over the run in texture units, times 6: it
 // narrowed as the depth grew, and darkened flat ground under a low light depending on --depth.)
 // (The radius was a constant of this file, tan 1 degree, until the twenty-first session.)
 
 float g_soft_scale = 1.0; // world clearance angle per texture-space clearance slope (light_in_texture_space)
+// soft_light at a clearance of 0: 1/2, the edge through the disc's centre, less where the ray
+// marched is raised over the light's (soft_light_ray).
+float g_soft_offset = 0.5;
 
 // The light seen past a clearance (height units) over a run (UV units) from the start.
 float soft_light(float clearance, float run)
 {
-    return clamp(g_soft_scale * clearance / ((2.0 * u_light_dir.w) * run + 1e-30), 0.0, 1.0);
+    return clamp(g_soft_offset + g_soft_scale * clearance / ((2.0 * u_light_dir.w) * run + 1e-30), 0.0, 1.0);
 }
 
-// soft_light's clearance-to-run ratio that lets the whole disc through, inverted: the light seen
-// is min(1, soft_gain() * clearance / run).
+// soft_light's clearance-to-run ratio per diameter, inverted: the light seen is
+// clamp(g_soft_offset + soft_gain() * clearance / run, 0, 1).
 float soft_gain()
 {
     return g_soft_scale / max(2.0 * u_light_dir.w, 1e-30);
 }
 
+// The share of the disc over an edge at soft_light's offset `v`: the area of the segment it cuts
+// off. (0 and 1 are left as they are: hard shadows pass through too.)
+float disc_share(float v)
+{
+#if defined(PR_SHADOWS) && PR_SHADOWS == PR_SHADOWS_SOFT
+    float x = clamp(2.0 * v - 1.0, -1.0, 1.0);
+    return 1.0 - (acos(x) - x * sqrt(1.0 - x * x)) * (1.0 / 3.14159265);
+#else
+    return v;
+#endif
+}
+
+// Soft shadows: the ray the light march follows, for the light along `l_tex` (texture space).
+// Its own where it rises at least a quarter of the radius over the base surface's horizon (in
+// the world), else raised to that, with g_soft_offset lowered by what the raise adds to every
+// clearance angle: the march stays bounded (a ray that hardly rises runs through the height
+// range for ever), and the part of the disc over the horizon is still lit when its centre is
+// under it (a light at the horizon lights half the disc). Sets g_soft_offset.
+vec3 soft_light_ray(vec3 l_tex)
+{
+    g_soft_offset = 0.5;
+#if defined(PR_SHADOWS) && PR_SHADOWS == PR_SHADOWS_SOFT
+    float run = length(l_tex.xy);
+    float lowest = 0.25 * u_light_dir.w / max(g_soft_scale, 1e-30) * run;
+    if (run > 0.0 && l_tex.z < lowest) {
+        g_soft_offset = 0.5 - soft_gain() * (lowest - l_tex.z) / run;
+        l_tex.z = lowest;
+    }
+#endif
+    return l_tex;
+}
+
 // The light a soft shadow leaves above a flat surface: the part of the disc above the base
-// surface's horizon (`l_tex` in texture space: its slope). 1 with hard shadows.
+// surface's horizon (`l_tex` in texture space: its slope; soft_light's offset, not yet the
+// disc's share). 1 with hard shadows.
 float soft_horizon(vec3 l_tex)
 {
 #if defined(PR_SHADOWS) && PR_SHADOWS == PR_SHADOWS_SOFT
@@ -100,18 +143,19 @@ int march_light(vec3 origin, vec3 dir, float t_end, float rise, inout float run_
         if (denom <= 0.0) break;
         t += max(hc.z * (p.z - hc.x) / denom, dt);
 #else
-        // Soft: the cone bounds the heights s further on by hc.x + s * run / c, so the clearance
-        // there is at least clearance - s * denom / c, and the light seen there at least
-        // soft_light of that over the run. The step goes as far as that bound leaves at least
-        // `visibility` (both sides times c: a cone of 0 steps dt), short of the cone's own exit:
+        // Soft: the cone bounds the heights s further on by hc.x + s * run / c (under the surface
+        // too), so the clearance there is at least clearance - s * denom / c, and the light seen
+        // there at least soft_light of that over the run. The step goes as far as that bound
+        // leaves at least `visibility` (both sides times c: a cone of 0 steps dt), short of the
+        // cone's own exit:
         // a near miss that would dim the light more is sampled, not stepped over. (The hard step
         // went through such misses: behind a wall lower than the range, the cone marchers drew
         // no penumbra at all where relief drew one.) Where the bound never falls below
         // `visibility` (a ray steeper than the cone, rising fast enough), nothing further on along
         // this stretch dims the light more.
         float gain = soft_gain();
-        float margin = hc.z * (gain * clearance - visibility * (run_before + t * run));
-        float shrink = gain * denom + hc.z * visibility * run;
+        float margin = hc.z * (gain * clearance - (visibility - g_soft_offset) * (run_before + t * run));
+        float shrink = gain * denom + hc.z * (visibility - g_soft_offset) * run;
         if (shrink <= 0.0) break;
         t += max(margin / shrink, dt);
 #endif
@@ -177,17 +221,22 @@ vec3 light_start(vec3 tex)
     return tex;
 }
 
+// The light seen from `tex` on the height field (texture space), as soft_light's offset across the
+// disc (disc_share gives the share of its area).
 float light_visibility(vec3 tex, vec3 l_tex, UvGrad g)
 {
 #ifdef PR_SHADOWS
     // Light at or below the base surface's horizon: a light ray that does not rise stays in the
     // height range for ever (or comes from under the surface, through the object's body), so
     // it is blocked. (It used to count as unblocked: bump flanks facing such a light stayed lit,
-    // and a sphere's night side showed them, shadows on or off.)
+    // and a sphere's night side showed them, shadows on or off.) A soft light's disc partly
+    // over the horizon lights that part (soft_light_ray).
+    l_tex = soft_light_ray(l_tex);
     if (!light_above_horizon(l_tex)) return 0.0;
     tex = light_start(tex);
     float t_end = max((1.0 - tex.z) / l_tex.z, 0.0);
     float visibility = soft_horizon(l_tex), run = 0.0;
+    if (visibility <= 0.0) return 0.0;
     if (t_end > 0.0 && march_light(tex, l_tex, t_end, 1.0 - tex.z, run, visibility, g) == PR_LIGHT_BLOCKED) return 0.0;
     soft_past_top(tex + t_end * l_tex, l_tex, run, visibility, g);
     return visibility;
@@ -207,9 +256,15 @@ vec3 light_in_texture_space(vec3 t_axis, vec3 b_axis, vec3 n, float depth, vec3 
     // World length of one UV unit along the light's horizontal direction (the mean of the axes'
     // for a light along the normal), for the soft penumbra's angle: a clearance of one height unit
     // is `depth` in the world.
+    // The angle a clearance makes seen from the start is that height times cos^2 of the light's
+    // elevation over the run (the height across the ray is its cosine; the distance along the
+    // ray, the run over it): at 25 degrees the penumbra was 18 % narrower than the reference's,
+    // at 60 degrees 4 times (twenty-second session). (Not 0: a light along the normal has no
+    // run either, and a clearance over no run is the whole disc or none of it.)
+    float cos2 = max(1.0 - dot(n, light_dir) * dot(n, light_dir), 1e-12);
     float uv_run = length(l_tex.xy);
     float world_per_uv = uv_run > 1e-6 * abs(l_tex.z) ? length(l_tex.x * t_axis + l_tex.y * b_axis) / uv_run
                                                       : 0.5 * (length(t_axis) + length(b_axis));
-    g_soft_scale = depth / max(world_per_uv, 1e-30);
+    g_soft_scale = cos2 * depth / max(world_per_uv, 1e-30);
     return l_tex;
 }

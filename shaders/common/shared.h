@@ -36,7 +36,9 @@ using mat4 = glm::mat4;
 #define PR_TEX_CORNERS 6   // rgba32ui, three texels per vertex: vec4(bottom corner, u), vec4(unit N, v),
                            // vec4(top height, weld, 0, 0) (floats as bits); walk only
 #define PR_TEX_PRISM_LIST 7 // r32ui: prisms drawn one point each (the folded ones; the second pass's, prism.geom)
-#define PR_TEX_SHADOW_MAP 8 // depth32f with comparison: the reference's shadow map (its hard shadows, surface.frag)
+#define PR_TEX_SHADOW_MAP 8 // depth32f array with comparison: the reference's shadow maps (its shadows, surface.frag)
+// The reference's soft shadows: one shadow map per direction over the light's disc (hard: one).
+#define PR_SHADOW_LAYERS 16
 #define PR_SSBO_COUNTERS 0
 #define PR_IMAGE_TEARS 0    // r32ui, per pixel: 1 where a walk went into the object through a tear (prism walk, torn meshes)
 #define PR_IMAGE_TEAR_TILES 1 // r32ui, the same per tile of PR_TEAR_TILE^2 pixels (the second pass's culling)
@@ -103,10 +105,11 @@ PR_UNIFORM_BLOCK(ObjectBlock, PR_UBO_OBJECT)
     vec4 u_base_color;    // albedo when there is no colour texture (rgb), a unused
     vec4 u_eye_tex;       // xyz: the eye in that prism's texture space (u, v, height); w unused
     ivec4 u_walk;         // x: the most prisms a walk crosses before it gives up; yzw unused
-    // The reference with shadows: its shadow map's projection of this object's frame (clip space,
-    // depth 0..1 from the light), and x: how far a point is moved off its triangle towards the
-    // light before the look-up, y: the depth bias (both about a texel of the map); zw unused.
-    mat4 u_shadow;
+    // The reference with shadows: each shadow map's projection of this object's frame (clip space,
+    // depth 0..1 from the light; layer 0 alone with hard shadows), and x: how far a point is moved
+    // off its triangle towards the light before the look-up, y: the depth bias (both about a
+    // texel of the maps), z: the number of maps, w: the map being drawn (shadow_map.vert).
+    mat4 u_shadow[PR_SHADOW_LAYERS];
     vec4 u_shadow_bias;
 };
 

@@ -35,7 +35,7 @@ inline nlohmann::json prism_configuration(const DrawSettings& s)
             {"prism_shell", s.full_shell || s.prism_exit != PrismExit::Walk ? "full" : "tight"}}; // (other exits: full)
 }
 
-// The shadows a draw drew: "shadows" (none where it draws none: flat, the reference's soft ones),
+// The shadows a draw drew: "shadows" (none where it draws none: flat),
 // and with soft ones "light_size" (degrees, to a float's 7 digits: 0.3, not 0.30000001192092896).
 inline nlohmann::json shadows_json(const DrawSettings& s)
 {

@@ -76,10 +76,6 @@ CommandAction add_compare_command(CLI::App& app)
             for (const TechniqueRun& run : runs) drawn.push_back(run.settings);
             check_quality_flags_apply(s->quality, drawn, "--techniques " + s->quality.techniques);
         }
-        if (drawn_shadows(ref_settings) != ref_settings.shadows)
-            warn("--shadows " + shadows_name(ref_settings.shadows) +
-                 ": the reference draws hard shadows only, so its image here has none, and PSNR counts every "
-                 "technique's shadows as error (compare with --shadows hard: docs/compare.md)");
         if (!s->out.empty()) check_png_output(s->out);
         if (!s->json.empty()) check_output_folder(s->json);
         std::vector<NamedPath> outputs = {{"--out", s->out}, {"--json", s->json}};

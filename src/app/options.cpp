@@ -342,7 +342,7 @@ void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<Draw
         return std::any_of(drawn_settings.begin(), drawn_settings.end(), reads);
     };
     if (parse_shadows(o.shadows, "--shadows") != Shadows::None && !any(reads_shadows))
-        throw Error("--shadows", "has no effect: " + drawn + " draws no self-shadowing (flat never does; the reference hard shadows only)");
+        throw Error("--shadows", "has no effect: " + drawn + " draws no self-shadowing (flat never does)");
     const auto given = [](const CLI::Option* flag) { return flag != nullptr && flag->count() > 0; };
     // Each flag, what reads it, and what the draws do not do without it.
     const struct {
@@ -358,8 +358,7 @@ void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<Draw
          "prism's walk with max-mip)"},
         {o.normal_quality_flag, reads_normal_quality, "takes no normal from the heights (flat shades with the mesh's)"},
         {o.light_size_flag, reads_light_size,
-         "draws no soft shadows (the light's size shapes --shadows soft only, of every technique but flat and "
-         "reference)"},
+         "draws no soft shadows (the light's size shapes --shadows soft only, of every technique but flat)"},
         {o.depth_write_flag, reads_depth_write,
          "writes the same depth without it (only steep, pom, relief, cone and relaxed-cone show points below the "
          "polygon; the prism always writes its depth)"},

@@ -142,7 +142,7 @@ void check_prism_flags_apply(const TechniqueOptions& o, bool any_prism, const st
 // compare, bench; not the viewer, whose panel may turn to another technique or change the flag's
 // setting). `drawn_settings`: every draw (compare: its reference's too), named `drawn` in the
 // error ("--technique flat", "--techniques flat,pom"). In this order:
-// - --shadows hard|soft where no draw reads it (flat never, the reference hard only: reads_shadows;
+// - --shadows hard|soft where no draw reads it (flat never: reads_shadows;
 //   --shadows none asks for nothing, and is taken anywhere);
 // - --steps, --refine, --normal-quality, --depth-write and --light-size where no draw reads them
 //   (reads_steps and the others, render/technique.hpp);

@@ -816,19 +816,17 @@ void Renderer::upload_object(const GpuObject& o, const DrawSettings& settings, f
     ob.u_walk = glm::ivec4(o.walk_max_prisms, 0, 0, 0);
     ob.u_material = glm::vec4(0.12f, 0.88f, 0.18f, 48.0f);
     ob.u_base_color = glm::vec4(o.base_color, 1.0f);
-    ob.u_shadow = glm::mat4(glm::dmat4(shadow_view_proj_) * glm::translate(glm::dmat4(1.0), o.origin - shadow_origin_));
-    // A texel and a half off the triangle and nearer the light (depth 0..1 spans the map's
-    // depth range), and at least 8 steps of the depth's floats near 1 (a view closing in on part
-    // of a large scene makes the texels far finer than the depth).
-    const float depth_bias = std::max(1.5f * shadow_texel_ / std::max(shadow_depth_range_, 1e-30f), 1e-6f);
-    ob.u_shadow_bias = glm::vec4(1.5f * shadow_texel_, depth_bias, 0.0f, 0.0f);
+    for (std::size_t k = 0; k < shadow_layers_.size(); ++k)
+        ob.u_shadow[k] = glm::mat4(glm::dmat4(shadow_layers_[k].view_proj) *
+                                   glm::translate(glm::dmat4(1.0), o.origin - shadow_layers_[k].origin));
+    ob.u_shadow_bias = glm::vec4(shadow_bias_, float(shadow_layers_.size()), float(shadow_layer_drawn_));
     glNamedBufferSubData(object_ubo_.id(), 0, sizeof(ob), &ob);
 }
 
-void Renderer::ensure_shadow_map(glm::vec3 light_dir)
+void Renderer::ensure_shadow_map(glm::vec3 light_dir, bool soft, float light_tan)
 {
-    // Drawn for a light and a camera: it covers the points the image shows (whatever casts a
-    // shadow on one lies towards the light from it, which in the map's orthographic view is the
+    // Drawn for a light and a camera: each map covers the points the image shows (whatever casts
+    // a shadow on one lies towards the light from it, which in the map's orthographic view is the
     // same texel), so its texels are as fine as that part of the scene needs. (Over the sphere
     // around every object's shell, a second torus 300 units away made them 70 times coarser,
     // and the first torus's bumps lost their shadows: found by a review.)
@@ -837,7 +835,10 @@ void Renderer::ensure_shadow_map(glm::vec3 light_dir)
     const Camera& k = shadow_camera_;
     const bool same_view = c.eye == k.eye && c.target == k.target && c.up == k.up && c.fovy_deg == k.fovy_deg &&
                            c.near_plane == k.near_plane && c.far_plane == k.far_plane && aspect == shadow_aspect_;
-    if (shadow_light_ && *shadow_light_ == light_dir && same_view) return;
+    if (!soft) light_tan = 0.0f;
+    if (shadow_light_ && *shadow_light_ == light_dir && shadow_light_tan_ == light_tan &&
+        int(shadow_layers_.size()) == (soft ? PR_SHADOW_LAYERS : 1) && same_view)
+        return;
     if (!shadow_program_ || !shadow_eye_program_) { // (both, or again: a build that threw left one)
         shadow_program_ = build_program({{GL_VERTEX_SHADER, "shadow_map.vert"}}, {});
         shadow_eye_program_ = build_program({{GL_VERTEX_SHADER, "shadow_map.vert"}}, {{"PR_SHADOW_FROM_EYE", "1"}});
@@ -846,27 +847,40 @@ void Renderer::ensure_shadow_map(glm::vec3 light_dir)
     // own columns: off here, set back at the end.
     const ScissorState scissor = ScissorState::current();
     glDisable(GL_SCISSOR_TEST);
-    if (!shadow_map_) {
+    // Hard shadows: one map of 4096 texels a side, read at the nearest texel. Soft: one of 2048 a
+    // side from each direction over the disc (16 of 4096 would take a gigabyte), each read
+    // filtered over its 2 x 2 texels, which smooths the steps between the directions' edges.
+    const int size = soft ? kSoftShadowMapSize : kShadowMapSize;
+    const int layers = soft ? PR_SHADOW_LAYERS : 1;
+    if (!shadow_map_ || shadow_map_size_ != size || shadow_map_layers_ != layers) {
+        shadow_map_ = {};
+        shadow_fbo_ = {};
+        shadow_light_.reset();
         while (glGetError() != GL_NO_ERROR) {} // (an earlier error is not this one)
-        shadow_map_ = gl::Texture::create(GL_TEXTURE_2D);
-        glTextureStorage2D(shadow_map_.id(), 1, GL_DEPTH_COMPONENT32F, kShadowMapSize, kShadowMapSize);
-        glTextureParameteri(shadow_map_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTextureParameteri(shadow_map_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        shadow_map_ = gl::Texture::create(GL_TEXTURE_2D_ARRAY);
+        glTextureStorage3D(shadow_map_.id(), 1, GL_DEPTH_COMPONENT32F, size, size, layers);
+        const GLint filter = soft ? GL_LINEAR : GL_NEAREST;
+        glTextureParameteri(shadow_map_.id(), GL_TEXTURE_MIN_FILTER, filter);
+        glTextureParameteri(shadow_map_.id(), GL_TEXTURE_MAG_FILTER, filter);
         glTextureParameteri(shadow_map_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
         glTextureParameteri(shadow_map_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
         glTextureParameteri(shadow_map_.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
         glTextureParameteri(shadow_map_.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
         shadow_fbo_ = gl::Framebuffer::create();
-        glNamedFramebufferTexture(shadow_fbo_.id(), GL_DEPTH_ATTACHMENT, shadow_map_.id(), 0);
+        glNamedFramebufferTextureLayer(shadow_fbo_.id(), GL_DEPTH_ATTACHMENT, shadow_map_.id(), 0, 0);
         glNamedFramebufferDrawBuffer(shadow_fbo_.id(), GL_NONE);
         if (glGetError() == GL_OUT_OF_MEMORY ||
             glCheckNamedFramebufferStatus(shadow_fbo_.id(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
             shadow_map_ = {};
             shadow_fbo_ = {};
+            shadow_map_size_ = shadow_map_layers_ = 0;
             scissor.restore();
-            throw Error("--shadows", "could not create the reference's shadow map (" + std::to_string(kShadowMapSize) +
-                                         "x" + std::to_string(kShadowMapSize) + ", out of GPU memory?)");
+            throw Error("--shadows", "could not create the reference's shadow map" + std::string(soft ? "s (" : " (") +
+                                         (soft ? std::to_string(layers) + " of " : std::string()) +
+                                         std::to_string(size) + "x" + std::to_string(size) + ", out of GPU memory?)");
         }
+        shadow_map_size_ = size;
+        shadow_map_layers_ = layers;
     }
     const auto draw_references = [&](GLuint program) {
         glUseProgram(program);
@@ -879,8 +893,7 @@ void Renderer::ensure_shadow_map(glm::vec3 light_dir)
         }
     };
 
-    // The light's frame: x, y across the light, z along it towards the light (a rotation, in
-    // double), about the centre of the objects' shells, every one within `radius` of it.
+    // The maps' frames are about the centre of the objects' shells, every one within `radius` of it.
     glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
     for (const GpuObject& o : objects_) {
         lo = glm::min(lo, o.shell_center - double(o.shell_radius));
@@ -891,12 +904,10 @@ void Renderer::ensure_shadow_map(glm::vec3 light_dir)
     for (const GpuObject& o : objects_)
         radius = std::max(radius, glm::distance(centre, o.shell_center) + double(o.shell_radius));
     radius = std::max(radius * 1.01, 1e-20);
-    const glm::dvec3 toward(light_dir);
-    const glm::dvec3 up = std::abs(light_dir.y) < 0.99f ? glm::dvec3(0.0, 1.0, 0.0) : glm::dvec3(1.0, 0.0, 0.0);
-    const glm::dmat4 light_axes = glm::lookAt(glm::dvec3(0.0), -toward, up); // view z = dot(p, toward)
 
     // The points the image shows: the references' depth from the camera (a pass into the frame's
-    // own depth target, which the frame clears after), read back and taken to the light's frame.
+    // own depth target, which the frame clears after), read back and taken to the world about
+    // the centre (in double: a float view far from the origin is coarse).
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
     glViewport(0, 0, width_, height_);
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
@@ -909,69 +920,108 @@ void Renderer::ensure_shadow_map(glm::vec3 light_dir)
     GLboolean color_mask[4];
     glGetBooleanv(GL_COLOR_WRITEMASK, color_mask);
     glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE); // (the program has no fragment stage)
+    shadow_layers_.clear(); // (none while the camera's pass uploads the objects)
     draw_references(shadow_eye_program_.id());
     glColorMask(color_mask[0], color_mask[1], color_mask[2], color_mask[3]);
     const std::vector<float> depth = read_depth();
-    // (The camera's view in double about the centre: a float one far from the origin is coarse.)
     const Camera& cam = frame_camera_;
-    const glm::dmat4 to_light = light_axes *
-                                glm::inverse(glm::dmat4(cam.projection(aspect)) *
+    const glm::dmat4 to_world = glm::inverse(glm::dmat4(cam.projection(aspect)) *
                                              glm::lookAt(cam.eye - centre, cam.target - centre, glm::dvec3(cam.up)));
-    glm::dvec3 box_lo(std::numeric_limits<double>::max()), box_hi(-std::numeric_limits<double>::max());
+    std::vector<glm::dvec3> shown;
     for (int y = 0; y < height_; ++y)
         for (int x = 0; x < width_; ++x) {
             const float d = depth[std::size_t(y) * std::size_t(width_) + std::size_t(x)];
             if (!(d > 0.0f)) continue; // nothing there
-            const glm::dvec4 l = to_light * glm::dvec4((x + 0.5) / width_ * 2.0 - 1.0, (y + 0.5) / height_ * 2.0 - 1.0,
+            const glm::dvec4 w = to_world * glm::dvec4((x + 0.5) / width_ * 2.0 - 1.0, (y + 0.5) / height_ * 2.0 - 1.0,
                                                        double(d), 1.0);
-            box_lo = glm::min(box_lo, glm::dvec3(l) / l.w);
-            box_hi = glm::max(box_hi, glm::dvec3(l) / l.w);
+            shown.push_back(glm::dvec3(w) / w.w);
         }
-    if (box_lo.x > box_hi.x) { // nothing shown: any map will do
-        box_lo = glm::dvec3(-radius);
-        box_hi = glm::dvec3(radius);
+
+    // The directions: along the light, or spread evenly over its disc (a sunflower spiral: the
+    // k-th at the radius sqrt((k + 1/2) / n) of the disc's, turned by the golden angle from the
+    // one before).
+    const glm::dvec3 toward(light_dir);
+    const glm::dvec3 side_axis = glm::normalize(
+        glm::cross(toward, std::abs(light_dir.y) < 0.99f ? glm::dvec3(0.0, 1.0, 0.0) : glm::dvec3(1.0, 0.0, 0.0)));
+    const glm::dvec3 up_axis = glm::cross(side_axis, toward);
+    std::vector<ShadowLayer> fitted(static_cast<std::size_t>(layers));
+    double texel = 0.0, depth_bias = 0.0;
+    for (int layer = 0; layer < layers; ++layer) {
+        glm::dvec3 dir = toward;
+        if (soft) {
+            const double r = double(light_tan) * std::sqrt((layer + 0.5) / layers);
+            const double a = layer * 2.39996322972865332; // the golden angle
+            dir = glm::normalize(toward + r * (std::cos(a) * side_axis + std::sin(a) * up_axis));
+        }
+        // The light's frame: x, y across the light, z along it towards the light (a rotation).
+        const glm::dvec3 up = std::abs(dir.y) < 0.99 ? glm::dvec3(0.0, 1.0, 0.0) : glm::dvec3(1.0, 0.0, 0.0);
+        const glm::dmat4 light_axes = glm::lookAt(glm::dvec3(0.0), -dir, up); // view z = dot(p, dir)
+        const glm::dmat3 rotate(light_axes);
+        glm::dvec3 box_lo(std::numeric_limits<double>::max()), box_hi(-std::numeric_limits<double>::max());
+        for (const glm::dvec3& p : shown) {
+            const glm::dvec3 l = rotate * p;
+            box_lo = glm::min(box_lo, l);
+            box_hi = glm::max(box_hi, l);
+        }
+        if (box_lo.x > box_hi.x) { // nothing shown: any map will do
+            box_lo = glm::dvec3(-radius);
+            box_hi = glm::dvec3(radius);
+        }
+        // A margin for the pixels' spread (a pixel's footprint, and --msaa's shifted passes) and
+        // the look-up's offset towards the light: 2 % of the box and 8 texels of it.
+        const double extent = std::max({box_hi.x - box_lo.x, box_hi.y - box_lo.y, 1e-9 * radius});
+        const double margin = 0.02 * extent + 8.0 * extent / size;
+        box_lo -= margin;
+        box_hi += margin;
+        // Its depth, likewise: from the farthest point shown up to the nearest point towards the
+        // light of any shell over the box (only those can shadow a point in it). Over the whole
+        // scene's sphere, and about its centre, a torus a million units off made the depth's steps
+        // and bias coarser than the bumps, and a third of the shadows went (found by a review).
+        for (const GpuObject& o : objects_) {
+            const glm::dvec3 oc = rotate * (o.shell_center - centre);
+            const double rr = double(o.shell_radius);
+            if (oc.x + rr < box_lo.x || oc.x - rr > box_hi.x || oc.y + rr < box_lo.y || oc.y - rr > box_hi.y) continue;
+            box_hi.z = std::max(box_hi.z, oc.z + rr);
+        }
+        box_lo.z -= 0.02 * (box_hi.z - box_lo.z);
+        box_hi.z += 0.02 * (box_hi.z - box_lo.z);
+        // The map's own origin: the box's middle (in the world, double), so that the matrices the
+        // shaders get hold small numbers for the objects shown.
+        const glm::dvec3 middle = 0.5 * (box_lo + box_hi);
+        fitted[std::size_t(layer)].origin = centre + glm::transpose(rotate) * middle;
+        const glm::dvec3 half = 0.5 * (box_hi - box_lo);
+        const double extent_half = std::max(half.x, half.y); // square texels
+        // (Looking along -z: the near plane at distance -half.z, towards the light, the far at +half.z.)
+        fitted[std::size_t(layer)].view_proj = glm::mat4(
+            glm::orthoRH_ZO(-extent_half, extent_half, -extent_half, extent_half, -half.z, half.z) * light_axes);
+        // A texel and a half off the triangle and nearer the light (depth 0..1 spans the map's
+        // depth range), and at least 8 steps of the depth's floats near 1 (a view closing in on
+        // part of a large scene makes the texels far finer than the depth); the largest of the maps'.
+        const double layer_texel = 2.0 * extent_half / size;
+        texel = std::max(texel, layer_texel);
+        depth_bias = std::max(depth_bias, 1.5 * layer_texel / std::max(2.0 * half.z, 1e-30));
     }
-    // A margin for the pixels' spread (a pixel's footprint, and --msaa's shifted passes) and the
-    // look-up's offset towards the light: 2 % of the box and 8 texels of it.
-    const double extent = std::max({box_hi.x - box_lo.x, box_hi.y - box_lo.y, 1e-9 * radius});
-    const double margin = 0.02 * extent + 8.0 * extent / kShadowMapSize;
-    box_lo -= margin;
-    box_hi += margin;
-    // Its depth, likewise: from the farthest point shown up to the nearest point towards the light
-    // of any shell over the box (only those can shadow a point in it). Over the whole scene's
-    // sphere, and about its centre, a torus a million units off made the depth's steps and bias
-    // coarser than the bumps, and a third of the shadows went (found by a review).
-    for (const GpuObject& o : objects_) {
-        const glm::dvec3 c = glm::dvec3(light_axes * glm::dvec4(o.shell_center - centre, 1.0));
-        const double rr = double(o.shell_radius);
-        if (c.x + rr < box_lo.x || c.x - rr > box_hi.x || c.y + rr < box_lo.y || c.y - rr > box_hi.y) continue;
-        box_hi.z = std::max(box_hi.z, c.z + rr);
-    }
-    box_lo.z -= 0.02 * (box_hi.z - box_lo.z);
-    box_hi.z += 0.02 * (box_hi.z - box_lo.z);
-    // The map's own origin: the box's middle (in the world, double), so that the matrices the
-    // shaders get hold small numbers for the objects shown.
-    const glm::dvec3 middle = 0.5 * (box_lo + box_hi);
-    shadow_origin_ = centre + glm::dvec3(glm::transpose(glm::dmat3(light_axes)) * middle);
-    const glm::dvec3 half = 0.5 * (box_hi - box_lo);
-    const double side = std::max(half.x, half.y); // square texels
-    // (Looking along -z: the near plane at distance -half.z, towards the light, the far at +half.z.)
-    shadow_view_proj_ = glm::mat4(glm::orthoRH_ZO(-side, side, -side, side, -half.z, half.z) * light_axes);
-    shadow_texel_ = float(2.0 * side / kShadowMapSize);
-    shadow_depth_range_ = float(2.0 * half.z);
+    shadow_layers_ = std::move(fitted);
+    shadow_bias_ = glm::vec2(float(1.5 * texel), std::max(float(depth_bias), 1e-6f));
 
     glBindFramebuffer(GL_FRAMEBUFFER, shadow_fbo_.id());
-    glViewport(0, 0, kShadowMapSize, kShadowMapSize);
+    glViewport(0, 0, size, size);
     glDepthFunc(GL_LESS);
-    const GLfloat far_depth = 1.0f;
-    glClearNamedFramebufferfv(shadow_fbo_.id(), GL_DEPTH, 0, &far_depth);
     // The depth's slope on top of the look-up's bias: steep triangles seen edge-on from the light.
     glEnable(GL_POLYGON_OFFSET_FILL);
     glPolygonOffset(1.5f, 0.0f);
-    draw_references(shadow_program_.id());
+    for (int layer = 0; layer < layers; ++layer) {
+        glNamedFramebufferTextureLayer(shadow_fbo_.id(), GL_DEPTH_ATTACHMENT, shadow_map_.id(), 0, layer);
+        const GLfloat far_depth = 1.0f;
+        glClearNamedFramebufferfv(shadow_fbo_.id(), GL_DEPTH, 0, &far_depth);
+        shadow_layer_drawn_ = layer;
+        draw_references(shadow_program_.id());
+    }
+    shadow_layer_drawn_ = 0;
     glDisable(GL_POLYGON_OFFSET_FILL);
     scissor.restore();
     shadow_light_ = light_dir;
+    shadow_light_tan_ = light_tan;
     shadow_camera_ = frame_camera_;
     shadow_aspect_ = aspect;
 }
@@ -1061,7 +1111,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     // The reference's hard shadows: its shadow map, drawn before the frame's clock (as the
     // reference's geometry is built before it).
     if (settings.technique == Technique::Reference && drawn_shadows(settings) != Shadows::None) {
-        ensure_shadow_map(glm::normalize(light_dir));
+        ensure_shadow_map(glm::normalize(light_dir), drawn_shadows(settings) == Shadows::Soft, frame_light_tan_);
         glBindTextureUnit(PR_TEX_SHADOW_MAP, shadow_map_.id());
     }
     if (settings.count_samples) {

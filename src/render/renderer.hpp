@@ -236,18 +236,24 @@ private:
     gl::Texture tear_tiles_; // r32ui, the same per tile of PR_TEAR_TILE^2 pixels
     gl::Buffer pass_list_;          // the second pass's prisms (r32ui), rewritten per draw
     gl::Texture pass_list_texels_;  // its buffer texture (PR_TEX_PRISM_LIST)
-    // The reference's shadow map (ensure_shadow_map): depth from the light across the points the
-    // image shows, the projection of the world (less shadow_origin_) into its clip space, and the
-    // light and camera it was drawn for (empty: none yet, or the geometry changed since).
-    gl::Texture shadow_map_;
+    // The reference's shadow maps (ensure_shadow_map): depth from the light across the points the
+    // image shows (one layer along the light for hard shadows; for soft ones, one per direction
+    // over its disc), each layer's projection of the world (less its origin) into its clip space,
+    // and the light and camera they were drawn for (empty: none yet, or the geometry changed since).
+    gl::Texture shadow_map_; // a 2D array of depth32f layers
+    int shadow_map_size_ = 0, shadow_map_layers_ = 0;
     gl::Framebuffer shadow_fbo_;
     gl::Program shadow_program_;     // the map's depth (shadow_map.vert)
     gl::Program shadow_eye_program_; // the camera's depth, for what the image shows (the same, PR_SHADOW_FROM_EYE)
-    glm::mat4 shadow_view_proj_{1.0f};
-    glm::dvec3 shadow_origin_{0.0};
-    float shadow_texel_ = 0.0f;       // world length of one texel of the map
-    float shadow_depth_range_ = 0.0f; // world length of its depth 0..1
+    struct ShadowLayer {
+        glm::mat4 view_proj{1.0f};
+        glm::dvec3 origin{0.0};
+    };
+    std::vector<ShadowLayer> shadow_layers_;
+    glm::vec2 shadow_bias_{0.0f}; // the look-up's offset off the triangle (world) and depth bias (0..1)
+    int shadow_layer_drawn_ = 0;  // the layer ensure_shadow_map draws (u_shadow_bias.w)
     std::optional<glm::vec3> shadow_light_;
+    float shadow_light_tan_ = 0.0f; // the soft light's angular radius (tangent) it was drawn for; 0: hard
     Camera shadow_camera_;        // the camera it was drawn for, and the target's aspect (compared
     float shadow_aspect_ = 0.0f;  // field by field, in double: a float view matrix far from the origin missed small moves)
     gl::Buffer frame_ubo_;
@@ -311,11 +317,14 @@ private:
     std::vector<std::uint32_t> walk_triangles_of(const std::vector<MeshVertex>& vertices,
                                                  const std::vector<std::uint32_t>& indices);
     void ensure_prism_data(bool walk); // the buffer textures of every object (and the walk's data)
-    // The reference's shadow map for a light along `light_dir` (unit, towards the light), over
-    // what the frame's camera shows: drawn unless the one there is for that light, camera and
-    // geometry. After upload_frame(); uses the frame's target's depth.
-    void ensure_shadow_map(glm::vec3 light_dir);
-    static constexpr int kShadowMapSize = 4096;
+    // The reference's shadow maps for a light along `light_dir` (unit, towards the light), over
+    // what the frame's camera shows: one along it (hard shadows, `soft` false), or one from each
+    // of PR_SHADOW_LAYERS directions over its disc of angular radius atan(light_tan). Drawn unless
+    // the ones there are for that light, camera and geometry. After upload_frame(); uses the
+    // frame's target's depth.
+    void ensure_shadow_map(glm::vec3 light_dir, bool soft, float light_tan);
+    static constexpr int kShadowMapSize = 4096;     // hard shadows: one map
+    static constexpr int kSoftShadowMapSize = 2048; // soft: PR_SHADOW_LAYERS maps (256 MB)
     // To their texture units; with `walk`, the walk's triangles.
     static void bind_prism_data(const GpuObject& o, bool walk);
     static const Geometry& walk_geometry(const GpuObject& o) { return o.walk.vao ? o.walk : o.base; }

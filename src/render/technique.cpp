@@ -200,8 +200,7 @@ bool reads_normal_quality(const DrawSettings& s)
 
 bool reads_shadows(const DrawSettings& s)
 {
-    // The reference: hard shadows only, from a shadow map of its geometry (no soft ones).
-    if (s.technique == Technique::Reference) return s.shadows != Shadows::Soft;
+    // (The reference's come from shadow maps of its geometry: Renderer::ensure_shadow_map.)
     return s.technique != Technique::Flat;
 }
 

@@ -110,8 +110,8 @@ bool reads_steps(const DrawSettings& s);
 bool reads_refine(const DrawSettings& s);
 // The normal from the heights: every technique but flat (the mesh's normal).
 bool reads_normal_quality(const DrawSettings& s);
-// Self-shadowing: every technique but flat; the reference hard shadows only (a shadow map of its
-// geometry: Renderer::ensure_shadow_map), not soft ones.
+// Self-shadowing: every technique but flat (the reference's from shadow maps of its geometry:
+// Renderer::ensure_shadow_map).
 bool reads_shadows(const DrawSettings& s);
 // The shadows a draw draws: its setting where it reads it, else none (the shaders' PR_SHADOWS,
 // the reference's shadow map, the reports).

@@ -390,11 +390,12 @@ TEST(Shadows, ALightOverheadLeavesSteepWallsLit)
         }
 }
 
-// Soft shadows are a light of a fixed angular size in the world (about 1 degree): flat ground
+// Soft shadows are a light of a fixed angular size in the world (2 degrees across): flat ground
 // under a light 5 degrees up is fully lit whatever the depth (the penumbra was 6 x a slope in
 // texture space: at --depth 2 on this square the light was half gone), and a box as high as the
 // range casts a penumbra in the prism too (its march ended at the top, so its soft shadows were
-// its hard ones); nothing is lighter than the hard shadow. Found by an exploratory session.
+// its hard ones). Found by an exploratory session. (The penumbra straddles the hard shadow's
+// edge since the twenty-second session: TheLightSizeSetsThePenumbra.)
 TEST(Shadows, SoftShadowsAreALightOfAFixedSizeInTheWorld)
 {
     prtest::context();
@@ -424,19 +425,19 @@ TEST(Shadows, SoftShadowsAreALightOfAFixedSizeInTheWorld)
             }
             const Scene tall = prtest::one_object(prtest::square(), box, 0.1f);
             const RgbaImage hard = draw(tall, toward(15.0f), Shadows::Hard), soft = draw(tall, toward(15.0f), Shadows::Soft);
-            int penumbra = 0, lighter = 0;
-            for (std::size_t p = 0; p < hard.pixels.size() / 4; ++p) {
-                penumbra += rgb_sum(soft, p) + 6 < rgb_sum(hard, p);
-                lighter += rgb_sum(soft, p) > rgb_sum(hard, p);
-            }
+            int penumbra = 0; // (a pixel or two across at 2 degrees, on either side of the hard edge)
+            for (std::size_t p = 0; p < hard.pixels.size() / 4; ++p)
+                penumbra += std::abs(int(rgb_sum(soft, p)) - int(rgb_sum(hard, p))) > 6;
             EXPECT_GT(penumbra, 15) << what;
-            EXPECT_EQ(lighter, 0) << what;
         }
 }
 
-// --light-size is the soft light's angular diameter: a box's penumbra widens with it (and is
-// never lighter than the hard shadow), flat ground under a light 5 degrees up is dimmed by a disc
-// 16 degrees across, which the horizon cuts, and not by one of 2; hard shadows do not read it.
+// --light-size is the soft light's angular diameter: a box's penumbra widens with it, on both
+// sides of the hard shadow's edge (the disc is centred on the light's direction: the inner half
+// of the penumbra sees the top of the disc; until the twenty-second session the disc lay under
+// the direction and the soft shadow was never lighter than the hard one), flat ground under a
+// light 5 degrees up is dimmed by a disc 16 degrees across, which the horizon cuts, and not by
+// one of 2; hard shadows do not read it.
 TEST(Shadows, TheLightSizeSetsThePenumbra)
 {
     prtest::context();
@@ -461,18 +462,21 @@ TEST(Shadows, TheLightSizeSetsThePenumbra)
         int previous = 0;
         for (float size : {2.0f, 6.0f, 18.0f}) {
             const RgbaImage soft = draw(tall, toward(25.0f), Shadows::Soft, size);
-            int penumbra = 0, lighter = 0;
+            int darker = 0, lighter = 0;
             for (std::size_t p = 0; p < hard.pixels.size() / 4; ++p) {
-                penumbra += rgb_sum(soft, p) + 6 < rgb_sum(hard, p);
-                // (Within 20 of 765: the cone marchers' soft steps sample elsewhere than their
-                // hard ones, and at 6 degrees two pixels on the box's edge are a little lighter.)
-                lighter += rgb_sum(soft, p) > rgb_sum(hard, p) + 20;
+                darker += rgb_sum(soft, p) + 6 < rgb_sum(hard, p);
+                lighter += rgb_sum(soft, p) > rgb_sum(hard, p) + 6;
             }
             // (Wider, until the square's edge cuts it: at 18 degrees it would reach 2.4 units
-            // behind the box, past the edge 0.8 units on; the prism 62, 184, 212 pixels.)
+            // behind the box, past the edge 0.8 units on; the prism 42, 144, 333 pixels, relief
+            // 40, 98, 484.)
+            const int penumbra = darker + lighter;
             EXPECT_GT(penumbra, previous + 20) << what << " light size " << size << ": " << penumbra
                                                << " pixels in the penumbra";
-            EXPECT_EQ(lighter, 0) << what << " light size " << size;
+            if (size > 2.0f) { // (at 2 degrees a pixel across: either side may round away)
+                EXPECT_GT(darker, 30) << what << " light size " << size;
+                EXPECT_GT(lighter, 30) << what << " light size " << size;
+            }
             previous = penumbra;
         }
         const RgbaImage lit = draw(ground, toward(5.0f), Shadows::Hard, 2.0f);
@@ -481,7 +485,8 @@ TEST(Shadows, TheLightSizeSetsThePenumbra)
         int dimmed = 0, covered = 0;
         for (std::size_t p = 0; p < lit.pixels.size() / 4; ++p) {
             covered += lit.pixels[4 * p + 3] > 0;
-            dimmed += lit.pixels[4 * p + 3] > 0 && rgb_sum(wide, p) + 6 < rgb_sum(lit, p);
+            // (By an eighth of the little light a sun 5 degrees up gives: a few levels.)
+            dimmed += lit.pixels[4 * p + 3] > 0 && rgb_sum(wide, p) + 3 < rgb_sum(lit, p);
         }
         EXPECT_GT(dimmed, covered * 9 / 10) << what;
     }
@@ -582,6 +587,57 @@ TEST(Shadows, TheReferenceCastsItsGeometrysShadows)
     EXPECT_EQ(in_front, 0) << "the floor in front of the box is shadowed";
     EXPECT_GT(dark, 300);
     EXPECT_LT(disagree, dark / 20) << disagree << " pixels shadowed by one of the reference and the prism, of " << dark;
+}
+
+// The reference's soft shadows: one shadow map from each of PR_SHADOW_LAYERS directions over the
+// light's disc, and the share of them that reach a point. A box's penumbra straddles the edge of
+// its hard shadow (as much light gained inside as lost outside: the disc is centred on the light's
+// direction), widens with the light's size, and the prism's soft shadows, which march the height
+// field towards the disc's centre (common/shadow.glsl), agree with it. Until the twenty-second
+// session the reference had no soft shadows, and the techniques' penumbra lay wholly outside the
+// hard shadow: 27.1 dB against this reference on builtin:boxes at 8 degrees, now 30.0
+// (cli.compare_soft_shadows_against_the_reference).
+TEST(Shadows, TheReferencesSoftShadowsStraddleTheHardEdge)
+{
+    prtest::context();
+    Renderer r(128, 128);
+    r.set_cache_dir(prtest::cache_dir());
+    const Camera c = top_down_camera(4.0f, 35.0f);
+    const glm::vec3 light = light_from_x(25.0f); // the shadow falls towards -x
+    const Scene scene = prtest::one_object(prtest::square(), centre_box(128), 0.2f);
+    r.upload(scene);
+    r.prepare_reference(scene, c, ReferenceOptions{});
+    const auto draw = [&](Technique t, Shadows mode, float size) {
+        DrawSettings s = settings(t, Marcher::Relief);
+        s.shadows = mode;
+        s.light_size = size;
+        r.draw(c, light, s);
+        return r.read_color();
+    };
+    const RgbaImage hard = draw(Technique::Reference, Shadows::Hard, 2.0f);
+    int previous = 0;
+    for (float size : {4.0f, 12.0f}) {
+        const RgbaImage soft = draw(Technique::Reference, Shadows::Soft, size);
+        const RgbaImage prism = draw(Technique::Prism, Shadows::Soft, size);
+        int darker = 0, lighter = 0, apart = 0;
+        long long gained = 0, moved = 0;
+        for (std::size_t p = 0; p < hard.pixels.size() / 4; ++p) {
+            const int d = int(rgb_sum(soft, p)) - int(rgb_sum(hard, p));
+            darker += d < -6;
+            lighter += d > 6;
+            gained += d;
+            moved += std::abs(d);
+            apart += std::abs(int(rgb_sum(prism, p)) - int(rgb_sum(soft, p))) > 45;
+        }
+        EXPECT_GT(darker, 30) << size;
+        EXPECT_GT(lighter, 30) << size;
+        EXPECT_LT(std::abs(gained), moved / 4) << size;
+        EXPECT_GT(darker + lighter, previous + 50) << size;
+        previous = darker + lighter;
+        // (4 degrees: 21 of 120 pixels of the penumbra more than 15 levels apart, 39 before the
+        // angle took the light's elevation into account (common/shadow.glsl); 12: 51 of 326.)
+        EXPECT_LT(apart, (darker + lighter) / 4) << size;
+    }
 }
 
 // The reference's shadow map covers what the image shows, not every object: a second torus 300

@@ -90,8 +90,9 @@ TEST(TechniqueUse, ASettingADrawDoesNotReadChangesNothing)
     }
     // The reference's hard shadows (a shadow map) take no steps and no light size.
     configurations.push_back(technique(Technique::Reference, Shadows::Hard));
-    // Soft shadows read the light's size.
+    // Soft shadows read the light's size, the reference's too (shadow maps over its disc).
     configurations.push_back(technique(Technique::Relief, Shadows::Soft));
+    configurations.push_back(technique(Technique::Reference, Shadows::Soft));
     for (DrawSettings s : {prism(Marcher::RelaxedCone, PrismExit::Walk)}) {
         s.shadows = Shadows::Soft;
         configurations.push_back(s);
@@ -156,4 +157,6 @@ TEST(TechniqueUse, WhatEachTechniqueReads)
     EXPECT_FALSE(reads_light_size(technique(Technique::Pom, Shadows::Hard)));
     EXPECT_FALSE(reads_light_size(technique(Technique::Flat, Shadows::Soft)));
     EXPECT_TRUE(reads_light_size(technique(Technique::Offset, Shadows::Soft)));
+    EXPECT_TRUE(reads_light_size(technique(Technique::Reference, Shadows::Soft)));
+    EXPECT_FALSE(reads_steps(technique(Technique::Reference, Shadows::Soft)));
 }
