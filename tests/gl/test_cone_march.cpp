@@ -468,8 +468,8 @@ TEST(Shadows, TheLightSizeSetsThePenumbra)
                 lighter += rgb_sum(soft, p) > rgb_sum(hard, p) + 6;
             }
             // (Wider, until the square's edge cuts it: at 18 degrees it would reach 2.4 units
-            // behind the box, past the edge 0.8 units on; the prism 42, 144, 333 pixels, relief
-            // 40, 98, 484.)
+            // behind the box, past the edge 0.8 units on; the prism 62, 165, 372 pixels, relief
+            // 40, 134, 586.)
             const int penumbra = darker + lighter;
             EXPECT_GT(penumbra, previous + 20) << what << " light size " << size << ": " << penumbra
                                                << " pixels in the penumbra";
