@@ -91,6 +91,20 @@ float soft_horizon(vec3 l_tex)
 #endif
 }
 
+#ifdef PR_HEIGHT_FROM_CONE
+// The cone map at `uv` for the light's march: under the surface (g_height_flip: the prism's light
+// march from the back of an open sheet, in the height field turned over) the turned heights and
+// no cone, so the march steps as the linear one does (the cones stand on the upper side only).
+vec3 light_cone_at(vec2 uv)
+{
+    vec3 hc = cone_at(uv);
+#ifdef PR_PRISM_TEARS
+    if (g_height_flip > 0.0) hc = vec3(1.0 - hc.x, 0.0, 0.0);
+#endif
+    return hc;
+}
+#endif
+
 // How a light march along a stretch of its ray ended (march_light).
 #define PR_LIGHT_ON 1      // not blocked along the stretch: the march goes on past its end
 #define PR_LIGHT_BLOCKED 0 // a sample under the surface (hard), or no light left (soft)
@@ -120,7 +134,7 @@ int march_light(vec3 origin, vec3 dir, float t_end, float rise, inout float run_
     float t = dt;
     for (int i = 1; i <= steps && t < t_end; ++i) {
         vec3 p = origin + t * dir;
-        vec3 hc = cone_at(p.xy);
+        vec3 hc = light_cone_at(p.xy);
         float clearance = p.z + bias - hc.x;
 #else
     for (int i = 1; i <= steps; ++i) {
@@ -192,7 +206,7 @@ void soft_past_top(vec3 top, vec3 dir, float run_before, inout float visibility,
         float total = run_before + float(i) * dt * run;
         if (total > run_limit || soft_light(p.z - 1.0 + bias, total) >= visibility - 1.0 / 128.0) break;
 #ifdef PR_HEIGHT_FROM_CONE
-        float h = cone_at(p.xy).x;
+        float h = light_cone_at(p.xy).x;
 #else
         float h = height_at(p.xy, g);
 #endif
@@ -216,7 +230,7 @@ bool light_above_horizon(vec3 l_tex)
 vec3 light_start(vec3 tex)
 {
 #ifdef PR_HEIGHT_FROM_CONE
-    tex.z = max(tex.z, cone_at(tex.xy).x);
+    tex.z = max(tex.z, light_cone_at(tex.xy).x);
 #endif
     return tex;
 }
