@@ -577,7 +577,7 @@ void main()
         bool turned = below && (u_march.w & PR_FLAG_OPEN_SHELL) != 0;
         if (turned) {
             from.z = 1.0 - from.z;
-            l_tex.z = -l_tex.z;
+            l_tex = turned_light(l_tex);
             g_height_flip = 1.0;
         }
 #endif
@@ -605,11 +605,17 @@ void main()
         // (Soft: never above the part of the disc over the base surface's horizon, which the
         // march in the hit's frame counts and the walk does not; so only where that march found
         // less light than the horizon leaves.)
-        // (The walk follows the light's own ray: soft_light_ray's raise is the texture plane's.)
-        g_soft_offset = 0.5;
-        float horizon = soft_horizon(l_tex);
-        if (!below && visibility < horizon && light_above_horizon(l_tex)) {
-            float walked = light_walk(prim, from, hit, light_dir);
+        // The walk follows the ray the march took: a soft light's raised over the horizon
+        // where its centre is under it (soft_light_ray, which sets its offset and slope again;
+        // walked along the light's own, which goes under the surface, a light a hair under the
+        // horizon brought back the shadows of the map's wrapped copy past an open mesh's edge
+        // that one a hair over it took away: 133 pixels of the plane's edge, found by a review).
+        vec3 l_walk = soft_light_ray(l_tex);
+        float horizon = soft_horizon(l_walk);
+        if (!below && visibility < horizon && light_above_horizon(l_walk)) {
+            vec3 walk_dir = l_walk == l_tex ? light_dir
+                                            : normalize(t_axis * l_walk.x + b_axis * l_walk.y + n * (u_displace.x * l_walk.z));
+            float walked = light_walk(prim, from, hit, walk_dir);
             if (walked >= 0.0) visibility = max(visibility, min(walked, horizon));
         }
 #endif

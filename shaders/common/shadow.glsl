@@ -15,9 +15,11 @@
 // diameter in degrees, 2 by default) centred on the light's direction, which the nearest
 // occluder's edge cuts: the ray towards the disc's centre is marched, and the edge lies across
 // the disc as far below (or above) its centre as the smallest clearance angle seen along the
-// way, the angle taken in the world (clearance in height units times the depth, over the run in
-// UV units times the world length of one along the ray: g_soft_scale), so that the penumbra is
-// the same whatever the depth and the texture's scale. The march goes on under the surface while
+// way, the angle taken in the world, so that the penumbra is the same whatever the depth and the
+// texture's scale: between the ray and the point on the surface under (or over) it, seen from the
+// start, from the clearance's slope over the run in the world (clearance in height units times
+// the depth, over the run in UV units times the world length of one along the ray: g_soft_scale)
+// and the ray's own slope (g_soft_slope), by the tangent of a difference of angles. The march goes on under the surface while
 // the edge is less than the radius above the centre. soft_light is the edge's offset across the
 // disc's diameter, 0 (edge at the top) to 1 (at the bottom; 1/2 at a clearance of 0); disc_share
 // turns it into the share of the disc's area over the edge, which light_visibility returns.
@@ -28,19 +30,44 @@
 // narrowed as the depth grew, and darkened flat ground under a low light depending on --depth.)
 // (The radius was a constant of this file, tan 1 degree, until the twenty-first session.)
 
-float g_soft_scale = 1.0; // world clearance angle per texture-space clearance slope (light_in_texture_space)
+float g_soft_scale = 1.0; // world slope per texture-space clearance slope (light_in_texture_space)
+// The tangent of the marched ray's elevation over the base surface in the world, and the
+// light's own (light_in_texture_space; soft_light_ray may raise the one marched). At most 10^6:
+// a light along the normal.
+float g_soft_slope = 0.0;
+float g_soft_light_slope = 0.0;
 // soft_light at a clearance of 0: 1/2, the edge through the disc's centre, less where the ray
 // marched is raised over the light's (soft_light_ray).
 float g_soft_offset = 0.5;
 
-// The light seen past a clearance (height units) over a run (UV units) from the start.
+// The light seen past a clearance (height units) over a run (UV units) from the start: the
+// tangent of the angle between the ray and the surface's point there, k / (1 + T (T - k)) for the
+// clearance's world slope k and the ray's T (T - k is the point's), over the disc's diameter (in
+// tangents: a small-angle estimate). Past 90 degrees (the denominator not positive: a point far
+// under a steep ray) it is lit. (Until the twenty-second session the clearance's slope alone:
+// right for a low light, but a clearance seen from under a light at 25 degrees makes an angle
+// cos^2 25 = 0.82 times that, and the penumbra was that much narrower than the reference's, at
+// 60 degrees 4 times.)
 float soft_light(float clearance, float run)
 {
-    return clamp(g_soft_offset + g_soft_scale * clearance / ((2.0 * u_light_dir.w) * run + 1e-30), 0.0, 1.0);
+    float k = g_soft_scale * clearance / max(run, 1e-30);
+    float across = 1.0 + g_soft_slope * (g_soft_slope - k);
+    if (!(across > 0.0)) return 1.0;
+    return clamp(g_soft_offset + (k / across) / max(2.0 * u_light_dir.w, 1e-30), 0.0, 1.0);
 }
 
-// soft_light's clearance-to-run ratio per diameter, inverted: the light seen is
-// clamp(g_soft_offset + soft_gain() * clearance / run, 0, 1).
+// soft_light inverted: the world slope of a clearance that leaves `visibility`, over the disc's
+// diameter (the cone marchers' soft steps). A visibility so low that every point does leaves
+// -1e30.
+float soft_threshold(float visibility)
+{
+    float q = (visibility - g_soft_offset) * 2.0 * u_light_dir.w; // tangent of the angle
+    float t = g_soft_slope;
+    float across = 1.0 + q * t;
+    return across > 0.0 ? q * (1.0 + t * t) / across / max(2.0 * u_light_dir.w, 1e-30) : -1e30;
+}
+
+// soft_light's clearance-to-run ratio per diameter, for small angles: soft_threshold is over it.
 float soft_gain()
 {
     return g_soft_scale / max(2.0 * u_light_dir.w, 1e-30);
@@ -58,21 +85,39 @@ float disc_share(float v)
 #endif
 }
 
+// The light along `l_tex` seen from under the surface, through the height field turned over
+// (g_height_flip: the prism's back of an open sheet): its rise turned, in the soft light's slope too.
+vec3 turned_light(vec3 l_tex)
+{
+    g_soft_light_slope = -g_soft_light_slope;
+    g_soft_slope = g_soft_light_slope;
+    return vec3(l_tex.xy, -l_tex.z);
+}
+
+// Back to the light's own ray, as light_in_texture_space left it (the prism's walk follows it).
+void soft_light_own_ray()
+{
+    g_soft_offset = 0.5;
+    g_soft_slope = g_soft_light_slope;
+}
+
 // Soft shadows: the ray the light march follows, for the light along `l_tex` (texture space).
 // Its own where it rises at least a quarter of the radius over the base surface's horizon (in
 // the world), else raised to that, with g_soft_offset lowered by what the raise adds to every
 // clearance angle: the march stays bounded (a ray that hardly rises runs through the height
 // range for ever), and the part of the disc over the horizon is still lit when its centre is
-// under it (a light at the horizon lights half the disc). Sets g_soft_offset.
+// under it (a light at the horizon lights half the disc). Sets g_soft_offset and g_soft_slope.
 vec3 soft_light_ray(vec3 l_tex)
 {
-    g_soft_offset = 0.5;
+    soft_light_own_ray();
 #if defined(PR_SHADOWS) && PR_SHADOWS == PR_SHADOWS_SOFT
     float run = length(l_tex.xy);
-    float lowest = 0.25 * u_light_dir.w / max(g_soft_scale, 1e-30) * run;
-    if (run > 0.0 && l_tex.z < lowest) {
-        g_soft_offset = 0.5 - soft_gain() * (lowest - l_tex.z) / run;
-        l_tex.z = lowest;
+    float lowest = 0.25 * u_light_dir.w; // (the tangent of a quarter of the radius, near enough)
+    if (run > 0.0 && g_soft_light_slope < lowest) {
+        float t = g_soft_light_slope;
+        g_soft_offset = 0.5 - (lowest - t) / (1.0 + lowest * t) / max(2.0 * u_light_dir.w, 1e-30);
+        g_soft_slope = lowest;
+        l_tex.z = lowest / max(g_soft_scale, 1e-30) * run;
     }
 #endif
     return l_tex;
@@ -167,9 +212,11 @@ int march_light(vec3 origin, vec3 dir, float t_end, float rise, inout float run_
         // no penumbra at all where relief drew one.) Where the bound never falls below
         // `visibility` (a ray steeper than the cone, rising fast enough), nothing further on along
         // this stretch dims the light more.
+        // (soft_threshold: the clearance's slope over the diameter that leaves `visibility`.)
         float gain = soft_gain();
-        float margin = hc.z * (gain * clearance - (visibility - g_soft_offset) * (run_before + t * run));
-        float shrink = gain * denom + hc.z * (visibility - g_soft_offset) * run;
+        float least = soft_threshold(visibility);
+        float margin = hc.z * (gain * clearance - least * (run_before + t * run));
+        float shrink = gain * denom + hc.z * least * run;
         if (shrink <= 0.0) break;
         t += max(margin / shrink, dt);
 #endif
@@ -270,15 +317,11 @@ vec3 light_in_texture_space(vec3 t_axis, vec3 b_axis, vec3 n, float depth, vec3 
     // World length of one UV unit along the light's horizontal direction (the mean of the axes'
     // for a light along the normal), for the soft penumbra's angle: a clearance of one height unit
     // is `depth` in the world.
-    // The angle a clearance makes seen from the start is that height times cos^2 of the light's
-    // elevation over the run (the height across the ray is its cosine; the distance along the
-    // ray, the run over it): at 25 degrees the penumbra was 18 % narrower than the reference's,
-    // at 60 degrees 4 times (twenty-second session). (Not 0: a light along the normal has no
-    // run either, and a clearance over no run is the whole disc or none of it.)
-    float cos2 = max(1.0 - dot(n, light_dir) * dot(n, light_dir), 1e-12);
     float uv_run = length(l_tex.xy);
     float world_per_uv = uv_run > 1e-6 * abs(l_tex.z) ? length(l_tex.x * t_axis + l_tex.y * b_axis) / uv_run
                                                       : 0.5 * (length(t_axis) + length(b_axis));
-    g_soft_scale = cos2 * depth / max(world_per_uv, 1e-30);
+    g_soft_scale = depth / max(world_per_uv, 1e-30);
+    g_soft_light_slope = clamp(g_soft_scale * l_tex.z / max(uv_run, 1e-30), -1e6, 1e6);
+    g_soft_slope = g_soft_light_slope;
     return l_tex;
 }

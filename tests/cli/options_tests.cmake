@@ -142,7 +142,7 @@ pr_cli(prism_exit_without_prism_in_list EXIT 1 ONE_LINE NO_FILE c.json
 pr_cli(shadows_with_flat EXIT 1 ONE_LINE NO_FILE o.png
        STDERR "${E}--shadows: has no effect: --technique flat draws no self-shadowing \\(flat never does\\)"
        ARGS render --mesh ${M}/torus.obj --technique flat --shadows hard --size 8x8 --out o.png)
-pr_cli(shadows_with_flat_and_bench_reference EXIT 1 ONE_LINE NO_FILE b.json
+pr_cli(shadows_with_flat_alone_in_bench EXIT 1 ONE_LINE NO_FILE b.json
        STDERR "${E}--shadows: has no effect: --techniques flat draws no self-shadowing"
        ARGS bench --mesh ${M}/torus.obj --techniques flat --shadows soft --size 8x8 --frames 1 --warmup 0 --json b.json)
 # The reference draws hard and soft shadows (shadow maps of its geometry; until the twenty-second
