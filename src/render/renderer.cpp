@@ -939,11 +939,21 @@ void Renderer::ensure_shadow_map(glm::vec3 light_dir, bool soft, float light_tan
 
     // The directions: along the light, or spread evenly over its disc (a sunflower spiral: the
     // k-th at the radius sqrt((k + 1/2) / n) of the disc's, turned by the golden angle from the
-    // one before).
-    const glm::dvec3 toward(light_dir);
-    const glm::dvec3 side_axis = glm::normalize(
-        glm::cross(toward, std::abs(light_dir.y) < 0.99f ? glm::dvec3(0.0, 1.0, 0.0) : glm::dvec3(1.0, 0.0, 0.0)));
-    const glm::dvec3 up_axis = glm::cross(side_axis, toward);
+    // one before). The spiral lies on x and z turned as the shortest rotation from +y to the light
+    // turns +y: axes that turn smoothly with the light but for lights from nearly straight below
+    // (-y), which take x and z themselves. (Axes from a cross product with y, or with x near y,
+    // switched 8 degrees from overhead, and the pattern's turn changed the image: 41 dB between
+    // two lights 0.07 degrees apart; found by a review.)
+    const glm::dvec3 toward = glm::normalize(glm::dvec3(light_dir));
+    glm::dvec3 side_axis(1.0, 0.0, 0.0), up_axis(0.0, 0.0, 1.0);
+    if (toward.y > -0.9) {
+        const double a = 1.0 / (1.0 + toward.y);
+        side_axis = glm::dvec3(1.0 - toward.x * toward.x * a, -toward.x, -toward.x * toward.z * a);
+        up_axis = glm::dvec3(-toward.x * toward.z * a, -toward.z, 1.0 - toward.z * toward.z * a);
+    } else {
+        side_axis = glm::normalize(side_axis - glm::dot(side_axis, toward) * toward);
+        up_axis = glm::cross(toward, side_axis);
+    }
     std::vector<ShadowLayer> fitted(static_cast<std::size_t>(layers));
     double texel = 0.0, depth_bias = 0.0;
     for (int layer = 0; layer < layers; ++layer) {
@@ -1108,7 +1118,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
             cull_back[k] = glm::distance(camera.eye, objects_[k].shell_center) > double(objects_[k].shell_radius) &&
                            closed_shell(objects_[k]);
     upload_frame(camera, glm::normalize(light_dir), settings.pixel_offset, settings.light_size);
-    // The reference's hard shadows: its shadow map, drawn before the frame's clock (as the
+    // The reference's shadows: its shadow maps, drawn before the frame's clock (as the
     // reference's geometry is built before it).
     if (settings.technique == Technique::Reference && drawn_shadows(settings) != Shadows::None) {
         ensure_shadow_map(glm::normalize(light_dir), drawn_shadows(settings) == Shadows::Soft, frame_light_tan_);
