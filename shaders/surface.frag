@@ -41,6 +41,12 @@ float reference_visibility(vec3 world, vec3 face, vec3 light_dir)
     int maps = int(u_shadow_bias.z);
     float lit = 0.0;
     for (int k = 0; k < maps; ++k) {
+        // The map's direction (its depth grows away from the light): one behind the point's own
+        // triangle is blocked by it, which the map, looked up a texel and a half off the
+        // triangle, does not see (a flat sheet under a light 5 degrees up, 30 across, got 0.90
+        // of the light where 0.71 of the disc is over its horizon; found by a review).
+        vec3 towards = -vec3(u_shadow[k][0][2], u_shadow[k][1][2], u_shadow[k][2][2]);
+        if (dot(face, towards) < 0.0) continue;
         vec4 clip = u_shadow[k] * moved;
         vec3 p = vec3(clip.xy / clip.w * 0.5 + 0.5, clip.z / clip.w);
         lit += any(lessThan(p, vec3(0.0))) || any(greaterThan(p, vec3(1.0)))

@@ -114,8 +114,12 @@ vec3 soft_light_ray(vec3 l_tex)
     float run = length(l_tex.xy);
     float lowest = 0.25 * u_light_dir.w; // (the tangent of a quarter of the radius, near enough)
     if (run > 0.0 && g_soft_light_slope < lowest) {
+        // (The raise's tangent; past 90 degrees, a light from nearly straight under the
+        // surface, no part of the disc is over it: its sign turned, and every point was lit;
+        // found by a review.)
         float t = g_soft_light_slope;
-        g_soft_offset = 0.5 - (lowest - t) / (1.0 + lowest * t) / max(2.0 * u_light_dir.w, 1e-30);
+        float across = 1.0 + lowest * t;
+        g_soft_offset = across > 0.0 ? 0.5 - (lowest - t) / across / max(2.0 * u_light_dir.w, 1e-30) : -1e30;
         g_soft_slope = lowest;
         l_tex.z = lowest / max(g_soft_scale, 1e-30) * run;
     }

@@ -237,6 +237,14 @@ endif()
 pr_same_image(depth_write_closed_mesh ARGS --mesh ${M}/cube.obj --depth 0.15 --color builtin:uv --eye 2.5,2.8,6
               --target 0,0,0 --size 160x120 --technique pom A --steps 32 B --depth-write)
 
+# A soft light from nearly straight under the surface (87 degrees down, 30 across) leaves no part
+# of its disc over it: the walls facing it are in the shadow the hard light casts. The raise of
+# the light's ray turned past 90 degrees, and every point was lit, as without shadows (7,485
+# pixels brighter than hard; found by a review).
+pr_same_image(soft_light_from_below_the_surface ARGS --mesh ${M}/plane.obj --height builtin:boxes --depth 1.0
+              --eye 1.5,2.0,1.8 --target 0,0,0 --size 96x96 --technique prism --light 0.0453243,-0.9986295,0.0261680
+              A --shadows hard B --shadows soft --light-size 30)
+
 # The eye on a vertex's normal line inside the shell (the prisms around the vertex share it as an
 # edge): a ray crossing several of them at the eye lost its way after the first (the sphere's
 # pole from above: IoU 0.72, garbage; the cube along its diagonal: speckles, 0.969).
