@@ -23,13 +23,28 @@ layout(location = 0) out vec4 o_color;
 
 #if PR_TECHNIQUE == PR_TECH_REFERENCE && defined(PR_SHADOWS)
 // The reference's shadows: the true displaced geometry's own, from shadow maps of it drawn from
-// the light (Renderer::ensure_shadow_map): one along the light with hard shadows; with soft ones,
-// one from each of PR_SHADOW_LAYERS directions spread evenly over the light's disc, and the light
-// seen is the share of them that reach the point (each map's look-up filtered over its 2 x 2
-// texels). A point is moved off its triangle towards the light by about a texel of the maps and
-// compared a texel nearer, so that a surface does not shadow itself; points outside a map (none:
-// each spans the points the image shows) are lit from its direction.
+// the light (Renderer::ensure_shadow_map). Hard: one map along the light, read at the nearest
+// texel. Soft: one map from each of PR_SHADOW_LAYERS directions spread evenly over the light's
+// disc, each standing for its share of the disc (a cell of angular radius r / sqrt(maps)): the
+// light seen through that cell is filtered from its map over the cell's footprint at the distance
+// of the occluders (percentage-closer soft shadows: a blocker search over the footprint at the
+// farthest they can be, then a filter over the footprint at their mean distance; the maps are
+// orthographic, so a footprint is the cell's tangent times the distance, without perspective).
+// One look-up per map drew the 16 directions' shadows as 16 sharp copies under a large light.
+// A point is moved off its triangle towards the light by about a texel of the maps and compared a
+// texel nearer, so that a surface does not shadow itself; the filter's taps compare against the
+// triangle's plane (its depth across the map). Points outside a map (none: each spans the points
+// the image shows) are lit from its direction.
 layout(binding = PR_TEX_SHADOW_MAP) uniform sampler2DArrayShadow s_shadow_map;
+layout(binding = PR_TEX_SHADOW_DEPTH) uniform sampler2DArray s_shadow_depth;
+
+// Taps evenly over the unit disc (a sunflower spiral of 12); each map turns them by its own angle,
+// so that the maps' taps fall between each other's.
+const int REFERENCE_TAPS = 12;
+const vec2 REFERENCE_DISC[REFERENCE_TAPS] = vec2[](
+    vec2(0.2041, 0.0000), vec2(-0.2607, 0.2388), vec2(0.0399, -0.4547), vec2(0.3286, 0.4286),
+    vec2(-0.6030, -0.1067), vec2(0.5712, -0.3634), vec2(-0.1911, 0.7107), vec2(-0.3644, -0.7016),
+    vec2(0.7906, 0.2887), vec2(-0.8224, 0.3395), vec2(0.3965, -0.8472), vec2(0.2930, 0.9341));
 
 // `face`: the triangle's normal from the position's derivatives (taken in uniform control flow,
 // before the caller's branch on the light's side).
@@ -39,19 +54,67 @@ float reference_visibility(vec3 world, vec3 face, vec3 light_dir)
     if (dot(face, light_dir) < 0.0) face = -face;
     vec4 moved = vec4(world + u_shadow_bias.x * face, 1.0);
     int maps = int(u_shadow_bias.z);
+    // Each map's share of the disc: its angular radius (tangent).
+    float cell = u_light_dir.w * inversesqrt(float(max(maps, 1)));
     float lit = 0.0;
     for (int k = 0; k < maps; ++k) {
         // The map's direction (its depth grows away from the light): one behind the point's own
         // triangle is blocked by it, which the map, looked up a texel and a half off the
         // triangle, does not see (a flat sheet under a light 5 degrees up, 30 across, got 0.90
         // of the light where 0.71 of the disc is over its horizon; found by a review).
-        vec3 towards = -vec3(u_shadow[k][0][2], u_shadow[k][1][2], u_shadow[k][2][2]);
-        if (dot(face, towards) < 0.0) continue;
+        mat3 m = mat3(u_shadow[k]);
+        vec3 row_x = vec3(m[0][0], m[1][0], m[2][0]), row_y = vec3(m[0][1], m[1][1], m[2][1]);
+        vec3 row_z = vec3(m[0][2], m[1][2], m[2][2]);
+        if (dot(face, row_z) > 0.0) continue;
         vec4 clip = u_shadow[k] * moved;
         vec3 p = vec3(clip.xy / clip.w * 0.5 + 0.5, clip.z / clip.w);
-        lit += any(lessThan(p, vec3(0.0))) || any(greaterThan(p, vec3(1.0)))
-                   ? 1.0
-                   : texture(s_shadow_map, vec4(p.xy, float(k), p.z - u_shadow_bias.y));
+        if (any(lessThan(p, vec3(0.0))) || any(greaterThan(p, vec3(1.0)))) {
+            lit += 1.0;
+            continue;
+        }
+        float bias = u_shadow_bias.y;
+        if (maps == 1) {
+            lit += texture(s_shadow_map, vec4(p.xy, float(k), p.z - bias));
+            continue;
+        }
+        // World units to the map's: across it (0..1 over the map) and along the light (depth).
+        float to_map = 0.5 * length(row_x), to_depth = length(row_z);
+        // The triangle's plane in the map: its depth's slope across the map, from the face's
+        // normal in the map's frame (at most 10: 84 degrees from the light, for faces edge-on to
+        // it). Taps off the point compare against the plane there, not the point's own depth,
+        // so that a surface sloping away from the light does not shadow itself.
+        vec3 f = vec3(dot(row_x, face), dot(row_y, face), dot(row_z, face)) /
+                 vec3(length(row_x), length(row_y), to_depth);
+        float fz = min(f.z, -0.1 * length(f.xy));
+        vec2 slope = -f.xy / fz * (to_depth / to_map);
+        float a = float(k) * 2.39996323; // the taps turned by the golden angle per map
+        mat2 turn = mat2(cos(a), sin(a), -sin(a), cos(a));
+        // The blocker search: over the cell's footprint at the map's near plane (the farthest an
+        // occluder can be), and at the point itself.
+        float reach = cell * (p.z / to_depth) * to_map;
+        float blockers = 0.0, blocker_depth = 0.0;
+        for (int j = -1; j < REFERENCE_TAPS; ++j) {
+            vec2 disc = j < 0 ? vec2(0.0) : turn * REFERENCE_DISC[j];
+            float d = texture(s_shadow_depth, vec3(p.xy + reach * disc, float(k))).r;
+            if (d < p.z + dot(slope, reach * disc) - bias) {
+                blockers += 1.0;
+                blocker_depth += d;
+            }
+        }
+        if (blockers == 0.0) {
+            lit += 1.0;
+            continue;
+        }
+        // The filter: over the cell's footprint at the occluders' mean distance.
+        float gap = max(p.z - blocker_depth / blockers, 0.0);
+        float spread = cell * (gap / to_depth) * to_map;
+        float seen = texture(s_shadow_map, vec4(p.xy, float(k), p.z - bias));
+        for (int j = 0; j < REFERENCE_TAPS; ++j) {
+            vec2 disc = turn * REFERENCE_DISC[j];
+            vec2 o = spread * disc;
+            seen += texture(s_shadow_map, vec4(p.xy + o, float(k), p.z + dot(slope, o) - bias));
+        }
+        lit += seen / float(REFERENCE_TAPS + 1);
     }
     return lit / float(max(maps, 1));
 }

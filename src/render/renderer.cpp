@@ -871,6 +871,7 @@ void Renderer::ensure_shadow_map(glm::vec3 light_dir, bool soft, float light_tan
     const int size = soft ? kSoftShadowMapSize : kShadowMapSize;
     const int layers = soft ? PR_SHADOW_LAYERS : 1;
     if (!shadow_map_ || shadow_map_size_ != size || shadow_map_layers_ != layers) {
+        shadow_depth_ = {};
         shadow_map_ = {};
         shadow_fbo_ = {};
         shadow_light_.reset();
@@ -884,11 +885,23 @@ void Renderer::ensure_shadow_map(glm::vec3 light_dir, bool soft, float light_tan
         glTextureParameteri(shadow_map_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
         glTextureParameteri(shadow_map_.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
         glTextureParameteri(shadow_map_.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+        // The soft shadows' blocker search reads the depths: a view of the same storage with its
+        // own parameters (a view's name must be new, not yet a texture: glGenTextures).
+        GLuint view = 0;
+        glGenTextures(1, &view);
+        glTextureView(view, GL_TEXTURE_2D_ARRAY, shadow_map_.id(), GL_DEPTH_COMPONENT32F, 0, 1, 0, GLuint(layers));
+        shadow_depth_ = gl::Texture(view);
+        glTextureParameteri(view, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(view, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glTextureParameteri(view, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTextureParameteri(view, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        glTextureParameteri(view, GL_TEXTURE_COMPARE_MODE, GL_NONE);
         shadow_fbo_ = gl::Framebuffer::create();
         glNamedFramebufferTextureLayer(shadow_fbo_.id(), GL_DEPTH_ATTACHMENT, shadow_map_.id(), 0, 0);
         glNamedFramebufferDrawBuffer(shadow_fbo_.id(), GL_NONE);
         if (glGetError() == GL_OUT_OF_MEMORY ||
             glCheckNamedFramebufferStatus(shadow_fbo_.id(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+            shadow_depth_ = {};
             shadow_map_ = {};
             shadow_fbo_ = {};
             shadow_map_size_ = shadow_map_layers_ = 0;
@@ -1133,6 +1146,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     if (settings.technique == Technique::Reference && drawn_shadows(settings) != Shadows::None) {
         ensure_shadow_map(glm::normalize(light_dir), drawn_shadows(settings) == Shadows::Soft, frame_light_tan_);
         glBindTextureUnit(PR_TEX_SHADOW_MAP, shadow_map_.id());
+        glBindTextureUnit(PR_TEX_SHADOW_DEPTH, shadow_depth_.id());
     }
     if (settings.count_samples) {
         const GLuint zero = 0;

@@ -241,6 +241,7 @@ private:
     // over its disc), each layer's projection of the world (less its origin) into its clip space,
     // and the light and camera they were drawn for (empty: none yet, or the geometry changed since).
     gl::Texture shadow_map_; // a 2D array of depth32f layers
+    gl::Texture shadow_depth_; // a view of it that reads the depths themselves (nearest, no comparison)
     int shadow_map_size_ = 0, shadow_map_layers_ = 0;
     gl::Framebuffer shadow_fbo_;
     gl::Program shadow_program_;     // the map's depth (shadow_map.vert)

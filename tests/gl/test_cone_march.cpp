@@ -643,10 +643,64 @@ TEST(Shadows, TheReferencesSoftShadowsStraddleTheHardEdge)
         EXPECT_LT(std::abs(gained), moved / 4) << size;
         EXPECT_GT(darker + lighter, previous + 50) << size;
         previous = darker + lighter;
-        // (4 degrees: 21 of 117 pixels of the penumbra more than 15 levels apart, 39 before the
-        // angle took the light's elevation into account (common/shadow.glsl); 12: 52 of 378.)
+        // (4 degrees: 21 of 118 pixels of the penumbra more than 15 levels apart, 39 before the
+        // angle took the light's elevation into account (common/shadow.glsl); 12: 54 of 403.)
         EXPECT_LT(apart, (darker + lighter) / 4) << size;
     }
+}
+
+// The reference's soft shadow is the light's disc's average of hard shadows: a thin, tall pillar
+// on the floor under a light 30 degrees across casts a fan that widens and fades with the
+// distance, as 64 hard shadows from directions over the disc, averaged, draw it. The 16 maps, one
+// look-up each, drew it as 16 sharp streaks, each a sixteenth of the light (at 96 x 96, 25 of the
+// 334 pixels shadowed were more than 12 levels from the average, now none); each map now stands
+// for its share of the disc, filtered over that share's footprint at the occluders' distance.
+TEST(Shadows, TheReferencesSoftShadowIsTheAverageOfTheDiscsHardShadows)
+{
+    prtest::context();
+    Renderer r(96, 96);
+    r.set_cache_dir(prtest::cache_dir());
+    const Camera c = top_down_camera(4.0f, 35.0f);
+    const Scene scene = prtest::one_object(prtest::square(), prtest::height_from(64, [](float u, float v) {
+        return std::abs(u - 0.5f) < 0.025f && std::abs(v - 0.5f) < 0.025f ? 1.0f : 0.0f;
+    }), 0.8f);
+    r.upload(scene);
+    r.prepare_reference(scene, c, ReferenceOptions{});
+    const glm::vec3 light = glm::normalize(glm::vec3(1.0f, 0.3f, 1.2f));
+    const float size = 30.0f;
+    DrawSettings s;
+    s.technique = Technique::Reference;
+    s.shadows = Shadows::Soft;
+    s.light_size = size;
+    r.draw(c, light, s);
+    const RgbaImage soft = r.read_color();
+    s.shadows = Shadows::None;
+    r.draw(c, light, s);
+    const RgbaImage lit = r.read_color();
+    // 64 directions over the disc (a sunflower spiral on axes of its own), each drawn with hard
+    // shadows and shaded from that direction too (over the disc the shading's mean stays well
+    // within the margin of the light's own).
+    const glm::vec3 side = glm::normalize(glm::cross(light, glm::vec3(0.2f, 1.0f, 0.1f)));
+    const glm::vec3 up = glm::cross(light, side);
+    const int n = 64;
+    const float tan_r = std::tan(glm::radians(0.5f * size));
+    std::vector<double> sum(soft.pixels.size() / 4, 0.0);
+    s.shadows = Shadows::Hard;
+    for (int k = 0; k < n; ++k) {
+        const float rr = tan_r * std::sqrt((float(k) + 0.5f) / float(n)), a = 2.39996323f * float(k);
+        const glm::vec3 d = glm::normalize(light + rr * (std::cos(a) * side + std::sin(a) * up));
+        r.draw(c, d, s);
+        const RgbaImage hard = r.read_color();
+        for (std::size_t p = 0; p < sum.size(); ++p) sum[p] += rgb_sum(hard, p) / 3.0;
+    }
+    int apart = 0, shadowed = 0;
+    for (std::size_t p = 0; p < sum.size(); ++p) {
+        if (soft.pixels[4 * p + 3] == 0) continue;
+        apart += std::abs(rgb_sum(soft, p) / 3.0 - sum[p] / n) > 12.0;
+        shadowed += sum[p] / n < 0.9 * rgb_sum(lit, p) / 3.0;
+    }
+    EXPECT_GT(shadowed, 50) << "the fan is there";
+    EXPECT_LT(apart, 5) << apart << " pixels more than 12 levels from the disc's average of hard shadows";
 }
 
 // The reference's 16 directions over a soft light's disc turn smoothly with the light: two lights
