@@ -35,6 +35,8 @@ layout(location = 0) out vec4 o_color;
 // texel nearer, so that a surface does not shadow itself; the filter's taps compare against the
 // triangle's plane (its depth across the map). Points outside a map (none: each spans the points
 // the image shows) are lit from its direction.
+// (The maps have one level each: their look-ups, in the loop's varying control flow, need no
+// derivatives.)
 layout(binding = PR_TEX_SHADOW_MAP) uniform sampler2DArrayShadow s_shadow_map;
 layout(binding = PR_TEX_SHADOW_DEPTH) uniform sampler2DArray s_shadow_depth;
 

@@ -75,6 +75,13 @@ inline std::filesystem::path cache_dir()
     return std::filesystem::temp_directory_path() / "prismrelief-gl-tests-cache";
 }
 
+// `s` drawn from `c` under `light`, and the image read back.
+inline pr::RgbaImage drawn(pr::Renderer& r, const pr::Camera& c, glm::vec3 light, const pr::DrawSettings& s)
+{
+    r.draw(c, light, s);
+    return r.read_color();
+}
+
 inline std::size_t coverage(const pr::RgbaImage& img)
 {
     std::size_t n = 0;

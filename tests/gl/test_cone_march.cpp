@@ -512,12 +512,10 @@ TEST(Shadows, ASoftLightAlongTheNormalLeavesThePrismsWallsLit)
     const glm::vec3 light = glm::normalize(glm::vec3(0.0001f, 0.0f, 1.0f));
     const auto darkened_by_shadows = [&](Marcher m) {
         DrawSettings s = settings(Technique::Prism, m);
-        r.draw(c, light, s);
-        const RgbaImage lit = r.read_color();
+        const RgbaImage lit = prtest::drawn(r, c, light, s);
         s.shadows = Shadows::Soft;
         s.light_size = 2.0f;
-        r.draw(c, light, s);
-        const RgbaImage soft = r.read_color();
+        const RgbaImage soft = prtest::drawn(r, c, light, s);
         int n = 0;
         for (std::size_t p = 0; p < lit.pixels.size() / 4; ++p) n += rgb_sum(soft, p) + 30 < rgb_sum(lit, p);
         return n;
@@ -701,11 +699,9 @@ TEST(Shadows, TheReferencesSoftShadowIsTheAverageOfTheDiscsHardShadows)
     s.technique = Technique::Reference;
     s.shadows = Shadows::Soft;
     s.light_size = size;
-    r.draw(c, light, s);
-    const RgbaImage soft = r.read_color();
+    const RgbaImage soft = prtest::drawn(r, c, light, s);
     s.shadows = Shadows::None;
-    r.draw(c, light, s);
-    const RgbaImage lit = r.read_color();
+    const RgbaImage lit = prtest::drawn(r, c, light, s);
     // 64 directions over the disc (a sunflower spiral on axes of its own), each drawn with hard
     // shadows and shaded from that direction too (over the disc the shading's mean stays well
     // within the margin of the light's own).
@@ -718,8 +714,7 @@ TEST(Shadows, TheReferencesSoftShadowIsTheAverageOfTheDiscsHardShadows)
     for (int k = 0; k < n; ++k) {
         const float rr = tan_r * std::sqrt((float(k) + 0.5f) / float(n)), a = 2.39996323f * float(k);
         const glm::vec3 d = glm::normalize(light + rr * (std::cos(a) * side + std::sin(a) * up));
-        r.draw(c, d, s);
-        const RgbaImage hard = r.read_color();
+        const RgbaImage hard = prtest::drawn(r, c, d, s);
         for (std::size_t p = 0; p < sum.size(); ++p) sum[p] += rgb_sum(hard, p) / 3.0;
     }
     int apart = 0, shadowed = 0;

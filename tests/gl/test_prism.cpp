@@ -423,11 +423,9 @@ TEST(Prism, LongSegmentsAreSampledEveryTwoTexels)
         DrawSettings s;
         s.technique = Technique::Prism;
         s.steps = steps;
-        r.draw(above, light, s);
-        const RgbaImage lit = r.read_color();
+        const RgbaImage lit = prtest::drawn(r, above, light, s);
         s.shadows = Shadows::Hard;
-        r.draw(above, light, s);
-        const RgbaImage dark = r.read_color();
+        const RgbaImage dark = prtest::drawn(r, above, light, s);
         int n_dark = 0;
         for (std::size_t p = 0; p < lit.pixels.size(); p += 4)
             n_dark += lit.pixels[p + 3] >= 128 && int(dark.pixels[p]) + dark.pixels[p + 1] + dark.pixels[p + 2] + 30 <
