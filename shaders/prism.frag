@@ -615,14 +615,30 @@ void main()
         // walked along the light's own, which goes under the surface, a light a hair under the
         // horizon brought back the shadows of the map's wrapped copy past an open mesh's edge
         // that one a hair over it took away: 133 pixels of the plane's edge, found by a review).
+        // A light whose centre is under the base surface's horizon, which the march in the
+        // hit's frame takes for blocked (hard) or dims to the part of the disc over that horizon
+        // (soft), is walked along its own ray too: a wall or a bump that stands out of a curved
+        // surface near its terminator sees the light over the surface falling away, as the
+        // reference does (boxes on the rock, hard: PSNR 21.0 -> 24.3; on the UV sphere, 192x144,
+        // light 1,0.2,-0.3: hard 22.3 -> 27.3, soft 22.7 -> 28.5). On a flat sheet that ray goes
+        // under a bottom cap and the light stays off; past an open sheet's edge it is on, as for
+        // the reference. (Until the twenty-fourth session such walls were black.) For hard
+        // shadows that is the walk above (l_walk is l_tex, horizon 1); a soft light's walk along
+        // its own ray only adds light, and is not bounded by the flat horizon.
         vec3 l_walk = soft_light_ray(l_tex);
         float horizon = soft_horizon(l_walk);
-        if (!below && visibility < horizon && light_above_horizon(l_walk)) {
+        if (!below && visibility < horizon) {
             vec3 walk_dir = l_walk == l_tex ? light_dir
                                             : normalize(t_axis * l_walk.x + b_axis * l_walk.y + n * (u_displace.x * l_walk.z));
             float walked = light_walk(prim, from, hit, walk_dir);
             if (walked >= 0.0) visibility = max(visibility, min(walked, horizon));
         }
+#if PR_SHADOWS == PR_SHADOWS_SOFT
+        if (!below && !light_above_horizon(l_tex)) {
+            soft_light_own_ray();
+            visibility = max(visibility, light_walk(prim, from, hit, light_dir));
+        }
+#endif
 #endif
         visibility = disc_share(visibility);
     }

@@ -859,6 +859,47 @@ TEST(Shadows, ThePrismsLightRayMeetsOnlyTheHeightsTheMeshShows)
     }
 }
 
+// Walls that stand out of a curved surface near its terminator, where the light is under the
+// base surface's horizon, see it over the surface falling away: the prism walks the light's own
+// ray through the mesh's prisms there (prism.frag), as the reference's shadow maps see it. Until
+// the twenty-fourth session the march in the hit's frame alone took such a light for blocked
+// (hard) or dimmed it to the part of the disc over the flat horizon (soft), and those walls were
+// black: on the UV sphere with builtin:boxes, 128 x 96, 42 (hard) and 40 (soft) pixels the
+// reference lights and the prism shadows; now 9 and 8.
+TEST(Shadows, WallsPastACurvedSurfacesTerminatorSeeTheLight)
+{
+    prtest::context();
+    auto boxes = std::make_shared<HeightField>(load_height("builtin:boxes@128"));
+    PreparedMesh sphere = load_mesh(std::string(PR_SOURCE_DIR) + "/meshes/uv_sphere.obj");
+    const Scene scene = prtest::one_object(std::move(sphere), boxes, 0.2f);
+    Renderer r(128, 96);
+    r.set_cache_dir(prtest::cache_dir());
+    r.upload(scene);
+    const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 128.0f / 96.0f, 0.0f, 70.0f);
+    r.prepare_reference(scene, c, ReferenceOptions{});
+    const glm::vec3 light = glm::normalize(glm::vec3(1.0f, 0.2f, -0.3f));
+    const auto drawn = [&](Technique t, Shadows mode) {
+        DrawSettings s = settings(t, Marcher::RelaxedCone);
+        s.shadows = mode;
+        return prtest::drawn(r, c, light, s);
+    };
+    const RgbaImage reference_lit = drawn(Technique::Reference, Shadows::None);
+    const RgbaImage prism_lit = drawn(Technique::Prism, Shadows::None);
+    for (Shadows mode : {Shadows::Hard, Shadows::Soft}) {
+        const RgbaImage reference = drawn(Technique::Reference, mode);
+        const RgbaImage prism = drawn(Technique::Prism, mode);
+        int lit_in_reference = 0, too_dark = 0;
+        for (std::size_t p = 0; p < prism.pixels.size() / 4; ++p) {
+            if (prism.pixels[4 * p + 3] < 128 || reference.pixels[4 * p + 3] < 128) continue;
+            const bool reference_dark = darkened(reference_lit, reference, p);
+            lit_in_reference += !reference_dark;
+            too_dark += !reference_dark && darkened(prism_lit, prism, p);
+        }
+        EXPECT_GT(lit_in_reference, 1500) << shadows_name(mode);
+        EXPECT_LT(too_dark, 20) << shadows_name(mode) << ": pixels the reference lights and the prism shadows";
+    }
+}
+
 // The light's walk goes through prisms whose tops are at 1 whatever the shell: a tight top bounds
 // the heights around its own vertex only, and a low light ray out through one still met a wall a
 // few triangles on. On the torus (curved: its triangles are not merged) with thin walls across the
