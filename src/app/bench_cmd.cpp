@@ -139,6 +139,7 @@ CommandAction add_bench_command(CLI::App& app)
                                {"samples_per_fragment_mean", any ? nlohmann::json(mean) : nlohmann::json()},
                                {"samples_per_fragment_p95", any ? nlohmann::json(p95) : nlohmann::json()},
                                {"frames", row.ms.size()}});
+            results.back().update(quality_json(runs[i].settings));
             results.back().update(prism_configuration(runs[i].settings));
             results.back().update(shadows_json(runs[i].settings));
         }

@@ -35,6 +35,14 @@ inline nlohmann::json prism_configuration(const DrawSettings& s)
             {"prism_shell", s.full_shell || s.prism_exit != PrismExit::Walk ? "full" : "tight"}}; // (other exits: full)
 }
 
+// The march's quality a draw took: "steps", "refine" and "depth_write" (render, and each row of
+// compare and bench; bench's rows had none until the twenty-fourth session, only the report's
+// steps and refine: a row drawn with --depth-write did not say so).
+inline nlohmann::json quality_json(const DrawSettings& s)
+{
+    return {{"steps", s.steps}, {"refine", s.refine}, {"depth_write", s.depth_write}};
+}
+
 // The shadows a draw drew: "shadows" (none where it draws none: flat),
 // and with soft ones "light_size" (degrees, to a float's 7 digits: 0.3, not 0.30000001192092896).
 inline nlohmann::json shadows_json(const DrawSettings& s)

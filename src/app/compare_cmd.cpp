@@ -146,10 +146,8 @@ CommandAction add_compare_command(CLI::App& app)
                                   {"depth_error_median", optional_number(m.depth_error_median)},
                                   {"psnr", optional_number(m.psnr)},
                                   {"identical", m.identical},
-                                  {"ms", ms},
-                                  {"steps", run.settings.steps},
-                                  {"refine", run.settings.refine},
-                                  {"depth_write", run.settings.depth_write}};
+                                  {"ms", ms}};
+            row.update(quality_json(run.settings));
             row.update(prism_configuration(run.settings));
             row.update(shadows_json(run.settings));
             results.push_back(row);

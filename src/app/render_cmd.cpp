@@ -90,9 +90,6 @@ CommandAction add_render_command(CLI::App& app)
         if (!s->json.empty()) {
             nlohmann::json report = {{"technique", s->technique.technique},
                                      {"configuration", configuration_name(settings)},
-                                     {"steps", settings.steps},
-                                     {"refine", settings.refine},
-                                     {"depth_write", settings.depth_write},
                                      {"out", s->out},
                                      {"size", {image.width, image.height}},
                                      {"msaa", offsets.size()},
@@ -102,6 +99,7 @@ CommandAction add_render_command(CLI::App& app)
                                      {"coverage", double(covered) / double(pixels)},
                                      {"camera", camera_json(session.camera)},
                                      {"renderer", session.context->description()}};
+            report.update(quality_json(settings));
             report.update(prism_configuration(settings));
             report.update(shadows_json(settings));
             if (settings.technique == Technique::Reference) report["reference"] = reference_json(stats);

@@ -205,6 +205,12 @@ pr_cli(bench_counters EXIT 0 JSON b.json
             --steps 8 --techniques flat,pom --json b.json)
 # Every fragment of a flat floor at height 0 takes --steps + 1 samples and --refine more: the p95
 # is that count (it read 255, the histogram's last bin, whenever fragments took more).
+# Each bench row says the quality it drew with, as compare's rows do (bench's had no
+# depth_write: a row drawn with --depth-write did not say so).
+pr_cli(bench_rows_carry_their_quality EXIT 0 JSON b.json
+       CHECKS "${R}.0.depth_write:STREQUAL:ON|${R}.0.steps:EQUAL:12|${R}.0.refine:EQUAL:3|${R}.1.depth_write:STREQUAL:ON"
+       ARGS bench --mesh ${M}/torus.obj --size 32x24 --frames 1 --warmup 0 --steps 12 --refine 3
+            --depth-write --techniques relief,pom --json b.json)
 pr_cli(bench_p95_above_255 EXIT 0 JSON b.json
        CHECKS "${R}.0.samples_per_fragment_mean:EQUAL:1028|${R}.0.samples_per_fragment_p95:EQUAL:1028|${R}.0.fragments:GREATER:100"
        ARGS bench --mesh ${M}/plane.obj --height builtin:const:0 --size 32x24 --frames 1 --warmup 0
