@@ -16,22 +16,45 @@ glm::dvec3 rotate(glm::dvec3 v, glm::dvec3 axis, double angle)
 
 } // namespace
 
-void orbit(Camera& camera, float yaw, float pitch)
+void orbit(Camera& camera, float yaw, float pitch, glm::vec3 scene_up)
 {
-    const glm::dvec3 up = glm::normalize(glm::dvec3(camera.up));
+    if (!(glm::length(scene_up) > 0.0f)) scene_up = camera.up;
+    const glm::dvec3 up = glm::normalize(glm::dvec3(scene_up));
     glm::dvec3 offset = camera.eye - camera.target;
     const double dist = glm::length(offset);
     if (!(dist > 0.0)) return;
+    const double limit = glm::radians(1.0);
+    const double along = glm::dot(offset / dist, up);
+    const double pole = 0.999; // (frame_sphere's: nearer, its camera's up is not the scene's)
+    if (std::abs(along) > pole) {
+        // On a pole (the view along the scene's up, whose picture's up is camera.up): off it as
+        // far as frame_sphere's pole reaches, away from the picture's up over the top and towards
+        // it under the bottom.
+        glm::dvec3 picture_up = glm::dvec3(camera.up) - glm::dot(glm::dvec3(camera.up), up) * up;
+        if (!(glm::length(picture_up) > 1e-9)) picture_up = glm::cross(up, glm::dvec3(1.0, 0.0, 0.0));
+        if (!(glm::length(picture_up) > 1e-9)) picture_up = glm::cross(up, glm::dvec3(0.0, 0.0, 1.0));
+        picture_up = glm::normalize(picture_up);
+        const double side = along > 0.0 ? -1.0 : 1.0;
+        offset = dist * (pole * (along > 0.0 ? up : -up) + side * std::sqrt(1.0 - pole * pole) * picture_up);
+    }
+    camera.up = glm::vec3(up);
     offset = rotate(offset, up, yaw);
     // Angle from the up axis, kept inside (1 degree, 179 degrees).
     const double polar = std::acos(std::clamp(glm::dot(offset / dist, up), -1.0, 1.0));
-    const double limit = glm::radians(1.0);
     const double new_polar = std::clamp(polar - double(pitch), limit, glm::pi<double>() - limit);
     glm::dvec3 right = glm::cross(up, offset);
     if (glm::length(right) < 1e-12 * dist) right = glm::cross(up, glm::dvec3(1.0, 0.0, 0.0));
     right = glm::normalize(right);
     offset = rotate(offset, right, polar - new_polar);
     camera.eye = camera.target + offset;
+}
+
+PanelDisplacement follow_panel(float first_depth, float first_midlevel, float depth, float midlevel,
+                               float own_depth, float own_midlevel, bool first)
+{
+    if (first) return {depth, midlevel};
+    const float ratio = first_depth > 0.0f ? depth / first_depth : 1.0f;
+    return {own_depth * ratio, std::clamp(own_midlevel + (midlevel - first_midlevel), 0.0f, 1.0f)};
 }
 
 void pan(Camera& camera, float dx, float dy, int viewport_height)

@@ -5,14 +5,28 @@
 
 namespace pr::view {
 
-// Turns the eye around `camera.target`: `yaw` about `camera.up`, `pitch` towards it (the eye
-// stops just short of the poles so up stays meaningful).
-void orbit(Camera& camera, float yaw, float pitch);
+// Turns the eye around `camera.target`: `yaw` about the scene's `up`, `pitch` towards it (the eye
+// stops a degree short of the poles), and sets the camera's up to it. (It turned about
+// `camera.up`, which a view along the scene's up replaces with a horizontal direction
+// (frame_sphere): a horizontal drag from `--elevation 90` turned the camera over, under the floor;
+// found by an exploratory session.) An eye on a pole first steps off it (2.6 degrees) away from
+// the picture's up, so that the picture does not turn.
+void orbit(Camera& camera, float yaw, float pitch, glm::vec3 up);
 // Moves eye and target together so the point under the cursor follows it: (dx, dy) pixels,
 // y down, in a viewport `viewport_height` pixels tall.
 void pan(Camera& camera, float dx, float dy, int viewport_height);
 // Moves the eye towards the target by a factor of 0.85 per step (negative steps move away).
 void zoom(Camera& camera, float steps, const Sphere& bounds);
+
+// The panel's depth and midlevel sliders show object 0's; each other object follows: its depth by
+// the same ratio (when object 0's was 0, it keeps its own), its midlevel by the same shift,
+// within 0..1. (Every object took object 0's midlevel, and with object 0's depth 0 the slider's
+// depth: found by an exploratory session.)
+struct PanelDisplacement {
+    float depth = 0.0f, midlevel = 0.0f;
+};
+PanelDisplacement follow_panel(float first_depth, float first_midlevel, float depth, float midlevel,
+                               float own_depth, float own_midlevel, bool first);
 
 // Unit direction from azimuth (about +Y, 0 towards +Z) and elevation (above the XZ plane), and back.
 glm::vec3 direction_from_angles(float azimuth, float elevation);

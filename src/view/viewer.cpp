@@ -216,8 +216,8 @@ private:
     std::vector<float> base_depth_;
     std::vector<float> base_midlevel_;
     double base_radius_ = 1.0; // the scene's shell radius at the depth it was loaded with
-    float depth_ = 0.0f;    // object 0's depth; other objects scale with it
-    float midlevel_ = 0.0f; // every object's
+    float depth_ = 0.0f;    // object 0's depth; the others follow (follow_panel)
+    float midlevel_ = 0.0f; // object 0's midlevel; the others follow
 
     enum class Drag { None, Orbit, Pan, Light, Divider };
     Drag drag_ = Drag::None;
@@ -265,11 +265,12 @@ void Viewer::remember_scene()
 void Viewer::apply_displacement()
 {
     float grow = 0.0f;
-    const float ratio = base_depth_.empty() || base_depth_[0] <= 0.0f ? 1.0f : depth_ / base_depth_[0];
     for (std::size_t i = 0; i < s_.scene.objects.size(); ++i) {
         SceneObject& o = s_.scene.objects[i];
-        o.depth = base_depth_[0] > 0.0f ? base_depth_[i] * ratio : depth_;
-        o.midlevel = midlevel_;
+        const PanelDisplacement d = follow_panel(base_depth_[0], base_midlevel_[0], depth_, midlevel_,
+                                                 base_depth_[i], base_midlevel_[i], i == 0);
+        o.depth = d.depth;
+        o.midlevel = d.midlevel;
         const glm::mat3 m(o.transform);
         const float scale = std::max({glm::length(m[0]), glm::length(m[1]), glm::length(m[2])});
         const float moved = std::abs(o.depth - base_depth_[i]) + o.depth * std::abs(o.midlevel - base_midlevel_[i]) +
@@ -601,7 +602,7 @@ void Viewer::handle_input()
     if (drag_ != Drag::None && (d.x != 0.0f || d.y != 0.0f)) {
         switch (drag_) {
         case Drag::Orbit:
-            orbit(s_.camera, -d.x * 0.008f, -d.y * 0.008f);
+            orbit(s_.camera, -d.x * 0.008f, -d.y * 0.008f, s_.spec.camera.up);
             fit_planes();
             break;
         case Drag::Pan:

@@ -72,6 +72,10 @@ target_link_libraries(view_overlay_test PRIVATE pr_app GTest::gtest_main)
 target_compile_definitions(view_overlay_test PRIVATE PR_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 gtest_discover_tests(view_overlay_test PROPERTIES LABELS gl DISCOVERY_TIMEOUT 60)
 if(TARGET pr_view)
+    # The viewer's camera and panel maths (no window, no GL).
+    add_executable(view_unit_test ${PROJECT_SOURCE_DIR}/tests/view/test_orbit.cpp)
+    target_link_libraries(view_unit_test PRIVATE pr_view GTest::gtest_main)
+    gtest_discover_tests(view_unit_test PROPERTIES LABELS unit DISCOVERY_TIMEOUT 60)
     # The prism's flags with a --split of two base techniques: the panel may turn a half to the
     # prism, which takes them (the refusal meant for compare and bench caught --split too). The
     # options are checked before the window opens: with no display, the window is what fails.
