@@ -673,9 +673,12 @@ SceneFileValues read_scene_file(const std::string& file, SceneSpec& spec)
                 ObjectSpec o;
                 for (const auto& [k, v] : oj.items()) {
                     const std::string w = ow + "." + k;
+                    // (An empty name: "mesh" said the object had none, "color" drew the plain
+                    // colour without a word; found by an exploratory session.)
                     if (k == "mesh") {
                         o.mesh = json_path(v, w, base);
                         o.mesh_place = w;
+                        if (o.mesh.empty()) throw Error(w, "empty file name");
                     } else if (k == "height") {
                         o.height = json_path(v, w, base);
                         o.height_place = w;
@@ -683,6 +686,7 @@ SceneFileValues read_scene_file(const std::string& file, SceneSpec& spec)
                     } else if (k == "color") {
                         o.color = json_path(v, w, base);
                         o.color_place = w;
+                        if (o.color.empty()) throw Error(w, "empty file name");
                     }
                     else if (k == "depth") {
                         o.depth = json_checked(v, w, check_depth);

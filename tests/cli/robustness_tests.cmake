@@ -364,6 +364,13 @@ pr_cli_special(conemap_height_empty_name BASH EXIT 1 ONE_LINE STDERR "${E}--heig
 pr_cli_special(scene_height_empty_name EXIT 1 ONE_LINE NO_FILE o.png
                SETUP "printf '{\"objects\":[{\"mesh\":\"${M}/cube.obj\",\"height\":\"\"}]}' > e.json"
                STDERR "${E}e.json: objects\\[0\\].height: empty file name" ARGS render --scene e.json --size 8x8 --out o.png)
+# The same of a scene's mesh (it said the object had no "mesh") and colour map (drawn plain).
+pr_cli_special(scene_mesh_empty_name EXIT 1 ONE_LINE NO_FILE o.png
+               SETUP "printf '{\"objects\":[{\"mesh\":\"\"}]}' > e.json"
+               STDERR "${E}e.json: objects\\[0\\].mesh: empty file name" ARGS render --scene e.json --size 8x8 --out o.png)
+pr_cli_special(scene_color_empty_name EXIT 1 ONE_LINE NO_FILE o.png
+               SETUP "printf '{\"objects\":[{\"mesh\":\"${M}/cube.obj\",\"color\":\"\"}]}' > e.json"
+               STDERR "${E}e.json: objects\\[0\\].color: empty file name" ARGS render --scene e.json --size 8x8 --out o.png)
 # The other file options given "" (a script's unset variable) were taken as not given: compare,
 # bench and conemap "succeeded" without the report or grid (exit 0), render drew without its
 # scene or colour map, --cache-dir "" used the default folder.
