@@ -76,6 +76,11 @@ if(TARGET pr_view)
     add_executable(view_unit_test ${PROJECT_SOURCE_DIR}/tests/view/test_orbit.cpp)
     target_link_libraries(view_unit_test PRIVATE pr_view GTest::gtest_main)
     gtest_discover_tests(view_unit_test PROPERTIES LABELS unit DISCOVERY_TIMEOUT 60)
+    # --backend picks render's headless context; the viewer draws with its window's (it was
+    # accepted and ignored).
+    pr_cli(view_backend_refused EXIT 1 ONE_LINE ENV DISPLAY= WAYLAND_DISPLAY=
+           STDERR "${E}--backend: has no effect: view draws with its window's OpenGL context"
+           ARGS view --mesh ${M}/torus.obj --backend egl --frames 1)
     # The prism's flags with a --split of two base techniques: the panel may turn a half to the
     # prism, which takes them (the refusal meant for compare and bench caught --split too). The
     # options are checked before the window opens: with no display, the window is what fails.
