@@ -252,6 +252,7 @@ pr_cli(compare_steps_with_flat EXIT 1 ONE_LINE NO_FILE c.json STDERR "${E}--step
 pr_cli(compare_reference_flags_with_flat EXIT 0 EXPECT_FILE c.json JSON c.json CHECKS "reference.level:EQUAL:2"
        ARGS compare ${TQ} --techniques flat --normal-quality gather --reference-level 2 --json c.json)
 pr_cli(compare_reference_max_triangles_with_flat EXIT 0 EXPECT_FILE c.json JSON c.json
+       STDERR "warning: compare: the reference is capped at level 1 \\(2304 triangles\\) by --reference-max-triangles"
        CHECKS "reference.capped:STREQUAL:ON|reference.level:EQUAL:1"
        ARGS compare --mesh ${M}/torus.obj --size 64x64 --techniques flat --reference-max-triangles 3000 --json c.json)
 # An explicit level is never capped (found by a review: the bound was taken and did nothing).
