@@ -334,4 +334,12 @@ TEST(Grid, LabelsOfTwoLinesStackTheirLines)
     }
     EXPECT_EQ(widest, 6 * 5) << "six T's fit 40 px less the padding";
     EXPECT_EQ(bars_of_one, 1) << "the second line's one T";
+    // A number is not cut: "T 11111" is seven characters where six fit, and the line ends before
+    // the number ("IoU 0.9942" read "IoU 0.9" in a narrow tile), as a label of "T" alone.
+    const auto strip = [](const std::string& label) {
+        const std::vector<pr::Tile> t{{label, solid(40, 20, {255, 255, 255, 255})}};
+        return pr::compose_grid(t, 1).pixels;
+    };
+    EXPECT_EQ(strip("T 11111"), strip("T"));
+    EXPECT_NE(strip("T 1111"), strip("T")) << "six characters fit whole";
 }
