@@ -365,7 +365,16 @@ DrawSettings Viewer::drawable(const DrawSettings& d)
     if (!cone_job_) { // one build at a time: the other half's maps follow
         ConeJob& job = cone_job_.emplace();
         job.map = map;
-        job.what = cone_map_label(map == AuxMap::Relaxed ? ConeKind::Relaxed : ConeKind::Cone, *needs.front().field);
+        // Every height map it builds for (plane_and_torus.json's two were named by the first
+        // alone; found by an exploratory session), each once (a relaxed map needs a cone map too).
+        std::vector<const HeightField*> fields;
+        for (const Renderer::ConeMapNeed& need : needs)
+            if (std::find(fields.begin(), fields.end(), need.field.get()) == fields.end())
+                fields.push_back(need.field.get());
+        job.what = cone_map_label(map == AuxMap::Relaxed ? ConeKind::Relaxed : ConeKind::Cone, *fields.front());
+        for (std::size_t i = 1; i < fields.size(); ++i)
+            job.what += (i + 1 == fields.size() ? " and " : ", ") +
+                        (fields[i]->name.empty() ? std::string("another height map") : fields[i]->name);
         job.maps = std::async(std::launch::async, [needs = std::move(needs), dir = s_.renderer->cache_dir(),
                                                    done = job.done, cancel = job.cancel]() {
             ConeJob::Maps maps;
