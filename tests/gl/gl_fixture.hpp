@@ -1,6 +1,8 @@
 #pragma once
 // Shared set-up for GL tests: one OSMesa context per test process, small hand-made scenes.
+#include "core/camera.hpp"
 #include "core/image.hpp"
+#include "mesh/mesh.hpp"
 #include "platform/context.hpp"
 #include "render/renderer.hpp"
 
@@ -9,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <string>
 
 namespace prtest {
 
@@ -69,10 +72,25 @@ inline pr::Scene one_object(pr::PreparedMesh mesh, std::shared_ptr<pr::HeightFie
     return scene;
 }
 
+// A bundled mesh (meshes/`name`) under `height`, shell `depth` deep.
+inline pr::Scene bundled(const std::string& name, std::shared_ptr<pr::HeightField> height, float depth)
+{
+    return one_object(pr::load_mesh(std::string(PR_SOURCE_DIR) + "/meshes/" + name), std::move(height), depth);
+}
+
 // Cone maps built by GL tests are cached here (never in the user's cache).
 inline std::filesystem::path cache_dir()
 {
     return std::filesystem::temp_directory_path() / "prismrelief-gl-tests-cache";
+}
+
+// `scene` uploaded to `r` (GL tests' cache), and a camera framing it from `elevation_deg`,
+// `azimuth_deg` (40 degrees, the renderer's aspect).
+inline pr::Camera upload_framed(pr::Renderer& r, const pr::Scene& scene, float elevation_deg, float azimuth_deg)
+{
+    r.set_cache_dir(cache_dir());
+    r.upload(scene);
+    return pr::frame_sphere(scene.shell_bounds, 40.0f, float(r.width()) / float(r.height()), elevation_deg, azimuth_deg);
 }
 
 // `s` drawn from `c` under `light`, and the image read back.

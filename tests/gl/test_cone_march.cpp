@@ -869,13 +869,9 @@ TEST(Shadows, ThePrismsLightRayMeetsOnlyTheHeightsTheMeshShows)
 TEST(Shadows, WallsPastACurvedSurfacesTerminatorSeeTheLight)
 {
     prtest::context();
-    auto boxes = std::make_shared<HeightField>(load_height("builtin:boxes@128"));
-    PreparedMesh sphere = load_mesh(std::string(PR_SOURCE_DIR) + "/meshes/uv_sphere.obj");
-    const Scene scene = prtest::one_object(std::move(sphere), boxes, 0.2f);
+    const Scene scene = prtest::bundled("uv_sphere.obj", std::make_shared<HeightField>(load_height("builtin:boxes@128")), 0.2f);
     Renderer r(128, 96);
-    r.set_cache_dir(prtest::cache_dir());
-    r.upload(scene);
-    const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 128.0f / 96.0f, 0.0f, 70.0f);
+    const Camera c = prtest::upload_framed(r, scene, 0.0f, 70.0f);
     r.prepare_reference(scene, c, ReferenceOptions{});
     const glm::vec3 light = glm::normalize(glm::vec3(1.0f, 0.2f, -0.3f));
     const auto drawn = [&](Technique t, Shadows mode) {
@@ -912,12 +908,9 @@ TEST(Shadows, TheLightsWalkIsTheSameWithTheTightShell)
         const int x = int(u * 256.0f) % 64;
         return x >= 30 && x <= 32 ? 1.0f : 0.0f;
     });
-    PreparedMesh torus = load_mesh(std::string(PR_SOURCE_DIR) + "/meshes/torus.obj");
-    const Scene scene = prtest::one_object(std::move(torus), walls, 0.15f);
+    const Scene scene = prtest::bundled("torus.obj", walls, 0.15f);
     Renderer r(192, 144);
-    r.set_cache_dir(prtest::cache_dir());
-    r.upload(scene);
-    const Camera c = frame_sphere(scene.shell_bounds, 40.0f, 192.0f / 144.0f, 25.0f, 35.0f);
+    const Camera c = prtest::upload_framed(r, scene, 25.0f, 35.0f);
     const glm::vec3 light = glm::normalize(glm::vec3(-1.0f, 0.35f, 0.2f));
     for (Marcher m : {Marcher::Relief, Marcher::RelaxedCone}) {
         DrawSettings s = settings(Technique::Prism, m);
