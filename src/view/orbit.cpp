@@ -26,16 +26,16 @@ void orbit(Camera& camera, float yaw, float pitch, glm::vec3 scene_up)
     const double limit = glm::radians(1.0);
     const double along = glm::dot(offset / dist, up);
     const double pole = 0.999; // (frame_sphere's: nearer, its camera's up is not the scene's)
-    if (std::abs(along) > pole) {
-        // On a pole (the view along the scene's up, whose picture's up is camera.up): off it as
-        // far as frame_sphere's pole reaches, away from the picture's up over the top and towards
-        // it under the bottom.
-        glm::dvec3 picture_up = glm::dvec3(camera.up) - glm::dot(glm::dvec3(camera.up), up) * up;
-        if (!(glm::length(picture_up) > 1e-9)) picture_up = glm::cross(up, glm::dvec3(1.0, 0.0, 0.0));
-        if (!(glm::length(picture_up) > 1e-9)) picture_up = glm::cross(up, glm::dvec3(0.0, 0.0, 1.0));
-        picture_up = glm::normalize(picture_up);
+    const glm::dvec3 picture_up = glm::dvec3(camera.up) - glm::dot(glm::dvec3(camera.up), up) * up;
+    if (std::abs(along) > pole && glm::length(picture_up) > 0.5) {
+        // On a pole, seen with a camera up across the scene's (frame_sphere's view along it): off
+        // it as far as frame_sphere's pole reaches, away from the picture's up over the top and
+        // towards it under the bottom. (Not where the camera's up is the scene's already, after
+        // an orbit: there the picture's up is the eye's own azimuth, and a step to a fixed one
+        // turned the picture by up to 180 degrees near the pole; found by a review.)
         const double side = along > 0.0 ? -1.0 : 1.0;
-        offset = dist * (pole * (along > 0.0 ? up : -up) + side * std::sqrt(1.0 - pole * pole) * picture_up);
+        offset = dist * (pole * (along > 0.0 ? up : -up) +
+                         side * std::sqrt(1.0 - pole * pole) * glm::normalize(picture_up));
     }
     camera.up = glm::vec3(up);
     offset = rotate(offset, up, yaw);
@@ -45,7 +45,10 @@ void orbit(Camera& camera, float yaw, float pitch, glm::vec3 scene_up)
     glm::dvec3 right = glm::cross(up, offset);
     if (glm::length(right) < 1e-12 * dist) right = glm::cross(up, glm::dvec3(1.0, 0.0, 0.0));
     right = glm::normalize(right);
-    offset = rotate(offset, right, polar - new_polar);
+    // (About cross(up, offset) a positive angle takes the eye away from up. It turned by
+    // polar - new_polar, the pitch the wrong way round, which the clamp then mirrored: a pitch
+    // past the pole took the eye over it, the picture upside down; found by a review.)
+    offset = rotate(offset, right, new_polar - polar);
     camera.eye = camera.target + offset;
 }
 

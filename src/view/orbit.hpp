@@ -6,7 +6,8 @@
 namespace pr::view {
 
 // Turns the eye around `camera.target`: `yaw` about the scene's `up`, `pitch` towards it (the eye
-// stops a degree short of the poles), and sets the camera's up to it. (It turned about
+// stops a degree short of the poles; it went over them, a pitch's sign turned), and sets the
+// camera's up to it. (It turned about
 // `camera.up`, which a view along the scene's up replaces with a horizontal direction
 // (frame_sphere): a horizontal drag from `--elevation 90` turned the camera over, under the floor;
 // found by an exploratory session.) An eye on a pole first steps off it (2.6 degrees) away from

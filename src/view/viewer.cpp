@@ -636,7 +636,7 @@ void Viewer::handle_input()
     if (drag_ != Drag::None && (d.x != 0.0f || d.y != 0.0f)) {
         switch (drag_) {
         case Drag::Orbit:
-            orbit(s_.camera, -d.x * 0.008f, -d.y * 0.008f, s_.spec.camera.up);
+            orbit(s_.camera, -d.x * 0.008f, d.y * 0.008f, s_.spec.camera.up); // (dragging down: the eye up)
             fit_planes();
             break;
         case Drag::Pan:
