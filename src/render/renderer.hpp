@@ -181,8 +181,8 @@ private:
         // The most prisms one walk crosses (ObjectBlock::u_walk; walk_prism_limit in
         // renderer.cpp): 256, and twice the most walk triangles around one welded position, up
         // to 4096 of them (a fan of 2000 slivers around a disc's centre took the walk past 256
-        // prisms: holes, IoU 0.92), and twice the prisms a chord of the shell crosses over its
-        // narrow triangles (slivers along a cylinder).
+        // prisms: holes, IoU 0.92), and twice the object's diameter over its narrow triangles'
+        // width (slivers along a cylinder).
         int walk_max_prisms = 256;
         // Whether the base mesh is closed (every edge paired, consistently wound), for culling
         // a depth-writing base technique's back faces; learnt on first need (closed_shell()).

@@ -822,7 +822,7 @@ TEST(Prism, WalkCrossesTheSliversAroundAVertexOfHighValence)
 // exports a tube), each triangle 1.5 long and 0.0016 wide. A ray near the outline runs through
 // the shell across about 300 of them, and the walk gave up after 256: the bumps along both sides
 // of the outline were missing (IoU 0.964 at 192 x 144, found by an exploratory session; 0.970
-// here, now 0.993). It may now cross twice as many prisms as a chord of the shell crosses over the narrow
+// here). It may now cross twice as many prisms as the object's diameter crosses of its narrow
 // triangles (walk_prism_limit in renderer.cpp).
 TEST(Prism, WalkCrossesTheSliversAlongACylinder)
 {
