@@ -83,7 +83,7 @@ CommandAction add_bench_command(CLI::App& app)
         release_warnings(); // every input accepted (core/error.hpp)
         for (const TechniqueRun& run : runs)
             if (run.settings.technique == Technique::Reference) {
-                r.prepare_reference(session.scene, session.camera, ref_options);
+                warn_if_capped(r.prepare_reference(session.scene, session.camera, ref_options), "bench");
                 break;
             }
 

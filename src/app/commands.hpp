@@ -3,6 +3,7 @@
 // to run after parsing.
 #include "app/options.hpp"
 #include "core/atomic_file.hpp"
+#include "core/error.hpp"
 #include "render/renderer.hpp"
 
 #include <CLI/CLI.hpp>
@@ -54,6 +55,18 @@ inline nlohmann::json shadows_json(const DrawSettings& s)
         j["light_size"] = std::strtod(digits, nullptr);
     }
     return j;
+}
+
+// A reference whose automatic level --reference-max-triangles lowered: said on stderr by the
+// commands that measure against it or time it (compare, bench; render prints its level line).
+// Until the twenty-fourth session only the JSON said so (found by an exploratory session).
+inline void warn_if_capped(const Renderer::ReferenceStats& stats, const std::string& command)
+{
+    if (!stats.capped) return;
+    warn(command + ": the reference is capped at level " + std::to_string(stats.level) + " (" +
+         std::to_string(stats.triangles) +
+         " triangles) by --reference-max-triangles, coarser than a texel and a pixel per edge" +
+         (command == "compare" ? ": the metrics are against that surface" : ""));
 }
 
 // The camera a report's images were drawn with (compare, render).

@@ -115,13 +115,7 @@ CommandAction add_compare_command(CLI::App& app)
         release_warnings(); // every input accepted (core/error.hpp)
 
         const auto ref_stats = session.renderer->prepare_reference(session.scene, session.camera, ref_options);
-        // (Only the JSON said so: the metrics were taken against a coarser surface without a word
-        // on the terminal; found by an exploratory session.)
-        if (ref_stats.capped)
-            warn("compare: the reference is capped at level " + std::to_string(ref_stats.level) + " (" +
-                 std::to_string(ref_stats.triangles) +
-                 " triangles) by --reference-max-triangles, coarser than a texel and a pixel per edge: the "
-                 "metrics are against that surface");
+        warn_if_capped(ref_stats, "compare");
         double ref_ms = 0.0;
         const FrameCapture reference = capture(session, ref_settings, ref_ms);
 

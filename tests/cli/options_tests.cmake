@@ -255,6 +255,9 @@ pr_cli(compare_reference_max_triangles_with_flat EXIT 0 EXPECT_FILE c.json JSON 
        STDERR "warning: compare: the reference is capped at level 1 \\(2304 triangles\\) by --reference-max-triangles"
        CHECKS "reference.capped:STREQUAL:ON|reference.level:EQUAL:1"
        ARGS compare --mesh ${M}/torus.obj --size 64x64 --techniques flat --reference-max-triangles 3000 --json c.json)
+pr_cli(bench_reference_capped_warns EXIT 0 EXPECT_FILE b.json
+       STDERR "warning: bench: the reference is capped at level 1 \\(2304 triangles\\) by --reference-max-triangles"
+       ARGS bench --mesh ${M}/torus.obj --size 32x24 --frames 1 --warmup 0 --techniques reference --reference-max-triangles 3000 --json b.json)
 # An explicit level is never capped (found by a review: the bound was taken and did nothing).
 pr_cli(reference_max_triangles_with_a_level EXIT 1 ONE_LINE NO_FILE c.json
        STDERR "${E}--reference-max-triangles: has no effect: it bounds the automatic level only, and --reference-level 2 is given"
