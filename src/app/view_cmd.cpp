@@ -12,6 +12,7 @@
 #endif
 
 #include <cstdlib>
+#include <cstdio>
 #include <filesystem>
 #include <memory>
 
@@ -135,6 +136,11 @@ CommandAction add_view_command(CLI::App& app)
         if (s->frames < 0 || s->frames > 1000000) throw Error("--frames", "must be between 0 and 1000000");
         o.frames = s->frames;
         if (!s->screenshot.empty()) check_png_output(s->screenshot);
+        // (A script that meant a batch run waited for ever without a word; found by an exploratory
+        // session.)
+        if (!s->screenshot.empty() && s->frames == 0)
+            std::fprintf(stderr, "prismrelief: note: view: without --frames the window stays open: P writes %s, "
+                                 "Q quits\n", s->screenshot.c_str());
         o.screenshot = s->screenshot;
         o.screenshot_ui = s->screenshot_ui;
         o.panel = !s->no_panel;
