@@ -78,7 +78,7 @@ if(TARGET pr_view)
     gtest_discover_tests(view_unit_test PROPERTIES LABELS unit DISCOVERY_TIMEOUT 60)
     # --screenshot without --frames: interactive, which a batch script waited on without a word.
     pr_cli(view_screenshot_without_frames_notes EXIT 1 ENV DISPLAY= WAYLAND_DISPLAY=
-           STDERR "note: view: without --frames the window stays open: P writes s.png, Q quits"
+           STDOUT "view: without --frames the window stays open: P writes s.png, Q quits"
            ARGS view --mesh ${M}/torus.obj --screenshot s.png)
     # --backend picks render's headless context; the viewer draws with its window's (it was
     # accepted and ignored).
