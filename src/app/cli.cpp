@@ -32,6 +32,20 @@ std::string usage_message(CLI::App& app, const CLI::ParseError& e, int argc, cha
                 if (option->get_items_expected_max() == 1 && option->count() > 1)
                     return option->get_name() + ": given " + std::to_string(option->count()) +
                            " times; give it once";
+        // A value that is not a number: "Could not convert: --frames = 1e3" said what failed
+        // inside, not what the option takes (found by an exploratory session).
+        if (dynamic_cast<const CLI::ConversionError*>(&e)) {
+            const std::string what = e.what(), prefix = "Could not convert: ";
+            const std::size_t eq = what.find(" = ");
+            if (what.rfind(prefix, 0) == 0 && eq != std::string::npos) {
+                const std::string name = what.substr(prefix.size(), eq - prefix.size());
+                const CLI::Option* option = command->get_option_no_throw(name);
+                const std::string type = option ? option->get_type_name() : "";
+                const bool whole = type.find("INT") != std::string::npos;
+                return name + ": expected " + (whole ? "a whole number" : "a number") + ", got '" +
+                       what.substr(eq + 3) + "'";
+            }
+        }
         // Arguments the command does not take, named in the order given (CLI11's message listed
         // them backwards: "not expected: 4 --msaa" for `compare --msaa 4`), an option first.
         if (dynamic_cast<const CLI::ExtrasError*>(&e)) {

@@ -91,8 +91,11 @@ pr_cli(steps_beyond_int EXIT 1 ONE_LINE STDERR "${E}--steps: must be between 1 a
        ARGS render --mesh ${M}/cube.obj --steps 99999999999999 --out out.png)
 pr_cli(threads_beyond_int EXIT 1 ONE_LINE STDERR "${E}--threads: must be between 0 \\(all cores\\) and 1024" NO_FILE c.png
        ARGS conemap --height builtin:bumps@8 --threads -99999999999 --out c.png)
-pr_cli(steps_not_whole EXIT 2 STDERR "usage: Could not convert: --steps = 12.5" NO_FILE out.png
+# It says what the flag takes (it was CLI11's "Could not convert: --steps = 12.5").
+pr_cli(steps_not_whole EXIT 2 STDERR "usage: --steps: expected a whole number, got '12.5'" NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --steps 12.5 --out out.png)
+pr_cli(depth_not_a_number EXIT 2 STDERR "usage: --depth: expected a number, got 'abc'" NO_FILE out.png
+       ARGS render --mesh ${M}/cube.obj --depth abc --out out.png)
 # --depth-write keeps the polygon's coverage: a carved point past the far plane (a grazing ray runs
 # on through the repeating uv) got depth 1.0 and failed the depth test (16.4% instead of 16.9%).
 pr_cli(depth_write_keeps_coverage EXIT 0 STDOUT "o.png: 96x72 pom, .* coverage 16.9%"
