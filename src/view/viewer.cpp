@@ -470,7 +470,6 @@ void Viewer::render_scene()
             DrawSettings d = drawable(half_[k]);
             const bool meanwhile = d.technique != half_[k].technique || d.marcher != half_[k].marcher;
             drew_meanwhile_ |= meanwhile;
-            d.count_samples = count && !meanwhile;
             // A frame that counts samples draws the plain variant first, untimed, where this half
             // has not drawn it yet, and a plain draw that compiles its variant is not timed: the
             // next frame's plain draw compiled it, and `--frames 2` printed the compile's time as
@@ -478,6 +477,16 @@ void Viewer::render_scene()
             // exploratory session).
             const std::string variant = variant_key(d);
             const bool fresh = warmed_[k] != variant;
+            // A half whose settings changed forgets the figures of the ones before and counts its
+            // samples in this frame: the panel showed the previous technique's samples under the
+            // new one's name until the next tenth frame, and blended its time from 0 (found by an
+            // exploratory session).
+            if (fresh && !meanwhile) {
+                stats_[k].draw_ms = 0.0;
+                stats_[k].samples_per_fragment = -1.0;
+                stats_[k].fragments = 0;
+            }
+            d.count_samples = (count || (fresh && count_samples_)) && !meanwhile;
             if (fresh && d.count_samples) {
                 DrawSettings plain = d;
                 plain.count_samples = false;
@@ -488,7 +497,7 @@ void Viewer::render_scene()
             HalfStats& st = stats_[k];
             if (meanwhile) {
                 // Not this technique's figures: its line says what is being built instead.
-            } else if (count) {
+            } else if (d.count_samples) {
                 const SampleCounters c = r.read_counters();
                 st.fragments = c.fragments;
                 st.samples_per_fragment = c.fragments ? double(c.samples) / double(c.fragments) : 0.0;
