@@ -181,10 +181,13 @@ std::vector<glm::vec4> make_shell_corners(const std::vector<MeshVertex>& vertice
 // vertex of a million triangles, or slivers of no width, must not let every ray that misses walk
 // a million prisms.
 int walk_prism_limit(const std::vector<MeshVertex>& vertices, const std::vector<std::uint32_t>& indices,
-                     const glm::mat4& transform, float depth, std::uint32_t most_around_a_vertex)
+                     const glm::mat4& transform, float depth)
 {
+    std::vector<std::uint32_t> around(welded_position_count(vertices), 0);
+    for (const std::uint32_t i : indices) ++around[vertices[i].weld_id];
+    const std::uint32_t most = around.empty() ? 0 : *std::max_element(around.begin(), around.end());
     constexpr double cap = 256.0 + 8192.0;
-    double limit = 256.0 + 2.0 * double(std::min<std::uint32_t>(most_around_a_vertex, 4096));
+    double limit = 256.0 + 2.0 * double(std::min<std::uint32_t>(most, 4096));
     std::vector<double> altitudes;
     altitudes.reserve(indices.size() / 3);
     glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
@@ -783,10 +786,7 @@ void Renderer::ensure_walk_data()
             o.listed[full] = gl::immutable_buffer(triangles.listed[full]);
             o.listed_count[full] = GLsizei(triangles.listed[full].size());
         }
-        std::vector<std::uint32_t> around(welded_position_count(vertices), 0);
-        for (const std::uint32_t i : indices) ++around[vertices[i].weld_id];
-        const std::uint32_t most = around.empty() ? 0 : *std::max_element(around.begin(), around.end());
-        o.walk_max_prisms = walk_prism_limit(vertices, indices, o.local, o.depth, most);
+        o.walk_max_prisms = walk_prism_limit(vertices, indices, o.local, o.depth);
         o.eye_blocks = prism_blocks(corners, indices, o.depth);
         o.triangles = std::move(indices);
         o.shell_corners = std::move(corners);

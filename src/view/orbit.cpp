@@ -23,7 +23,6 @@ void orbit(Camera& camera, float yaw, float pitch, glm::vec3 scene_up)
     glm::dvec3 offset = camera.eye - camera.target;
     const double dist = glm::length(offset);
     if (!(dist > 0.0)) return;
-    const double limit = glm::radians(1.0);
     const double along = glm::dot(offset / dist, up);
     const double pole = 0.999; // (frame_sphere's: nearer, its camera's up is not the scene's)
     const glm::dvec3 picture_up = glm::dvec3(camera.up) - glm::dot(glm::dvec3(camera.up), up) * up;
@@ -41,6 +40,7 @@ void orbit(Camera& camera, float yaw, float pitch, glm::vec3 scene_up)
     offset = rotate(offset, up, yaw);
     // Angle from the up axis, kept inside (1 degree, 179 degrees).
     const double polar = std::acos(std::clamp(glm::dot(offset / dist, up), -1.0, 1.0));
+    const double limit = glm::radians(1.0);
     const double new_polar = std::clamp(polar - double(pitch), limit, glm::pi<double>() - limit);
     glm::dvec3 right = glm::cross(up, offset);
     if (glm::length(right) < 1e-12 * dist) right = glm::cross(up, glm::dvec3(1.0, 0.0, 0.0));

@@ -481,10 +481,11 @@ void Viewer::render_scene()
             // samples in this frame: the panel showed the previous technique's samples under the
             // new one's name until the next tenth frame, and blended its time from 0 (found by an
             // exploratory session).
+            HalfStats& st = stats_[k];
             if (fresh && !meanwhile) {
-                stats_[k].draw_ms = 0.0;
-                stats_[k].samples_per_fragment = -1.0;
-                stats_[k].fragments = 0;
+                st.draw_ms = 0.0;
+                st.samples_per_fragment = -1.0;
+                st.fragments = 0;
             }
             d.count_samples = (count || (fresh && count_samples_)) && !meanwhile;
             if (fresh && d.count_samples) {
@@ -494,7 +495,6 @@ void Viewer::render_scene()
             }
             const double ms = r.draw(s_.camera, s_.light, d);
             warmed_[k] = variant;
-            HalfStats& st = stats_[k];
             if (meanwhile) {
                 // Not this technique's figures: its line says what is being built instead.
             } else if (d.count_samples) {
