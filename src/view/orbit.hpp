@@ -1,5 +1,6 @@
 #pragma once
-// Mouse camera control for the viewer: orbit around the target, pan, zoom (no GL, no window).
+// Mouse camera control for the viewer (orbit around the target, pan, zoom) and the panel's
+// displacement maths (no GL, no window).
 // Angles in radians, distances in scene units, pixels in the window's framebuffer.
 #include "core/camera.hpp"
 
