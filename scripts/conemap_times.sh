@@ -4,12 +4,16 @@
 # egl finds a GPU), and the GPU's dispatches alone. Prints a Markdown table for docs/cone-maps.md.
 # Nothing is cached.
 #
-#   scripts/conemap_times.sh [build/src/prismrelief] [sizes...]      e.g. ... build/src/prismrelief 512
+#   [GL_BACKEND=egl] scripts/conemap_times.sh [build/src/prismrelief] [sizes...]      e.g. ... build/src/prismrelief 512
+#
+# GL_BACKEND=egl runs the GPU rows through EGL (a real GPU where one is found).
 set -euo pipefail
 exe=${1:-build/src/prismrelief}
 shift || true
 sizes=("$@")
 [ ${#sizes[@]} -gt 0 ] || sizes=(512 1024)
+gl=()
+[ -n "${GL_BACKEND:-}" ] && gl=(--gl-backend "$GL_BACKEND")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
@@ -37,7 +41,7 @@ EOF
 # Compile the compute shaders once before timing (Mesa keeps them in its shader cache, as it does
 # for every later run of a user's): the first GPU row would otherwise include compiling them.
 for kind in cone relaxed; do
-    "$exe" conemap --height builtin:bumps@16 --kind "$kind" --backend gpu --no-cache --out "$work/o.png" >/dev/null
+    "$exe" conemap --height builtin:bumps@16 --kind "$kind" --backend gpu ${gl[@]+"${gl[@]}"} --no-cache --out "$work/o.png" >/dev/null
 done
 
 echo "| height map | size | cone cpu s | relaxed cpu s | cone gpu s | relaxed gpu s | cone gpu search s | relaxed gpu search s |"
@@ -52,7 +56,9 @@ for n in "${sizes[@]}"; do
         search=""
         for backend in cpu gpu; do
             for kind in cone relaxed; do
-                "$exe" conemap --height "$height" --kind "$kind" --backend "$backend" --no-cache \
+                extra=()
+                [ "$backend" = gpu ] && extra=(${gl[@]+"${gl[@]}"})
+                "$exe" conemap --height "$height" --kind "$kind" --backend "$backend" ${extra[@]+"${extra[@]}"} --no-cache \
                     --out "$work/o.png" --json "$work/o.json" >/dev/null
                 row+=" | $(python3 -c "import json,sys; print(f\"{json.load(open(sys.argv[1]))['ms'] / 1000:.2f}\")" "$work/o.json")"
                 # the GPU's dispatches alone, without the context, upload and compiling

@@ -4,11 +4,12 @@
 # technique leaves inside the reference's outline — pixels the reference covers, as it does every
 # pixel within 2 (the 5x5 block around it: the issue's tests allow 2 pixels of difference at the
 # outline, inner outlines included), and the technique does not. Prints a Markdown table.
-# Usage: [TECHNIQUES="prism prism:relief:exact"] [PRISMRELIEF=exe] scripts/watertight.sh
+# Usage: [TECHNIQUES="prism prism:relief:exact"] [PRISMRELIEF=exe] [FLAGS="--backend egl"] scripts/watertight.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
 pr=${PRISMRELIEF:-build/src/prismrelief}
 techniques=${TECHNIQUES:-prism prism:relief:exact}
+read -r -a flags <<<"${FLAGS:-}"  # extra flags for every render (--backend egl)
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 echo "| mesh | elevation | technique | reference interior px | background in technique px |"
@@ -16,7 +17,7 @@ echo "|---|---|---|---|---|"
 for mesh in uv_sphere torus rock; do
     for el in 0 35 75; do
         "$pr" render --mesh "meshes/$mesh.obj" --height builtin:bumps --size 512x512 --elevation "$el" \
-            --technique reference --out "$tmp/ref.png" >/dev/null 2>&1
+            --technique reference ${flags[@]+"${flags[@]}"} --out "$tmp/ref.png" >/dev/null 2>&1
         for t in $techniques; do
             # prism:MARCHER:EXIT:SHELL as --marcher/--prism-exit/--prism-shell flags (render
             # takes one technique)
@@ -26,7 +27,7 @@ for mesh in uv_sphere torus rock; do
             [ -n "${exit:-}" ] && args+=(--prism-exit "$exit")
             [ -n "${shell:-}" ] && args+=(--prism-shell "$shell")
             "$pr" render --mesh "meshes/$mesh.obj" --height builtin:bumps --size 512x512 --elevation "$el" \
-                "${args[@]}" --out "$tmp/t.png" >/dev/null 2>&1
+                "${args[@]}" ${flags[@]+"${flags[@]}"} --out "$tmp/t.png" >/dev/null 2>&1
             python3 - "$tmp/ref.png" "$tmp/t.png" "$mesh" "$el" "$t" <<'PY'
 import sys
 sys.path.insert(0, "scripts")
