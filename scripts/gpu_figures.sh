@@ -2,7 +2,8 @@
 # The figures of docs/benchmarks.md "GPU" on a machine with a GPU, through EGL: frame times of every
 # technique at 1280x720 on the bundled meshes and scenes (with and without shadows), the prism
 # accuracy and watertightness tables, cone-map generation on the CPU's threads against the compute
-# shader, and the tiles of one compare view to set beside llvmpipe's. Each step has a time limit
+# shader, the tiles of one compare view to set beside llvmpipe's, and where the prism's time goes
+# (its walk with the least march: `--steps 1`, linear). Each step has a time limit
 # and its own log, so a step that fails leaves the others' figures.
 #
 #   [PRISMRELIEF=exe] [SIZE=1280x720] [FRAMES=30] [WARMUP=5] [STEPS="bench shadows ..."] \
@@ -14,7 +15,7 @@ out=${1:?usage: scripts/gpu_figures.sh OUTDIR}
 size=${SIZE:-1280x720}
 frames=${FRAMES:-30}
 warmup=${WARMUP:-5}
-steps=${STEPS:-smoke tiles bench shadows conemap accuracy scenes watertight}
+steps=${STEPS:-smoke tiles bench decompose shadows conemap accuracy scenes watertight}
 mkdir -p "$out"
 export PRISMRELIEF="$exe"
 
@@ -47,6 +48,12 @@ if wanted bench; then
     for mesh in torus.obj rock.obj blob.off uv_sphere.obj cube.obj plane.obj; do
         step "bench_${mesh%.*}" 120 "${bench[@]}" --mesh "meshes/$mesh" --techniques "$all" \
             --json "$out/bench_${mesh%.*}.json"
+    done
+fi
+if wanted decompose; then
+    for mesh in torus rock; do
+        step "decompose_$mesh" 120 "${bench[@]}" --mesh "meshes/$mesh.obj" --steps 1 \
+            --techniques flat,pom,prism:linear,prism:linear:walk:full,prism:linear:exact --json "$out/decompose_$mesh.json"
     done
 fi
 if wanted shadows; then

@@ -181,12 +181,15 @@ void keep_exit(float e0, float e1, float e2, float a0, float a1, float a2, float
 // on that edge come from, so two triangles sharing an edge share its value (with opposite
 // signs): a ray crosses exactly one of them (Plücker-style tests, about half the arithmetic of
 // one Möller-Trumbore test per triangle). The same pass tells whether the ray goes *in* through
-// the top cap (grown by `slack`) at t_entry, within 1e-5 * t_entry: `top_entry` (the walk, where
-// it came from the top of the prism before), and gives the barycentric weights of the top's
+// the top cap (grown by `slack`) at t_entry or after it (from 1e-5 * t_entry before it):
+// `top_entry` (the walk, where it came from the top of the prism before), at `g_top_entry_t`, and
+// gives the barycentric weights of the top's
 // plane crossing, `w_top` (corners 3, 4, 5). `entry_face` (or -1): the face the walk came in by, which is no exit up to
 // 1e-5 * t_entry past the entry — the prism before computed that face's products from its own
 // corner order, so where the ray grazes the face's plane both prisms could find it an exit, and
 // the walk would go back and forth between them to its prism limit (a hole).
+float g_top_entry_t; // nearest_exit: where the ray crosses the top's plane
+
 ExitFace nearest_exit(vec3 ray_origin, vec3 dir, float t_min, bool from_a[3], float slack, float orient, float t_entry,
                       int entry_face, out bool top_entry, out vec3 w_top)
 {
@@ -216,7 +219,8 @@ ExitFace nearest_exit(vec3 ray_origin, vec3 dir, float t_min, bool from_a[3], fl
     bool top = abs(den_top) >= 1e-30;
     w_top = top ? vec3(et1, et2, et0) / den_top : vec3(0.0);
     float t_top = t_entry + (a[3] * w_top.x + a[4] * w_top.y + a[5] * w_top.z) * inv_dd;
-    top_entry = top && den_top * orient < 0.0 && in_triangle(w_top, slack) && abs(t_top - t_entry) <= 1e-5 * t_entry;
+    top_entry = top && den_top * orient < 0.0 && in_triangle(w_top, slack) && t_top >= t_entry * (1.0 - 1e-5);
+    g_top_entry_t = t_top;
     keep_exit(et1, et2, et0, a[3], a[4], a[5], inv_dd, corner_tex[3], corner_tex[4], corner_tex[5], t_entry, 0, none,
               t_min, entry_face, t_back, orient, slack, best, key);
     // The bottom (0, 2, 1): edges 2-1, 1-0, 0-2.
