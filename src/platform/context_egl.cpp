@@ -84,8 +84,13 @@ public:
             tried += std::string(tried.empty() ? "" : ", ") + what + ": " + why;
             return false;
         };
-        const char* prefer = std::getenv("PRISMRELIEF_EGL_PLATFORM"); // device | surfaceless
-        const bool want_device = !prefer || std::string(prefer) == "device";
+        // PRISMRELIEF_EGL_PLATFORM: device (the default) or surfaceless; another value is refused
+        // (a misspelt one skipped the device platform without a word).
+        const char* prefer = std::getenv("PRISMRELIEF_EGL_PLATFORM");
+        const std::string platform = prefer ? prefer : "";
+        if (!platform.empty() && platform != "device" && platform != "surfaceless")
+            throw Error("--backend", "egl: PRISMRELIEF_EGL_PLATFORM=" + platform + " is not device or surfaceless");
+        const bool want_device = platform != "surfaceless";
         bool ok = false;
         if (want_device && get_platform_display && query_devices) {
             EGLDeviceEXT devices[8];

@@ -259,6 +259,11 @@ if(EGL_INCLUDE_DIR)
     pr_cli(no_egl_library EXIT 1 ONE_LINE STDERR "${E}--backend: egl: cannot load /nonexistent/libEGL.so"
            NO_FILE o.png ENV PRISMRELIEF_EGL_LIBRARY=/nonexistent/libEGL.so
            ARGS render --mesh ${M}/cube.obj --backend egl --size 32x32 --out o.png)
+    # A platform other than device or surfaceless (it skipped the device platform silently).
+    pr_cli(egl_platform_unknown EXIT 1 ONE_LINE
+           STDERR "${E}--backend: egl: PRISMRELIEF_EGL_PLATFORM=gpu is not device or surfaceless"
+           NO_FILE o.png ENV PRISMRELIEF_EGL_PLATFORM=gpu
+           ARGS render --mesh ${M}/cube.obj --backend egl --size 32x32 --out o.png)
 endif()
 pr_cli(shader_dir_missing EXIT 1 ONE_LINE STDERR "${E}shaders/.*: not found in the shader folder /nonexistent \\(--shader-dir or PRISMRELIEF_SHADER_DIR\\)"
        NO_FILE o.png ENV PRISMRELIEF_SHADER_DIR=/nonexistent
