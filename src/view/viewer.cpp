@@ -128,7 +128,7 @@ public:
         overlay_ = options.overlay;
         reference_overlay_ = options.reference_overlay;
         initial_camera_ = s_.camera;
-        angles_from_direction(s_.light, light_azimuth_, light_elevation_);
+        angles_from_direction(s_.light, s_.spec.camera.up, light_azimuth_, light_elevation_);
         remember_scene();
         if (!o_.shader_dir.empty()) watch_.emplace(o_.shader_dir);
         pending_drops_ = o_.drops;
@@ -655,7 +655,7 @@ void Viewer::handle_input()
         case Drag::Light:
             light_azimuth_ -= d.x * 0.01f;
             light_elevation_ = std::clamp(light_elevation_ - d.y * 0.01f, -1.55f, 1.55f);
-            s_.light = direction_from_angles(light_azimuth_, light_elevation_);
+            s_.light = direction_from_angles(light_azimuth_, light_elevation_, s_.spec.camera.up);
             break;
         case Drag::Divider:
             divider_ = std::clamp(mouse_px / w, 0.0f, 1.0f);
@@ -836,7 +836,7 @@ void Viewer::draw_panel()
         if (light) {
             light_azimuth_ = glm::radians(az);
             light_elevation_ = glm::radians(el);
-            s_.light = direction_from_angles(light_azimuth_, light_elevation_);
+            s_.light = direction_from_angles(light_azimuth_, light_elevation_, s_.spec.camera.up);
             dirty_ = true;
         }
         if (ImGui::Button("reset view (R)")) reset_view();

@@ -1,5 +1,5 @@
-// The viewer's camera and panel maths, without a window: orbiting about the scene's up, and the
-// depth and midlevel sliders' effect on every object (src/view/orbit.cpp).
+// The viewer's camera and panel maths, without a window: orbiting about the scene's up, the depth
+// and midlevel sliders' effect on every object, and the light's angles (src/view/orbit.cpp).
 #include "core/camera.hpp"
 #include "view/orbit.hpp"
 
@@ -99,4 +99,30 @@ TEST(PanelDisplacement, OtherObjectsFollowObjectZero)
     const view::PanelDisplacement torus = view::follow_panel(0.0f, 0.0f, 0.3f, 0.0f, 0.2f, 0.5f, false);
     EXPECT_FLOAT_EQ(torus.depth, 0.2f);
     EXPECT_FLOAT_EQ(torus.midlevel, 0.5f);
+}
+
+// The panel's light angles are about the scene's up: with the default +Y up they are what they
+// were (azimuth 0 towards +Z, 90 degrees towards +X); with --up 0,0,1 a light straight up the
+// scene reads elevation 90 and one in its ground plane elevation 0 (they were measured about
+// world +Y, so a z-up scene's default light read "elevation -13 deg"), and angles go back to
+// the same direction.
+TEST(LightAngles, AreAboutTheScenesUp)
+{
+    using view::angles_from_direction;
+    using view::direction_from_angles;
+    const glm::vec3 y_up(0.0f, 1.0f, 0.0f), z_up(0.0f, 0.0f, 1.0f);
+    const auto near = [](glm::vec3 a, glm::vec3 b) { return glm::length(a - b) < 1e-5f; };
+    EXPECT_TRUE(near(direction_from_angles(0.0f, 0.0f, y_up), {0.0f, 0.0f, 1.0f}));
+    EXPECT_TRUE(near(direction_from_angles(float(M_PI / 2), 0.0f, y_up), {1.0f, 0.0f, 0.0f}));
+    EXPECT_TRUE(near(direction_from_angles(0.3f, float(M_PI / 2), y_up), y_up));
+    float az = 0.0f, el = 0.0f;
+    angles_from_direction({0.0f, 0.0f, 2.0f}, z_up, az, el);
+    EXPECT_NEAR(el, float(M_PI / 2), 1e-5f);
+    angles_from_direction({1.0f, 1.0f, 0.0f}, z_up, az, el);
+    EXPECT_NEAR(el, 0.0f, 1e-5f);
+    for (const glm::vec3 up : {y_up, z_up, glm::normalize(glm::vec3(1.0f, 2.0f, -3.0f))})
+        for (const glm::vec3 d : {glm::vec3(0.3f, -0.4f, 0.8f), glm::vec3(-1.0f, 0.2f, 0.1f), glm::vec3(0.0f, 0.5f, -1.0f)}) {
+            angles_from_direction(d, up, az, el);
+            EXPECT_TRUE(near(direction_from_angles(az, el, up), glm::normalize(d)));
+        }
 }
