@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 namespace pr {
 
@@ -81,9 +82,11 @@ CommandAction add_bench_command(CLI::App& app)
         Renderer& r = *session.renderer;
         for (const TechniqueRun& run : runs) r.check_drawable(run.settings, "--techniques");
         release_warnings(); // every input accepted (core/error.hpp)
+        std::optional<Renderer::ReferenceStats> reference; // its geometry, for the JSON's reference row
         for (const TechniqueRun& run : runs)
             if (run.settings.technique == Technique::Reference) {
-                warn_if_capped(r.prepare_reference(session.scene, session.camera, ref_options), "bench");
+                reference = r.prepare_reference(session.scene, session.camera, ref_options);
+                warn_if_capped(*reference, "bench");
                 break;
             }
 
@@ -142,6 +145,10 @@ CommandAction add_bench_command(CLI::App& app)
             results.back().update(quality_json(runs[i].settings));
             results.back().update(prism_configuration(runs[i].settings));
             results.back().update(shadows_json(runs[i].settings));
+            // The reference's geometry (level, triangles, bytes, build_ms, capped), as render's JSON
+            // gives it: a GPU's time for true geometry means little without its size.
+            if (reference && runs[i].settings.technique == Technique::Reference)
+                results.back()["reference"] = reference_json(*reference);
         }
         if (!s->json.empty()) {
             const nlohmann::json report = {{"results", results},

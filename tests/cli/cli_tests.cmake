@@ -214,6 +214,11 @@ pr_cli(bench_rows_carry_their_quality EXIT 0 JSON b.json
        CHECKS "${R}.0.depth_write:STREQUAL:ON|${R}.0.steps:EQUAL:12|${R}.0.refine:EQUAL:3|${R}.1.depth_write:STREQUAL:ON"
        ARGS bench --mesh ${M}/torus.obj --size 32x24 --frames 1 --warmup 0 --steps 12 --refine 3
             --depth-write --techniques relief,pom --json b.json)
+# The reference's row carries its geometry (a cube's 12 triangles split 4 x 4).
+pr_cli(bench_reference_row_has_its_geometry EXIT 0 JSON b.json
+       CHECKS "${R}.1.reference.level:EQUAL:4|${R}.1.reference.triangles:EQUAL:192|${R}.1.reference.capped:STREQUAL:OFF"
+       ARGS bench --mesh ${M}/cube.obj --size 32x24 --frames 1 --warmup 0 --reference-level 4
+            --techniques flat,reference --json b.json)
 pr_cli(bench_p95_above_255 EXIT 0 JSON b.json
        CHECKS "${R}.0.samples_per_fragment_mean:EQUAL:1028|${R}.0.samples_per_fragment_p95:EQUAL:1028|${R}.0.fragments:GREATER:100"
        ARGS bench --mesh ${M}/plane.obj --height builtin:const:0 --size 32x24 --frames 1 --warmup 0
