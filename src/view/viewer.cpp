@@ -226,6 +226,7 @@ private:
     std::string blocked_key_;   // settings that failed to draw; retried when they or shaders change
     std::vector<std::string> pending_drops_;
     std::deque<std::string> log_; // load errors and notices (newest last)
+    float panel_width_ = 0.0f;    // the panel's width as the user left it (0: not drawn yet)
     std::deque<float> frame_ms_; // recent frame times (plot)
     std::vector<double> all_frame_ms_;
     Clock::time_point last_frame_ = Clock::now();
@@ -740,13 +741,32 @@ void Viewer::technique_combo(int k)
 void Viewer::draw_panel()
 {
     const float scale = ImGui::GetStyle().ScrollbarSize / 14.0f; // ScaleAllSizes' factor
+    // A cone map's build, in a box of its own at the window's bottom right: in the panel, its
+    // three lines pushed every control down while it ran, and back up when it ended.
+    if (cone_job_) {
+        const ImVec2 display = ImGui::GetIO().DisplaySize;
+        ImGui::SetNextWindowPos(ImVec2(display.x - 8.0f * scale, display.y - 8.0f * scale), ImGuiCond_Always,
+                                ImVec2(1.0f, 1.0f));
+        ImGui::SetNextWindowBgAlpha(0.85f);
+        ImGui::Begin("##cone map build", nullptr,
+                     ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoInputs |
+                         ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing);
+        ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "building the %s", cone_job_->what.c_str());
+        ImGui::ProgressBar(float(cone_job_->done->load()), ImVec2(300.0f * scale, 0.0f));
+        ImGui::TextDisabled("relief drawn meanwhile; the map is cached for later runs");
+        ImGui::End();
+    }
     ImGui::SetNextWindowPos(ImVec2(8.0f * scale, 8.0f * scale), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(330.0f * scale, 0.0f), ImGuiCond_FirstUseEver);
+    // The width the user gave it (330 at first), the height fitted to what it holds in every frame
+    // (0 on an axis: fit it). Fitted only once, at the first frame, the log's lines and a shader
+    // error below the controls were cut off.
+    ImGui::SetNextWindowSize(ImVec2(panel_width_ > 0.0f ? panel_width_ : 330.0f * scale, 0.0f), ImGuiCond_Always);
     ImGui::SetNextWindowBgAlpha(0.85f);
     if (!ImGui::Begin("prismrelief", &show_panel_)) {
         ImGui::End();
         return;
     }
+    panel_width_ = ImGui::GetWindowWidth();
     ImGui::PushItemWidth(ImGui::GetWindowWidth() * 0.55f);
     ImGui::TextDisabled("%s", s_.context->description().c_str());
 
@@ -764,11 +784,6 @@ void Viewer::draw_panel()
                 compositor_->width(), compositor_->height());
     fmt_half(0);
     if (split_) fmt_half(1);
-    if (cone_job_) {
-        ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "building the %s", cone_job_->what.c_str());
-        ImGui::ProgressBar(float(cone_job_->done->load()), ImVec2(-1.0f, 0.0f));
-        ImGui::TextDisabled("relief drawn meanwhile; the map is cached for later runs");
-    }
     if (!frame_ms_.empty()) {
         std::vector<float> v(frame_ms_.begin(), frame_ms_.end());
         ImGui::PlotLines("##frames", v.data(), int(v.size()), 0, "frame ms", 0.0f, FLT_MAX,
