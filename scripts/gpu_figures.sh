@@ -9,9 +9,10 @@
 #   [PRISMRELIEF=exe] [SIZE=1280x720] [FRAMES=30] [WARMUP=5] [STEPS="bench shadows ..."] \
 #       scripts/gpu_figures.sh OUTDIR
 set -uo pipefail
+# OUTDIR and PRISMRELIEF relative to the caller's folder (the script works from the repository's).
+out=$(realpath -m "${1:?usage: scripts/gpu_figures.sh OUTDIR}")
+exe=$(realpath -m "${PRISMRELIEF:-$(dirname "$0")/../build/src/prismrelief}")
 cd "$(dirname "$0")/.."
-exe=${PRISMRELIEF:-build/src/prismrelief}
-out=${1:?usage: scripts/gpu_figures.sh OUTDIR}
 size=${SIZE:-1280x720}
 frames=${FRAMES:-30}
 warmup=${WARMUP:-5}

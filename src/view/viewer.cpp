@@ -156,6 +156,7 @@ private:
     void apply_displacement();
     void render_scene();
     void draw_panel();
+    void draw_build_box();
     void technique_combo(int half);
     void take_screenshot(const std::string& path);
     void screenshot_now(); // key P and the panel's button: --screenshot's path, else a numbered name
@@ -738,24 +739,28 @@ void Viewer::technique_combo(int k)
     }
 }
 
+// A cone map's build, in a box of its own at the window's bottom right, shown with the panel
+// hidden too: in the panel, its three lines pushed every control down while it ran.
+void Viewer::draw_build_box()
+{
+    if (!cone_job_) return;
+    const float scale = ImGui::GetStyle().ScrollbarSize / 14.0f; // ScaleAllSizes' factor
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    ImGui::SetNextWindowPos(ImVec2(display.x - 8.0f * scale, display.y - 8.0f * scale), ImGuiCond_Always,
+                            ImVec2(1.0f, 1.0f));
+    ImGui::SetNextWindowBgAlpha(0.85f);
+    ImGui::Begin("##cone map build", nullptr,
+                 ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoInputs |
+                     ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing);
+    ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "building the %s", cone_job_->what.c_str());
+    ImGui::ProgressBar(float(cone_job_->done->load()), ImVec2(300.0f * scale, 0.0f));
+    ImGui::TextDisabled("relief drawn meanwhile; the map is cached for later runs");
+    ImGui::End();
+}
+
 void Viewer::draw_panel()
 {
     const float scale = ImGui::GetStyle().ScrollbarSize / 14.0f; // ScaleAllSizes' factor
-    // A cone map's build, in a box of its own at the window's bottom right: in the panel, its
-    // three lines pushed every control down while it ran, and back up when it ended.
-    if (cone_job_) {
-        const ImVec2 display = ImGui::GetIO().DisplaySize;
-        ImGui::SetNextWindowPos(ImVec2(display.x - 8.0f * scale, display.y - 8.0f * scale), ImGuiCond_Always,
-                                ImVec2(1.0f, 1.0f));
-        ImGui::SetNextWindowBgAlpha(0.85f);
-        ImGui::Begin("##cone map build", nullptr,
-                     ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoInputs |
-                         ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing);
-        ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "building the %s", cone_job_->what.c_str());
-        ImGui::ProgressBar(float(cone_job_->done->load()), ImVec2(300.0f * scale, 0.0f));
-        ImGui::TextDisabled("relief drawn meanwhile; the map is cached for later runs");
-        ImGui::End();
-    }
     ImGui::SetNextWindowPos(ImVec2(8.0f * scale, 8.0f * scale), ImGuiCond_FirstUseEver);
     // The width the user gave it (330 at first), the height fitted to what it holds in every frame
     // (0 on an axis: fit it). Fitted only once, at the first frame, the log's lines and a shader
@@ -944,6 +949,7 @@ int Viewer::run()
             ImGui::NewFrame();
             handle_input();
             if (show_panel_) draw_panel();
+            draw_build_box(); // (with the panel hidden too)
             ImGui::Render();
 
             drew_meanwhile_ = false;
