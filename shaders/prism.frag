@@ -407,12 +407,12 @@ void main()
     // first segment, whose first sample the march takes itself, or one after a UV seam).
     vec3 last = vec3(0.0);
     bool pending = true;
-    // A ray that leaves through a top cap at one of its edges may go straight into the
-    // neighbour's prism through the neighbour's top: the shell's top folds away from the eye
-    // there, and the rasterizer gives a pixel on the shared edge to one cap only, possibly the
-    // one facing away, which is not drawn. The walk goes on into the neighbour and keeps to it
-    // only if the ray does enter its top at that point (`via_top`, checked by the neighbour's
-    // exit pass).
+    // A ray that leaves through a top cap may go into the neighbour's prism through the
+    // neighbour's top: where the shell's top folds away from the eye, the rasterizer gives a
+    // pixel on or near the shared edge to one cap only, possibly the one facing away, which is
+    // not drawn, or (caps seen edge-on, slivers of a pixel) to neither. The walk tries the
+    // neighbour across the top's nearest edge and keeps to it only if the ray does enter its top,
+    // at the exit or after it (`via_top`, checked by the neighbour's exit pass).
     bool via_top = false;
     // Each pass loads its prism first: what goes from one pass to the next is the prism's number
     // and where the ray comes in (`entry_edge`, `entry_along`, at height tex_out.z), not the
@@ -461,21 +461,24 @@ void main()
         ExitFace ex = nearest_exit(u_eye.xyz, dir, t_min, from_a, 1e-5, walk_orientation, t_in, entry_face, top_entry, w_top);
         if (via_top && !top_entry) break; // it does not go in there: out of the shell
         if (ex.face < 0) break; // lost: a miss
-        if (via_top && g_top_entry_t > t_in) {
-            // In through the top a little further on (the caps' planes part at their shared
-            // edge, and a grazing ray crosses the gap outside the shell): the segment starts
-            // there, its first sample its own.
+        bool moved = via_top && g_top_entry_t > t_in;
+        if (moved) {
+            // In through the top further on (the caps' planes part at their shared edge, and a
+            // grazing ray crosses the gap outside the shell): the segment starts there, its first
+            // sample its own (not the last one of the prism before, across the gap). The exits
+            // counted from the old start: one before the new start (only the planes' fallback
+            // could give it, the ray being outside the prism until then) has lost the way.
             t_in = g_top_entry_t;
             tex_in = corner_tex[3] * w_top.x + corner_tex[4] * w_top.y + corner_tex[5] * w_top.z;
             pending = true;
+            if (ex.t < t_in) break;
         }
         t_out = ex.t;
         tex_out = vec3(ex.tex.xy, clamp(ex.tex.z, 0.0, 1.0));
         // Where the ray goes if the march finds no hit: out through a side into its neighbour,
-        // or through the top at one of its edges into the neighbour's top; through a cap
-        // elsewhere, or a side without a neighbour, it leaves the shell. (Found before the
-        // march, so that only the edge and lambda live through it, not the top's corners and
-        // weights: on an H200 keeping them cost `prism` 11 % of the torus's frame.)
+        // or through the top towards the neighbour across its nearest edge (which the next pass
+        // checks); through a bottom, or a side without a neighbour, it leaves the shell. (Found
+        // before the march, so that the top's weights need not live through it.)
         float lambda = ex.lambda;
         int edge = ex.face >= 2 ? ex.face - 2 : (ex.face == 0 ? top_exit_edge(w_top, lambda) : -1);
         // (At a seam on a torn mesh the march decides `below`: it takes the sample there.)
@@ -483,10 +486,12 @@ void main()
         // An open mesh's walls (and the other faces of its listed prisms): a ray that comes in
         // under the surface goes on under it (the sheet has no body there), decided by the
         // first sample, as at a seam.
-        bool decide = pending && (entry_edge >= 0 || k == 0);
+        bool decide = pending && (entry_edge >= 0 || k == 0) && !moved;
 #else
-        bool decide = pending && entry_edge >= 0;
+        bool decide = pending && entry_edge >= 0 && !moved;
 #endif
+        // (Not where it came in through a top: it is over the heights there, and a sample on the
+        // top, where a height may equal it, could turn it under them.)
         hit_segment = march_segment(tex_in, tex_out, last, pending, decide, below, last);
         if (hit_segment.br.hit) break;
         uvec3 across = prism_across;

@@ -219,7 +219,7 @@ ExitFace nearest_exit(vec3 ray_origin, vec3 dir, float t_min, bool from_a[3], fl
     bool top = abs(den_top) >= 1e-30;
     w_top = top ? vec3(et1, et2, et0) / den_top : vec3(0.0);
     float t_top = t_entry + (a[3] * w_top.x + a[4] * w_top.y + a[5] * w_top.z) * inv_dd;
-    top_entry = top && den_top * orient < 0.0 && in_triangle(w_top, slack) && t_top >= t_entry * (1.0 - 1e-5);
+    top_entry = top && den_top * orient < 0.0 && in_triangle(w_top, slack) && t_top >= t_entry - 1e-5 * abs(t_entry);
     g_top_entry_t = t_top;
     keep_exit(et1, et2, et0, a[3], a[4], a[5], inv_dd, corner_tex[3], corner_tex[4], corner_tex[5], t_entry, 0, none,
               t_min, entry_face, t_back, orient, slack, best, key);

@@ -270,9 +270,10 @@ TEST(Prism, WalkGoesOnWhereTheTopFoldsAway)
 
 // Where the top folds away seen edge-on, the two caps at the fold cover slivers of a pixel: the
 // exit from the cap facing away lay 0.03 from the shared edge in barycentric weight (more than
-// the walk's 1e-3) but 0.01 pixel from it on screen, and the rasterizer gave the pixel to neither
-// cap; the ray goes into the neighbour's top a little further on (the caps' planes part at the
-// edge). One pixel of background in each of these views until the twenty-fifth session.
+// the 1e-3 the walk then took for "at the edge") but 0.01 pixel from it on screen, and the
+// rasterizer gave the pixel to neither cap; the ray goes into the neighbour's top a little
+// further on (the caps' planes part at the edge). One pixel of background in each of these
+// views until the twenty-fifth session.
 TEST(Prism, WalkGoesOnAtAFoldSeenEdgeOn)
 {
     prtest::context();
