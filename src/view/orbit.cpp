@@ -89,7 +89,8 @@ void zoom(Camera& camera, float steps, const Sphere& bounds)
 namespace {
 
 // The frame the light's angles are measured in: `y` the scene's up, `z` the azimuth's zero (+Z,
-// or +X where up lies along Z, made square to up), `x` = y × z (+X for the default +Y up).
+// or +X where up is within 25 degrees of Z, made square to up), `x` = y × z (+X for the default
+// +Y up).
 struct AngleFrame {
     glm::vec3 x, y, z;
 };

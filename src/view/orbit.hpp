@@ -31,9 +31,9 @@ PanelDisplacement follow_panel(float first_depth, float first_midlevel, float de
                                float own_depth, float own_midlevel, bool first);
 
 // Unit direction from azimuth (about the scene's `up`, 0 towards +Z made square to it: +Z for
-// +Y up, +X where up is along Z) and elevation (above the plane square to `up`), and back. (The
-// panel's light angles; they were about world +Y whatever --up said, so a z-up scene's default
-// light read "elevation -13 deg".)
+// +Y up, +X where up is within 25 degrees of Z) and elevation (above the plane square to `up`),
+// and back. (The panel's light angles; they were about world +Y whatever --up said, so a z-up
+// scene's default light read "elevation -13 deg".)
 glm::vec3 direction_from_angles(float azimuth, float elevation, glm::vec3 up);
 void angles_from_direction(glm::vec3 dir, glm::vec3 up, float& azimuth, float& elevation);
 
