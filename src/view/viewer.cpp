@@ -739,12 +739,18 @@ void Viewer::technique_combo(int k)
     }
 }
 
+// ImGui's ScaleAllSizes factor (the panel's and the build box's sizes follow it).
+float ui_scale()
+{
+    return ImGui::GetStyle().ScrollbarSize / 14.0f;
+}
+
 // A cone map's build, in a box of its own at the window's bottom right, shown with the panel
 // hidden too: in the panel, its three lines pushed every control down while it ran.
 void Viewer::draw_build_box()
 {
     if (!cone_job_) return;
-    const float scale = ImGui::GetStyle().ScrollbarSize / 14.0f; // ScaleAllSizes' factor
+    const float scale = ui_scale();
     const ImVec2 display = ImGui::GetIO().DisplaySize;
     ImGui::SetNextWindowPos(ImVec2(display.x - 8.0f * scale, display.y - 8.0f * scale), ImGuiCond_Always,
                             ImVec2(1.0f, 1.0f));
@@ -760,7 +766,7 @@ void Viewer::draw_build_box()
 
 void Viewer::draw_panel()
 {
-    const float scale = ImGui::GetStyle().ScrollbarSize / 14.0f; // ScaleAllSizes' factor
+    const float scale = ui_scale();
     ImGui::SetNextWindowPos(ImVec2(8.0f * scale, 8.0f * scale), ImGuiCond_FirstUseEver);
     // The width the user gave it (330 at first), the height fitted to what it holds in every frame
     // (0 on an axis: fit it). Fitted only once, at the first frame, the log's lines and a shader

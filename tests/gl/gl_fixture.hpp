@@ -5,6 +5,7 @@
 #include "mesh/mesh.hpp"
 #include "platform/context.hpp"
 #include "render/renderer.hpp"
+#include "render/scene.hpp"
 
 #include <gtest/gtest.h>
 
@@ -76,6 +77,27 @@ inline pr::Scene one_object(pr::PreparedMesh mesh, std::shared_ptr<pr::HeightFie
 inline pr::Scene bundled(const std::string& name, std::shared_ptr<pr::HeightField> height, float depth)
 {
     return one_object(pr::load_mesh(std::string(PR_SOURCE_DIR) + "/meshes/" + name), std::move(height), depth);
+}
+
+// A bundled mesh (meshes/`name`) as a scene's object, the other keys at their defaults.
+inline pr::ObjectSpec bundled_object(const std::string& name)
+{
+    pr::ObjectSpec o;
+    o.mesh = std::string(PR_SOURCE_DIR) + "/meshes/" + name;
+    return o;
+}
+
+// `spec` loaded and framed as the command line loads and frames it (auto-framing unless the
+// spec's camera says otherwise).
+struct FramedObject {
+    pr::Scene scene;
+    pr::Camera camera;
+};
+inline FramedObject framed(const pr::SceneSpec& spec)
+{
+    FramedObject f{pr::load_scene(spec), {}};
+    f.camera = pr::scene_camera(spec, f.scene);
+    return f;
 }
 
 // Cone maps built by GL tests are cached here (never in the user's cache).

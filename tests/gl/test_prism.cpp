@@ -281,14 +281,11 @@ TEST(Prism, WalkGoesOnAtAFoldSeenEdgeOn)
         SCOPED_TRACE(testing::Message() << width << "x" << height << ", elevation " << elevation);
         // Loaded and framed as `render --mesh meshes/rock.obj --size WxH --elevation E` does.
         SceneSpec spec;
-        ObjectSpec o;
-        o.mesh = std::string(PR_SOURCE_DIR) + "/meshes/rock.obj";
-        spec.objects.push_back(o);
+        spec.objects.push_back(prtest::bundled_object("rock.obj"));
         spec.width = width;
         spec.height = height;
         spec.camera.elevation_deg = elevation;
-        const Scene scene = load_scene(spec);
-        const Camera c = scene_camera(spec, scene);
+        const auto [scene, c] = prtest::framed(spec);
         Renderer r(width, height);
         r.upload(scene);
         r.prepare_reference(scene, c, ReferenceOptions{});

@@ -182,24 +182,17 @@ double mean_brightness(const RgbaImage& img)
 }
 
 // One object from meshes/, loaded through a SceneSpec as the command line loads it, auto-framed.
-struct FramedObject {
-    Scene scene;
-    Camera camera;
-};
-FramedObject framed_object(const std::string& mesh, const std::string& height, std::optional<float> depth,
-                           const glm::dmat4& transform = glm::dmat4(1.0))
+prtest::FramedObject framed_object(const std::string& mesh, const std::string& height, std::optional<float> depth,
+                                   const glm::dmat4& transform = glm::dmat4(1.0))
 {
     SceneSpec spec;
-    ObjectSpec o;
-    o.mesh = std::string(PR_SOURCE_DIR) + "/meshes/" + mesh;
+    ObjectSpec o = prtest::bundled_object(mesh);
     o.height = height;
     o.depth = depth;
     o.transform = transform;
     spec.objects.push_back(o);
     spec.width = spec.height = kSize;
-    FramedObject f{load_scene(spec), {}};
-    f.camera = scene_camera(spec, f.scene);
-    return f;
+    return prtest::framed(spec);
 }
 
 } // namespace
