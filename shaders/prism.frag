@@ -190,12 +190,6 @@ layout(binding = PR_IMAGE_TEAR_TILES, r32ui) uniform uimage2D u_tear_tiles;
 #endif
 
 
-void load_walk_prism(uint prim, out uint index[3], out uint weld[3], out bool from_a[3])
-{
-    load_walk_prism(prim, index, weld);
-    for (int e = 0; e < 3; ++e) from_a[e] = diagonal_from_a(weld[e], weld[(e + 1) % 3]);
-}
-
 // The edge of the current prism's top cap nearest a top exit with barycentric weights `w`, and in
 // `lambda` the exit's place along it (0 at corner e, 1 at corner e + 1). The walk tries the
 // neighbour across it, and goes on only if the ray goes into that neighbour's top (item 10 of
@@ -251,7 +245,6 @@ bool at_seam(vec3 tex_in, vec3 tex_out)
 float light_walk(uint prim, vec3 tex, vec3 hit, vec3 light_dir)
 {
     UvGrad g = UvGrad(vec2(0.0), vec2(0.0));
-    uint index[3], weld[3];
     bool from_a[3];
     float visibility = 1.0;
     float run = 0.0; // UV units gone (the soft penumbra's distance)
@@ -268,7 +261,7 @@ float light_walk(uint prim, vec3 tex, vec3 hit, vec3 light_dir)
     // valence: a light low over a disc of 20,000 slivers took 46 s a frame at 256x192, against 8 s
     // for the texture plane's march alone); past them the walk gives no answer.
     for (int k = 0; k < min(u_walk.x, 64) && !ended; ++k) {
-        load_walk_prism(prim, index, weld, from_a);
+        load_walk_prism(prim, from_a);
         if (entry_edge >= 0) tex_in = entry_point(entry_edge, entry_along, tex_out.z);
         // The start may lie on a face of its prism (its bottom, where the height is 0): the exits
         // count from a little behind it (the faces the ray goes in by never count).
@@ -400,7 +393,6 @@ void main()
 #ifdef PR_PRISM_EYE_UNDER
     below = true; // the eye is under the surface (inside a bump): the walk from it starts there
 #endif
-    uint index[3], weld[3];
     Segment hit_segment; // the last segment marched; br.hit when the walk found the surface in it
     hit_segment.br.hit = false;
     // The last sample the march took: the first of the next segment, unless `pending` (the
@@ -412,8 +404,13 @@ void main()
     // pixel on or near the shared edge to one cap only, possibly the one facing away, which is
     // not drawn, or (caps seen edge-on, slivers of a pixel) to neither. The walk tries the
     // neighbour across the top's nearest edge and keeps to it only if the ray does enter its top,
-    // at the exit or after it (`via_top`, checked by the neighbour's exit pass).
+    // at the exit or after it (`via_top`, checked by the neighbour's exit pass). Never into the
+    // prism it came from (`came_from`), which it has left: where a ray out through a side leaves
+    // the neighbour's top near that side, the two took turns (their faces meet within the exits'
+    // tolerances) to the walk's limit of prisms: 2 pixels of the cube at 1280x720, 1 of the
+    // rock, and on the H200 those few walks of 266 prisms took 30 % of the cube's frame.
     bool via_top = false;
+    uint came_from = 0xffffffffu;
     // Each pass loads its prism first: what goes from one pass to the next is the prism's number
     // and where the ray comes in (`entry_edge`, `entry_along`, at height tex_out.z), not the
     // prism's corners — llvmpipe keeps every value that crosses the loop's back edge for all
@@ -434,7 +431,8 @@ void main()
     // parallel to a very finely tessellated surface (docs/prism.md). The renderer allows 256
     // and twice the most prisms around one vertex, which a ray passing the vertex may cross.
     for (int k = 0; k < u_walk.x; ++k) {
-        load_walk_prism(prim, index, weld, from_a);
+        count_prism();
+        load_walk_prism(prim, from_a);
         if (entry_edge >= 0) {
             tex_in = entry_point(entry_edge, entry_along, tex_out.z);
             pending = at_seam(tex_in, tex_out);
@@ -496,18 +494,20 @@ void main()
         if (hit_segment.br.hit) break;
         uvec3 across = prism_across;
         uint next = edge == 0 ? across.x : (edge == 1 ? across.y : (edge == 2 ? across.z : 0xffffffffu));
+        if (ex.face == 0 && next >> 2u == came_from) next = 0xffffffffu;
         if (next == 0xffffffffu) {
             went_in = below && ex.face == 1; // out through a bottom from under the surface
             break;
         }
         via_top = ex.face == 0;
+        came_from = prim;
         prim = next >> 2u;
         entry_edge = int(next & 3u);
         entry_along = clamp(1.0 - lambda, 0.0, 1.0); // the neighbour runs the edge the other way
         t_in = t_out;
     }
     // The hit prism again (corners, uv and normals for the frame below).
-    load_walk_prism(prim, index, weld, from_a);
+    load_walk_prism(prim, from_a);
 // (Not in the second pass itself, nor in the walks from inside the body, which start at the
 // same bottoms the second pass would, nor on an open mesh, which has no inside: such a ray has
 // left the sheet.)
@@ -529,6 +529,7 @@ void main()
 #endif
     // The frame at the hit (below): uv and normals of the hit prism, tangents from the vertex
     // buffer (two of a vertex's four texels).
+    uvec3 index = triangle_indices(prim);
     for (int i = 0; i < 3; ++i) {
         frame_uv[i] = corner_tex[i].xy;
         frame_n[i] = corner_normal[i];

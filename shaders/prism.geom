@@ -29,9 +29,10 @@ in vec3 g_bitangent[];
 #endif
 layout(triangle_strip, max_vertices = 18) out;
 
-// The prism being emitted: its number (the fragment shader's gl_PrimitiveID) and welded ids.
+// The prism being emitted: its number (the fragment shader's gl_PrimitiveID) and its sides'
+// diagonals (diagonal_from_a).
 int prism_id;
-uint prism_weld[3];
+bool prism_from_a[3];
 
 out vec3 v_world; // world position on the shell face
 out vec3 v_tex;   // (u, v, height) there
@@ -104,7 +105,7 @@ void triangle(int a, int b, int c)
 void side(int e)
 {
     int a = e, b = (e + 1) % 3;
-    if (diagonal_from_a(prism_weld[a], prism_weld[b])) {
+    if (prism_from_a[a]) {
         triangle(a, b, b + 3);
         triangle(a, b + 3, a + 3);
     } else {
@@ -118,8 +119,7 @@ void main()
 #ifdef PR_PRISM_LISTED
     uint entry = texelFetch(t_prism_list, g_list_index[0]).r;
     prism_id = int(entry & 0x7fffffffu);
-    uint index[3];
-    load_walk_prism(uint(prism_id), index, prism_weld);
+    load_walk_prism(uint(prism_id), prism_from_a);
 #ifdef PR_PRISM_INSIDE
     // The second pass over a torn mesh (prism.frag): the bottom the eye sees from inside the
     // object, where rays that went in through a tear come out into the far side's shell. The CPU
@@ -140,7 +140,7 @@ void main()
 #endif
 #else
     prism_id = gl_PrimitiveIDIn;
-    prism_weld = uint[3](g_weld[0], g_weld[1], g_weld[2]);
+    for (int e = 0; e < 3; ++e) prism_from_a[e] = diagonal_from_a(g_weld[e], g_weld[(e + 1) % 3]);
     for (int i = 0; i < 3; ++i) {
         corner_world[i] = shell_corner(g_world[i], g_normal[i], 0.0);
         corner_world[i + 3] = shell_corner(g_world[i], g_normal[i], 1.0);

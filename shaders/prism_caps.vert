@@ -26,8 +26,8 @@ void main()
     float h = 0.0;
     v_world = c.bottom_u.xyz;
 #else
-    float h = shell_top_height(c);
-    v_world = shell_top_corner(c, h);
+    float h = shell_top_height(c.top_weld.x);
+    v_world = shell_top_corner(c.bottom_u.xyz, c.n_v.xyz, h);
 #endif
     v_tex = vec3(c.bottom_u.w, c.n_v.w, h);
     gl_Position = u_view_proj * vec4(v_world, 1.0);

@@ -70,8 +70,8 @@ void main()
     g_bias = slope_bias(g_world[0], g_world[1], g_world[2]);
 #ifdef PR_OVERLAY_SHELL
 #ifdef PR_PRISM_WALK
-    uint index[3], weld[3]; // the walk's prism, tight top included (shell.glsl)
-    load_walk_prism(uint(gl_PrimitiveIDIn), index, weld);
+    bool from_a[3]; // the walk's prism, tight top included (shell.glsl)
+    load_walk_prism(uint(gl_PrimitiveIDIn), from_a);
 #else
     for (int i = 0; i < 3; ++i) {
         corner_world[i] = shell_corner(g_world[i], g_normal[i], 0.0);

@@ -31,8 +31,8 @@ using mat4 = glm::mat4;
 // lanes at once, where it loads a storage buffer one lane and one component at a time.
 #define PR_TEX_VERTICES 3  // rgba32ui: the mesh's vertex buffer (MeshVertex, four texels each), prism only
 #define PR_TEX_INDICES 4   // rgb32ui: its index buffer, one texel per triangle, prism only
-#define PR_TEX_ADJACENCY 5 // rgba32ui, per triangle: the triangles across its edges (src/mesh/adjacency.hpp)
-                           // and its winding (renderer.cpp, walk_triangles); walk only
+#define PR_TEX_PRISMS 5    // rgba32ui, eight texels per triangle: its corners, tops, neighbours and flags
+                           // (renderer.cpp, walk_triangles; shell.glsl, load_walk_prism); walk only
 #define PR_TEX_CORNERS 6   // rgba32ui, three texels per vertex: vec4(bottom corner, u), vec4(unit N, v),
                            // vec4(top height, weld, 0, 0) (floats as bits); walk only
 #define PR_TEX_PRISM_LIST 7 // r32ui: prisms drawn one point each (the folded ones; the second pass's, prism.geom)

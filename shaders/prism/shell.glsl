@@ -57,13 +57,13 @@ uvec3 triangle_indices(uint prim)
 #ifdef PR_PRISM_WALK
 // Per vertex (src/render/renderer.cpp, make_shell_corners): the shell's bottom corner and u,
 // the unit normal N and v, and the height of the top (shell_bounds.hpp) with the welded id.
+// The caps' vertices (prism_caps.vert) read it.
 struct ShellVertex {
     vec4 bottom_u;
     vec4 n_v;
     vec4 top_weld;
 };
 layout(binding = PR_TEX_CORNERS) uniform usamplerBuffer t_corners;
-layout(binding = PR_TEX_ADJACENCY) uniform usamplerBuffer t_adjacency;
 
 ShellVertex shell_corners(uint vertex)
 {
@@ -72,25 +72,30 @@ ShellVertex shell_corners(uint vertex)
                        uintBitsToFloat(texelFetch(t_corners, o + 2)));
 }
 
+// Per prism (renderer.cpp, walk_triangles; PR_TEX_PRISMS): its three corners as in t_corners, their
+// tops, its neighbours and flags, in eight texels that the prism's number alone locates, so a
+// walk's step waits on one round of fetches, not on its indices first and then its vertices.
+layout(binding = PR_TEX_PRISMS) uniform usamplerBuffer t_prisms;
+
 // Prisms loaded with their tops at 1 whatever the shell (the light's walk, prism.frag: a tight
 // top bounds the heights around its own vertex only).
 bool g_full_tops = false;
 
-// The height of vertex c's top (tight, or 1 with PR_PRISM_FULL_SHELL or g_full_tops) and its
-// corner there. Every stage that builds a top corner calls this (`precise`: no stage may fuse it
-// differently), so entry faces and exits agree to the bit.
-float shell_top_height(ShellVertex c)
+// The height of a top whose tight height is `tight` (1 with PR_PRISM_FULL_SHELL or g_full_tops),
+// and its corner. Every stage that builds a top corner calls these (`precise`: no stage may fuse
+// it differently), so entry faces and exits agree to the bit.
+float shell_top_height(float tight)
 {
 #ifdef PR_PRISM_FULL_SHELL
     return 1.0;
 #else
-    return g_full_tops ? 1.0 : c.top_weld.x;
+    return g_full_tops ? 1.0 : tight;
 #endif
 }
 
-vec3 shell_top_corner(ShellVertex c, float top)
+vec3 shell_top_corner(vec3 bottom, vec3 n, float top)
 {
-    precise vec3 corner = c.bottom_u.xyz + top * (u_displace.x * c.n_v.xyz);
+    precise vec3 corner = bottom + top * (u_displace.x * n);
     return corner;
 }
 
@@ -101,26 +106,27 @@ vec3 corner_normal[3];
 uvec3 prism_across;
 
 // Fills corner_world/corner_tex/corner_normal, prism_across and walk_orientation with prism
-// `prim` (top at the tight height, or at 1 with PR_PRISM_FULL_SHELL); returns its vertex indices
-// and welded ids. The geometry shader and the walk both build their prisms here, so they agree to
-// the bit.
-void load_walk_prism(uint prim, out uint index[3], out uint weld[3])
+// `prim` (top at the tight height, or at 1 with PR_PRISM_FULL_SHELL), and `from_a` with its
+// sides' diagonals (diagonal_from_a). The geometry shader and the walk both build their prisms
+// here, so they agree to the bit.
+void load_walk_prism(uint prim, out bool from_a[3])
 {
-    uvec3 tri = triangle_indices(prim);
+    int o = int(8u * prim);
+    vec4 tops = uintBitsToFloat(texelFetch(t_prisms, o + 6));
+    // The neighbours, and in w bit 0 the winding (set where the base triangle winds clockwise
+    // about its vertices' summed normals), bits 1..3 the sides' diagonals.
+    uvec4 adjacency = texelFetch(t_prisms, o + 7);
     for (int i = 0; i < 3; ++i) {
-        index[i] = tri[i];
-        ShellVertex c = shell_corners(index[i]);
-        float top = shell_top_height(c);
-        corner_world[i] = c.bottom_u.xyz;
-        corner_world[i + 3] = shell_top_corner(c, top);
-        corner_tex[i] = vec3(c.bottom_u.w, c.n_v.w, 0.0);
-        corner_tex[i + 3] = vec3(c.bottom_u.w, c.n_v.w, top);
-        corner_normal[i] = c.n_v.xyz;
-        weld[i] = floatBitsToUint(c.top_weld.y);
+        vec4 bottom_u = uintBitsToFloat(texelFetch(t_prisms, o + i));
+        vec4 n_v = uintBitsToFloat(texelFetch(t_prisms, o + 3 + i));
+        float top = shell_top_height(tops[i]);
+        corner_world[i] = bottom_u.xyz;
+        corner_world[i + 3] = shell_top_corner(bottom_u.xyz, n_v.xyz, top);
+        corner_tex[i] = vec3(bottom_u.w, n_v.w, 0.0);
+        corner_tex[i + 3] = vec3(bottom_u.w, n_v.w, top);
+        corner_normal[i] = n_v.xyz;
+        from_a[i] = (adjacency.w & (2u << uint(i))) != 0u;
     }
-    // The adjacency texel (renderer.cpp, walk_triangles): the neighbours, and in w bit 0 the
-    // winding (set where the base triangle winds clockwise about its vertices' summed normals).
-    uvec4 adjacency = texelFetch(t_adjacency, int(prim));
     prism_across = adjacency.xyz;
     walk_orientation = (adjacency.w & 1u) != 0u ? -1.0 : 1.0;
 }

@@ -117,8 +117,8 @@ CommandAction add_bench_command(CLI::App& app)
                     session.spec.width, session.spec.height, s->frames);
         int name_width = 14; // as wide as the longest name
         for (const BenchRow& row : rows) name_width = std::max(name_width, int(row.label.size()));
-        std::printf("%-*s %9s %9s %9s %11s %9s %9s\n", name_width, "technique", "ms_median", "ms_min", "ms_max",
-                    "fragments", "spf_mean", "spf_p95");
+        std::printf("%-*s %9s %9s %9s %11s %9s %9s %9s\n", name_width, "technique", "ms_median", "ms_min", "ms_max",
+                    "fragments", "spf_mean", "spf_p95", "ppf_mean");
         const double base = median(rows[0].ms);
         for (std::size_t i = 0; i < rows.size(); ++i) {
             const BenchRow& row = rows[i];
@@ -129,9 +129,14 @@ CommandAction add_bench_command(CLI::App& app)
             // Per fragment, over none (nothing in view): no value, "-" and null, as compare's
             // metrics over no pixels.
             const bool any = row.counters.fragments > 0;
-            std::printf("%-*s %9.2f %9.2f %9.2f %11llu %9s %9s\n", name_width, row.label.c_str(), med, *mn, *mx,
+            // The prisms a walk's view ray crosses, per fragment (walk rows only): on a GPU the
+            // walk's traversal, not its samples, is the frame (docs/benchmarks.md).
+            const DrawSettings& set = runs[i].settings;
+            const bool walk = set.technique == Technique::Prism && set.prism_exit == PrismExit::Walk;
+            const double prisms = any ? double(row.counters.prisms) / double(row.counters.fragments) : 0.0;
+            std::printf("%-*s %9.2f %9.2f %9.2f %11llu %9s %9s %9s\n", name_width, row.label.c_str(), med, *mn, *mx,
                         static_cast<unsigned long long>(row.counters.fragments), any ? fixed(mean, 2).c_str() : "-",
-                        any ? fixed(p95, 0).c_str() : "-");
+                        any ? fixed(p95, 0).c_str() : "-", walk && any ? fixed(prisms, 2).c_str() : "-");
             results.push_back({{"technique", row.label},
                                {"ms_median", med},
                                {"ms_min", *mn},
@@ -142,6 +147,10 @@ CommandAction add_bench_command(CLI::App& app)
                                {"samples_per_fragment_mean", any ? nlohmann::json(mean) : nlohmann::json()},
                                {"samples_per_fragment_p95", any ? nlohmann::json(p95) : nlohmann::json()},
                                {"frames", row.ms.size()}});
+            if (walk) {
+                results.back()["prisms_per_fragment_mean"] = any ? nlohmann::json(prisms) : nlohmann::json();
+                results.back()["prisms_per_fragment_max"] = any ? nlohmann::json(row.counters.prisms_most) : nlohmann::json();
+            }
             results.back().update(quality_json(runs[i].settings));
             results.back().update(prism_configuration(runs[i].settings));
             results.back().update(shadows_json(runs[i].settings));

@@ -211,17 +211,20 @@ int walk_prism_limit(const std::vector<MeshVertex>& vertices, const std::vector<
     return int(std::min(limit, cap));
 }
 
-// What the walk needs per triangle beyond its corners, from one pass over the triangles:
-// - `adjacency` (PR_TEX_ADJACENCY), four per triangle: edge_adjacency()'s three neighbours, and in
-//   bit 0 of the fourth the prism's winding, as shell.glsl's walk_orientation reads it: set where
-//   the base triangle (world space) winds clockwise about the sum of its vertices' normals;
+// What the walk needs per triangle, from one pass over the triangles:
+// - `prisms` (PR_TEX_PRISMS; shell.glsl, load_walk_prism), eight texels per triangle, so that the
+//   walk finds a prism from its number alone: its corners' two texels of `corners` each (bottom
+//   corner and u; unit normal and v), then their tight tops, then edge_adjacency()'s three
+//   neighbours and the flags: bit 0 the prism's winding, as shell.glsl's walk_orientation reads
+//   it (set where the base triangle, world space, winds clockwise about the sum of its vertices'
+//   normals), bits 1..3 the diagonals of its sides (diagonal_from_a of edge e's welded ids);
 // - `listed` (PR_TEX_PRISM_LIST, prism.geom's PR_PRISM_LISTED), with the tight tops in `corners`
 //   and with full ones: the prisms whose faces other than the caps the walk draws, in ascending
 //   order — those whose shell folds (a cap turned more than 60 degrees from its base triangle),
 //   with bit 31 set, and those with an edge without a neighbour, whose wall there is part of the
 //   shell's outside.
 struct WalkTriangles {
-    std::vector<std::uint32_t> adjacency;
+    std::vector<std::uint32_t> prisms;
     std::vector<std::uint32_t> listed[2]; // tight tops, full ones
 };
 
@@ -230,13 +233,19 @@ WalkTriangles walk_triangles(const std::vector<MeshVertex>& vertices, const std:
                              const glm::mat4& transform, float depth)
 {
     WalkTriangles w;
-    w.adjacency.reserve(indices.size() / 3 * 4);
+    w.prisms.reserve(indices.size() / 3 * 32);
     const auto normal = [](glm::vec3 a, glm::vec3 b, glm::vec3 c) { return glm::cross(b - a, c - a); };
     const auto turned = [](glm::vec3 n, glm::vec3 n_base) {
         return glm::dot(n, n_base) < 0.5f * glm::length(n) * glm::length(n_base);
     };
+    const auto bits = [](const glm::vec4& v) {
+        return std::array<std::uint32_t, 4>{std::bit_cast<std::uint32_t>(v.x), std::bit_cast<std::uint32_t>(v.y),
+                                            std::bit_cast<std::uint32_t>(v.z), std::bit_cast<std::uint32_t>(v.w)};
+    };
     for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
         glm::vec3 base[3], bottom[3], top[2][3], up(0.0f);
+        glm::vec4 tops(0.0f);
+        std::uint32_t weld[3];
         for (int i = 0; i < 3; ++i) {
             const std::uint32_t v = indices[t + std::size_t(i)];
             const ShellCorner c = shell_corner(corners, v);
@@ -245,10 +254,21 @@ WalkTriangles walk_triangles(const std::vector<MeshVertex>& vertices, const std:
             top[0][i] = c.at(c.top, depth);
             top[1][i] = c.at(1.0f, depth);
             up += c.normal;
+            tops[i] = c.top;
+            weld[i] = vertices[v].weld_id;
         }
+        for (int k = 0; k < 2; ++k)
+            for (int i = 0; i < 3; ++i) {
+                const auto texel = bits(corners[3 * std::size_t(indices[t + std::size_t(i)]) + std::size_t(k)]);
+                w.prisms.insert(w.prisms.end(), texel.begin(), texel.end());
+            }
+        const auto top_bits = bits(tops);
+        w.prisms.insert(w.prisms.end(), top_bits.begin(), top_bits.end());
         const glm::vec3 n_base = normal(base[0], base[1], base[2]);
-        const bool clockwise = glm::dot(n_base, up) < 0.0f;
-        w.adjacency.insert(w.adjacency.end(), {neighbours[t], neighbours[t + 1], neighbours[t + 2], clockwise ? 1u : 0u});
+        std::uint32_t flags = glm::dot(n_base, up) < 0.0f ? 1u : 0u;
+        for (int e = 0; e < 3; ++e)
+            if (weld[e] < weld[(e + 1) % 3]) flags |= 2u << e; // shell.glsl, diagonal_from_a
+        w.prisms.insert(w.prisms.end(), {neighbours[t], neighbours[t + 1], neighbours[t + 2], flags});
         const bool open = std::any_of(neighbours.begin() + std::ptrdiff_t(t), neighbours.begin() + std::ptrdiff_t(t + 3),
                                       [](std::uint32_t n) { return n == kNoNeighbour; });
         const bool bottom_turned = turned(normal(bottom[0], bottom[1], bottom[2]), n_base);
@@ -395,7 +415,7 @@ Renderer::Renderer(int width, int height) : width_(width), height_(height)
     object_ubo_ = gl::Buffer::create();
     glNamedBufferStorage(object_ubo_.id(), sizeof(shader::ObjectBlock), nullptr, GL_DYNAMIC_STORAGE_BIT);
     counters_ = gl::Buffer::create();
-    const std::size_t counter_bytes = (2 + kHistogramBins) * sizeof(std::uint32_t);
+    const std::size_t counter_bytes = (5 + kHistogramBins) * sizeof(std::uint32_t);
     glNamedBufferStorage(counters_.id(), counter_bytes, nullptr,
                          GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
 }
@@ -739,7 +759,7 @@ void Renderer::ensure_prism_data(bool walk)
         }
         if (walk && !o.corner_texels) {
             if (o.walk.vao) o.walk_index_texels = buffer_texture(o.walk.indices, GL_RGB32UI, 12, texture_buffer_limit_);
-            o.adjacency_texels = buffer_texture(o.adjacency, GL_RGBA32UI, 16, texture_buffer_limit_);
+            o.prism_texels = buffer_texture(o.prisms, GL_RGBA32UI, 16, texture_buffer_limit_);
             for (int full = 0; full < 2; ++full)
                 o.listed_texels[full] = buffer_texture(o.listed[full], GL_R32UI, 4, texture_buffer_limit_);
             o.corner_texels = buffer_texture(o.corners, GL_RGBA32UI, 16, texture_buffer_limit_);
@@ -751,7 +771,7 @@ void Renderer::bind_prism_data(const GpuObject& o, bool walk)
 {
     glBindTextureUnit(PR_TEX_VERTICES, o.vertex_texels.id());
     glBindTextureUnit(PR_TEX_INDICES, walk && o.walk_index_texels ? o.walk_index_texels.id() : o.index_texels.id());
-    glBindTextureUnit(PR_TEX_ADJACENCY, o.adjacency_texels.id());
+    glBindTextureUnit(PR_TEX_PRISMS, o.prism_texels.id());
     glBindTextureUnit(PR_TEX_CORNERS, o.corner_texels.id());
 }
 
@@ -781,7 +801,7 @@ void Renderer::ensure_walk_data()
             make_shell_corners(vertices, indices, *o.height_field, o.local, o.depth, o.midlevel); // the object's frame
         o.corners = gl::immutable_buffer(corners);
         const WalkTriangles triangles = walk_triangles(vertices, indices, corners, adjacency.neighbours, o.local, o.depth);
-        o.adjacency = gl::immutable_buffer(triangles.adjacency);
+        o.prisms = gl::immutable_buffer(triangles.prisms);
         for (int full = 0; full < 2; ++full) {
             o.listed[full] = gl::immutable_buffer(triangles.listed[full]);
             o.listed_count[full] = GLsizei(triangles.listed[full].size());
@@ -1462,12 +1482,16 @@ std::vector<float> Renderer::read_depth() const
 
 SampleCounters Renderer::read_counters() const
 {
-    std::vector<std::uint32_t> raw(2 + kHistogramBins);
+    // (counters.glsl: fragments, the last bin's samples, the walk's prisms in two words and the
+    // most of one fragment, the histogram.)
+    std::vector<std::uint32_t> raw(5 + kHistogramBins);
     glGetNamedBufferSubData(counters_.id(), 0, static_cast<GLsizeiptr>(raw.size() * sizeof(std::uint32_t)),
                             raw.data());
     SampleCounters c;
     c.fragments = raw[0];
-    c.histogram.assign(raw.begin() + 2, raw.end());
+    c.prisms = std::uint64_t(raw[2]) | std::uint64_t(raw[3]) << 32;
+    c.prisms_most = raw[4];
+    c.histogram.assign(raw.begin() + 5, raw.end());
     // The total in 64 bits from the histogram; the last bin's fragments were summed apart.
     c.samples = raw[1];
     for (std::size_t i = 0; i + 1 < c.histogram.size(); ++i) c.samples += std::uint64_t(i) * c.histogram[i];

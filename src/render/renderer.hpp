@@ -27,6 +27,8 @@ RgbaImage read_texture_rgba8(GLuint texture, int width, int height);
 struct SampleCounters {
     std::uint64_t fragments = 0;  // fragments that ran the technique's shader
     std::uint64_t samples = 0;    // height samples taken by marchers (contract definition)
+    std::uint64_t prisms = 0;     // prisms the prism walk's view rays crossed (counters.glsl)
+    std::uint32_t prisms_most = 0; // the most one fragment's ray crossed
     std::vector<std::uint32_t> histogram; // fragments by samples taken (last bin: that many or more)
 };
 
@@ -170,13 +172,13 @@ private:
     struct GpuObject {
         Geometry base;
         // The prism walk's data, built on its first draw (ensure_walk_data), of the walk's
-        // triangles: edge_adjacency(), whether it has edges without a neighbour, shell corners
-        // per vertex; `tears`: closed, with UV seams, where the surface may tear (a second pass,
+        // triangles: per prism its corners, neighbours (edge_adjacency()) and flags (walk_triangles),
+        // whether it has edges without a neighbour, shell corners per vertex; `tears`: closed, with UV seams, where the surface may tear (a second pass,
         // docs/prism.md). `walk`: those triangles when they are not the base mesh's, its flat,
         // evenly mapped stretches merged into fewer, larger prisms (merge_flat_regions,
         // docs/prism.md item 11); its `vertices` stays empty (the base's buffer is read).
         Geometry walk;
-        gl::Buffer adjacency;
+        gl::Buffer prisms;
         bool open_shell = false;
         // The most prisms one walk crosses (ObjectBlock::u_walk; walk_prism_limit in
         // renderer.cpp): 256, and twice the most walk triangles around one welded position, up
@@ -192,7 +194,7 @@ private:
         gl::Buffer corners;
         // The prism's views of its data as buffer textures (shared.h, PR_TEX_VERTICES..CORNERS):
         // vertices and indices on the first prism draw (ensure_prism_data), the walk's with it.
-        gl::Texture vertex_texels, index_texels, adjacency_texels, corner_texels;
+        gl::Texture vertex_texels, index_texels, prism_texels, corner_texels;
         gl::Texture walk_index_texels; // of walk.indices, when the walk has its own
         // The prisms whose faces other than the caps the walk draws (walk_triangles: folded ones,
         // bit 31 set, and those with an open edge), with the tight tops and with full ones (r32ui

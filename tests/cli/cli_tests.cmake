@@ -219,6 +219,12 @@ pr_cli(bench_reference_row_has_its_geometry EXIT 0 JSON b.json
        CHECKS "${R}.1.reference.level:EQUAL:4|${R}.1.reference.triangles:EQUAL:192|${R}.1.reference.capped:STREQUAL:OFF"
        ARGS bench --mesh ${M}/cube.obj --size 32x24 --frames 1 --warmup 0 --reference-level 4
             --techniques flat,reference --json b.json)
+# The walk's rows count the prisms its view rays cross: on the plane, merged into large prisms
+# (docs/prism.md, item 11), one or two per fragment; other rows have no such count.
+pr_cli(bench_walk_rows_count_prisms EXIT 0 JSON b.json
+       CHECKS "${R}.0.prisms_per_fragment_mean:ABSENT|${R}.1.prisms_per_fragment_mean:GREATER_EQUAL:1|${R}.1.prisms_per_fragment_mean:LESS:2|${R}.1.prisms_per_fragment_max:GREATER_EQUAL:1|${R}.1.prisms_per_fragment_max:LESS_EQUAL:4|${R}.2.prisms_per_fragment_max:ABSENT"
+       ARGS bench --mesh ${M}/plane.obj --size 64x48 --frames 1 --warmup 0
+            --techniques pom,prism,prism:relief:exact --json b.json)
 pr_cli(bench_p95_above_255 EXIT 0 JSON b.json
        CHECKS "${R}.0.samples_per_fragment_mean:EQUAL:1028|${R}.0.samples_per_fragment_p95:EQUAL:1028|${R}.0.fragments:GREATER:100"
        ARGS bench --mesh ${M}/plane.obj --height builtin:const:0 --size 32x24 --frames 1 --warmup 0
