@@ -123,7 +123,8 @@ void main()
 #ifdef PR_PRISM_INSIDE
     // The second pass over a torn mesh (prism.frag): the bottom the eye sees from inside the
     // object, where rays that went in through a tear come out into the far side's shell. The CPU
-    // listed the prism for a marked tile and draws it with that tile as scissor.
+    // listed the prism for a marked tile and draws it with that tile as scissor, or (on a GPU,
+    // Renderer::TearPass::Whole) every prism is listed.
     triangle(0, 2, 1);
 #else
     // Where the shell folds (a cap offset past the surface's centre of curvature turns over:

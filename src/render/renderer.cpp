@@ -21,6 +21,8 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <numeric>
+#include <string>
 #include <utility>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -418,6 +420,10 @@ Renderer::Renderer(int width, int height) : width_(width), height_(height)
     const std::size_t counter_bytes = (5 + kHistogramBins) * sizeof(std::uint32_t);
     glNamedBufferStorage(counters_.id(), counter_bytes, nullptr,
                          GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
+    const auto* name = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    const std::string renderer = name ? name : "";
+    const bool software = renderer.find("llvmpipe") != std::string::npos || renderer.find("softpipe") != std::string::npos;
+    tear_pass_ = software ? TearPass::Tiles : TearPass::Whole;
 }
 
 Renderer::~Renderer() = default;
@@ -1397,7 +1403,28 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     // The second pass only where the first marked a tile: the marked tiles come back (a small
     // read-back), and the CPU lists the prisms whose bottoms may cover one (none when nothing is
     // marked); a geometry-shader pass over every triangle cost more.
-    if (tears) {
+    if (tears && tear_pass_ == TearPass::Whole) {
+        // Every prism's bottom, each fragment discarding at once where the first pass marked
+        // nothing (TearPass): nothing is read back, so the GPU never waits for the CPU.
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        for (std::size_t k = 0; k < objects_.size(); ++k) {
+            GpuObject& o = objects_[k];
+            if (!goes_inside(k)) continue;
+            const GLsizei prisms = GLsizei(o.triangles.size() / 3);
+            if (!o.every_prism_texels) {
+                std::vector<std::uint32_t> every(std::size_t(prisms), 0);
+                std::iota(every.begin(), every.end(), 0u);
+                o.every_prism = gl::immutable_buffer(every);
+                o.every_prism_texels = buffer_texture(o.every_prism, GL_R32UI, 4, texture_buffer_limit_);
+            }
+            set_object(o);
+            bind_prism_data(o, true);
+            glUseProgram(program_for(settings, WalkVariant::Inside, ShellDraw::Listed));
+            glBindTextureUnit(PR_TEX_PRISM_LIST, o.every_prism_texels.id());
+            glBindVertexArray(o.base.vao.id());
+            glDrawArrays(GL_POINTS, 0, prisms);
+        }
+    } else if (tears) {
         glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         const int tw = (width_ + PR_TEAR_TILE - 1) / PR_TEAR_TILE, th = (height_ + PR_TEAR_TILE - 1) / PR_TEAR_TILE;
         std::vector<GLuint> tiles(std::size_t(tw) * std::size_t(th));

@@ -83,9 +83,21 @@ public:
     void provide_cone_map(const std::shared_ptr<const HeightField>& field, ConeMap map);
 
     // The prism reads its mesh as buffer textures, of at most GL_MAX_TEXTURE_BUFFER_SIZE texels
-    // (2^27 on llvmpipe: a mesh of about 33 million vertices); a larger mesh fails with one
-    // clear error. Tests lower the limit (0: OpenGL's own) to reach that error with a small mesh.
+    // (2^27 on llvmpipe: the walk's eight texels per prism, a mesh of about 16 million
+    // triangles); a larger mesh fails with one clear error. Tests lower the limit (0: OpenGL's
+    // own) to reach that error with a small mesh.
     void set_texture_buffer_limit(GLint64 texels) { texture_buffer_limit_ = texels; }
+
+    // How the walk's second pass over tears (docs/prism.md, item 9) finds the pixels the first
+    // pass marked. Tiles reads the marked tiles back and draws, under each tile's scissor, the
+    // prisms whose bottoms may cover it: llvmpipe runs a fragment's whole shader even where it
+    // discards at once. Whole reads nothing back and draws every prism's bottom, each fragment
+    // discarding at once where its pixel is not marked: on a GPU the read-back's wait (the second
+    // pass starting on an idle GPU) cost a sixth of the rock's frame. The default follows
+    // GL_RENDERER: Tiles on llvmpipe and softpipe, Whole elsewhere. Both draw the same image.
+    enum class TearPass { Tiles, Whole };
+    void set_tear_pass(TearPass pass) { tear_pass_ = pass; }
+    TearPass tear_pass() const { return tear_pass_; }
 
     // Uploads meshes and textures (mip-mapped, repeat wrap; R16 for 16-bit heights). The scene
     // may be dropped afterwards: the renderer keeps copies of what it draws with.
@@ -196,6 +208,10 @@ private:
         // vertices and indices on the first prism draw (ensure_prism_data), the walk's with it.
         gl::Texture vertex_texels, index_texels, prism_texels, corner_texels;
         gl::Texture walk_index_texels; // of walk.indices, when the walk has its own
+        // Every walk prism's number in order (r32ui), the list TearPass::Whole draws (made on its
+        // first need).
+        gl::Buffer every_prism;
+        gl::Texture every_prism_texels;
         // The prisms whose faces other than the caps the walk draws (walk_triangles: folded ones,
         // bit 31 set, and those with an open edge), with the tight tops and with full ones (r32ui
         // buffer textures, PR_TEX_PRISM_LIST).
@@ -238,6 +254,7 @@ private:
     gl::Texture depth_target_;
     gl::Texture tear_mask_;  // r32ui, the walk's pixels that went into an object (made on first need)
     gl::Texture tear_tiles_; // r32ui, the same per tile of PR_TEAR_TILE^2 pixels
+    TearPass tear_pass_ = TearPass::Tiles;
     gl::Buffer pass_list_;          // the second pass's prisms (r32ui), rewritten per draw
     gl::Texture pass_list_texels_;  // its buffer texture (PR_TEX_PRISM_LIST)
     // The reference's shadow maps (ensure_shadow_map): depth from the light across the points the

@@ -249,6 +249,33 @@ TEST(Prism, WalkSeesTheFarInsideThroughATear)
                 100.0 * *walls.depth_error_mean / depth);
 }
 
+// The second pass over tears read back on llvmpipe (tiles under scissors) and without a read-back
+// on a GPU (every prism's bottom, fragments discarding where nothing is marked) draws the same
+// image: the rock's far inside seen through a tear (above), and a sphere seen from under its
+// surface, whose rays into the body come out on its far side (TheSecondPassKeepsTheCallersScissor).
+TEST(Prism, BothSecondPassesDrawTheSame)
+{
+    prtest::context();
+    Renderer r(160, 160);
+    ASSERT_EQ(r.tear_pass(), Renderer::TearPass::Tiles); // llvmpipe's
+    Scene rock = mesh_scene("rock.obj", bumps_map(256), 0.04f);
+    Scene sphere = mesh_scene("uv_sphere.obj", prtest::height_from(16, [](float, float) { return 1.0f; }), 0.04f);
+    Camera inside;
+    inside.eye = {0.0f, 0.0f, 1.02f};
+    inside.target = {0.3f, 0.0f, 0.0f};
+    fit_clip_planes(inside, sphere.shell_bounds);
+    for (const auto& [scene, camera] : {std::pair{&rock, framed(rock, 0.0f)}, std::pair{&sphere, inside}}) {
+        r.upload(*scene);
+        r.set_tear_pass(Renderer::TearPass::Tiles);
+        const FrameCapture tiles = capture(r, camera, Technique::Prism);
+        r.set_tear_pass(Renderer::TearPass::Whole);
+        const FrameCapture whole = capture(r, camera, Technique::Prism);
+        EXPECT_GT(prtest::coverage(tiles.color), std::size_t(160 * 160 / 8));
+        EXPECT_EQ(tiles.color.pixels, whole.color.pixels);
+        EXPECT_EQ(tiles.depth, whole.depth);
+    }
+}
+
 // Where the shell's top folds away from the eye, a ray can leave one prism through its top cap
 // at an edge and go straight into the neighbour's prism through the neighbour's top; the
 // rasterizer gives a pixel on that edge to one cap only, the one facing away, which is not
