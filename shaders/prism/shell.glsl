@@ -153,15 +153,24 @@ struct ExitFace {
 // t_origin (nearest_exit). `best` keeps the nearest crossing beyond
 // t_min within the triangle grown by `slack`, or while there is none, the nearest of the planes.
 // (One key orders both: the bits of t > 0 as an unsigned integer, bit 31 set outside the
-// triangle; one comparison and one set of selects per candidate, not two.) `second` picks the
-// weights of the corners at the edge's second end (side faces: lambda). `orient`: 0 counts every
+// triangle; one comparison and one set of selects per candidate, not two.) It keeps the
+// crossing's weights, not its texture coordinates, which nearest_exit works out for the nearest
+// alone; `second`: the triangle is the second of its side's two (nearest_exit's calls). `orient`: 0 counts every
 // crossing; +1 only those the ray goes *out* through, for a prism whose faces wind
 // counter-clockwise seen from outside, -1 the same for one turned inside out by normals that
 // oppose the winding (the walk: walk_orientation), so the face of entry needs no epsilon; and
 // a crossing of `back_face` up to t_back is not one (nearest_exit).
-void keep_exit(float e0, float e1, float e2, float a0, float a1, float a2, float inv_dd, vec3 x0, vec3 x1, vec3 x2,
-               float t_origin, int face, vec3 second, float t_min, int back_face, float t_back, float orient,
-               float slack, inout ExitFace best, inout uint best_key)
+struct ExitCandidate {
+    float t;
+    vec3 w;     // barycentric weights in the triangle's corner order
+    int face;
+    bool second; // the second of a side's two triangles
+    bool inside;
+};
+
+void keep_exit(float e0, float e1, float e2, float a0, float a1, float a2, float inv_dd, float t_origin, int face,
+               bool second, float t_min, int back_face, float t_back, float orient, float slack,
+               inout ExitCandidate best, inout uint best_key)
 {
     float den = e0 + e1 + e2; // dot(dir, normal): > 0 going out through a counter-clockwise face
     if (abs(den) < 1e-30 || den * orient < 0.0) return;
@@ -171,7 +180,7 @@ void keep_exit(float e0, float e1, float e2, float a0, float a1, float a2, float
     bool inside = in_triangle(w, slack);
     uint key = floatBitsToUint(t) | (inside ? 0u : 0x80000000u);
     if (key < best_key) {
-        best = ExitFace(t, x0 * w.x + x1 * w.y + x2 * w.z, face, dot(w, second), inside);
+        best = ExitCandidate(t, w, face, second, inside);
         best_key = key;
     }
 }
@@ -200,9 +209,8 @@ ExitFace nearest_exit(vec3 ray_origin, vec3 dir, float t_min, bool from_a[3], fl
                       int entry_face, out bool top_entry, out vec3 w_top)
 {
     float t_back = t_entry * (1.0 + 1e-5);
-    ExitFace best = ExitFace(1e30, vec3(0.0), -1, 0.0, false);
+    ExitCandidate best = ExitCandidate(1e30, vec3(0.0), -1, false, false);
     uint key = 0xffffffffu;
-    const vec3 none = vec3(0.0);
     float inv_dd = 1.0 / dot(dir, dir);
     // The corners relative to the ray's point at t_entry, next to the prism, not to the eye: the
     // edge values are then of the prism's size, and their sums (dot(dir, normal)) keep their
@@ -227,11 +235,11 @@ ExitFace nearest_exit(vec3 ray_origin, vec3 dir, float t_min, bool from_a[3], fl
     float t_top = t_entry + (a[3] * w_top.x + a[4] * w_top.y + a[5] * w_top.z) * inv_dd;
     top_entry = top && den_top * orient < 0.0 && in_triangle(w_top, slack) && t_top >= t_entry - 1e-5 * abs(t_entry);
     g_top_entry_t = t_top;
-    keep_exit(et1, et2, et0, a[3], a[4], a[5], inv_dd, corner_tex[3], corner_tex[4], corner_tex[5], t_entry, 0, none,
-              t_min, entry_face, t_back, orient, slack, best, key);
+    keep_exit(et1, et2, et0, a[3], a[4], a[5], inv_dd, t_entry, 0, false, t_min, entry_face, t_back, orient, slack,
+              best, key);
     // The bottom (0, 2, 1): edges 2-1, 1-0, 0-2.
-    keep_exit(-eb1, -eb0, -eb2, a[0], a[2], a[1], inv_dd, corner_tex[0], corner_tex[2], corner_tex[1], t_entry, 1, none,
-              t_min, entry_face, t_back, orient, slack, best, key);
+    keep_exit(-eb1, -eb0, -eb2, a[0], a[2], a[1], inv_dd, t_entry, 1, false, t_min, entry_face, t_back, orient, slack,
+              best, key);
     for (int e = 0; e < 3; ++e) {
         // The side quad a b b' a' (' = top), split along a-b' (from_a) or b-a'.
         int a_ = e, b_ = (e + 1) % 3;
@@ -242,19 +250,36 @@ ExitFace nearest_exit(vec3 ray_origin, vec3 dir, float t_min, bool from_a[3], fl
         float v_b = e == 0 ? ev1 : (e == 1 ? ev2 : ev0);            // edge(b, b')
         // The diagonal: edge(a, b') (from_a) or edge(b, a').
         float diag = dot(f ? c[a_] : c[b_], f ? p[b_ + 3] : p[a_ + 3]);
-        vec3 xa = corner_tex[a_], xb = corner_tex[b_], xat = corner_tex[a_ + 3], xbt = corner_tex[b_ + 3];
         float aa = a[a_], ab = a[b_], aat = a[a_ + 3], abt = a[b_ + 3];
         // from_a: (a, b, b') and (a, b', a'); else (a, b, a') and (b, b', a').
         // (a, b, b'): edge(b, b'), edge(b', a) = -diag, edge(a, b); (a, b, a'): edge(b, a') = diag,
         // edge(a', a) = -v_a, edge(a, b).
-        keep_exit(f ? v_b : diag, f ? -diag : -v_a, e_ab, aa, ab, f ? abt : aat, inv_dd, xa, xb, f ? xbt : xat,
-                  t_entry, 2 + e, vec3(0.0, 1.0, f ? 1.0 : 0.0), t_min, entry_face, t_back, orient, slack, best, key);
+        keep_exit(f ? v_b : diag, f ? -diag : -v_a, e_ab, aa, ab, f ? abt : aat, inv_dd, t_entry, 2 + e, false, t_min,
+                  entry_face, t_back, orient, slack, best, key);
         // (a, b', a'): edge(b', a'), edge(a', a) = -v_a, edge(a, b') = diag;
         // (b, b', a'): edge(b', a'), edge(a', b) = -diag, edge(b, b') = v_b.
-        keep_exit(e_tt, f ? -v_a : -diag, f ? diag : v_b, f ? aa : ab, abt, aat, inv_dd, f ? xa : xb, xbt, xat,
-                  t_entry, 2 + e, vec3(f ? 0.0 : 1.0, 1.0, 0.0), t_min, entry_face, t_back, orient, slack, best, key);
+        keep_exit(e_tt, f ? -v_a : -diag, f ? diag : v_b, f ? aa : ab, abt, aat, inv_dd, t_entry, 2 + e, true, t_min,
+                  entry_face, t_back, orient, slack, best, key);
     }
-    return best;
+    // The nearest's texture coordinates and place along its edge, once (for each of the eight
+    // candidates they cost a quarter of the test). Its corners, as keep_exit's calls above took
+    // them: top (3, 4, 5), bottom (0, 2, 1); side e's first triangle (a, b, b') or (a, b, a'),
+    // its second (a, b', a') or (b, b', a'), by from_a[e]. (Selects: see corner_tex's note in
+    // entry_point, prism.frag.)
+    vec3 w = best.w;
+    int e = clamp(best.face - 2, 0, 2);
+    bool f = e == 0 ? from_a[0] : (e == 1 ? from_a[1] : from_a[2]);
+    vec3 xa = e == 0 ? corner_tex[0] : (e == 1 ? corner_tex[1] : corner_tex[2]);
+    vec3 xb = e == 0 ? corner_tex[1] : (e == 1 ? corner_tex[2] : corner_tex[0]);
+    vec3 xat = e == 0 ? corner_tex[3] : (e == 1 ? corner_tex[4] : corner_tex[5]);
+    vec3 xbt = e == 0 ? corner_tex[4] : (e == 1 ? corner_tex[5] : corner_tex[3]);
+    bool s = best.second;
+    vec3 x0 = best.face == 0 ? corner_tex[3] : (best.face == 1 ? corner_tex[0] : (s && !f ? xb : xa));
+    vec3 x1 = best.face == 0 ? corner_tex[4] : (best.face == 1 ? corner_tex[2] : (s ? xbt : xb));
+    vec3 x2 = best.face == 0 ? corner_tex[5] : (best.face == 1 ? corner_tex[1] : (s || !f ? xat : xbt));
+    // The weight of the corners at the edge's second end (b, b').
+    float lambda = s ? (f ? 0.0 : w.x) + w.y : w.y + (f ? w.z : 0.0);
+    return ExitFace(best.t, x0 * w.x + x1 * w.y + x2 * w.z, best.face, best.face >= 2 ? lambda : 0.0, best.inside);
 }
 
 // The exact exit (--prism-exit exact) of the ray eye + t * dir, t = 1 at a point on the prism's
