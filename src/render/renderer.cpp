@@ -1400,9 +1400,8 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
             glDrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
         }
     }
-    // The second pass only where the first marked a tile: the marked tiles come back (a small
-    // read-back), and the CPU lists the prisms whose bottoms may cover one (none when nothing is
-    // marked); a geometry-shader pass over every triangle cost more.
+    // The second pass (TearPass): on a GPU over every prism's bottom; on llvmpipe only where the
+    // first marked a tile (below).
     if (tears && tear_pass_ == TearPass::Whole) {
         // Every prism's bottom, each fragment discarding at once where the first pass marked
         // nothing (TearPass): nothing is read back, so the GPU never waits for the CPU.
@@ -1425,6 +1424,9 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
             glDrawArrays(GL_POINTS, 0, prisms);
         }
     } else if (tears) {
+        // The marked tiles come back (a small read-back), and the CPU lists the prisms whose
+        // bottoms may cover one (none when nothing is marked); a geometry-shader pass over every
+        // triangle cost llvmpipe more.
         glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         const int tw = (width_ + PR_TEAR_TILE - 1) / PR_TEAR_TILE, th = (height_ + PR_TEAR_TILE - 1) / PR_TEAR_TILE;
         std::vector<GLuint> tiles(std::size_t(tw) * std::size_t(th));
