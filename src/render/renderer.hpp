@@ -184,8 +184,9 @@ private:
     struct GpuObject {
         Geometry base;
         // The prism walk's data, built on its first draw (ensure_walk_data), of the walk's
-        // triangles: per prism its corners, neighbours (edge_adjacency()) and flags (walk_triangles),
-        // whether it has edges without a neighbour, shell corners per vertex; `tears`: closed, with UV seams, where the surface may tear (a second pass,
+        // triangles: per prism its corners, neighbours (edge_adjacency()) and flags
+        // (walk_triangles), whether it has edges without a neighbour, shell corners per vertex;
+        // `tears`: closed, with UV seams, where the surface may tear (a second pass,
         // docs/prism.md). `walk`: those triangles when they are not the base mesh's, its flat,
         // evenly mapped stretches merged into fewer, larger prisms (merge_flat_regions,
         // docs/prism.md item 11); its `vertices` stays empty (the base's buffer is read).
