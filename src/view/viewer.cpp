@@ -88,6 +88,7 @@ struct HalfStats {
     double draw_ms = 0.0;              // smoothed
     std::vector<double> draws;         // every timed draw (median at exit)
     double samples_per_fragment = -1.0; // < 0: not counted yet
+    double prisms_per_fragment = -1.0;  // the prism walk's (bench's ppf_mean); < 0: none
     std::uint64_t fragments = 0;
 };
 
@@ -312,7 +313,7 @@ void Viewer::reload_scene(SceneSpec spec, bool reset_camera)
     }
     // The counts were the old scene's: the next frame counts again (samples are counted every
     // tenth frame, and a short --frames run after a drop reported the old scene's figure).
-    for (HalfStats& st : stats_) st.samples_per_fragment = -1.0, st.fragments = 0;
+    for (HalfStats& st : stats_) st.samples_per_fragment = -1.0, st.prisms_per_fragment = -1.0, st.fragments = 0;
     rendered_ = 0;
     dirty_ = true;
 }
@@ -487,6 +488,7 @@ void Viewer::render_scene()
             if (fresh && !meanwhile) {
                 st.draw_ms = 0.0;
                 st.samples_per_fragment = -1.0;
+                st.prisms_per_fragment = -1.0;
                 st.fragments = 0;
             }
             d.count_samples = (count || (fresh && count_samples_)) && !meanwhile;
@@ -503,6 +505,8 @@ void Viewer::render_scene()
                 const SampleCounters c = r.read_counters();
                 st.fragments = c.fragments;
                 st.samples_per_fragment = c.fragments ? double(c.samples) / double(c.fragments) : 0.0;
+                const bool walk = d.technique == Technique::Prism && d.prism_exit == PrismExit::Walk;
+                st.prisms_per_fragment = walk ? (c.fragments ? double(c.prisms) / double(c.fragments) : 0.0) : -1.0;
             } else if (fresh) {
                 // (Compiled in this draw: not its time.)
             } else {
@@ -785,7 +789,10 @@ void Viewer::draw_panel()
     const auto fmt_half = [&](int k) {
         const HalfStats& st = stats_[k];
         const std::string name = display_name(half_[k]);
-        if (st.samples_per_fragment >= 0.0)
+        if (st.prisms_per_fragment >= 0.0)
+            ImGui::Text("%-14s %6.1f ms %5.1f samples/frag, %.1f prisms/frag", name.c_str(), st.draw_ms,
+                        st.samples_per_fragment, st.prisms_per_fragment);
+        else if (st.samples_per_fragment >= 0.0)
             ImGui::Text("%-14s %6.1f ms %5.1f samples/frag", name.c_str(), st.draw_ms, st.samples_per_fragment);
         else
             ImGui::Text("%-14s %6.1f ms", name.c_str(), st.draw_ms);
@@ -1007,7 +1014,10 @@ int Viewer::run()
             for (int k = 0; k < (split_ ? 2 : 1); ++k) {
                 const std::string name = display_name(half_[k]);
                 std::printf(" %s draw %s", name.c_str(), ms_text(stats_[k].draws).c_str());
-                if (stats_[k].samples_per_fragment >= 0.0)
+                if (stats_[k].prisms_per_fragment >= 0.0)
+                    std::printf(" (%.2f samples/fragment, %.2f prisms/fragment)", stats_[k].samples_per_fragment,
+                                stats_[k].prisms_per_fragment);
+                else if (stats_[k].samples_per_fragment >= 0.0)
                     std::printf(" (%.2f samples/fragment)", stats_[k].samples_per_fragment);
                 std::printf(";");
             }

@@ -118,6 +118,10 @@ elseif(CASE STREQUAL "split")
     if(view_skipped)
         return()
     endif()
+    # The walk's half says how many prisms its rays cross, as bench's ppf_mean; pom's does not.
+    expect_match("${view_out}"
+                 "pom draw [0-9.]+ ms median \\([0-9.]+ samples/fragment\\); prism:relief draw [0-9.]+ ms median \\([0-9.]+ samples/fragment, [1-9][0-9.]* prisms/fragment\\)"
+                 "the summary does not give the walk's prisms per fragment")
     run_render(${torus} --technique pom --out pom.png)
     run_render(${torus} --technique prism --out prism.png)
     check(split split.png pom.png prism.png 0.5 4 20)
