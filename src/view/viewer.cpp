@@ -789,12 +789,11 @@ void Viewer::draw_panel()
     const auto fmt_half = [&](int k) {
         const HalfStats& st = stats_[k];
         const std::string name = display_name(half_[k]);
-        if (st.prisms_per_fragment >= 0.0)
-            ImGui::Text("%-14s %6.1f ms %5.1f samples/frag, %.1f prisms/frag", name.c_str(), st.draw_ms,
-                        st.samples_per_fragment, st.prisms_per_fragment);
-        else if (st.samples_per_fragment >= 0.0)
+        if (st.samples_per_fragment >= 0.0) {
             ImGui::Text("%-14s %6.1f ms %5.1f samples/frag", name.c_str(), st.draw_ms, st.samples_per_fragment);
-        else
+            // (On a line of its own, under the samples: beside them it was cut at the panel's edge.)
+            if (st.prisms_per_fragment >= 0.0) ImGui::Text("%25s%5.1f prisms/frag", "", st.prisms_per_fragment);
+        } else
             ImGui::Text("%-14s %6.1f ms", name.c_str(), st.draw_ms);
     };
     const float last = frame_ms_.empty() ? 0.0f : frame_ms_.back();
