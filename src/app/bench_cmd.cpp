@@ -131,8 +131,7 @@ CommandAction add_bench_command(CLI::App& app)
             const bool any = row.counters.fragments > 0;
             // The prisms a walk's view ray crosses, per fragment (walk rows only): on a GPU the
             // walk's traversal, not its samples, is the frame (docs/benchmarks.md).
-            const DrawSettings& set = runs[i].settings;
-            const bool walk = set.technique == Technique::Prism && set.prism_exit == PrismExit::Walk;
+            const bool walk = runs[i].settings.prism_walk();
             const double prisms = any ? double(row.counters.prisms) / double(row.counters.fragments) : 0.0;
             std::printf("%-*s %9.2f %9.2f %9.2f %11llu %9s %9s %9s\n", name_width, row.label.c_str(), med, *mn, *mx,
                         static_cast<unsigned long long>(row.counters.fragments), any ? fixed(mean, 2).c_str() : "-",

@@ -59,6 +59,13 @@ ViewProblem view_problem(const glm::dvec3& eye, const glm::dvec3& target, const 
     return ViewProblem::None;
 }
 
+AngleFrame angle_frame(const glm::dvec3& unit_up)
+{
+    const glm::dvec3 ref = std::abs(unit_up.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0);
+    const glm::dvec3 side = glm::normalize(glm::cross(unit_up, ref));
+    return {side, unit_up, glm::normalize(glm::cross(side, unit_up))};
+}
+
 Camera frame_sphere(const Sphere& bounds, float fovy_deg, float aspect, float elevation_deg,
                     float azimuth_deg, glm::dvec3 up)
 {
@@ -69,9 +76,8 @@ Camera frame_sphere(const Sphere& bounds, float fovy_deg, float aspect, float el
     // eye was off by a good part of the object (docs/scenes.md).
     const glm::dvec3 unit_up(c.up);
     // A basis around `up`: `fwd` is the azimuth-0 horizontal direction towards the eye.
-    const glm::dvec3 ref = std::abs(unit_up.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0);
-    const glm::dvec3 side = glm::normalize(glm::cross(unit_up, ref));
-    const glm::dvec3 fwd = glm::normalize(glm::cross(side, unit_up));
+    const AngleFrame frame = angle_frame(unit_up);
+    const glm::dvec3 side = frame.side, fwd = frame.forward;
     const double el = glm::radians(double(elevation_deg));
     const double az = glm::radians(double(azimuth_deg));
     const glm::dvec3 across = std::cos(az) * fwd + std::sin(az) * side;

@@ -46,6 +46,15 @@ std::optional<glm::vec3> unit_direction(const glm::dvec3& v);
 enum class ViewProblem { None, SamePoint, UpAlongView };
 ViewProblem view_problem(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& up);
 
+// The frame azimuth and elevation are measured in about a unit `up` (auto-framing's, and the
+// viewer's light angles): `forward` the horizontal direction of azimuth 0 (+Z made square to
+// up, or +X where up is within about 25 degrees of Z), `side` that of azimuth 90 (up × forward:
+// +X for the default +Y up). A direction is cos(el) (cos(az) forward + sin(az) side) + sin(el) up.
+struct AngleFrame {
+    glm::dvec3 side, up, forward;
+};
+AngleFrame angle_frame(const glm::dvec3& unit_up);
+
 // Auto-framing: looks at `bounds.center` from `elevation_deg` above the horizontal plane
 // (perpendicular to `up`) and `azimuth_deg` around `up` (0 looks along -Z from +Z, 90 from +X),
 // at the distance where the sphere fits both the vertical and the horizontal field of view.

@@ -257,7 +257,7 @@ WalkTriangles walk_triangles(const std::vector<MeshVertex>& vertices, const std:
             top[1][i] = c.at(1.0f, depth);
             up += c.normal;
             tops[i] = c.top;
-            weld[i] = vertices[v].weld_id;
+            weld[i] = c.weld;
         }
         for (int k = 0; k < 2; ++k)
             for (int i = 0; i < 3; ++i) {
@@ -1401,7 +1401,15 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         }
     }
     // The second pass (TearPass): on a GPU over every prism's bottom; on llvmpipe only where the
-    // first marked a tile (below).
+    // first marked a tile (below). Both draw `o`'s prisms listed in `list` (PR_TEX_PRISM_LIST),
+    // one point each, after this.
+    const auto begin_second_pass = [&](const GpuObject& o, const gl::Texture& list) {
+        set_object(o);
+        bind_prism_data(o, true);
+        glUseProgram(program_for(settings, WalkVariant::Inside, ShellDraw::Listed));
+        glBindTextureUnit(PR_TEX_PRISM_LIST, list.id());
+        glBindVertexArray(o.base.vao.id());
+    };
     if (tears && tear_pass_ == TearPass::Whole) {
         // Every prism's bottom, each fragment discarding at once where the first pass marked
         // nothing (TearPass): nothing is read back, so the GPU never waits for the CPU.
@@ -1416,11 +1424,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
                 o.every_prism = gl::immutable_buffer(every);
                 o.every_prism_texels = buffer_texture(o.every_prism, GL_R32UI, 4, texture_buffer_limit_);
             }
-            set_object(o);
-            bind_prism_data(o, true);
-            glUseProgram(program_for(settings, WalkVariant::Inside, ShellDraw::Listed));
-            glBindTextureUnit(PR_TEX_PRISM_LIST, o.every_prism_texels.id());
-            glBindVertexArray(o.base.vao.id());
+            begin_second_pass(o, o.every_prism_texels);
             glDrawArrays(GL_POINTS, 0, prisms);
         }
     } else if (tears) {
@@ -1451,11 +1455,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
                 glNamedBufferData(pass_list_.id(), GLsizeiptr(lists.prisms.size() * sizeof(std::uint32_t)),
                                   lists.prisms.data(), GL_STREAM_DRAW);
                 glTextureBuffer(pass_list_texels_.id(), GL_R32UI, pass_list_.id());
-                set_object(o);
-                bind_prism_data(o, true);
-                glUseProgram(program_for(settings, WalkVariant::Inside, ShellDraw::Listed));
-                glBindTextureUnit(PR_TEX_PRISM_LIST, pass_list_texels_.id());
-                glBindVertexArray(o.base.vao.id());
+                begin_second_pass(o, pass_list_texels_);
                 // Each marked tile's prisms with the tile as scissor: only its pixels are shaded
                 // (llvmpipe runs the whole shader even for fragments that discard at once).
                 glEnable(GL_SCISSOR_TEST);

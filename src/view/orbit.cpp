@@ -88,32 +88,29 @@ void zoom(Camera& camera, float steps, const Sphere& bounds)
 
 namespace {
 
-// The frame the light's angles are measured in: `y` the scene's up, `z` the azimuth's zero (+Z,
-// or +X where up is within 25 degrees of Z, made square to up), `x` = y × z (+X for the default
-// +Y up).
-struct AngleFrame {
+// The light's angles are measured as auto-framing's (core/camera.hpp, angle_frame): x the side
+// (azimuth 90), y the scene's up, z the azimuth's zero.
+struct LightFrame {
     glm::vec3 x, y, z;
 };
 
-AngleFrame angle_frame(glm::vec3 up)
+LightFrame light_frame(glm::vec3 up)
 {
-    const glm::vec3 y = glm::length(up) > 0.0f ? glm::normalize(up) : glm::vec3(0.0f, 1.0f, 0.0f);
-    const glm::vec3 ref = std::abs(y.z) < 0.9f ? glm::vec3(0.0f, 0.0f, 1.0f) : glm::vec3(1.0f, 0.0f, 0.0f);
-    const glm::vec3 z = glm::normalize(ref - glm::dot(ref, y) * y);
-    return {glm::cross(y, z), y, z};
+    const AngleFrame f = angle_frame(glm::dvec3(unit_direction(glm::dvec3(up)).value_or(glm::vec3(0.0f, 1.0f, 0.0f))));
+    return {glm::vec3(f.side), glm::vec3(f.up), glm::vec3(f.forward)};
 }
 
 } // namespace
 
 glm::vec3 direction_from_angles(float azimuth, float elevation, glm::vec3 up)
 {
-    const AngleFrame f = angle_frame(up);
+    const LightFrame f = light_frame(up);
     return std::cos(elevation) * (std::sin(azimuth) * f.x + std::cos(azimuth) * f.z) + std::sin(elevation) * f.y;
 }
 
 void angles_from_direction(glm::vec3 dir, glm::vec3 up, float& azimuth, float& elevation)
 {
-    const AngleFrame f = angle_frame(up);
+    const LightFrame f = light_frame(up);
     dir = glm::normalize(dir);
     elevation = std::asin(std::clamp(glm::dot(dir, f.y), -1.0f, 1.0f));
     azimuth = std::atan2(glm::dot(dir, f.x), glm::dot(dir, f.z));

@@ -505,8 +505,8 @@ void Viewer::render_scene()
                 const SampleCounters c = r.read_counters();
                 st.fragments = c.fragments;
                 st.samples_per_fragment = c.fragments ? double(c.samples) / double(c.fragments) : 0.0;
-                const bool walk = d.technique == Technique::Prism && d.prism_exit == PrismExit::Walk;
-                st.prisms_per_fragment = walk ? (c.fragments ? double(c.prisms) / double(c.fragments) : 0.0) : -1.0;
+                st.prisms_per_fragment =
+                    d.prism_walk() ? (c.fragments ? double(c.prisms) / double(c.fragments) : 0.0) : -1.0;
             } else if (fresh) {
                 // (Compiled in this draw: not its time.)
             } else {

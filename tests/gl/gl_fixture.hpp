@@ -100,6 +100,20 @@ inline FramedObject framed(const pr::SceneSpec& spec)
     return f;
 }
 
+// meshes/`name` loaded and framed as `render --mesh meshes/NAME --size WIDTHxHEIGHT --elevation
+// E [--azimuth A]` does, the other keys at their defaults.
+inline FramedObject framed_bundled(const std::string& name, int width, int height, float elevation_deg,
+                                   float azimuth_deg = pr::CameraSpec{}.azimuth_deg)
+{
+    pr::SceneSpec spec;
+    spec.objects.push_back(bundled_object(name));
+    spec.width = width;
+    spec.height = height;
+    spec.camera.elevation_deg = elevation_deg;
+    spec.camera.azimuth_deg = azimuth_deg;
+    return framed(spec);
+}
+
 // Cone maps built by GL tests are cached here (never in the user's cache).
 inline std::filesystem::path cache_dir()
 {

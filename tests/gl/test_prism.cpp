@@ -313,13 +313,8 @@ TEST(Prism, WalkGoesOnAtAFoldSeenEdgeOn)
     prtest::context();
     for (const auto& [width, height, elevation] : {std::tuple{240, 180, 75.0f}, std::tuple{512, 384, 0.0f}}) {
         SCOPED_TRACE(testing::Message() << width << "x" << height << ", elevation " << elevation);
-        // Loaded and framed as `render --mesh meshes/rock.obj --size WxH --elevation E` does.
-        SceneSpec spec;
-        spec.objects.push_back(prtest::bundled_object("rock.obj"));
-        spec.width = width;
-        spec.height = height;
-        spec.camera.elevation_deg = elevation;
-        const auto [scene, c] = prtest::framed(spec);
+        // As `render --mesh meshes/rock.obj --size WxH --elevation E` loads and frames it.
+        const auto [scene, c] = prtest::framed_bundled("rock.obj", width, height, elevation);
         Renderer r(width, height);
         r.upload(scene);
         r.prepare_reference(scene, c, ReferenceOptions{});
@@ -337,16 +332,10 @@ TEST(Prism, WalkGoesOnAtAFoldSeenEdgeOn)
 TEST(Prism, WalkNeverTurnsBackThroughATop)
 {
     prtest::context();
-    // Loaded and framed as `render --mesh meshes/torus.obj --size 256x192 --elevation 60
-    // --azimuth 0` does.
-    SceneSpec spec;
-    spec.objects.push_back(prtest::bundled_object("torus.obj"));
-    spec.width = 256;
-    spec.height = 192;
-    spec.camera.elevation_deg = 60.0f;
-    spec.camera.azimuth_deg = 0.0f;
-    const auto [scene, c] = prtest::framed(spec);
-    Renderer r(spec.width, spec.height);
+    // As `render --mesh meshes/torus.obj --size 256x192 --elevation 60 --azimuth 0` loads and
+    // frames it.
+    const auto [scene, c] = prtest::framed_bundled("torus.obj", 256, 192, 60.0f, 0.0f);
+    Renderer r(256, 192);
     r.set_cache_dir(prtest::cache_dir());
     r.upload(scene);
     for (Marcher m : {Marcher::Relief, Marcher::RelaxedCone}) {
