@@ -70,6 +70,16 @@ InsideOutline background_inside_outline(const RgbaImage& ref, const RgbaImage& i
     return n;
 }
 
+// `scene` uploaded to `r` and drawn from `c` with the reference and with the prism (`marcher`):
+// the prism's background inside the reference's outline.
+InsideOutline prism_holes(Renderer& r, const Scene& scene, const Camera& c, Marcher marcher = Marcher::Relief)
+{
+    r.upload(scene);
+    r.prepare_reference(scene, c, ReferenceOptions{});
+    const RgbaImage ref = capture(r, c, Technique::Reference).color;
+    return background_inside_outline(ref, capture(r, c, Technique::Prism, marcher).color);
+}
+
 std::shared_ptr<HeightField> bumps_map(int size)
 {
     return std::make_shared<HeightField>(load_height("builtin:bumps@" + std::to_string(size)));
@@ -293,11 +303,7 @@ TEST(Prism, WalkGoesOnWhereTheTopFoldsAway)
     prtest::context();
     Renderer r(512, 512);
     Scene scene = mesh_scene("rock.obj", bumps_map(512), 0.04f); // render's defaults
-    r.upload(scene);
-    const Camera c = render_framing(scene, 75.0f);
-    r.prepare_reference(scene, c, ReferenceOptions{});
-    const RgbaImage ref = capture(r, c, Technique::Reference).color;
-    const InsideOutline holes = background_inside_outline(ref, capture(r, c, Technique::Prism).color);
+    const InsideOutline holes = prism_holes(r, scene, render_framing(scene, 75.0f));
     EXPECT_GT(holes.inner, 50000);
     EXPECT_EQ(holes.background, 0);
 }
@@ -316,10 +322,7 @@ TEST(Prism, WalkGoesOnAtAFoldSeenEdgeOn)
         // As `render --mesh meshes/rock.obj --size WxH --elevation E` loads and frames it.
         const auto [scene, c] = prtest::framed_bundled("rock.obj", width, height, elevation);
         Renderer r(width, height);
-        r.upload(scene);
-        r.prepare_reference(scene, c, ReferenceOptions{});
-        const RgbaImage ref = capture(r, c, Technique::Reference).color;
-        const InsideOutline holes = background_inside_outline(ref, capture(r, c, Technique::Prism).color);
+        const InsideOutline holes = prism_holes(r, scene, c);
         EXPECT_GT(holes.inner, 5000);
         EXPECT_EQ(holes.background, 0);
     }
@@ -360,12 +363,7 @@ TEST(Prism, MaxMipDoesNotJumpPastACell)
     Renderer r(512, 512);
     r.set_cache_dir(prtest::cache_dir());
     Scene scene = mesh_scene("uv_sphere.obj", bumps_map(512), 0.04f);
-    r.upload(scene);
-    const Camera c = render_framing(scene, 0.0f);
-    r.prepare_reference(scene, c, ReferenceOptions{});
-    const RgbaImage ref = capture(r, c, Technique::Reference).color;
-    const InsideOutline holes =
-        background_inside_outline(ref, capture(r, c, Technique::Prism, Marcher::MaxMip).color);
+    const InsideOutline holes = prism_holes(r, scene, render_framing(scene, 0.0f), Marcher::MaxMip);
     EXPECT_GT(holes.inner, 40000);
     EXPECT_EQ(holes.background, 0);
 }
