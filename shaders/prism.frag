@@ -91,9 +91,9 @@ struct Segment {
     bool linear;    // marched linearly (max-mip under a tear)
 };
 
-// The march ray from `tex_in` to `tex_out` in texture space (linear in the ray parameter between
-// them).
-MarchRay segment_ray(vec3 tex_in, vec3 tex_out)
+// The march ray from `tex_in` to `tex_out` in texture space: the parabola through them and the
+// chord's middle moved by `bend` (path_bend), at points linear in the view ray's parameter.
+MarchRay segment_ray(vec3 tex_in, vec3 tex_out, vec3 bend)
 {
     vec3 seg = tex_out - tex_in;
     vec2 texels = seg.xy * u_displace.zw; // the height map's size in texels
@@ -103,9 +103,11 @@ MarchRay segment_ray(vec3 tex_in, vec3 tex_out)
     // merged plane took a sample every 7 texels of a 1024-texel map and stepped over thin walls.)
     // Bounded before the conversion to int, which a prism's uv a million repeats long overflows.
     int bound = march_sample_bound(4, u_displace.zw);
-    int steps = int(min(ceil(max(float(u_march.x) * abs(seg.z), texel_samples() * length(texels))), float(bound)));
+    // (A bent path may fall and rise again: its height range, at most |seg.z| + 2 |bend.z|.)
+    float rise = abs(seg.z) + 2.0 * abs(bend.z);
+    int steps = int(min(ceil(max(float(u_march.x) * rise, texel_samples() * length(texels))), float(bound)));
     steps = max(steps, 1);
-    return MarchRay(tex_in, seg, 1.0, steps);
+    return MarchRay(tex_in, seg, 1.0, steps, bend);
 }
 
 // `first`: the sample at tex_in, as the marcher takes it (cone_at() for the cone marchers, else
@@ -113,14 +115,14 @@ MarchRay segment_ray(vec3 tex_in, vec3 tex_out)
 // (the first segment, or a UV seam lies between), and the march takes it as its first. `below`,
 // `decide`: the walk under a torn surface (march_linear_from, march/linear.glsl). `last`: the
 // last sample the march took.
-Segment march_segment(vec3 tex_in, vec3 tex_out, vec3 first, bool pending, bool decide, inout bool below,
+Segment march_segment(vec3 tex_in, vec3 tex_out, vec3 bend, vec3 first, bool pending, bool decide, inout bool below,
                       out vec3 last)
 {
     last = first;
     // Geometry (the outline and the depth) uses height level 0, as the reference does
     // (contract); filtering it by mip level would move the surface, not just smooth its look.
     UvGrad g = UvGrad(vec2(0.0), vec2(0.0));
-    MarchRay ray = segment_ray(tex_in, tex_out);
+    MarchRay ray = segment_ray(tex_in, tex_out, bend);
 #if defined(PR_PRISM_TEARS) && PR_MARCHER == PR_MARCH_MAX_MIP
     // Under a torn surface the max pyramid (of h, seen from above) does not hold: a linear march.
     // (Max-mip only: a sample of its own at a seam.)
@@ -140,7 +142,17 @@ Segment march_segment(vec3 tex_in, vec3 tex_out, vec3 first, bool pending, bool 
 #if PR_MARCHER == PR_MARCH_CONE || PR_MARCHER == PR_MARCH_RELAXED_CONE
     return Segment(march_cone_from(ray, first, pending, decide, below, last), false);
 #elif PR_MARCHER == PR_MARCH_MAX_MIP
-    return Segment(march_max_mip(ray), false); // its own traversal (last: unused)
+    // Its own traversal (last: unused), which follows straight lines: two, through the path's true
+    // middle (the hit's texture coordinates follow them too, main). The bracket is in the whole
+    // segment's parameter.
+    vec3 middle = 0.5 * (tex_in + tex_out) + bend;
+    Bracket near = march_max_mip(segment_ray(tex_in, middle, vec3(0.0)));
+    Bracket far = march_max_mip(segment_ray(middle, tex_out, vec3(0.0)));
+    Bracket br = near.hit ? near : far;
+    float from = near.hit ? 0.0 : 0.5;
+    br.t_above = from + 0.5 * br.t_above;
+    br.t_below = from + 0.5 * br.t_below;
+    return Segment(br, false);
 #else
     float h_end;
     Bracket br = march_linear_from(ray, g, first.x, pending, decide, below, h_end);
@@ -183,6 +195,43 @@ bool uv_weights(vec2 uv, vec2 a, vec2 b, vec2 c, out vec3 w)
 }
 
 #ifdef PR_PRISM_WALK
+// The texture-space point (u, v, height) of the world point `x` in the current prism
+// (load_walk_prism): the solution (b, h) of sum_i b_i * (bottom_i + h * depth * N_i) = x, by one
+// step of Newton's method from `guess`, a point near it (the planar faces' coordinates, or the
+// chord's middle: a second step changed no metric). The prism's map is affine in b at each
+// height and in h along each normal line, but not in both: where the normals part, each layer is
+// the base triangle grown with the height, a straight world ray's texture-space path bends, and
+// the faces' planar triangles are only near the map's own sides (docs/prism.md, item 3).
+vec3 prism_tex_at(vec3 x, vec3 guess)
+{
+    vec3 b;
+    bool mapped = uv_weights(guess.xy, corner_tex[0].xy, corner_tex[1].xy, corner_tex[2].xy, b);
+    float h = guess.z;
+    vec3 d0 = u_displace.x * corner_normal[0];
+    vec3 f1 = u_displace.x * corner_normal[1] - d0, f2 = u_displace.x * corner_normal[2] - d0;
+    // The map's columns d/db1, d/db2, d/dh at (b, h), and the residual: one step of Newton's
+    // method (Cramer's rule) from a guess this near.
+    vec3 c1 = corner_world[1] - corner_world[0] + h * f1, c2 = corner_world[2] - corner_world[0] + h * f2;
+    vec3 c3 = d0 + b.y * f1 + b.z * f2;
+    vec3 r = x - corner_world[0] - (h * d0 + b.y * c1 + b.z * c2);
+    vec3 k1 = cross(c2, c3), k2 = cross(c3, c1), k3 = cross(c1, c2);
+    float det = dot(c1, k1);
+    float inv = abs(det) > 1e-30 ? 1.0 / det : 0.0;
+    vec3 step = vec3(dot(r, k1), dot(r, k2), dot(r, k3)) * inv;
+    b = vec3(b.x - step.x - step.y, b.y + step.x, b.z + step.y);
+    vec2 uv = corner_tex[0].xy * b.x + corner_tex[1].xy * b.y + corner_tex[2].xy * b.z;
+    // (A triangle without area in uv gives no weights to start from: the guess.)
+    return mapped ? vec3(uv, clamp(h + step.z, 0.0, 1.0)) : guess;
+}
+
+// The bend of the ray's texture-space path in the current prism between t_in (at tex_in) and
+// t_out (at tex_out): its true middle's offset from the chord's (march/linear.glsl, MarchRay).
+vec3 path_bend(vec3 dir, float t_in, float t_out, vec3 tex_in, vec3 tex_out)
+{
+    vec3 chord = 0.5 * (tex_in + tex_out);
+    return prism_tex_at(u_eye.xyz + (0.5 * (t_in + t_out)) * dir, chord) - chord;
+}
+
 #ifdef PR_PRISM_TEARS
 // Pixels where a walk went into the object through a tear (pass 1 writes, pass 2 reads).
 layout(binding = PR_IMAGE_TEARS, r32ui) uniform uimage2D u_tears;
@@ -272,14 +321,17 @@ float light_walk(uint prim, vec3 tex, vec3 hit, vec3 light_dir)
                                    entry_edge < 0 ? -1 : 2 + entry_edge, top_entry, w_top);
         if (ex.face < 0) break; // lost: no answer
         tex_out = vec3(ex.tex.xy, clamp(ex.tex.z, 0.0, 1.0));
-        blocked = march_light(tex_in, tex_out - tex_in, 1.0, abs(tex_out.z - tex_in.z), run, visibility, g) ==
-                  PR_LIGHT_BLOCKED;
+        // Marched between the ray's true places in the prism's texture space, as the view's march
+        // (prism_tex_at; straight between them); the first starts at the hit's own.
+        vec3 m_in = k == 0 ? tex_in : prism_tex_at(origin + t_in * light_dir, tex_in);
+        vec3 m_out = prism_tex_at(origin + ex.t * light_dir, tex_out);
+        blocked = march_light(m_in, m_out - m_in, 1.0, abs(m_out.z - m_in.z), run, visibility, g) == PR_LIGHT_BLOCKED;
         // Out through a top, at 1: above every height. Under the base surface: the object's body,
         // or the sheet, is in the way.
         blocked = blocked || ex.face == 1;
         ended = blocked || ex.face == 0;
         // Out through a top: soft light goes on past it, in this prism's frame.
-        if (ex.face == 0 && !blocked) soft_past_top(tex_out, tex_out - tex_in, run, visibility, g);
+        if (ex.face == 0 && !blocked) soft_past_top(m_out, m_out - m_in, run, visibility, g);
         if (ended) break;
         uvec3 across = prism_across;
         int edge = ex.face - 2;
@@ -399,6 +451,7 @@ void main()
     // first segment, whose first sample the march takes itself, or one after a UV seam).
     vec3 last = vec3(0.0);
     bool pending = true;
+    vec3 bend = vec3(0.0); // of the segment's path in texture space (path_bend)
     // A ray that leaves through a top cap may go into the neighbour's prism through the
     // neighbour's top: where the shell's top folds away from the eye, the rasterizer gives a
     // pixel on or near the shared edge to one cap only, possibly the one facing away, which is
@@ -490,8 +543,23 @@ void main()
 #endif
         // (Not where it came in through a top: it is over the heights there, and a sample on the
         // top, where a height may equal it, could turn it under them.)
-        hit_segment = march_segment(tex_in, tex_out, last, pending, decide, below, last);
-        if (hit_segment.br.hit) break;
+        // The march's ends and middle at their true places in the prism's texture space (the
+        // faces' planar texture coordinates, which the walk keeps to go from prism to prism, are
+        // only near them: prism_tex_at).
+        vec3 m_in = prism_tex_at(u_eye.xyz + t_in * dir, tex_in);
+#ifdef PR_PRISM_FROM_EYE
+        // The eye's own place, as the renderer found it (and kept off the surface by twice the
+        // hit tolerance: eye_prism.hpp).
+        m_in = k == 0 ? tex_in : m_in;
+#endif
+        vec3 m_out = prism_tex_at(u_eye.xyz + t_out * dir, tex_out);
+        bend = path_bend(dir, t_in, t_out, m_in, m_out);
+        hit_segment = march_segment(m_in, m_out, bend, last, pending, decide, below, last);
+        if (hit_segment.br.hit) {
+            tex_in = m_in;
+            tex_out = m_out;
+            break;
+        }
         uvec3 across = prism_across;
         uint next = edge == 0 ? across.x : (edge == 1 ? across.y : (edge == 2 ? across.z : 0xffffffffu));
         if (ex.face == 0 && next >> 2u == came_from) next = 0xffffffffu;
@@ -522,10 +590,11 @@ void main()
 #ifdef PR_PRISM_TEARS
     g_height_flip = below ? 1.0 : 0.0;
     s = refine_segment(hit_segment, segment_ray(below ? vec3(tex_in.xy, 1.0 - tex_in.z) : tex_in,
-                                                below ? vec3(tex_out.xy, 1.0 - tex_out.z) : tex_out));
+                                                below ? vec3(tex_out.xy, 1.0 - tex_out.z) : tex_out,
+                                                below ? vec3(bend.xy, -bend.z) : bend));
     g_height_flip = 0.0;
 #else
-    s = refine_segment(hit_segment, segment_ray(tex_in, tex_out));
+    s = refine_segment(hit_segment, segment_ray(tex_in, tex_out, bend));
 #endif
     // The frame at the hit (below): uv and normals of the hit prism, tangents from the vertex
     // buffer (two of a vertex's four texels).
@@ -552,8 +621,8 @@ void main()
         prism_exit(dir, v_tex, from_a, t_out, tex_out);
 #endif
         vec3 last;
-        s = refine_segment(march_segment(tex_in, tex_out, vec3(0.0), true, false, below, last),
-                           segment_ray(tex_in, tex_out));
+        s = refine_segment(march_segment(tex_in, tex_out, vec3(0.0), vec3(0.0), true, false, below, last),
+                           segment_ray(tex_in, tex_out, vec3(0.0)));
     }
 #endif
     if (s < 0.0) {
@@ -561,6 +630,14 @@ void main()
         discard;
     }
     vec3 tex = mix(tex_in, tex_out, s);
+#ifdef PR_PRISM_WALK
+    vec3 curve = (4.0 * s * (1.0 - s)) * bend; // the path's parabola (march/linear.glsl)
+#if PR_MARCHER == PR_MARCH_MAX_MIP
+    // (Max-mip's two straight halves, march_segment.)
+    if (!hit_segment.linear) curve = (s < 0.5 ? 2.0 * s : 2.0 - 2.0 * s) * bend;
+#endif
+    tex += curve;
+#endif
     vec3 hit = u_eye.xyz + mix(t_in, t_out, s) * dir;
 
     // Frame at the hit: barycentrics of its uv in the base triangle's uv triangle.

@@ -160,7 +160,7 @@ void main()
         t_hit = 0.0;
         s_hit = h;
 #else
-        MarchRay ray = MarchRay(vec3(uv, 1.0), vec3(slope, -1.0), 1.0, max(u_march.x, 1));
+        MarchRay ray = MarchRay(vec3(uv, 1.0), vec3(slope, -1.0), 1.0, max(u_march.x, 1), vec3(0.0));
 #if PR_TECHNIQUE == PR_TECH_CONE || PR_TECHNIQUE == PR_TECH_RELAXED_CONE
         Bracket b = march_cone(ray);
 #else

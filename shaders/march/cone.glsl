@@ -55,22 +55,22 @@ float cone_tolerance(MarchRay r)
 Bracket march_cone_from(MarchRay r, vec3 hc0, bool pending, bool decide, inout bool below, out vec3 hc_end)
 {
     float min_dt = linear_step(r);
-    float run = length(r.dir.xy); // UV units per unit t
     vec3 hc = hc0;
     hc_end = hc0;
-    // Rising rays use the conservative ratio (z), descending ones the map's (y).
-    bool rising = r.dir.z >= 0.0;
     float side = below ? -1.0 : 1.0;
     float d = pending ? 0.0 : side * (r.origin.z - hc.x);
     if (!pending && d <= PR_HIT_EPSILON) return Bracket(true, 0.0, 0.0, 0.0, max(-d, 0.0));
     float t = 0.0;
     // Each iteration advances at least min_dt, so at most `steps` of them, after the pending one.
     for (int i = 0; i <= r.steps; ++i) {
-        float c = below ? 0.0 : (rising ? hc.z : hc.y);
-        float denom = run - c * r.dir.z;
+        // The path's direction here (it bends in a prism: march/linear.glsl). Rising rays use
+        // the conservative ratio (z), descending ones the map's (y).
+        vec3 dir = march_tangent(r, t);
+        float c = below ? 0.0 : (dir.z >= 0.0 ? hc.z : hc.y);
+        float denom = length(dir.xy) - c * dir.z; // UV units per unit t, less the cone's
         float dt = denom > 1e-12 ? c * d / denom : (c > 0.0 ? r.t_end : 0.0); // c = 0: no cone
         float t_next = pending ? 0.0 : min(t + max(dt, min_dt), r.t_end);
-        vec3 p = r.origin + t_next * r.dir;
+        vec3 p = march_point(r, t_next);
         vec3 hc_next = cone_at(p.xy);
         hc_end = hc_next;
 #ifdef PR_PRISM_TEARS
@@ -124,7 +124,7 @@ float refine_cone(MarchRay r, Bracket b, UvGrad g)
         if (width <= 2.0 * tol) break;
         float slope = (fa - fb) / width;
         float t = bisect ? 0.5 * (ta + tb) : mix(ta, tb, wa / max(wa - wb, 1e-30));
-        vec3 p = r.origin + t * r.dir;
+        vec3 p = march_point(r, t);
         float f = p.z - height_at(p.xy, g);
         bool above = f > 0.0;
         bool straight = fa - f >= 0.5 * slope * (t - ta);

@@ -11,12 +11,30 @@
 #define PR_HIT_EPSILON 0.0
 #endif
 
+// The path may bend: `bend` is its offset from the chord origin -> origin + t_end * dir at its
+// middle, and the path the parabola through the three points (the prism's texture-space path,
+// which a straight view ray curves where the prism's normals part: prism.frag, path_bend). The
+// base-surface techniques' rays are straight (bend 0).
 struct MarchRay {
     vec3 origin;
     vec3 dir;
     float t_end;
     int steps;
+    vec3 bend;
 };
+
+// The ray's point at parameter t.
+vec3 march_point(MarchRay r, float t)
+{
+    float u = t / r.t_end;
+    return r.origin + t * r.dir + (4.0 * u * (1.0 - u)) * r.bend;
+}
+
+// The ray's direction (d point / dt) at parameter t.
+vec3 march_tangent(MarchRay r, float t)
+{
+    return r.dir + ((4.0 - 8.0 * t / r.t_end) / r.t_end) * r.bend;
+}
 
 struct Bracket {
     bool hit;
@@ -49,7 +67,7 @@ Bracket march_linear_from(MarchRay r, UvGrad g, float h0, bool pending, bool dec
     if (!pending && d <= PR_HIT_EPSILON) return Bracket(true, 0.0, 0.0, 0.0, max(-d, 0.0));
     for (int i = pending ? 0 : 1; i <= r.steps; ++i) {
         float t_next = min(float(i) * dt, r.t_end);
-        vec3 p = r.origin + t_next * r.dir;
+        vec3 p = march_point(r, t_next);
         h_end = height_at(p.xy, g);
 #ifdef PR_PRISM_TEARS
         if (decide && i == 0) {

@@ -9,7 +9,7 @@ Bracket halve_bracket(MarchRay r, Bracket b, int steps, UvGrad g)
 {
     for (int i = 0; i < steps; ++i) {
         float mid = 0.5 * (b.t_above + b.t_below);
-        vec3 p = r.origin + mid * r.dir;
+        vec3 p = march_point(r, mid);
         float d = p.z - height_at(p.xy, g);
         if (d <= 0.0) {
             b.t_below = mid;
