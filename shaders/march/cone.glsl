@@ -57,17 +57,19 @@ Bracket march_cone_from(MarchRay r, vec3 hc0, bool pending, bool decide, inout b
     float min_dt = linear_step(r);
     vec3 hc = hc0;
     hc_end = hc0;
+    float run = length(r.dir.xy); // UV units per unit t
+    // Rising rays use the conservative ratio (z), descending ones the map's (y); a bent path
+    // (march/linear.glsl) that rises anywhere counts as rising (its direction at either end).
+    // Its steps are judged along the chord: the bend is a small part of a segment.
+    bool rising = max(r.dir.z + r.t_end * r.curve.z, r.dir.z - r.t_end * r.curve.z) >= 0.0;
     float side = below ? -1.0 : 1.0;
     float d = pending ? 0.0 : side * (r.origin.z - hc.x);
     if (!pending && d <= PR_HIT_EPSILON) return Bracket(true, 0.0, 0.0, 0.0, max(-d, 0.0));
     float t = 0.0;
     // Each iteration advances at least min_dt, so at most `steps` of them, after the pending one.
     for (int i = 0; i <= r.steps; ++i) {
-        // The path's direction here (it bends in a prism: march/linear.glsl). Rising rays use
-        // the conservative ratio (z), descending ones the map's (y).
-        vec3 dir = march_tangent(r, t);
-        float c = below ? 0.0 : (dir.z >= 0.0 ? hc.z : hc.y);
-        float denom = length(dir.xy) - c * dir.z; // UV units per unit t, less the cone's
+        float c = below ? 0.0 : (rising ? hc.z : hc.y);
+        float denom = run - c * r.dir.z;
         float dt = denom > 1e-12 ? c * d / denom : (c > 0.0 ? r.t_end : 0.0); // c = 0: no cone
         float t_next = pending ? 0.0 : min(t + max(dt, min_dt), r.t_end);
         vec3 p = march_point(r, t_next);

@@ -11,29 +11,22 @@
 #define PR_HIT_EPSILON 0.0
 #endif
 
-// The path may bend: `bend` is its offset from the chord origin -> origin + t_end * dir at its
-// middle, and the path the parabola through the three points (the prism's texture-space path,
-// which a straight view ray curves where the prism's normals part: prism.frag, path_bend). The
-// base-surface techniques' rays are straight (bend 0).
+// The path may bend: origin + t * dir + t * (t_end - t) * curve, a parabola (the prism's
+// texture-space path, which a straight view ray curves where the prism's normals part:
+// prism.frag, path_bend; its middle lies t_end^2 / 4 * curve off the chord). The base-surface
+// techniques' rays are straight (curve 0).
 struct MarchRay {
     vec3 origin;
     vec3 dir;
     float t_end;
     int steps;
-    vec3 bend;
+    vec3 curve;
 };
 
 // The ray's point at parameter t.
 vec3 march_point(MarchRay r, float t)
 {
-    float u = t / r.t_end;
-    return r.origin + t * r.dir + (4.0 * u * (1.0 - u)) * r.bend;
-}
-
-// The ray's direction (d point / dt) at parameter t.
-vec3 march_tangent(MarchRay r, float t)
-{
-    return r.dir + ((4.0 - 8.0 * t / r.t_end) / r.t_end) * r.bend;
+    return r.origin + t * r.dir + (t * (r.t_end - t)) * r.curve;
 }
 
 struct Bracket {
