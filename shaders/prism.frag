@@ -202,8 +202,9 @@ bool uv_weights(vec2 uv, vec2 a, vec2 b, vec2 c, out vec3 w)
 // normal line, but not in both: where the normals part, each layer is the base triangle grown
 // with the height, a straight world ray's texture-space path bends, and the faces' planar
 // triangles are only near the map's own sides (docs/prism.md, item 3). `slope`: the rate at which
-// the point's (b1, b2, h) change along `dir` (the map's inverse Jacobian times dir).
-vec3 prism_tex_at(vec3 x, vec3 guess, vec3 dir, out vec3 slope)
+// the point's (b1, b2, h) change along `dir` (the map's inverse Jacobian times dir), and in w 1,
+// or 0 where the guess stands (below).
+vec3 prism_tex_at(vec3 x, vec3 guess, vec3 dir, out vec4 slope)
 {
     vec3 b;
     bool mapped = uv_weights(guess.xy, corner_tex[0].xy, corner_tex[1].xy, corner_tex[2].xy, b);
@@ -218,11 +219,16 @@ vec3 prism_tex_at(vec3 x, vec3 guess, vec3 dir, out vec3 slope)
     float det = dot(c1, k1);
     float inv = abs(det) > 1e-30 ? 1.0 / det : 0.0;
     vec3 step = vec3(dot(r, k1), dot(r, k2), dot(r, k3)) * inv;
-    slope = mapped ? vec3(dot(dir, k1), dot(dir, k2), dot(dir, k3)) * inv : vec3(0.0);
     b = vec3(b.x - step.x - step.y, b.y + step.x, b.z + step.y);
     vec2 uv = corner_tex[0].xy * b.x + corner_tex[1].xy * b.y + corner_tex[2].xy * b.z;
-    // (A triangle without area in uv gives no weights to start from: the guess.)
-    return mapped ? vec3(uv, clamp(h + step.z, 0.0, 1.0)) : guess;
+    // (A triangle without area in uv gives no weights to start from: the guess. A step of a
+    // quarter of the triangle or of the height range is no correction but the map near a fold,
+    // where its Jacobian vanishes: a noisy mesh's tight creases; a UV sphere of 120 x 60 quads
+    // with each vertex's radius jittered by 8 % drew 114 pixels outside the reference's outline
+    // at 192 x 144 without this, 87 with it, 88 with the straight march.)
+    bool near = max(max(abs(step.x), abs(step.y)), abs(step.z)) < 0.25;
+    slope = mapped && near ? vec4(vec3(dot(dir, k1), dot(dir, k2), dot(dir, k3)) * inv, 1.0) : vec4(0.0);
+    return mapped && near ? vec3(uv, clamp(h + step.z, 0.0, 1.0)) : guess;
 }
 
 // The bend of the ray's texture-space path over `span` of its parameter, from its slopes at the
@@ -232,9 +238,10 @@ vec3 prism_tex_at(vec3 x, vec3 guess, vec3 dir, out vec3 slope)
 // slower on llvmpipe and the pictures within 2 dB of these either way (the cube under a shell a
 // tenth of its size deep 1.7 dB closer to the reference, the torus 2.5 dB further), but for a
 // 12-triangle sphere under a shell a third of its radius deep (7.5 dB closer at 35 degrees).
-vec3 path_bend(vec3 slope_in, vec3 slope_out, float span)
+// Straight where either end keeps its guess.
+vec3 path_bend(vec4 slope_in, vec4 slope_out, float span)
 {
-    vec3 d = (slope_in - slope_out) * (0.125 * span);
+    vec3 d = (slope_in.xyz - slope_out.xyz) * (0.125 * span * slope_in.w * slope_out.w);
     return vec3((corner_tex[1].xy - corner_tex[0].xy) * d.x + (corner_tex[2].xy - corner_tex[0].xy) * d.y, d.z);
 }
 
@@ -329,7 +336,7 @@ float light_walk(uint prim, vec3 tex, vec3 hit, vec3 light_dir)
         tex_out = vec3(ex.tex.xy, clamp(ex.tex.z, 0.0, 1.0));
         // Marched between the ray's true places in the prism's texture space, as the view's march
         // (prism_tex_at; straight between them); the first starts at the hit's own.
-        vec3 slope;
+        vec4 slope;
         vec3 m_in = k == 0 ? tex_in : prism_tex_at(origin + t_in * light_dir, tex_in, light_dir, slope);
         vec3 m_out = prism_tex_at(origin + ex.t * light_dir, tex_out, light_dir, slope);
         blocked = march_light(m_in, m_out - m_in, 1.0, abs(m_out.z - m_in.z), run, visibility, g) == PR_LIGHT_BLOCKED;
@@ -553,7 +560,7 @@ void main()
         // The march's ends at their true places in the prism's texture space (the faces' planar
         // texture coordinates, which the walk keeps to go from prism to prism, are only near
         // them: prism_tex_at), and its path the parabola with the true path's slopes there.
-        vec3 slope_in, slope_out;
+        vec4 slope_in, slope_out;
         vec3 m_in = prism_tex_at(u_eye.xyz + t_in * dir, tex_in, dir, slope_in);
 #ifdef PR_PRISM_FROM_EYE
         // The eye's own place, as the renderer found it (and kept off the surface by twice the
