@@ -74,6 +74,7 @@ void load_prism(uint prim, out BaseVertex bv[3], out bool from_a[3])
         corner_world[i + 3] = shell_corner(world, n, 1.0);
         corner_tex[i] = vec3(bv[i].uv, 0.0);
         corner_tex[i + 3] = vec3(bv[i].uv, 1.0);
+        corner_normal[i] = n;
     }
     for (int e = 0; e < 3; ++e) from_a[e] = diagonal_from_a(bv[e].weld, bv[(e + 1) % 3].weld);
 }
@@ -194,9 +195,8 @@ bool uv_weights(vec2 uv, vec2 a, vec2 b, vec2 c, out vec3 w)
     return ok;
 }
 
-#ifdef PR_PRISM_WALK
 // The texture-space point (u, v, height) of the world point `x` in the current prism
-// (load_walk_prism): the solution (b, h) of sum_i b_i * (bottom_i + h * depth * N_i) = x, by one
+// (load_walk_prism, load_prism): the solution (b, h) of sum_i b_i * (bottom_i + h * depth * N_i) = x, by one
 // step of Newton's method from `guess`, a point near it (the planar faces' coordinates: a second
 // step changed no metric). The prism's map is affine in b at each height and in h along each
 // normal line, but not in both: where the normals part, each layer is the base triangle grown
@@ -245,6 +245,7 @@ vec3 path_bend(vec4 slope_in, vec4 slope_out, float span)
     return vec3((corner_tex[1].xy - corner_tex[0].xy) * d.x + (corner_tex[2].xy - corner_tex[0].xy) * d.y, d.z);
 }
 
+#ifdef PR_PRISM_WALK
 #ifdef PR_PRISM_TEARS
 // Pixels where a walk went into the object through a tear (pass 1 writes, pass 2 reads).
 layout(binding = PR_IMAGE_TEARS, r32ui) uniform uimage2D u_tears;
@@ -440,6 +441,8 @@ void main()
 #endif
     float t_in = 1.0, t_out = 1.0;
     vec3 tex_in = v_tex, tex_out = v_tex;
+    vec3 bend = vec3(0.0); // of the hit segment's path in texture space (path_bend)
+    bool marched_linear = false; // max-mip's hit segment marched linearly (under a tear)
     float s;
 #ifdef PR_PRISM_WALK
     // Only the shell's outside is rasterized (prism.geom); from there the ray goes from prism to
@@ -465,7 +468,6 @@ void main()
     // first segment, whose first sample the march takes itself, or one after a UV seam).
     vec3 last = vec3(0.0);
     bool pending = true;
-    vec3 bend = vec3(0.0); // of the segment's path in texture space (path_bend)
     // A ray that leaves through a top cap may go into the neighbour's prism through the
     // neighbour's top: where the shell's top folds away from the eye, the rasterizer gives a
     // pixel on or near the shared edge to one cap only, possibly the one facing away, which is
@@ -611,6 +613,7 @@ void main()
 #else
     s = refine_segment(hit_segment, segment_ray(tex_in, tex_out, bend));
 #endif
+    marched_linear = hit_segment.linear;
     // The frame at the hit (below): uv and normals of the hit prism, tangents from the vertex
     // buffer (two of a vertex's four texels).
     uvec3 index = triangle_indices(prim);
@@ -634,10 +637,16 @@ void main()
         tex_out = v_tex + lambda * v_dir_tex;
 #else
         prism_exit(dir, v_tex, from_a, t_out, tex_out);
+        // Marched along the ray's own path between its true places, as the walk's (item 3 of
+        // docs/prism.md; the entry is v_world, at t = 1).
+        vec4 slope_in, slope_out;
+        tex_in = prism_tex_at(v_world, tex_in, dir, slope_in);
+        tex_out = prism_tex_at(u_eye.xyz + t_out * dir, tex_out, dir, slope_out);
+        bend = path_bend(slope_in, slope_out, t_out - t_in);
 #endif
         vec3 last;
-        s = refine_segment(march_segment(tex_in, tex_out, vec3(0.0), vec3(0.0), true, false, below, last),
-                           segment_ray(tex_in, tex_out, vec3(0.0)));
+        s = refine_segment(march_segment(tex_in, tex_out, bend, vec3(0.0), true, false, below, last),
+                           segment_ray(tex_in, tex_out, bend));
     }
 #endif
     if (s < 0.0) {
@@ -645,14 +654,12 @@ void main()
         discard;
     }
     vec3 tex = mix(tex_in, tex_out, s);
-#ifdef PR_PRISM_WALK
     vec3 curve = (4.0 * s * (1.0 - s)) * bend; // the path's parabola (march/linear.glsl)
 #if PR_MARCHER == PR_MARCH_MAX_MIP
     // (Max-mip's two straight halves, march_segment.)
-    if (!hit_segment.linear) curve = (s < 0.5 ? 2.0 * s : 2.0 - 2.0 * s) * bend;
+    if (!marched_linear) curve = (s < 0.5 ? 2.0 * s : 2.0 - 2.0 * s) * bend;
 #endif
     tex += curve;
-#endif
     vec3 hit = u_eye.xyz + mix(t_in, t_out, s) * dir;
 
     // Frame at the hit: barycentrics of its uv in the base triangle's uv triangle.

@@ -28,6 +28,9 @@ bool diagonal_from_a(uint weld_a, uint weld_b)
 // looks for an exit (nearest_exit, prism_exit).
 vec3 corner_world[6];
 vec3 corner_tex[6];
+// The unit normals (world) of the current prism's vertices (load_walk_prism, and load_prism in
+// prism.frag): the frame at a hit, and the prism's map (prism.frag, prism_tex_at).
+vec3 corner_normal[3];
 
 // Whether barycentric weights w lie in the triangle grown by `slack` (barycentric units).
 bool in_triangle(vec3 w, float slack)
@@ -99,8 +102,6 @@ vec3 shell_top_corner(vec3 bottom, vec3 n, float top)
     return corner;
 }
 
-// The unit normals (world) of the current prism's vertices (load_walk_prism): the frame at a hit.
-vec3 corner_normal[3];
 // The triangles across the current prism's edges (edge e from corner e to e + 1), each as
 // prism << 2 | its edge; 0xffffffff where there is none (load_walk_prism).
 uvec3 prism_across;
