@@ -97,7 +97,9 @@ struct Segment {
 MarchRay segment_ray(vec3 tex_in, vec3 tex_out, vec3 bend)
 {
     vec3 seg = tex_out - tex_in;
-    vec2 texels = seg.xy * u_displace.zw; // the height map's size in texels
+    // Its length in texels of the height map (u_displace.zw: the map's size); a bent path's is
+    // about its length through its middle, at most the chord's and twice the bend's.
+    float texels = length(seg.xy * u_displace.zw) + 2.0 * length(bend.xy * u_displace.zw);
     // Bounded (a prism's uv may span many repeats of the map), but not below what texel_samples()
     // per texel takes over four lengths of the map: merged triangles (flat_merge.hpp, at most two
     // repeats long) are sampled in full. (Bounded by 4 * --steps + 64 alone, a segment across the
@@ -106,7 +108,7 @@ MarchRay segment_ray(vec3 tex_in, vec3 tex_out, vec3 bend)
     int bound = march_sample_bound(4, u_displace.zw);
     // (A bent path may fall and rise again: its height range, at most |seg.z| + 2 |bend.z|.)
     float rise = abs(seg.z) + 2.0 * abs(bend.z);
-    int steps = int(min(ceil(max(float(u_march.x) * rise, texel_samples() * length(texels))), float(bound)));
+    int steps = int(min(ceil(max(float(u_march.x) * rise, texel_samples() * texels)), float(bound)));
     steps = max(steps, 1);
     return MarchRay(tex_in, seg, 1.0, steps, 4.0 * bend);
 }
@@ -211,13 +213,22 @@ vec3 prism_tex_at(vec3 x, vec3 guess, vec3 dir, out vec4 slope)
     float h = guess.z;
     vec3 d0 = u_displace.x * corner_normal[0];
     vec3 f1 = u_displace.x * corner_normal[1] - d0, f2 = u_displace.x * corner_normal[2] - d0;
-    // The map's columns d/db1, d/db2, d/dh at (b, h), and the residual; Cramer's rule.
+    // The map's columns d/db1, d/db2, d/dh at (b, h), and the residual; Cramer's rule. All over a
+    // power of two that brings the largest column component to [1, 2) (as frame_scale,
+    // height.glsl): the determinant grows as the object's scale cubed, and stays in float range
+    // (the solution does not change).
     vec3 c1 = corner_world[1] - corner_world[0] + h * f1, c2 = corner_world[2] - corner_world[0] + h * f2;
     vec3 c3 = d0 + b.y * f1 + b.z * f2;
     vec3 r = x - corner_world[0] - (h * d0 + b.y * c1 + b.z * c2);
+    float k = frame_scale(mat3(c1, c2, c3));
+    c1 *= k;
+    c2 *= k;
+    c3 *= k;
+    r *= k;
     vec3 k1 = cross(c2, c3), k2 = cross(c3, c1), k3 = cross(c1, c2);
     float det = dot(c1, k1);
-    float inv = abs(det) > 1e-30 ? 1.0 / det : 0.0;
+    bool solvable = abs(det) > 1e-20;
+    float inv = solvable ? 1.0 / det : 0.0;
     vec3 step = vec3(dot(r, k1), dot(r, k2), dot(r, k3)) * inv;
     b = vec3(b.x - step.x - step.y, b.y + step.x, b.z + step.y);
     vec2 uv = corner_tex[0].xy * b.x + corner_tex[1].xy * b.y + corner_tex[2].xy * b.z;
@@ -226,8 +237,9 @@ vec3 prism_tex_at(vec3 x, vec3 guess, vec3 dir, out vec4 slope)
     // where its Jacobian vanishes: a noisy mesh's tight creases; a UV sphere of 120 x 60 quads
     // with each vertex's radius jittered by 8 % drew 114 pixels outside the reference's outline
     // at 192 x 144 without this, 87 with it, 88 with the straight march.)
-    bool near = max(max(abs(step.x), abs(step.y)), abs(step.z)) < 0.25;
-    slope = mapped && near ? vec4(vec3(dot(dir, k1), dot(dir, k2), dot(dir, k3)) * inv, 1.0) : vec4(0.0);
+    bool near = solvable && max(max(abs(step.x), abs(step.y)), abs(step.z)) < 0.25;
+    vec3 kdir = k * dir;
+    slope = mapped && near ? vec4(vec3(dot(kdir, k1), dot(kdir, k2), dot(kdir, k3)) * inv, 1.0) : vec4(0.0);
     return mapped && near ? vec3(uv, clamp(h + step.z, 0.0, 1.0)) : guess;
 }
 
@@ -562,6 +574,10 @@ void main()
         // The march's ends at their true places in the prism's texture space (the faces' planar
         // texture coordinates, which the walk keeps to go from prism to prism, are only near
         // them: prism_tex_at), and its path the parabola with the true path's slopes there.
+        // (The march's first sample is still the last one before, taken at the prism before's
+        // m_out: the same world point, in that prism's map, which the side's planar triangles
+        // leave a fraction of a texel from this one's. A sample of its own here changed no metric
+        // of the 256 x 256 views of docs/prism.md item 3, for a sample more per prism crossed.)
         vec4 slope_in, slope_out;
         vec3 m_in = prism_tex_at(u_eye.xyz + t_in * dir, tex_in, dir, slope_in);
 #ifdef PR_PRISM_FROM_EYE
