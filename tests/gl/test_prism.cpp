@@ -968,15 +968,15 @@ TEST(Prism, MarchFollowsTheRaysTruePathInTextureSpace)
     Renderer r(128, 128);
     struct View {
         const char* mesh;
-        float depth; // world units
+        float depth; // of the bounding box's diagonal
         float elevation;
         double min_psnr;
     };
-    for (const View& v : {View{"cube.obj", 0.2f, 0.0f, 31.0}, View{"cube.obj", 0.2f, 35.0f, 29.5},
-                          View{"torus.obj", 0.0f, 0.0f, 45.0}}) {
-        PreparedMesh mesh = load_mesh(std::string(PR_SOURCE_DIR) + "/meshes/" + v.mesh);
-        const float depth = v.depth > 0.0f ? v.depth : 0.04f * glm::length(mesh.bbox_max - mesh.bbox_min);
-        Scene scene = prtest::one_object(std::move(mesh), bumps_map(256), depth);
+    // (The cube's diagonal is 2 sqrt(3): a shell 0.2 deep, a tenth of its size.)
+    const float deep = 0.2f / (2.0f * std::sqrt(3.0f));
+    for (const View& v : {View{"cube.obj", deep, 0.0f, 31.0}, View{"cube.obj", deep, 35.0f, 29.5},
+                          View{"torus.obj", 0.04f, 0.0f, 45.0}}) {
+        const Scene scene = mesh_scene(v.mesh, bumps_map(256), v.depth);
         r.upload(scene);
         const Camera c = render_framing(scene, v.elevation);
         r.prepare_reference(scene, c, ReferenceOptions{});
@@ -995,9 +995,7 @@ TEST(Prism, MarchFollowsTheRaysTruePathInTextureSpace)
     // the torus from 35 degrees at 256 x 256, hard shadows, 33.6 dB against the reference; 29.5 dB
     // with the light's march straight between the faces' coordinates, 28.8 with the view's too.
     // (A bumps map of 256 texels; with the command line's 512, docs/prism.md: 38.0, 31.2, 29.4.)
-    PreparedMesh torus = load_mesh(std::string(PR_SOURCE_DIR) + "/meshes/torus.obj");
-    const float depth = 0.04f * glm::length(torus.bbox_max - torus.bbox_min);
-    Scene scene = prtest::one_object(std::move(torus), bumps_map(256), depth);
+    const Scene scene = mesh_scene("torus.obj", bumps_map(256), 0.04f);
     Renderer big(256, 256);
     big.upload(scene);
     const Camera c = render_framing(scene, 35.0f);
