@@ -258,6 +258,19 @@ vec3 path_bend(vec4 slope_in, vec4 slope_out, float span)
     return vec3((corner_tex[1].xy - corner_tex[0].xy) * d.x + (corner_tex[2].xy - corner_tex[0].xy) * d.y, d.z);
 }
 
+// A march's ends in the current prism at their true places (prism_tex_at) for the ray
+// origin + t * dir from t_in to t_out: `tex_in` and `tex_out` come in as the faces' planar
+// coordinates there and go out as the true ones (`tex_in` as it came where `keep_in`: a place
+// found otherwise, the eye's or a hit's). Returns the path's bend between them (path_bend).
+vec3 true_ends(vec3 origin, vec3 dir, float t_in, float t_out, bool keep_in, inout vec3 tex_in, inout vec3 tex_out)
+{
+    vec4 slope_in, slope_out;
+    vec3 m_in = prism_tex_at(origin + t_in * dir, tex_in, dir, slope_in);
+    tex_out = prism_tex_at(origin + t_out * dir, tex_out, dir, slope_out);
+    tex_in = keep_in ? tex_in : m_in;
+    return path_bend(slope_in, slope_out, t_out - t_in);
+}
+
 #ifdef PR_PRISM_WALK
 #ifdef PR_PRISM_TEARS
 // Pixels where a walk went into the object through a tear (pass 1 writes, pass 2 reads).
@@ -350,9 +363,8 @@ float light_walk(uint prim, vec3 tex, vec3 hit, vec3 light_dir)
         tex_out = vec3(ex.tex.xy, clamp(ex.tex.z, 0.0, 1.0));
         // Marched between the ray's true places in the prism's texture space, as the view's march
         // (prism_tex_at; straight between them); the first starts at the hit's own.
-        vec4 slope;
-        vec3 m_in = k == 0 ? tex_in : prism_tex_at(origin + t_in * light_dir, tex_in, light_dir, slope);
-        vec3 m_out = prism_tex_at(origin + ex.t * light_dir, tex_out, light_dir, slope);
+        vec3 m_in = tex_in, m_out = tex_out;
+        true_ends(origin, light_dir, t_in, ex.t, k == 0, m_in, m_out);
         blocked = march_light(m_in, m_out - m_in, 1.0, abs(m_out.z - m_in.z), run, visibility, g) == PR_LIGHT_BLOCKED;
         // Out through a top, at 1: above every height. Under the base surface: the object's body,
         // or the sheet, is in the way.
@@ -579,15 +591,14 @@ void main()
         // m_out: the same world point, in that prism's map, which the side's planar triangles
         // leave a fraction of a texel from this one's. A sample of its own here changed no metric
         // of the 256 x 256 views of docs/prism.md item 3, for a sample more per prism crossed.)
-        vec4 slope_in, slope_out;
-        vec3 m_in = prism_tex_at(u_eye.xyz + t_in * dir, tex_in, dir, slope_in);
+        bool keep_in = false;
 #ifdef PR_PRISM_FROM_EYE
         // The eye's own place, as the renderer found it (and kept off the surface by twice the
         // hit tolerance: eye_prism.hpp).
-        m_in = k == 0 ? tex_in : m_in;
+        keep_in = k == 0;
 #endif
-        vec3 m_out = prism_tex_at(u_eye.xyz + t_out * dir, tex_out, dir, slope_out);
-        bend = path_bend(slope_in, slope_out, t_out - t_in);
+        vec3 m_in = tex_in, m_out = tex_out;
+        bend = true_ends(u_eye.xyz, dir, t_in, t_out, keep_in, m_in, m_out);
         hit_segment = march_segment(m_in, m_out, bend, last, pending, decide, below, last);
         if (hit_segment.br.hit) {
             tex_in = m_in;
@@ -655,11 +666,8 @@ void main()
 #else
         prism_exit(dir, v_tex, from_a, t_out, tex_out);
         // Marched along the ray's own path between its true places, as the walk's (item 3 of
-        // docs/prism.md; the entry is v_world, at t = 1).
-        vec4 slope_in, slope_out;
-        tex_in = prism_tex_at(v_world, tex_in, dir, slope_in);
-        tex_out = prism_tex_at(u_eye.xyz + t_out * dir, tex_out, dir, slope_out);
-        bend = path_bend(slope_in, slope_out, t_out - t_in);
+        // docs/prism.md; the entry is at t = 1).
+        bend = true_ends(u_eye.xyz, dir, t_in, t_out, false, tex_in, tex_out);
 #endif
         vec3 last;
         s = refine_segment(march_segment(tex_in, tex_out, bend, vec3(0.0), true, false, below, last),
