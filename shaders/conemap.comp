@@ -125,10 +125,10 @@ double bilinear(double x, double y)
 }
 
 // maps::relaxed_constraint with a budget: the ray from p's column at height 1 through q's surface
-// point, one texel per step past q, on bilinear heights; its value where it leaves the surface,
-// or +inf (returned as -1) when it reaches h_p or passes `stop` first; out of budget, a lower
-// bound (the value at the last step, else `lower`).
-double relaxed_constraint(int px, int py, int dx, int dy, double stop, inout int budget, double lower)
+// point, one texel per step past q, on bilinear heights; when it leaves the surface, its value at
+// the last step still in it (`at_q`, q's cone constraint, at first), or +inf (returned as -1) when
+// it reaches h_p or passes `stop` first; out of budget, a lower bound (that same value).
+double relaxed_constraint(int px, int py, int dx, int dy, double stop, inout int budget, double at_q)
 {
     double hp = double(height_at(px, py));
     double hq = double(height_at(wrap_index(px + dx, u_size.x), wrap_index(py + dy, u_size.y)));
@@ -137,21 +137,21 @@ double relaxed_constraint(int px, int py, int dx, int dy, double stop, inout int
     precise double tq = sqrt(double(dx * dx) / (double(u_size.x) * double(u_size.x)) +
                              double(dy * dy) / (double(u_size.y) * double(u_size.y)));
     precise double drop = 1.0lf - hq;
+    precise double inside = at_q;
     int max_steps = 2 * (u_size.x + u_size.y);
     for (int k = 1; k <= max_steps; ++k) {
-        if (budget <= 0) return lower;
+        if (budget <= 0) return inside;
         --budget;
         precise double lambda = 1.0lf + double(k) * inv_len;
         precise double z = 1.0lf - lambda * drop;
         if (!(z > hp)) return -1.0lf;
+        precise double sx = double(px) + lambda * double(dx);
+        precise double sy = double(py) + lambda * double(dy);
+        if (bilinear(sx, sy) < z) return inside;
         precise double along = lambda * tq;
         precise double limit = stop * (z - hp);
         if (along >= limit) return -1.0lf;
-        precise double value = along / (z - hp);
-        lower = value;
-        precise double sx = double(px) + lambda * double(dx);
-        precise double sy = double(py) + lambda * double(dy);
-        if (bilinear(sx, sy) < z) return value;
+        inside = along / (z - hp);
     }
     return -1.0lf;
 }

@@ -108,9 +108,12 @@ std::vector<int> brute_force(const HeightField& f, ConeKind kind, ConeFormat for
                     const int dx = signed_offset(qx - px, f.width), dy = signed_offset(qy - py, f.height);
                     const double dh = stored_rise(f, qx, qy, px, py);
                     if (!(dh > 0)) continue;
+                    const double cone = uv_distance(f, dx, dy) / dh;
+                    int budget = std::numeric_limits<int>::max();
                     const double v = kind == ConeKind::Cone
-                                         ? uv_distance(f, dx, dy) / dh
-                                         : relaxed_constraint(f, px, py, dx, dy, std::numeric_limits<double>::infinity());
+                                         ? cone
+                                         : relaxed_constraint(f, px, py, dx, dy, std::numeric_limits<double>::infinity(),
+                                                              budget, cone);
                     c = std::min(c, v);
                 }
             ks.push_back(cone_ratio_steps(c, format));
@@ -363,6 +366,25 @@ TEST(ConeMap, RelaxedRaysLeaveTheSurfaceOutsideTheCone)
             }
         EXPECT_EQ(inside, 0) << c.name << " budget " << budget;
     }
+}
+
+// A wall 4 texels thick (height 1 on 0): the ray from a floor texel's column top through the
+// wall's near texel runs along the wall's top and is out of it one texel past the far side, but
+// rays a hair under it come out before that. So a relaxed cone in front of the wall reaches at
+// most its last texel, not the step out (which let the prism's relaxed-cone marcher cross a thin
+// wall's top in one step: Prism.ConeMarchersMeetAThinWallsFaceUnderItsTop).
+TEST(ConeMap, RelaxedConesInFrontOfAThinWallStopAtItsLastTexel)
+{
+    const HeightField f = make(64, 8, [](int x, int) { return x >= 32 && x < 36 ? 1.0f : 0.0f; });
+    const ConeMap m = build_cone_map_cpu(f, ConeKind::Relaxed, {});
+    int past = 0;
+    for (int py = 0; py < f.height; ++py)
+        for (int px = 0; px < 32; ++px) {
+            const double r = m.ratios[std::size_t(py) * std::size_t(f.width) + std::size_t(px)];
+            const double last = std::min(35 - px, px + 64 - 32) / 64.0; // to the right, or wrapped left
+            past += r * r > last * (1.0 + 1e-9);
+        }
+    EXPECT_EQ(past, 0);
 }
 
 // A march budget gives a narrower relaxed cone where the search needs more, never narrower than
