@@ -104,9 +104,13 @@ Bracket march_cone(MarchRay r)
 // halved, so neither end sticks), and a bisection after any step that kept more than half the
 // bracket. It stops at relief's precision (cone_tolerance()): a sample under the surface where
 // the secant from the upper end meets the surface within it of the sample; a sample above where
-// the bracket's secant slope says the same, unless the sample gained less than half that slope on
-// the upper end (a kink between: a floor before a wall, where the steep secant would stop it
-// short of the wall). On a straight stretch of surface the first sample stops it. At most as many
+// the bracket's secant slope says the same. Not where the samples show a kink: a sample above
+// that gained less than half that slope on the upper end (a floor before a wall, where the steep
+// secant would stop it short of the wall), or one under the surface that lies less than half that
+// slope over the lower end (a wall's face and then its top, where the secant from the floor would
+// stop it on the top: the cone marchers lit a thin wall's top edge as its top, where the face
+// was, 7 dB from the relief marcher in a view low over it). On a straight stretch of surface the
+// first sample stops it. At most as many
 // samples as the halvings it replaced (--refine less 4, plus one per doubling of the bracket beyond
 // a linear step; at least one), then the secant of what is left.
 float refine_cone(MarchRay r, Bracket b, UvGrad g)
@@ -129,9 +133,12 @@ float refine_cone(MarchRay r, Bracket b, UvGrad g)
         vec3 p = march_point(r, t);
         float f = p.z - height_at(p.xy, g);
         bool above = f > 0.0;
-        bool straight = fa - f >= 0.5 * slope * (t - ta);
+        // Straight: a sample above lost at least half the bracket's slope since the upper end, one
+        // under it kept half of it to the lower end (else a kink lies between: a floor before a
+        // wall, a wall's top edge).
+        bool straight = above ? fa - f >= 0.5 * slope * (t - ta) : f - fb >= 0.5 * slope * (tb - t);
         float t_under = mix(ta, t, fa / max(fa - f, 1e-30));
-        done = above ? straight && f <= tol * slope : t - t_under <= tol;
+        done = straight && (above ? f <= tol * slope : t - t_under <= tol);
         hit = above ? min(t + f / slope, tb) : t_under;
         wb *= above && moved > 0.0 ? 0.5 : 1.0;
         wa *= !above && moved < 0.0 ? 0.5 : 1.0;
