@@ -35,6 +35,17 @@ Scene mesh_scene(const std::string& name, std::shared_ptr<HeightField> h, float 
     return prtest::one_object(std::move(mesh), std::move(h), depth);
 }
 
+// A camera at `eye` looking at `target` (the default field of view), its clip planes fitted to
+// the scene's shell.
+Camera looking_at(const Scene& scene, glm::vec3 eye, glm::vec3 target)
+{
+    Camera c;
+    c.eye = eye;
+    c.target = target;
+    fit_clip_planes(c, scene.shell_bounds);
+    return c;
+}
+
 int holes(const RgbaImage& img)
 {
     int n = 0; // uncovered pixels whose four neighbours at distance 2 are covered
@@ -258,10 +269,7 @@ TEST(Prism, ConeMarchersMeetAThinWallsFaceUnderItsTop)
     Renderer r(256, 192);
     r.set_cache_dir(prtest::cache_dir());
     r.upload(scene);
-    Camera c;
-    c.eye = {0.6f, 0.15f, 0.3f};
-    c.target = {0.0f, 0.05f, 0.0f};
-    fit_clip_planes(c, scene.shell_bounds);
+    const Camera c = looking_at(scene, {0.6f, 0.15f, 0.3f}, {0.0f, 0.05f, 0.0f});
     r.prepare_reference(scene, c, ReferenceOptions{});
     const FrameCapture ref = capture(r, c, Technique::Reference);
     const CompareMetrics relief = compare_frames(capture(r, c, Technique::Prism, Marcher::Relief), ref);
@@ -296,10 +304,7 @@ TEST(Prism, ConeMarchersRefineStepsToReliefsPrecision)
     r.set_cache_dir(prtest::cache_dir());
     r.upload(scene);
     for (glm::vec3 eye : {glm::vec3(0.6f, 0.15f, 0.3f), glm::vec3(-0.5f, 0.12f, 0.6f)}) {
-        Camera c;
-        c.eye = eye;
-        c.target = {0.0f, 0.03f, 0.0f};
-        fit_clip_planes(c, scene.shell_bounds);
+        const Camera c = looking_at(scene, eye, {0.0f, 0.03f, 0.0f});
         const auto draw = [&](Marcher m, int steps, int refine) {
             DrawSettings s;
             s.technique = Technique::Prism;
@@ -927,10 +932,7 @@ TEST(Prism, WalkStartsAtTheEyeInsideTheShell)
                                  0.04f);
         scene.objects[0].midlevel = v.midlevel;
         r.upload(scene);
-        Camera c;
-        c.eye = v.eye;
-        c.target = v.target;
-        fit_clip_planes(c, scene.shell_bounds);
+        const Camera c = looking_at(scene, v.eye, v.target);
         r.prepare_reference(scene, c, ReferenceOptions{});
         const FrameCapture ref = capture(r, c, Technique::Reference);
         int covered = 0;
@@ -984,10 +986,7 @@ TEST(Prism, WalkCrossesTheSliversAroundAVertexOfHighValence)
     disc.had_uvs = true;
     Scene scene = prtest::one_object(std::move(disc), bumps_map(64), 0.11f);
     r.upload(scene);
-    Camera c;
-    c.eye = {0.8f, 0.5f, 0.8f};
-    c.target = {0.0f, 0.0f, 0.0f};
-    fit_clip_planes(c, scene.shell_bounds);
+    const Camera c = looking_at(scene, {0.8f, 0.5f, 0.8f}, {0.0f, 0.0f, 0.0f});
     r.prepare_reference(scene, c, ReferenceOptions{});
     const FrameCapture ref = capture(r, c, Technique::Reference);
     const CompareMetrics m = compare_frames(capture(r, c, Technique::Prism), ref);
@@ -1118,10 +1117,7 @@ TEST(Prism, TheSecondPassKeepsTheCallersScissor)
     // on its far side, from inside (the second pass).
     Scene scene = mesh_scene("uv_sphere.obj", prtest::height_from(16, [](float, float) { return 1.0f; }), 0.04f);
     r.upload(scene);
-    Camera c;
-    c.eye = {0.0f, 0.0f, 1.02f};
-    c.target = {0.3f, 0.0f, 0.0f};
-    fit_clip_planes(c, scene.shell_bounds);
+    const Camera c = looking_at(scene, {0.0f, 0.0f, 1.02f}, {0.3f, 0.0f, 0.0f});
     const RgbaImage full = capture(r, c, Technique::Prism).color;
     const RgbaImage before = capture(r, c, Technique::Flat).color; // what the right half keeps
     glEnable(GL_SCISSOR_TEST);
