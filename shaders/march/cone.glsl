@@ -113,9 +113,9 @@ Bracket march_cone(MarchRay r)
 // first sample stops it. At most as many samples as the halvings it replaced (--refine less 4,
 // plus one per doubling of the bracket beyond a linear step; at least one), then the secant of
 // what is left. Once a kink shows, false position gains little on what is left (a step in the
-// surface, which the secant cuts anywhere): it bisects, and takes two more samples (a mesa's or a
-// slot's edges, low over the plane: up to 15 dB from the relief marcher against the reference,
-// 45 dB from a dense march, before; docs/cone-maps.md).
+// surface, which the secant cuts anywhere): it bisects, and takes two more samples (a mesa's or
+// slots' edges seen low over the plane were 15 to 44 dB further from the reference than the
+// relief marcher's before; docs/cone-maps.md).
 float refine_cone(MarchRay r, Bracket b, UvGrad g)
 {
     float tol = cone_tolerance(r);
