@@ -60,7 +60,11 @@ Bracket march_max_mip(MarchRay r)
     float float_step = reach / 8388608.0; // 2^-23 of it, in cells
     float eps_t = max(1e-4 * min(step_t, r.t_end), 4.0 * float_step * step_t);
     float t = 0.0;
-    int level = top;
+    // It starts at the level whose cells are as long as the segment (a prism's segments span a few
+    // texels): from the 1x1 top it took a fetch per level down to there, in each of the two
+    // halves of every prism crossed (torus and rock, 1280x720: 65.86 and 61.86 height samples
+    // per fragment from the top, 25.99 and 18.32 from here; the frame 40-45 % shorter).
+    int level = clamp(int(ceil(log2(max(r.t_end * max(abs(dx.x), abs(dx.y)), 1.0)))), 0, top);
     for (int i = 0; i < PR_MAXMIP_MAX_ITERATIONS && t <= r.t_end; ++i) {
         vec2 x = x0 + t * dx;
         float z = r.origin.z + t * r.dir.z;
@@ -84,7 +88,7 @@ Bracket march_max_mip(MarchRay r)
         if (min(z, z_leave) > h_max + PR_HIT_EPSILON) {
             // Above everything in this cell: go to the next one, one level coarser.
             if (t_leave >= r.t_end) break;
-            t = t_leave + eps_t;
+            t = min(t_leave + eps_t, r.t_end);
             level = min(level + 1, top);
             continue;
         }
@@ -101,7 +105,10 @@ Bracket march_max_mip(MarchRay r)
         float th = patch_hit(vec4(q.w, q.z, q.x, q.y), x - vec2(ix), dx, z, r.dir.z, t_leave - t);
         if (th >= 0.0) return Bracket(true, t + th, t + th, 0.0, 0.0);
         if (t_leave >= r.t_end) break;
-        t = t_leave + eps_t;
+        // (Never past the end: a border within the nudge of it left the end untested, and a ray
+        // that ends on the surface, a cap at height 0, lost its hit: a pixel of the rock at 512 px
+        // once the traversal started lower, docs/cone-maps.md.)
+        t = min(t_leave + eps_t, r.t_end);
         level = min(level + 1, top);
     }
     return Bracket(false, t, t, 0.0, 0.0);

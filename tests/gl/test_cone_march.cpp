@@ -228,6 +228,16 @@ TEST(ConeMarch, TakesFewerSamplesThanRelief)
     const double prism_relief = samples(Technique::Prism, Marcher::Relief);
     const double prism_relaxed = samples(Technique::Prism, Marcher::RelaxedCone);
     EXPECT_LT(prism_relaxed, 0.6 * prism_relief);
+    // Max-mip starts each segment's traversal at the level of the segment's length, not at the
+    // pyramid's 1x1 top (march/maxmip.glsl). On the torus, where a ray crosses four prisms and
+    // marches two halves in each, it took twice relief's samples from the top.
+    Scene torus = prtest::bundled("torus.obj", h, 0.1f);
+    r.upload(torus);
+    const Camera framed = frame_sphere(torus.shell_bounds, 40.0f, 128.0f / 96.0f, 25.0f, 35.0f);
+    const double torus_relief = counted_draw(r, framed, settings(Technique::Prism, Marcher::Relief), 1000u);
+    const double torus_max_mip = counted_draw(r, framed, settings(Technique::Prism, Marcher::MaxMip), 1000u);
+    EXPECT_LT(torus_max_mip, torus_relief) << torus_relief;
+    std::printf("height samples per fragment, torus: prism relief %.2f, max-mip %.2f\n", torus_relief, torus_max_mip);
 }
 
 // Where the surface is straight (a ramp, which bilinear filtering keeps exact), the cone marchers'
