@@ -93,7 +93,8 @@ ConeMap read_cone_png(const std::filesystem::path& path, ConeKind kind);
 
 // Bumped whenever the generator's output changes: part of every cache key. (3: rg8 maps are
 // built from their 8-bit heights; 4: rises in the stored height steps, exactly; 5: the search
-// goes on best first where the node budget runs out.)
+// goes on best first where the node budget runs out; 6: a relaxed constraint's exit is the
+// ray's last step still in the surface.)
 inline constexpr std::uint32_t kConeGeneratorVersion = 6;
 
 // 255 (rg8) or 65535 (rg16): the ratio is stored as k / steps, k an integer.

@@ -231,9 +231,7 @@ TEST(ConeMarch, TakesFewerSamplesThanRelief)
     // Max-mip starts each segment's traversal at the level of the segment's length, not at the
     // pyramid's 1x1 top (march/maxmip.glsl). On the torus, where a ray crosses four prisms and
     // marches two halves in each, it took twice relief's samples from the top.
-    Scene torus = prtest::bundled("torus.obj", h, 0.1f);
-    r.upload(torus);
-    const Camera framed = frame_sphere(torus.shell_bounds, 40.0f, 128.0f / 96.0f, 25.0f, 35.0f);
+    const Camera framed = prtest::upload_framed(r, prtest::bundled("torus.obj", h, 0.1f), 25.0f, 35.0f);
     const double torus_relief = counted_draw(r, framed, settings(Technique::Prism, Marcher::Relief), 1000u);
     const double torus_max_mip = counted_draw(r, framed, settings(Technique::Prism, Marcher::MaxMip), 1000u);
     EXPECT_LT(torus_max_mip, torus_relief) << torus_relief;
