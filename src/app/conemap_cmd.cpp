@@ -17,7 +17,6 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
-#include <thread>
 
 namespace pr {
 
@@ -96,7 +95,7 @@ CommandAction add_conemap_command(CLI::App& app)
         std::optional<ConeGpuReport> gpu_report; // a GPU build's
         const ConeBuilder build = [&](const HeightField& f, ConeKind k, const ConeBuildOptions& o) {
             if (!gpu) {
-                const unsigned n = o.threads > 0 ? unsigned(o.threads) : std::max(1u, std::thread::hardware_concurrency());
+                const unsigned n = cone_cpu_threads(o, f.height); // (one per row at most)
                 device = "cpu, " + std::to_string(n) + (n == 1 ? " thread" : " threads");
                 return build_cone_map_cpu(f, k, o);
             }

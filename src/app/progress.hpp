@@ -1,6 +1,7 @@
 #pragma once
-// "LABEL: [#####.....]  50%" on stderr, redrawn in place, only when stderr is a terminal; cleared
-// when done (or destroyed), so piped output and logs never see it. Off a terminal, a task still
+// "LABEL: [#####.....]  50%" on stderr, redrawn in place (core/error.hpp, status_line: warnings
+// go above it), only when stderr is a terminal, fitted to its width; cleared when done (or
+// destroyed), so piped output and logs never see it. Off a terminal, a task still
 // running after `notice_after_s` (10 s) says once, on a line of its own, how far it is and about
 // how long it has left: a cone map of 4096² takes minutes, and a log showed nothing at all
 // (found by an exploratory session).
@@ -10,16 +11,20 @@
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <sys/ioctl.h>
 #include <unistd.h>
+
+#include "core/error.hpp"
 
 namespace pr {
 
 class ProgressBar {
 public:
     explicit ProgressBar(std::string label) : ProgressBar(std::move(label), stderr, isatty(fileno(stderr)) != 0) {}
-    // Drawn on `out` if `enabled`, else the notice after `notice_after_s` (tests).
-    ProgressBar(std::string label, std::FILE* out, bool enabled, double notice_after_s = 10.0)
-        : label_(std::move(label)), out_(out), enabled_(enabled), notice_after_s_(notice_after_s)
+    // Drawn on `out` if `enabled`, else the notice after `notice_after_s` (tests). `columns`: the
+    // terminal's width, 0 to ask the terminal `out` is at each draw (80 if it does not say).
+    ProgressBar(std::string label, std::FILE* out, bool enabled, double notice_after_s = 10.0, int columns = 0)
+        : label_(one_line(label)), out_(out), enabled_(enabled), notice_after_s_(notice_after_s), columns_(columns)
     {
     }
     ~ProgressBar() { clear(); }
@@ -38,23 +43,62 @@ public:
             std::fflush(out_);
             return;
         }
-        const int width = 30, filled = std::clamp(int(fraction * width + 0.5), 0, width);
-        std::fprintf(out_, "\r%s: [%s%s] %3d%%", label_.c_str(), std::string(std::size_t(filled), '#').c_str(),
-                     std::string(std::size_t(width - filled), '.').c_str(), int(fraction * 100.0 + 0.5));
-        std::fflush(out_);
+        status_line(out_, bar_line(label_, fraction, columns_ > 0 ? columns_ : terminal_columns(out_)));
         shown_ = true;
     }
     void clear()
     {
-        if (shown_) std::fprintf(out_, "\r%*s\r", int(label_.size()) + 40, "");
+        if (shown_) status_line(out_, "");
         shown_ = false;
     }
 
+    // "LABEL: [#####.....]  50%" in at most `columns` - 1 columns (a line as wide as the terminal
+    // wraps on some terminals, and "\r" then goes back to its last row only: a bar for a long map
+    // name left a new line at every redraw, found by an exploratory session). The bar is 30 wide
+    // where it fits, down to 10; then the label loses its middle ("...").
+    static std::string bar_line(const std::string& label, double fraction, int columns)
+    {
+        const int room = std::max(columns, 20) - 1, fixed = 9; // ": [", "] ", "100%"
+        const int length = int(display_columns(label));
+        int width = std::clamp(room - fixed - length, 10, 30);
+        // (Narrower still on a very narrow terminal, where the label keeps 12 columns.)
+        if (room - fixed - width < 12) width = std::max(room - fixed - 12, 3);
+        const int filled = std::clamp(int(fraction * width + 0.5), 0, width);
+        const std::string shown = shortened(label, std::size_t(room - fixed - width));
+        char percent[8];
+        std::snprintf(percent, sizeof percent, "%3d%%", std::clamp(int(fraction * 100.0 + 0.5), 0, 100));
+        return shown + ": [" + std::string(std::size_t(filled), '#') + std::string(std::size_t(width - filled), '.') +
+               "] " + percent;
+    }
+
 private:
+    // `text` in at most `columns` columns: its start and (more of) its end around "...", cut
+    // between UTF-8 characters.
+    static std::string shortened(const std::string& text, std::size_t columns)
+    {
+        const std::size_t length = display_columns(text);
+        if (length <= columns) return text;
+        const std::size_t keep = columns > 3 ? columns - 3 : 0, head = keep / 4, tail = keep - head;
+        // The byte where character `n` starts.
+        const auto byte_of = [&text](std::size_t n) {
+            std::size_t i = 0;
+            for (std::size_t seen = 0; i < text.size(); ++i)
+                if ((static_cast<unsigned char>(text[i]) & 0xC0u) != 0x80u && seen++ == n) break;
+            return i;
+        };
+        return text.substr(0, byte_of(head)) + "..." + text.substr(byte_of(length - tail));
+    }
+    static int terminal_columns(std::FILE* out)
+    {
+        winsize size{};
+        return ioctl(fileno(out), TIOCGWINSZ, &size) == 0 && size.ws_col > 0 ? int(size.ws_col) : 80;
+    }
+
     std::string label_;
     std::FILE* out_;
     bool enabled_;
     double notice_after_s_;
+    int columns_;
     bool noticed_ = false;
     std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
     bool shown_ = false;
@@ -66,8 +110,8 @@ private:
 class TaskProgress {
 public:
     TaskProgress() : TaskProgress(stderr, isatty(fileno(stderr)) != 0) {}
-    TaskProgress(std::FILE* out, bool enabled, double notice_after_s = 10.0)
-        : out_(out), enabled_(enabled), notice_after_s_(notice_after_s)
+    TaskProgress(std::FILE* out, bool enabled, double notice_after_s = 10.0, int columns = 0)
+        : out_(out), enabled_(enabled), notice_after_s_(notice_after_s), columns_(columns)
     {
     }
 
@@ -76,7 +120,7 @@ public:
         if (!bar_ || what != what_) {
             bar_.reset();
             if (fraction >= 1.0) return;
-            bar_.emplace("building " + what, out_, enabled_, notice_after_s_);
+            bar_.emplace("building " + what, out_, enabled_, notice_after_s_, columns_);
             what_ = what;
         }
         (*bar_)(fraction);
@@ -87,6 +131,7 @@ private:
     std::FILE* out_;
     bool enabled_;
     double notice_after_s_;
+    int columns_;
     std::optional<ProgressBar> bar_;
     std::string what_;
 };

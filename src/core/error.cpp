@@ -16,6 +16,8 @@ struct Warnings {
     std::set<std::string> said;
     bool holding = false;
     std::vector<std::string> held; // lines, in order
+    std::FILE* status_out = nullptr; // status_line()'s, while one is shown
+    std::string status;
 };
 
 Warnings& warnings()
@@ -24,7 +26,41 @@ Warnings& warnings()
     return w;
 }
 
+// Prints a warning's line on stderr, around the status line if one is shown there (w.mutex held).
+void print_warning(const Warnings& w, const std::string& line)
+{
+    const bool around = w.status_out == stderr && !w.status.empty();
+    if (around) std::fprintf(stderr, "\r%*s\r", int(display_columns(w.status)), "");
+    std::fputs(line.c_str(), stderr);
+    if (around) std::fprintf(stderr, "%s", w.status.c_str());
+    std::fflush(stderr);
+}
+
 } // namespace
+
+void status_line(std::FILE* out, const std::string& line)
+{
+    Warnings& w = warnings();
+    std::lock_guard lock(w.mutex);
+    const std::size_t shown = w.status_out == out ? display_columns(w.status) : 0;
+    if (line.empty()) {
+        if (shown > 0) std::fprintf(out, "\r%*s\r", int(shown), "");
+    } else {
+        // Over the line shown, and blanks where it was longer.
+        const std::size_t length = display_columns(line);
+        std::fprintf(out, "\r%s%*s", line.c_str(), int(shown > length ? shown - length : 0), "");
+    }
+    std::fflush(out);
+    w.status_out = line.empty() ? nullptr : out;
+    w.status = line;
+}
+
+std::size_t display_columns(std::string_view line)
+{
+    std::size_t n = 0;
+    for (const char c : line) n += (static_cast<unsigned char>(c) & 0xC0u) != 0x80u; // (not a continuation byte)
+    return n;
+}
 
 void warn(const std::string& message)
 {
@@ -33,7 +69,7 @@ void warn(const std::string& message)
     if (!w.said.insert(message).second) return;
     const std::string line = "prismrelief: warning: " + one_line(message) + "\n";
     if (w.holding) w.held.push_back(line);
-    else std::fputs(line.c_str(), stderr);
+    else print_warning(w, line);
 }
 
 void hold_warnings()
@@ -51,7 +87,7 @@ void stop_holding(bool print)
     Warnings& w = warnings();
     std::lock_guard lock(w.mutex);
     if (print)
-        for (const std::string& line : w.held) std::fputs(line.c_str(), stderr);
+        for (const std::string& line : w.held) print_warning(w, line);
     w.held.clear();
     w.holding = false;
 }

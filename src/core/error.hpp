@@ -1,5 +1,6 @@
 #pragma once
 // Errors that reach the user as one line: "prismrelief: error: <subject>: <problem>".
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -41,6 +42,16 @@ void warn(const std::string& message);
 void hold_warnings();
 void release_warnings();
 void drop_warnings();
+
+// A line kept at the foot of a terminal while work goes on and redrawn in place (a progress bar,
+// app/progress.hpp) on `out`: `line` replaces the one shown, "" clears it (the cursor back at the
+// line's start). A warning on stderr clears a line shown there first and draws it again after, so
+// it never runs on from a bar's end (a cache warning followed "[###...###] 100%" on its line; found
+// by an exploratory session). `line` must fit the terminal's width: past it the terminal wraps,
+// and "\r" goes back to the start of the last row only.
+void status_line(std::FILE* out, const std::string& line);
+// The terminal columns `line` takes: its UTF-8 characters (wide ones counted as one).
+std::size_t display_columns(std::string_view line);
 
 // `text` with its control characters written out ("\n", "\r", "\t", else "\xNN"), so that a
 // message quoting a file name or a value that holds a line break stays one line on stderr; past

@@ -219,8 +219,15 @@ void check_outputs_outside_cache(const std::vector<std::pair<std::string, std::f
     for (const auto& [option, path] : outputs) {
         if (path.empty()) continue;
         const fs::path out = resolved(path);
+        if (out.empty()) continue;
+        // A file among the entries (one of this run's, say): the cache replaces and trims them
+        // (`--out` naming the entry the run reads wrote the PNG over it, and the next run warned
+        // of a bad header and built the map again; found by an exploratory session).
+        if (out.parent_path() == entries)
+            throw Error(path.string(), "is in the cone-map cache's entries' folder (" + (dir / "cone").string() +
+                                           "), whose files the cache replaces: name a file elsewhere, or another --cache-dir");
         std::error_code ec;
-        if (out.empty() || fs::is_regular_file(out, ec)) continue; // (then the cache cannot be made: it warns)
+        if (fs::is_regular_file(out, ec)) continue; // (then the cache cannot be made: it warns)
         // `out` itself, or a folder on the way to the entries (`--out cz --cache-dir cz/sub`).
         const auto [o, e] = std::mismatch(out.begin(), out.end(), entries.begin(), entries.end());
         if (o != out.end()) continue;

@@ -455,6 +455,12 @@ private:
 
 } // namespace
 
+unsigned cone_cpu_threads(const ConeBuildOptions& options, int items)
+{
+    const unsigned threads = options.threads > 0 ? unsigned(options.threads) : std::thread::hardware_concurrency();
+    return std::clamp(threads, 1u, unsigned(std::max(1, items)));
+}
+
 namespace {
 
 // Runs `per_item(searcher, i)` for i in [0, count) on options.threads threads (each with its
@@ -464,8 +470,7 @@ template <class PerItem>
 void for_each_item(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind, const ConeBuildOptions& options,
                    int count, PerItem per_item)
 {
-    unsigned threads = options.threads > 0 ? unsigned(options.threads) : std::thread::hardware_concurrency();
-    threads = std::clamp(threads, 1u, unsigned(std::max(1, count)));
+    const unsigned threads = cone_cpu_threads(options, count);
     std::atomic<int> next{0}, done{0};
     std::mutex mutex;
     std::condition_variable finished;

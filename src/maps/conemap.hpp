@@ -74,12 +74,16 @@ struct ConeBuildOptions {
 };
 
 // Thrown by build_cone_map_cpu() and build_cone_map_gpu() when ConeBuildOptions::cancel turned true.
+// The threads the CPU generator runs for `items` items (build_cone_map_cpu: rows): options.threads,
+// or the machine's with 0, at least 1 and at most one per item.
+unsigned cone_cpu_threads(const ConeBuildOptions& options, int items);
+
 class ConeBuildCancelled : public std::runtime_error {
 public:
     ConeBuildCancelled() : std::runtime_error("cone-map build cancelled") {}
 };
 
-// Multi-threaded CPU generator.
+// Multi-threaded CPU generator: a row at a time on cone_cpu_threads(options, field.height) threads.
 ConeMap build_cone_map_cpu(const HeightField& field, ConeKind kind, const ConeBuildOptions& options = {});
 
 // Writes R = height, G = ratio as a 2-channel PNG (8 or 16 bits), atomically. Throws pr::Error.
@@ -191,8 +195,9 @@ double relaxed_constraint(const HeightField& field, int px, int py, int dx, int 
 // returns it, with one warning, when neither variable is an absolute path).
 // `warn_if_none`: false to ask where the cache would be without saying there is none.
 std::filesystem::path default_cache_dir(bool warn_if_none = true);
-// Refuses an output that is the cache's folder, its entries' folder (DIR/cone) or a folder on
-// the way to them, and is not a file yet, before the work: the cache creates them, and the output
+// Refuses an output in the cache's entries' folder (DIR/cone), which the cache's files fill, and
+// one that is the cache's folder, the entries' folder or a folder on the way to them, and is not
+// a file yet, before the work: the cache creates them, and the output
 // check, which found no file there, passed, so the run built the map, filled the cache and only
 // then failed ("cz: is a folder"). `outputs` pair an option with its path (empty paths skipped);
 // `cache_dir_flag` is --cache-dir's value, empty for the default place (default_cache_dir()).

@@ -86,3 +86,53 @@ TEST(Progress, OffATerminalALongTaskSaysOnceHowFarItIs)
     EXPECT_EQ(contents(quiet), "");
     std::fclose(quiet);
 }
+
+// A bar fits the terminal's width less one column: a line as wide as the terminal wraps, and the
+// redraw's "\r" goes back to its last row only (a long map name left a new line on an 80-column
+// terminal at every redraw; found by an exploratory session). Long labels lose their middle, cut
+// between UTF-8 characters.
+TEST(Progress, BarsFitTheTerminalsWidth)
+{
+    const std::string long_label = "building relaxed cone map of /home/someone/projects/relief/heights/" +
+                                   std::string("\xc3\xa9t\xc3\xa9-") + "cobblestones_4096.png";
+    for (int columns : {20, 24, 40, 80, 81, 120, 300})
+        for (double fraction : {0.0, 0.37, 1.0}) {
+            const std::string line = pr::ProgressBar::bar_line(long_label, fraction, columns);
+            EXPECT_LE(pr::display_columns(line), std::size_t(columns - 1)) << columns << ": " << line;
+            EXPECT_EQ(pr::one_line(line), line) << "not whole UTF-8 characters: " << line;
+            if (columns >= 40) EXPECT_NE(line.find("4096.png: ["), std::string::npos) << line; // the name's end
+        }
+    // Shortened where it must be only, with the whole 30-wide bar where it fits.
+    const std::string wide = pr::ProgressBar::bar_line(long_label, 0.5, 300);
+    EXPECT_EQ(wide.rfind(long_label + ": [###############...............]  50%", 0), 0u) << wide;
+    const std::string narrow = pr::ProgressBar::bar_line(long_label, 0.5, 80);
+    EXPECT_EQ(narrow.rfind("building rel", 0), 0u) << narrow;
+    EXPECT_NE(narrow.find("..."), std::string::npos) << narrow;
+
+    // Drawn at that width, and cleared over all of it.
+    std::FILE* out = std::tmpfile();
+    ASSERT_NE(out, nullptr);
+    {
+        pr::ProgressBar bar(long_label, out, true, 10.0, 60);
+        bar(0.5);
+        EXPECT_EQ(contents(out), "\r" + pr::ProgressBar::bar_line(long_label, 0.5, 60));
+    }
+    EXPECT_EQ(contents(out), "\r" + pr::ProgressBar::bar_line(long_label, 0.5, 60) + "\r" + std::string(59, ' ') + "\r");
+    std::fclose(out);
+}
+
+// A warning while a bar is shown goes on a line of its own above it, and the bar is drawn again
+// under it (a cache warning ran on from "[###...###] 100%"; found by an exploratory session).
+TEST(Progress, AWarningGoesAboveTheBar)
+{
+    testing::internal::CaptureStderr();
+    {
+        pr::ProgressBar bar("conemap", stderr, true, 10.0, 80);
+        bar(1.0);
+        pr::warn("test_progress: a warning while a bar is shown");
+    }
+    const std::string s = testing::internal::GetCapturedStderr();
+    const std::string line = pr::ProgressBar::bar_line("conemap", 1.0, 80);
+    const std::string blank = "\r" + std::string(line.size(), ' ') + "\r";
+    EXPECT_EQ(s, "\r" + line + blank + "prismrelief: warning: test_progress: a warning while a bar is shown\n" + line + blank);
+}
