@@ -224,7 +224,16 @@ void main()
 #ifdef PR_DEPTH_WRITE
     // Depth of what is shown (--depth-write). A variant of its own: writing gl_FragDepth at all
     // turns off early depth rejection, so the plain variants never touch it.
-    vec4 clip = u_view_proj * vec4(v_world_pos + t_hit * view, 1.0);
+    // No further than `depth` under the face's own plane: the displaced surface lies within that
+    // (P + depth (h - midlevel) N, N a unit normal), while the march's frame takes the smooth
+    // normal, which at a hard edge's welded corners leans far from the face: a ray nearly along
+    // the frame's plane carved far behind the object, and with --midlevel 1 a wall 0.3 behind a
+    // cube showed through 391 pixels along its outline (found by an exploratory session,
+    // twenty-ninth; cli.depth_write_stays_within_the_shell).
+    vec3 face = cross(dFdx(v_world_pos), dFdy(v_world_pos));
+    float into = abs(dot(view, face)) * inversesqrt(max(dot(face, face), 1e-37)); // |view . face normal|
+    float t_shown = into > 0.0 ? min(t_hit, depth / into) : t_hit;
+    vec4 clip = u_view_proj * vec4(v_world_pos + t_shown * view, 1.0);
     // At least the smallest normal float: the carved point can lie past the far plane (a grazing
     // ray runs on through the repeating uv, beyond the shell's sphere), and a depth of 0 (the far
     // plane's, reversed: Camera::projection) failed the depth test against the clear value:

@@ -242,6 +242,36 @@ RgbaImage silhouette_diff_tile(const RgbaImage& technique, const RgbaImage& refe
     return out;
 }
 
+namespace {
+
+// The lines a label is drawn in within `inner` pixels at `scale`: its own ('\n'), each one that
+// does not fit broken after a ':' where it can ("prism:relaxed-cone:exact" over two lines, not
+// cut to "prism:relaxed-c", which "prism:relaxed-cone" is cut to as well: two techniques of a
+// grid read the same; found by an exploratory session). A piece still too wide is cut by
+// compose_grid.
+std::vector<std::string_view> label_lines(std::string_view label, int inner, int scale)
+{
+    std::vector<std::string_view> lines;
+    for (;;) {
+        const std::size_t end = label.find('\n');
+        std::string_view line = label.substr(0, end);
+        while (text_width(line, scale) > inner) {
+            // The longest head that ends with ':' and fits; none: the line as it is.
+            std::size_t cut = std::string_view::npos;
+            for (std::size_t i = line.find(':'); i != std::string_view::npos && i + 1 < line.size(); i = line.find(':', i + 1))
+                if (text_width(line.substr(0, i + 1), scale) <= inner) cut = i + 1;
+            if (cut == std::string_view::npos) break;
+            lines.push_back(line.substr(0, cut));
+            line.remove_prefix(cut);
+        }
+        lines.push_back(line);
+        if (end == std::string_view::npos) return lines;
+        label.remove_prefix(end + 1);
+    }
+}
+
+} // namespace
+
 GridLayout plan_grid(const std::vector<Tile>& tiles, int columns)
 {
     if (tiles.empty()) throw Error("grid", "no tiles to lay out");
@@ -256,11 +286,11 @@ GridLayout plan_grid(const std::vector<Tile>& tiles, int columns)
     }
     // One scale for the whole figure so every strip has the same height.
     l.scale = l.cell_width >= 256 ? 2 : 1;
-    // Lines of the longest label ('\n' separates them), one pixel row apart; 2 rows of padding
-    // above the text, 1 below.
+    // Lines of the longest label (label_lines), one pixel row apart; 2 rows of padding above the
+    // text, 1 below.
     int lines = 1;
     for (const Tile& t : tiles)
-        lines = std::max(lines, 1 + static_cast<int>(std::count(t.label.begin(), t.label.end(), '\n')));
+        lines = std::max(lines, static_cast<int>(label_lines(t.label, l.cell_width - 4 * l.scale, l.scale).size()));
     l.strip_height = (lines * (kGlyphRows + 1) + 2) * l.scale;
     l.margin = 4 * l.scale;
     l.width = l.columns * l.cell_width + (l.columns + 1) * l.margin;
@@ -300,27 +330,24 @@ RgbaImage compose_grid(const std::vector<Tile>& tiles, int columns,
 
         const int strip_y = o.y + img.height;
         fill(out, o.x, strip_y, l.cell_width, l.strip_height, kStrip);
-        // Line by line from the top, each cut at the last whole character that fits the strip's
-        // inner width.
+        // Line by line from the top (label_lines), each cut at the last whole character that fits
+        // the strip's inner width.
         const int inner = l.cell_width - 4 * l.scale;
-        std::string_view rest = tile.label;
-        for (int line = 0;; ++line) {
-            const std::size_t end = rest.find('\n');
-            std::string_view text = rest.substr(0, end);
-            const std::size_t whole = text.size();
+        const std::vector<std::string_view> lines = label_lines(tile.label, inner, l.scale);
+        for (std::size_t line = 0; line < lines.size(); ++line) {
+            const std::string_view whole = lines[line];
+            std::string_view text = whole;
             while (!text.empty() && text_width(text, l.scale) > inner) text.remove_suffix(1);
             // A number is not cut: "IoU 0.9942" cut to "IoU 0.9" read as a tenth lower (found by
             // an exploratory session); the line ends before it ("IoU").
             const auto in_number = [](char c) { return (c >= '0' && c <= '9') || c == '.' || c == '-'; };
-            if (text.size() < whole && !text.empty() && in_number(text.back()) && in_number(rest[text.size()])) {
+            if (text.size() < whole.size() && !text.empty() && in_number(text.back()) && in_number(whole[text.size()])) {
                 while (!text.empty() && in_number(text.back())) text.remove_suffix(1);
                 while (!text.empty() && text.back() == ' ') text.remove_suffix(1);
             }
             draw_text(out, o.x + 2 * l.scale,
-                      strip_y + l.strip_height - 1 - 2 * l.scale - line * (kGlyphRows + 1) * l.scale, text,
+                      strip_y + l.strip_height - 1 - 2 * l.scale - int(line) * (kGlyphRows + 1) * l.scale, text,
                       l.scale, kText);
-            if (end == std::string_view::npos) break;
-            rest.remove_prefix(end + 1);
         }
 
         const int square = kCheckerSquare * l.scale;

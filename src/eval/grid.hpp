@@ -31,7 +31,8 @@ inline constexpr int kDiffBothHigh = 224;
 RgbaImage silhouette_diff_tile(const RgbaImage& technique, const RgbaImage& reference);
 
 struct Tile {
-    std::string label; // lines separated by '\n'; the strips fit the most lines, each line cut to fit
+    std::string label; // lines separated by '\n', a line too wide broken after a ':' where it can;
+                       // the strips fit the most lines, each line cut to fit
     RgbaImage image;
 };
 
@@ -58,8 +59,8 @@ glm::ivec2 tile_origin(const GridLayout& layout, int index, const Tile& tile);
 // Tiles in row-major order, `columns` per row, first tile at the top left, each under a white
 // strip with its label in black. Tiles are composited over a grey checker (or, when
 // `background_colour_hint` is given and not empty, over the flat RGB of its pixel (0,0)) so what a
-// tile leaves transparent shows as background. Labels too long for the cell are cut at the last
-// whole character that fits. Throws pr::Error("grid", ...) on no tiles or columns < 1.
+// tile leaves transparent shows as background. Label lines too long for the cell are broken after
+// a ':' where they can, else cut at the last whole character that fits. Throws pr::Error("grid", ...) on no tiles or columns < 1.
 RgbaImage compose_grid(const std::vector<Tile>& tiles, int columns,
                        const RgbaImage* background_colour_hint = nullptr);
 

@@ -343,3 +343,28 @@ TEST(Grid, LabelsOfTwoLinesStackTheirLines)
     EXPECT_EQ(strip("T 11111"), strip("T"));
     EXPECT_NE(strip("T 1111"), strip("T")) << "six characters fit whole";
 }
+
+// A label line too wide for its cell is broken after a ':' where it can, and the strips grow to
+// fit: cut at the cell's edge, "prism:relaxed-cone" and "prism:relaxed-cone:exact" both read
+// "prism:relaxed-c" in a grid of 96-pixel tiles (found by an exploratory session).
+TEST(Grid, LongLabelsBreakAfterAColon)
+{
+    const std::vector<pr::Tile> tiles{{"prism:relaxed-cone\nIoU 0.9999", solid(96, 8, {255, 0, 0, 255})},
+                                      {"prism:relaxed-cone:exact\nIoU 0.9999", solid(96, 8, {255, 0, 0, 255})}};
+    const pr::GridLayout l = pr::plan_grid(tiles, 2);
+    // "prism:" / "relaxed-cone:" / "exact" / "IoU 0.9999": four lines of 9 rows, a row apart.
+    EXPECT_EQ(l.strip_height, 4 * (pr::kGlyphRows + 1) + 2);
+    const pr::RgbaImage g = pr::compose_grid(tiles, 2);
+    // The two strips differ (the grid's rows are bottom first; the strip lies over its tile).
+    const auto strip = [&](int index) {
+        const glm::ivec2 o = pr::tile_origin(l, index, tiles[std::size_t(index)]);
+        std::vector<std::uint8_t> rows;
+        for (int y = o.y + 8; y < o.y + 8 + l.strip_height; ++y)
+            for (int x = o.x; x < o.x + l.cell_width; ++x)
+                for (int c = 0; c < 4; ++c) rows.push_back(g.pixels[4 * (std::size_t(y) * std::size_t(g.width) + std::size_t(x)) + std::size_t(c)]);
+        return rows;
+    };
+    EXPECT_NE(strip(0), strip(1));
+    // A label that fits keeps its one line.
+    EXPECT_EQ(pr::plan_grid({{"relief", solid(96, 8, {})}}, 1).strip_height, pr::kGlyphRows + 1 + 2);
+}
