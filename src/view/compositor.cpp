@@ -27,10 +27,20 @@ void make_target(int w, int h, gl::Texture& tex, gl::Framebuffer& fbo)
 
 } // namespace
 
-Compositor::Compositor()
-    : program_(build_program({{GL_VERTEX_SHADER, "compositor.vert"}, {GL_FRAGMENT_SHADER, "compositor.frag"}}, {})),
-      vao_(gl::VertexArray::create())
+namespace {
+
+gl::Program compositor_program()
 {
+    return build_program({{GL_VERTEX_SHADER, "compositor.vert"}, {GL_FRAGMENT_SHADER, "compositor.frag"}}, {});
+}
+
+} // namespace
+
+Compositor::Compositor() : program_(compositor_program()), vao_(gl::VertexArray::create()) {}
+
+void Compositor::reload_program()
+{
+    program_ = compositor_program();
 }
 
 void Compositor::resize(int width, int height)

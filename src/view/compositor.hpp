@@ -36,6 +36,9 @@ public:
     void present(const Present& p);
 
     RgbaImage read_view() const; // RGBA8, alpha = coverage, bottom row first
+    // Builds the program again from its sources (the viewer's shader reload); on a compile or
+    // link error throws pr::Error and keeps the program it had.
+    void reload_program();
 
 private:
     int width_ = 0;

@@ -3,6 +3,7 @@
 // the Compositor, and draws the Dear ImGui panel on top.
 #include "view/viewer.hpp"
 
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/stats.hpp"
 #include "gl/gl.hpp"
@@ -549,6 +550,16 @@ void Viewer::render_scene()
 void Viewer::take_screenshot(const std::string& path)
 {
     try {
+        // Never over a file the scene reads now: the start checks --screenshot against the inputs
+        // it was given, but a height image dropped later was replaced by P's screenshot (found by
+        // an exploratory session).
+        std::vector<NamedPath> inputs;
+        for (const ObjectSpec& obj : s_.spec.objects) {
+            inputs.emplace_back("mesh", obj.mesh);
+            if (obj.height.rfind("builtin:", 0) != 0) inputs.emplace_back("height map", obj.height);
+            if (!obj.color.empty() && obj.color.rfind("builtin:", 0) != 0) inputs.emplace_back("colour map", obj.color);
+        }
+        check_distinct_outputs({{"--screenshot", path}}, inputs);
         write_png(path, o_.screenshot_ui ? read_window() : compositor_->read_view());
         note("wrote " + path);
         if (o_.frames > 0) std::printf("%s: %dx%d\n", path.c_str(), compositor_->width(), compositor_->height());
@@ -580,6 +591,15 @@ void Viewer::reset_view()
 void Viewer::reload_shaders()
 {
     s_.renderer->reload_shaders();
+    // The compositor's too (compositor.frag): built once at the start, it kept its first program,
+    // edits and errors alike (found by an exploratory session). A broken one keeps the last good
+    // program and is reported as the renderer's are.
+    try {
+        compositor_->reload_program();
+    } catch (const Error& e) {
+        shader_error_ = e.what();
+        error(e.what());
+    }
     blocked_key_.clear(); // retry the settings that failed to compile
     dirty_ = true;
 }
@@ -998,6 +1018,13 @@ int Viewer::run()
             counted_ += counted;
             if (o_.frames > 0 && counted_ >= o_.frames) break;
         }
+        // Closed (Q, the window's close button) before the frames asked for: a --screenshot was not
+        // written, and the run fails, rather than exit 0 without its PNG (found by an exploratory
+        // session).
+        if (o_.frames > 0 && counted_ < o_.frames && !o_.screenshot.empty())
+            throw Error("view", "the window was closed after " + std::to_string(counted_) + " of " +
+                                    std::to_string(o_.frames) + " frames: --screenshot " + o_.screenshot +
+                                    " not written");
         if (o_.frames > 0) {
             // Frame times for docs/viewer.md: the renderer's draw (to glFinish) per technique and
             // the whole frame (draw, copy, panel, swap).
