@@ -189,10 +189,10 @@ vec2 light_sample(vec3 origin, vec3 dir, float t, UvGrad g)
 // light seen) is looked at again where the heights bend: bilinear heights bend on the lines
 // through texel centres, and a box's edge is such a bend, where the ray's clearance is least and
 // which samples a step apart miss by up to a step. The crossings of those lines next to that
-// sample, between the samples before and after it (the nearest on either side), are sampled too. (Missed, the
-// soft penumbra of a box's edge fell in steps as the receiver moved, and with the cone marchers'
-// longer steps rose again inside it: a bright line along a box's shadow, 30 levels of 255 over
-// the penumbra's 80; found by an exploratory session.)
+// sample (the nearest on either side, between the samples before and after it) are sampled too.
+// (Missed, the soft penumbra of a box's edge fell in steps as the receiver moved, and with the
+// cone marchers' longer steps rose again inside it: a bright line along a box's shadow, 30 levels
+// of 255 over the penumbra's 80; found by an exploratory session, twenty-ninth.)
 int march_light(vec3 origin, vec3 dir, float t_end, float rise, inout float run_before, inout float visibility, UvGrad g)
 {
 #ifdef PR_SHADOWS

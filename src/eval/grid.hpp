@@ -60,7 +60,8 @@ glm::ivec2 tile_origin(const GridLayout& layout, int index, const Tile& tile);
 // strip with its label in black. Tiles are composited over a grey checker (or, when
 // `background_colour_hint` is given and not empty, over the flat RGB of its pixel (0,0)) so what a
 // tile leaves transparent shows as background. Label lines too long for the cell are broken after
-// a ':' where they can, else cut at the last whole character that fits. Throws pr::Error("grid", ...) on no tiles or columns < 1.
+// a ':' where they can, else cut at the last whole character that fits. Throws
+// pr::Error("grid", ...) on no tiles or columns < 1.
 RgbaImage compose_grid(const std::vector<Tile>& tiles, int columns,
                        const RgbaImage* background_colour_hint = nullptr);
 

@@ -73,11 +73,11 @@ struct ConeBuildOptions {
     int gpu_resume_capacity = 0;
 };
 
-// Thrown by build_cone_map_cpu() and build_cone_map_gpu() when ConeBuildOptions::cancel turned true.
 // The threads the CPU generator runs for `items` items (build_cone_map_cpu: rows): options.threads,
 // or the machine's with 0, at least 1 and at most one per item.
 unsigned cone_cpu_threads(const ConeBuildOptions& options, int items);
 
+// Thrown by build_cone_map_cpu() and build_cone_map_gpu() when ConeBuildOptions::cancel turned true.
 class ConeBuildCancelled : public std::runtime_error {
 public:
     ConeBuildCancelled() : std::runtime_error("cone-map build cancelled") {}
@@ -197,9 +197,9 @@ double relaxed_constraint(const HeightField& field, int px, int py, int dx, int 
 std::filesystem::path default_cache_dir(bool warn_if_none = true);
 // Refuses an output in the cache's entries' folder (DIR/cone), which the cache's files fill, and
 // one that is the cache's folder, the entries' folder or a folder on the way to them, and is not
-// a file yet, before the work: the cache creates them, and the output
-// check, which found no file there, passed, so the run built the map, filled the cache and only
-// then failed ("cz: is a folder"). `outputs` pair an option with its path (empty paths skipped);
+// a file yet, before the work: the cache creates them, and the output check, which found no file
+// there, passed, so the run built the map, filled the cache and only then failed ("cz: is a
+// folder"). `outputs` pair an option with its path (empty paths skipped);
 // `cache_dir_flag` is --cache-dir's value, empty for the default place (default_cache_dir()).
 // Callers with --no-cache do not ask. Throws pr::Error naming the output.
 void check_outputs_outside_cache(const std::vector<std::pair<std::string, std::filesystem::path>>& outputs,

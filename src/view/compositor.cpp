@@ -25,10 +25,6 @@ void make_target(int w, int h, gl::Texture& tex, gl::Framebuffer& fbo)
     glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 0, zero);
 }
 
-} // namespace
-
-namespace {
-
 gl::Program compositor_program()
 {
     return build_program({{GL_VERTEX_SHADER, "compositor.vert"}, {GL_FRAGMENT_SHADER, "compositor.frag"}}, {});
