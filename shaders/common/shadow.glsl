@@ -231,14 +231,15 @@ int march_light(vec3 origin, vec3 dir, float t_end, float rise, inout float run_
         visibility = min(visibility, clamp(near, 0.0, 1.0));
         if (visibility <= 0.0) return PR_LIGHT_BLOCKED;
 #endif
-        t_least = near < least ? t : t_least;
+        bool nearer = near < least;
+        t_least = nearer ? t : t_least;
+        least = min(least, near);
 #ifdef PR_HEIGHT_FROM_CONE
         t_after = after_least ? t : t_after;
-        after_least = near < least;
-        t_before = after_least ? t_last : t_before;
+        t_before = nearer ? t_last : t_before;
+        after_least = nearer;
         t_last = t;
 #endif
-        least = min(least, near);
 #ifdef PR_HEIGHT_FROM_CONE
         float c = sample_.y;
         float denom = run - c * dir.z;
