@@ -215,8 +215,12 @@ int march_light(vec3 origin, vec3 dir, float t_end, float rise, inout float run_
 #ifdef PR_HEIGHT_FROM_CONE
     float t_last = 0.0;
     bool after_least = false;
-    float t = dt;
-    for (int i = 1; i <= steps && t < t_end; ++i) {
+    // Each step is at least dt, and one that reaches t_end by that least step alone ends there:
+    // the stretch's end is sampled (a prism's exit is no other stretch's sample; where none
+    // follows, at an open sheet's edge, the cone marchers stepped past it, and a wall there cast a
+    // shadow a texel narrower than relief's; found by an exploratory session, thirtieth).
+    float t = min(dt, t_end);
+    for (int i = 1; i <= steps; ++i) {
 #else
     for (int i = 1; i <= steps; ++i) {
         float t = float(i) * dt;
@@ -248,7 +252,9 @@ int march_light(vec3 origin, vec3 dir, float t_end, float rise, inout float run_
         // stretch can block it. (Only this stretch: the prism's light walk goes on in the next
         // prism's texture frame, where the ray's slope may be less.)
         if (denom <= 0.0) break;
-        t += max(c * (clearance - 2e-3) / denom, dt); // (the clearance less the bias)
+        float clear = c * (clearance - 2e-3) / denom; // (the clearance less the bias)
+        // (An end at the top of the height range is clear: no height passes it.)
+        clear = origin.z + t_end * dir.z >= 1.0 ? max(clear, dt) : clear;
 #else
         // Soft: the cone bounds the heights s further on by hc.x + s * run / c (under the surface
         // too), so the clearance there is at least clearance - s * denom / c, and the light seen
@@ -266,8 +272,12 @@ int march_light(vec3 origin, vec3 dir, float t_end, float rise, inout float run_
         float margin = c * (gain * clearance - least_slope * (run_before + t * run));
         float shrink = gain * denom + c * least_slope * run;
         if (shrink <= 0.0) break;
-        t += max(margin / shrink, dt);
+        float clear = margin / shrink;
 #endif
+        // Where the cone clears the rest of the stretch, its end needs no sample; where only the
+        // least step reaches it, it does.
+        if (t + clear >= t_end) break;
+        t = min(t + max(clear, dt), t_end);
 #endif
     }
     // The crossings of the lines through texel centres next to the nearest miss (above): the last

@@ -1076,6 +1076,30 @@ TEST(Shadows, ConeMarchersStepTheLightRayThroughTheCones)
     }
 }
 
+// A wall along the map's first column, which wraps to stand half high on the square's edge at
+// u = 1, under a light from +x: the floor's light rays leave the sheet over that edge, where the
+// light march's stretch ends. The cone marchers' light march stepped past its stretch's end and
+// never sampled it, so the wall's shadow next to the edge came out lit (here 300 of relief's 714
+// shadowed pixels, with both cone marchers; found by an exploratory session, thirtieth). Each marcher casts the relief marcher's shadow there.
+TEST(Shadows, AWallAtTheSheetsEdgeCastsItsWholeShadow)
+{
+    prtest::context();
+    Renderer r(128, 128);
+    r.set_cache_dir(prtest::cache_dir());
+    const Scene scene = prtest::one_object(prtest::square(), prtest::height_from(32, [](float u, float) {
+        return u < 1.0f / 32.0f ? 1.0f : 0.0f;
+    }), 0.2f);
+    r.upload(scene);
+    const Camera c = top_down_camera(4.0f, 35.0f);
+    const glm::vec3 light = light_from_x(25.0f);
+    const ShadowCount relief = hard_shadows(r, c, light, settings(Technique::Prism, Marcher::Relief));
+    ASSERT_GT(relief.dark, 200u) << "no shadow in view";
+    for (const Marcher m : {Marcher::Cone, Marcher::RelaxedCone, Marcher::MaxMip}) {
+        const ShadowCount n = hard_shadows(r, c, light, settings(Technique::Prism, m));
+        EXPECT_NEAR(double(n.dark), double(relief.dark), 0.02 * double(relief.dark)) << marcher_name(m);
+    }
+}
+
 // The viewer's background builds: a renderer lists the cone maps a draw would have to build
 // (neither in memory nor in its cache directory), takes them handed over, and draws with them
 // without building or caching anything; a renderer that builds them on first use reports its
