@@ -124,10 +124,11 @@ double bilinear(double x, double y)
     return r;
 }
 
-// maps::relaxed_constraint with a budget: the ray from p's column at height 1 through q's surface
-// point, one texel per step past q, on bilinear heights; when it leaves the surface, its value at
-// the last step still in it (`at_q`, q's cone constraint, at first), or +inf (returned as -1) when
-// it reaches h_p or passes `stop` first; out of budget, a lower bound (that same value).
+// maps::relaxed_constraint with a budget: the least over the level ray at h_q and the ray from
+// p's column at height 1, both through q's surface point, one texel per step past q, on bilinear
+// heights; each ray's value when it leaves the surface is its value at the last step still in it
+// (`at_q`, q's cone constraint, at first); a ray that reaches h_p, or whose value passes `stop`
+// first, sets none; none at all is +inf (returned as -1); out of budget, a lower bound.
 double relaxed_constraint(int px, int py, int dx, int dy, double stop, inout int budget, double at_q)
 {
     double hp = double(height_at(px, py));
@@ -136,24 +137,44 @@ double relaxed_constraint(int px, int py, int dx, int dy, double stop, inout int
     precise double inv_len = 1.0lf / sqrt(double(dx * dx + dy * dy));
     precise double tq = sqrt(double(dx * dx) / (double(u_size.x) * double(u_size.x)) +
                              double(dy * dy) / (double(u_size.y) * double(u_size.y)));
-    precise double drop = 1.0lf - hq;
-    precise double inside = at_q;
     int max_steps = 2 * (u_size.x + u_size.y);
+    // The level ray (infinite `level` is -1 as the result is).
+    precise double inside = at_q;
+    precise double level = -1.0lf;
     for (int k = 1; k <= max_steps; ++k) {
-        if (budget <= 0) return inside;
+        if (budget <= 0) return at_q;
+        --budget;
+        precise double lambda = 1.0lf + double(k) * inv_len;
+        precise double sx = double(px) + lambda * double(dx);
+        precise double sy = double(py) + lambda * double(dy);
+        if (bilinear(sx, sy) < hq) {
+            level = inside;
+            break;
+        }
+        precise double along = lambda * tq;
+        precise double limit = stop * (hq - hp);
+        if (along >= limit) break;
+        inside = along / (hq - hp);
+    }
+    // The ray from height 1, which counts below the level ray's value only.
+    if (level >= 0.0lf) stop = min(stop, level);
+    precise double drop = 1.0lf - hq;
+    inside = at_q;
+    for (int k = 1; k <= max_steps; ++k) {
+        if (budget <= 0) return level >= 0.0lf ? min(inside, level) : inside;
         --budget;
         precise double lambda = 1.0lf + double(k) * inv_len;
         precise double z = 1.0lf - lambda * drop;
-        if (!(z > hp)) return -1.0lf;
+        if (!(z > hp)) return level;
         precise double sx = double(px) + lambda * double(dx);
         precise double sy = double(py) + lambda * double(dy);
-        if (bilinear(sx, sy) < z) return inside;
+        if (bilinear(sx, sy) < z) return level >= 0.0lf ? min(inside, level) : inside;
         precise double along = lambda * tq;
         precise double limit = stop * (z - hp);
-        if (along >= limit) return -1.0lf;
+        if (along >= limit) return level;
         inside = along / (z - hp);
     }
-    return -1.0lf;
+    return level;
 }
 #endif
 

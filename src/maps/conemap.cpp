@@ -209,31 +209,55 @@ double relaxed_constraint(const HeightField& f, int px, int py, int dx, int dy, 
     const double inv_len = 1.0 / std::sqrt(double(dx * dx + dy * dy)); // steps of one texel
     const double tq = std::sqrt(double(dx * dx) / (double(f.width) * double(f.width)) +
                                 double(dy * dy) / (double(f.height) * double(f.height))); // UV
-    const double drop = 1.0 - hq; // height lost per unit of lambda (lambda = 1 at q)
-    // The value at the last step still in the surface, q's own at first. The ray leaves the
-    // surface somewhere between that step and the first one out of it, and so do the rays a hair
-    // under it, which the family through the texels' centres leaves out: the value at the step
-    // out let a cone reach up to a texel past a thin wall's far side, and a ray grazing the
-    // wall's top crossed all of it in one step (a wall 4 texels thick in a 2048 map seen low over
-    // the plane: 27 outline pixels wrong at 256 x 192 against the relief marcher's 4).
-    double inside = at_q;
     // Past q, one texel per step; at most the whole map twice over (the ray then has gone down
     // to h_p or its value passed `stop` long before on any sane map).
     const int max_steps = 2 * (f.width + f.height);
+    // Two rays through q's surface point, each followed past q until it leaves the surface; the
+    // value at its last step still in it (q's own at first) is its constraint. (A ray leaves the
+    // surface somewhere between that step and the first one out of it, and so do the rays a hair
+    // under it, which the family through the texels' centres leaves out: the value at the step
+    // out let a cone reach up to a texel past a thin wall's far side, and a ray grazing the
+    // wall's top crossed all of it in one step: a wall 4 texels thick in a 2048 map seen low over
+    // the plane, 27 outline pixels wrong at 256 x 192 against the relief marcher's 4.) The ray from p's
+    // column at height 1 is the relaxed cone's own (GPU Gems 3). The level one, at h_q, is the
+    // limit of the rays that come in low: one a hair under it goes into whatever stands at h_q
+    // there and out again where that ends. A cone wider than where it comes out lets such a ray
+    // step over all of it: a ridge a texel thin and 0.3 high, seen low over the plane, lost its
+    // top along a whole row (124 outline pixels wrong, against 3 with the relief marcher; the ray
+    // from height 1 falls through such a ridge to h_p and set no constraint; found by an
+    // exploratory session, thirtieth). Level first: it ends after a step or two but on plateaus.
+    double inside = at_q;
+    double level = kNone;
     for (int k = 1; k <= max_steps; ++k) {
-        if (budget <= 0) return inside;
+        if (budget <= 0) return at_q; // (the other ray's value is not known: no more than its least)
+        --budget;
+        const double lambda = 1.0 + double(k) * inv_len;
+        const double h = bilinear(f, double(px) + lambda * double(dx), double(py) + lambda * double(dy));
+        if (h < hq) {
+            level = inside;
+            break;
+        }
+        if (lambda * tq >= stop * (hq - hp)) break; // (no smaller value follows: none)
+        inside = (lambda * tq) / (hq - hp);
+    }
+    // The ray from height 1. Its value counts below the level ray's only: that is its `stop`.
+    stop = std::min(stop, level);
+    const double drop = 1.0 - hq; // height lost per unit of lambda (lambda = 1 at q)
+    inside = at_q;
+    for (int k = 1; k <= max_steps; ++k) {
+        if (budget <= 0) return std::min(inside, level);
         --budget;
         const double lambda = 1.0 + double(k) * inv_len;
         const double z = 1.0 - lambda * drop;
-        if (!(z > hp)) return kNone;
+        if (!(z > hp)) return level;
         const double h = bilinear(f, double(px) + lambda * double(dx), double(py) + lambda * double(dy));
-        if (h < z) return inside; // the ray left the surface since the step before: E
+        if (h < z) return std::min(inside, level); // the ray left the surface since the step before: E
         // The value lambda * tq / (z - hp) grows along the ray: stop once it cannot matter. (The
         // product form differs from the quotient by rounding only; `stop` has slack for that.)
-        if (lambda * tq >= stop * (z - hp)) return kNone;
+        if (lambda * tq >= stop * (z - hp)) return level;
         inside = (lambda * tq) / (z - hp);
     }
-    return kNone;
+    return level;
 }
 
 namespace {

@@ -98,8 +98,8 @@ ConeMap read_cone_png(const std::filesystem::path& path, ConeKind kind);
 // Bumped whenever the generator's output changes: part of every cache key. (3: rg8 maps are
 // built from their 8-bit heights; 4: rises in the stored height steps, exactly; 5: the search
 // goes on best first where the node budget runs out; 6: a relaxed constraint's exit is the
-// ray's last step still in the surface.)
-inline constexpr std::uint32_t kConeGeneratorVersion = 6;
+// ray's last step still in the surface; 7: and the level ray through q counts as well.)
+inline constexpr std::uint32_t kConeGeneratorVersion = 7;
 
 // 255 (rg8) or 65535 (rg16): the ratio is stored as k / steps, k an integer.
 int cone_format_steps(ConeFormat format);
@@ -176,14 +176,15 @@ void cone_steps_of_texels(const HeightField& field, const MaxPyramid& pyramid, C
                           std::vector<std::uint32_t>& steps);
 
 // The relaxed-cone constraint of texel q on texel p (kind relaxed, see docs/cone-maps.md): the
-// ray from p's column at height 1 through q's surface point, continued past q in steps of one
-// texel on bilinear heights, leaves the surface after its last step in it, E; the constraint is
-// |E - p| / (h_E - h_p) in UV units, q's own cone constraint `at_q` (as the caller computes it:
-// the exact ratio of the stored heights) where the first step past q is already out. Returns
-// +infinity when there is no exit above h_p, or when the march passes the value `stop` (no
-// smaller result can follow). (dx, dy) is the wrapped texel offset from p to q. Within a budget
-// of march steps (decremented): when it runs out before the march ends, returns a lower bound
-// of the constraint (its value at the last step, else `at_q`).
+// least over two rays through q's surface point, the one from p's column at height 1 and the
+// level one at h_q, each continued past q in steps of one texel on bilinear heights until it
+// leaves the surface after its last step in it, E, of |E - p| / (h_E - h_p) in UV units; q's own
+// cone constraint `at_q` (as the caller computes it: the exact ratio of the stored heights) where
+// the first step past q is already out. A ray with no exit above h_p sets none; +infinity when
+// neither does, or when the marches pass the value `stop` (no smaller result can follow). (dx, dy)
+// is the wrapped texel offset from p to q. Within a budget of march steps (decremented): when it
+// runs out before the marches end, returns a lower bound of the constraint (the least value
+// known, else `at_q`).
 double relaxed_constraint(const HeightField& field, int px, int py, int dx, int dy, double stop, int& budget,
                           double at_q);
 

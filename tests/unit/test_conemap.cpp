@@ -387,6 +387,27 @@ TEST(ConeMap, RelaxedConesInFrontOfAThinWallStopAtItsLastTexel)
     EXPECT_EQ(past, 0);
 }
 
+// A ridge a texel thin and lower than the range: a ray coming in low, a hair under its top, goes
+// in and out of it within a texel, so no relaxed cone in front of it may reach past it. (Only the
+// ray from height 1 was followed, which falls through such a ridge to the floor and set no
+// constraint: the cones next to a ridge 0.3 high were 15 times the cone's, and a relaxed march
+// seen low over the plane stepped over the ridge's top; found by an exploratory session,
+// thirtieth.)
+TEST(ConeMap, RelaxedConesInFrontOfALowRidgeStopPastIt)
+{
+    const float top = 0.3f;
+    const HeightField f = make(64, 8, [&](int x, int) { return x == 32 ? top : 0.0f; });
+    const ConeMap m = build_cone_map_cpu(f, ConeKind::Relaxed, {});
+    int past = 0;
+    for (int py = 0; py < f.height; ++py)
+        for (int px = 0; px < 32; ++px) {
+            const double r = m.ratios[std::size_t(py) * std::size_t(f.width) + std::size_t(px)];
+            const double beyond = std::min(33 - px, px + 33) / 64.0; // a texel past it, either way round
+            past += r * r > beyond / double(top) * (1.0 + 1e-9);
+        }
+    EXPECT_EQ(past, 0);
+}
+
 // A march budget gives a narrower relaxed cone where the search needs more, never narrower than
 // the cone, and still a valid relaxed cone (checked by the ray test above with the default budget).
 TEST(ConeMap, RelaxedBudgetLiesBetweenConeAndExact)
