@@ -734,8 +734,12 @@ std::vector<glm::dvec3> binary_ply_positions(string_view body, const std::vector
 }
 
 // Where a binary PLY's elements end in its body (after end_header), walking its lists by their
-// counts; the body's size when it ends first (the reader then says what is missing).
-size_t binary_ply_end(string_view body, const std::vector<PlyElement>& elements, bool big_endian)
+// counts; the body's size when it ends before a count (the reader then says what is missing). A
+// list count that is negative, or that needs more bytes than the file has left, is refused here,
+// naming the item: OpenMesh's reader sizes a vector from it before reading a value (a face of -1
+// or 1e9 corners took minutes and gigabytes; found by an exploratory session).
+size_t binary_ply_end(const string& subject, string_view body, const std::vector<PlyElement>& elements,
+                      bool big_endian)
 {
     size_t at = 0;
     for (const PlyElement& el : elements) {
@@ -756,8 +760,17 @@ size_t binary_ply_end(string_view body, const std::vector<PlyElement>& elements,
                 } else {
                     if (at + size_t(p.count_size) > body.size()) return body.size();
                     const double count = ply_binary_value(body.data() + at, p.count_type, big_endian);
-                    if (!(count >= 0.0) || count > double(body.size())) return body.size();
-                    at += size_t(p.count_size) + size_t(count) * size_t(p.size);
+                    at += size_t(p.count_size);
+                    const size_t left = body.size() - at;
+                    if (!(count >= 0.0) || count > double(left / size_t(p.size)))
+                        fail(subject, "binary PLY " + el.name + " " + std::to_string(i) + ": its " + p.name +
+                                          " list counts " + std::to_string(static_cast<long long>(count)) +
+                                          (count < 0.0 ? string(" entries (a negative count)")
+                                                       : " entries of " + std::to_string(p.size) + " byte" +
+                                                             (p.size == 1 ? "" : "s") + ", more than the " +
+                                                             std::to_string(left) + " byte" + (left == 1 ? "" : "s") +
+                                                             " left in the file (truncated, or a bad count?)"));
+                    at += size_t(count) * size_t(p.size);
                 }
                 if (at > body.size()) return body.size();
             }
@@ -1002,7 +1015,7 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
     }
     if (!ascii) {
         const string_view data = text.substr(lines.offset());
-        const size_t end = binary_ply_end(data, elements, big_endian);
+        const size_t end = binary_ply_end(subject, data, elements, big_endian);
         if (end < data.size() && !std::all_of(data.begin() + std::ptrdiff_t(end), data.end(), is_space))
             fail(subject, "binary PLY has " + std::to_string(data.size() - end) + " bytes after the elements the header "
                           "counts (" + std::to_string(face->count) + " face" + (face->count == 1 ? "" : "s") +

@@ -133,3 +133,11 @@ write("huge_header.stl", b"binary STL header claiming 2 GB".ljust(80, b" ") + st
 write("huge_header.ply", b"ply\nformat binary_little_endian 1.0\nelement vertex 2147483647\n"
       b"property float x\nproperty float y\nproperty float z\nelement face 2147483647\n"
       b"property list uchar int vertex_indices\nend_header\n" + noise[:64])
+# A binary PLY triangle, its face list counted in an int: read as it is. A count of -1 or 1e9
+# (found by an exploratory session) made OpenMesh size a vector from it: minutes, gigabytes.
+ply_triangle = (b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                b"property float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n"
+                + struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0))
+write("binary_triangle.ply", ply_triangle + struct.pack("<4i", 3, 0, 1, 2))
+write("ply_negative_face_count.ply", ply_triangle + struct.pack("<4i", -1, 0, 1, 2))
+write("ply_huge_face_count.ply", ply_triangle + struct.pack("<4i", 1000000000, 0, 1, 2))

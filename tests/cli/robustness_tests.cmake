@@ -88,7 +88,11 @@ foreach(case "garbage.stl|is neither ASCII STL .* nor binary STL"
              "huge_header.ply|header claims 2147483647 vertices and 2147483647 faces, more than a file of 251 bytes can hold"
              "truncated.obj|line 4: vertex position is not three finite numbers"
              "truncated.off|file ends after 1 of 2 faces"
-             "truncated.ply|line 15: face line has 3 values; its count '3' and 0 other face properties call for 4")
+             "truncated.ply|line 15: face line has 3 values; its count '3' and 0 other face properties call for 4"
+             # Found by an exploratory session: OpenMesh sized a vector from a binary face's count
+             # (minutes and gigabytes, or no end under `timeout 120`).
+             "ply_negative_face_count.ply|binary PLY face 0: its vertex_indices list counts -1 entries \\(a negative count\\)"
+             "ply_huge_face_count.ply|binary PLY face 0: its vertex_indices list counts 1000000000 entries of 4 bytes, more than the 12 bytes left in the file \\(truncated, or a bad count\\?\\)")
     string(REPLACE "|" ";" parts "${case}")
     list(GET parts 0 file)
     list(GET parts 1 message)
@@ -96,6 +100,9 @@ foreach(case "garbage.stl|is neither ASCII STL .* nor binary STL"
     pr_refuse(mesh_${id} "${file}" "${message}"
               ARGS render --mesh ${BAD}/${file} --technique prism --size 48x48 --out o.png)
 endforeach()
+# The same layout with a count that fits: read and drawn.
+pr_cli(mesh_binary_ply_int_count EXIT 0 EXPECT_FILE o.png STDOUT "o.png: 48x48 relief, .*${COVERED}"
+       ARGS render --mesh ${BAD}/binary_triangle.ply --size 48x48 --out o.png)
 # Found by fuzzing (tests/fuzz/fuzz_mesh): a PLY version word that is not a number left OpenMesh's
 # header loop spinning forever; header keywords inside obj_info would do the same.
 pr_refuse(mesh_fuzz_ply_bad_version "fuzz_ply_bad_version.ply" "line 2: malformed format line"
