@@ -286,6 +286,8 @@ Checked check_header(const std::string& subject, std::vector<std::uint8_t>& byte
     if (sniffed && sniffed->width && sniffed->height)
         check_image_dimensions(subject, *sniffed->width, *sniffed->height, limits);
     check_png(subject, bytes);
+    // A PNM's header before stb's first look at it (check_pnm_header: stb's reader overflows).
+    if (const auto pnm = check_pnm_header(subject, bytes)) check_image_dimensions(subject, pnm->first, pnm->second, limits);
     const Checked c{bytes.data(), static_cast<int>(bytes.size())};
     int w = 0, h = 0, comp = 0;
     if (!stbi_info_from_memory(c.data, c.len, &w, &h, &comp)) {

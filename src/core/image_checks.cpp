@@ -33,14 +33,16 @@ std::uint32_t be32(const Bytes& b, std::size_t o) { return be16(b, o) << 16 | be
 }
 
 struct PnmHeader {
-    std::uint64_t width = 0, height = 0, maxval = 0;
+    std::uint64_t width = 0, height = 0, maxval = 0; // (each at most INT64_MAX: more digits saturate)
     int channels = 0;
+    int numbers = 0;      // of the three, those the header holds (stb takes a missing one as 0)
     std::size_t data = 0; // offset of the first sample
 };
 
 // A binary PNM header as stb_image reads it: P5 or P6, then width, height and maxval separated by
-// whitespace and '#' comments, then one whitespace character before the samples.
-std::optional<PnmHeader> parse_pnm(const Bytes& b)
+// whitespace and '#' comments, then one whitespace character before the samples. `numbers` says
+// how many of the three it holds before something else (or the end of the file) comes.
+std::optional<PnmHeader> scan_pnm(const Bytes& b)
 {
     if (b.size() < 2 || b[0] != 'P' || (b[1] != '5' && b[1] != '6')) return std::nullopt;
     PnmHeader h;
@@ -58,37 +60,58 @@ std::optional<PnmHeader> parse_pnm(const Bytes& b)
     const auto number = [&](std::uint64_t& v) {
         if (i >= b.size() || b[i] < '0' || b[i] > '9') return false;
         v = 0;
+        constexpr std::uint64_t top = std::uint64_t(INT64_MAX);
         while (i < b.size() && b[i] >= '0' && b[i] <= '9') {
-            v = std::min<std::uint64_t>(v * 10 + (b[i] - '0'), std::uint64_t(1) << 40);
+            const std::uint64_t d = b[i] - '0';
+            v = v > (top - d) / 10 ? top : v * 10 + d;
             ++i;
         }
         return true;
     };
-    skip();
-    if (!number(h.width)) return std::nullopt;
-    skip();
-    if (!number(h.height)) return std::nullopt;
-    skip();
-    if (!number(h.maxval)) return std::nullopt;
+    for (std::uint64_t* v : {&h.width, &h.height, &h.maxval}) {
+        skip();
+        if (!number(*v)) return h;
+        ++h.numbers;
+    }
     h.data = i + 1;
     return h;
+}
+
+// The header when it holds all three numbers.
+std::optional<PnmHeader> parse_pnm(const Bytes& b)
+{
+    const std::optional<PnmHeader> h = scan_pnm(b);
+    if (!h || h->numbers < 3) return std::nullopt;
+    return h;
+}
+
+[[noreturn]] void bad_maxval(const std::string& subject, std::uint64_t maxval)
+{
+    throw Error(subject, fmt::format("not a supported image (PNM maxval {}: must be 1 to 65535)", maxval));
+}
+
+// a * b, or UINT64_MAX where that does not fit.
+std::uint64_t saturating_product(std::uint64_t a, std::uint64_t b)
+{
+    return a != 0 && b > UINT64_MAX / a ? UINT64_MAX : a * b;
 }
 
 void check_pnm(const std::string& subject, const Bytes& b)
 {
     const std::optional<PnmHeader> h = parse_pnm(b);
     if (!h) return; // stb refuses it
-    if (h->maxval == 0 || h->maxval > 65535)
-        throw Error(subject, fmt::format("not a supported image (PNM maxval {}: must be 1 to 65535)", h->maxval));
+    if (h->maxval == 0 || h->maxval > 65535) bad_maxval(subject, h->maxval);
     const std::uint64_t sample = h->maxval > 255 ? 2 : 1;
-    const std::uint64_t needed = h->data + h->width * h->height * std::uint64_t(h->channels) * sample;
+    // (The size was checked against the limits first, check_pnm_header; saturating all the same.)
+    const std::uint64_t samples = saturating_product(saturating_product(h->width, h->height), std::uint64_t(h->channels) * sample);
+    const std::uint64_t needed = samples > UINT64_MAX - h->data ? UINT64_MAX : h->data + samples;
     if (needed > b.size()) cut_short(subject, "PNM", needed, b.size());
     // Samples run from 0 to maxval (netpbm refuses one past it). stb returns them as stored and
     // image.cpp scales them by maxval: one past it came out clamped to the top height without a
     // word (maxval 100 and a sample of 255: found by an exploratory session).
     if (h->maxval == 255 || h->maxval == 65535) return; // every sample fits
-    const std::uint64_t count = h->width * h->height * std::uint64_t(h->channels);
-    for (std::uint64_t k = 0; k < count && h->data + sample * (k + 1) <= b.size(); ++k) { // (bounded twice: w*h may wrap)
+    const std::uint64_t count = h->width * h->height * std::uint64_t(h->channels); // (fits: the file holds them)
+    for (std::uint64_t k = 0; k < count && h->data + sample * (k + 1) <= b.size(); ++k) {
         const std::uint64_t v = sample == 2 ? be16(b, h->data + 2 * k) : b[h->data + k];
         if (v > h->maxval)
             throw Error(subject, fmt::format("not a supported image (corrupt PNM: a sample is {}, more than its "
@@ -284,6 +307,15 @@ std::string chunk_name(const Bytes& b, std::size_t o)
 }
 
 } // namespace
+
+std::optional<std::pair<std::int64_t, std::int64_t>> check_pnm_header(const std::string& subject,
+                                                                      const std::vector<std::uint8_t>& b)
+{
+    const std::optional<PnmHeader> h = scan_pnm(b);
+    if (!h) return std::nullopt;
+    if (h->numbers == 3 && (h->maxval == 0 || h->maxval > 65535)) bad_maxval(subject, h->maxval);
+    return std::pair{std::int64_t(h->width), std::int64_t(h->height)};
+}
 
 bool psd_is_16_bit(const std::vector<std::uint8_t>& b)
 {

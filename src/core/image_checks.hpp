@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace pr {
@@ -19,6 +20,16 @@ namespace pr {
 // run-length scanlines are cut short or hold a run stb's decoder would loop on, and for PSD
 // run-length data of 16 bits, which stb decodes as 8 (garbage).
 void check_image_data(const std::string& subject, const std::vector<std::uint8_t>& bytes);
+
+// A binary PNM's (P5, P6) header, checked before stb_image reads it: stb 2.27 reads its numbers
+// into an int with no bound, so a width, height or maxval past 2^31 - 1 overflowed (undefined
+// behaviour; found by an exploratory session) and the message gave a wrapped size
+// ("-2147483648x1 pixels") or "unknown format" for a maxval over 65535. Throws Error(subject, ...)
+// for a maxval outside 1 to 65535; returns the width and height as the header states them (0 for
+// one it does not hold, as stb takes it; more digits than an int64 holds saturate), for the
+// caller to check against the limits; nullopt for other formats.
+std::optional<std::pair<std::int64_t, std::int64_t>> check_pnm_header(const std::string& subject,
+                                                                      const std::vector<std::uint8_t>& bytes);
 
 // Walks a PNG's chunks from its signature on as stb walks them (a big-endian length, the type,
 // the data, the CRC), calling visit(offset, length, type) for each whole one until it returns

@@ -92,6 +92,10 @@ write("palette_index_past_plte.png", png(N, N, 8, 3, [bytes(x % 8 for x in range
 
 # A sample past the maxval (found by an exploratory session): it was clamped to the top height.
 write("over_maxval.pgm", b"P5\n4 4\n100\n" + bytes([100] * 15 + [255]))
+# Sizes and a maxval past an int (found by an exploratory session): stb_image 2.27 read them with
+# signed overflow and said "-2147483648x1 pixels", or "unknown format" for the maxval.
+write("pnm_huge_width.pgm", b"P5\n2147483648 1\n255\n" + bytes(16))
+write("pnm_huge_maxval.pgm", b"P5\n2 2\n99999999999\n" + bytes(16))
 
 # ---- JPEG (baseline, one grey component, every coefficient zero: a uniform 50 % grey) ---------
 

@@ -20,6 +20,11 @@ foreach(case "truncated.png|not a supported image \\(truncated PNG: it needs at 
              "palette_index_past_plte.png|not a supported image \\(corrupt PNG: a pixel's colour index is 7, past its palette of 2 colours\\)"
              # Found by an exploratory session: a PGM sample past its maxval was clamped without a word.
              "over_maxval.pgm|not a supported image \\(corrupt PNM: a sample is 255, more than its maxval of 100\\)"
+             # Found by an exploratory session: stb_image 2.27 read PNM header numbers past an int
+             # with signed overflow ("the image is -2147483648x1 pixels"; a maxval over 65535 was
+             # "unknown format"); the header is checked before stb reads it.
+             "pnm_huge_width.pgm|the image is 2147483648x1 pixels, more than the limit of 16384 per side"
+             "pnm_huge_maxval.pgm|not a supported image \\(PNM maxval 99999999999: must be 1 to 65535\\)"
              "zero_size.png|the image is 0x0 pixels: nothing to use"
              "not_an_image.png|not a supported image \\(unknown format"
              "truncated.jpg|not a supported image \\(truncated or corrupt data"
@@ -463,3 +468,6 @@ pr_cli_special(scene_eye_along_default_up EXIT 1 ONE_LINE NO_FILE o.png
                SETUP "printf '{\"objects\":[{\"mesh\":\"${M}/torus.obj\"}],\"camera\":{\"eye\":[0,5,0.00003],\"target\":[0,0,0]}}' > u.json"
                STDERR "${E}u.json: camera.eye: looks straight along the default up direction 0,1,0 \\(give camera.up or --up\\)"
                ARGS render --scene u.json --size 8x8 --out o.png)
+# conemap reads its height through the same checks: the PNM header before stb.
+pr_refuse(conemap_pnm_huge_width "pnm_huge_width.pgm" "the image is 2147483648x1 pixels, more than the limit of 16384 per side"
+          ARGS conemap --height ${BAD}/pnm_huge_width.pgm --no-cache --out o.png)
