@@ -121,7 +121,11 @@ void check_pnm(const std::string& subject, const Bytes& b)
 }
 
 // A TGA's pixel data: raw (types 1-3) or run-length (9-11) packets, each a header byte and then
-// one pixel (a run) or 1-128 pixels (raw).
+// one pixel (a run) or 1-128 pixels (raw). A colour-mapped one's (types 1 and 9) pixels are
+// indices of 8 or 16 bits into its colour map: stb 2.27 took an index past the map's entries for
+// entry 0 without a word, where a PNG or BMP with the same defect is refused (found by an
+// exploratory session). stb compares the index with the map's entry count alone (it skips the
+// first-entry field as bytes before the entries): so does this.
 void check_tga(const std::string& subject, const Bytes& b)
 {
     if (b.size() < 18) return;
@@ -133,17 +137,31 @@ void check_tga(const std::string& subject, const Bytes& b)
     const std::uint64_t count = std::uint64_t(le16(b, 12)) * le16(b, 14);
     std::uint64_t at = 18 + std::uint64_t(b[0]) + cmap_bytes;
     if (pixel == 0) return; // stb refuses it
+    // stb reads a colour-mapped image's pixels as indices only of 8 or 16 bits (its test refuses
+    // the others), into a map of at least one entry (it refuses none).
+    const bool indexed = b[1] == 1 && (type == 1 || type == 9) && (b[16] == 8 || b[16] == 16) && le16(b, 5) > 0;
+    const auto check_index = [&](std::uint64_t o) {
+        if (!indexed) return;
+        const std::uint32_t index = pixel == 1 ? b[o] : le16(b, o);
+        if (index >= le16(b, 5))
+            throw Error(subject, fmt::format("not a supported image (corrupt TGA: a pixel's colour index is {}, past its "
+                                             "palette of {} colours)",
+                                             index, le16(b, 5)));
+    };
     if (!rle) {
         if (at + count * pixel > b.size()) cut_short(subject, "TGA", at + count * pixel, b.size());
+        for (std::uint64_t k = 0; indexed && k < count; ++k) check_index(at + k * pixel);
         return;
     }
     for (std::uint64_t done = 0; done < count;) {
         if (at >= b.size()) cut_short(subject, "run-length TGA", at + 1, b.size());
         const unsigned head = b[at++];
         const std::uint64_t n = (head & 0x7Fu) + 1u;
-        at += head & 0x80u ? pixel : std::min(n, count - done) * pixel; // (stb stops at the last pixel)
+        const std::uint64_t stored = head & 0x80u ? 1 : std::min(n, count - done); // (stb stops at the last pixel)
+        if (at + stored * pixel > b.size()) cut_short(subject, "run-length TGA", at + stored * pixel, b.size());
+        for (std::uint64_t k = 0; k < stored; ++k) check_index(at + k * pixel);
+        at += stored * pixel;
         done += n;
-        if (at > b.size()) cut_short(subject, "run-length TGA", at, b.size());
     }
 }
 

@@ -17,8 +17,9 @@ namespace pr {
 
 // Throws Error(subject, ...) when the header of `bytes` claims more pixel data than the file
 // holds (PNM, raw and run-length TGA, uncompressed BMP, PSD), when a Radiance HDR file's
-// run-length scanlines are cut short or hold a run stb's decoder would loop on, and for PSD
-// run-length data of 16 bits, which stb decodes as 8 (garbage).
+// run-length scanlines are cut short or hold a run stb's decoder would loop on, for PSD
+// run-length data of 16 bits, which stb decodes as 8 (garbage), and for a colour-mapped TGA's
+// index past its map's entries (stb takes it for entry 0) or a palette BMP's past its palette.
 void check_image_data(const std::string& subject, const std::vector<std::uint8_t>& bytes);
 
 // A binary PNM's (P5, P6) header, checked before stb_image reads it: stb 2.27 reads its numbers

@@ -97,6 +97,26 @@ write("over_maxval.pgm", b"P5\n4 4\n100\n" + bytes([100] * 15 + [255]))
 write("pnm_huge_width.pgm", b"P5\n2147483648 1\n255\n" + bytes(16))
 write("pnm_huge_maxval.pgm", b"P5\n2 2\n99999999999\n" + bytes(16))
 
+# ---- TGA ----------------------------------------------------------------------------------------
+
+def tga(image_type, width, height, bits, data, cmap=None):
+    """cmap: the colour map's entries (24-bit BGR triples) for a colour-mapped image (types 1, 9)."""
+    entries = b"".join(bytes(c) for c in cmap) if cmap else b""
+    header = struct.pack("<BBBHHBHHHHBB", 0, 1 if cmap else 0, image_type, 0, len(cmap) if cmap else 0,
+                         24 if cmap else 0, 0, 0, width, height, bits, 0)
+    return header + entries + data
+
+
+# Valid: a 16-entry grey ramp, 8-bit indices of the bumps; must render.
+write("paletted.tga", tga(1, N, N, 8, b"".join(bytes(int(round(15 * bumps(x, y, N))) for x in range(N))
+                                                for y in range(N)), palette))
+# Found by an exploratory session: indices past the colour map's 2 entries, which stb_image 2.27
+# took for entry 0 without a word (raw 8-bit, run-length 8-bit, raw 16-bit indices).
+black_white = [(0, 0, 0), (255, 255, 255)]
+write("palette_index_past_map.tga", tga(1, 4, 4, 8, bytes([0, 1, 7, 1] * 4), black_white))
+write("palette_index_past_map_rle.tga", tga(9, 4, 4, 8, bytes([0x87, 1, 0x03, 0, 1, 0, 9, 0x83, 0]), black_white))
+write("palette_index_past_map_16bit.tga", tga(1, 2, 2, 16, struct.pack("<4H", 0, 1, 1, 300), black_white))
+
 # ---- JPEG (baseline, one grey component, every coefficient zero: a uniform 50 % grey) ---------
 
 def segment(marker, payload):

@@ -25,6 +25,11 @@ foreach(case "truncated.png|not a supported image \\(truncated PNG: it needs at 
              # "unknown format"); the header is checked before stb reads it.
              "pnm_huge_width.pgm|the image is 2147483648x1 pixels, more than the limit of 16384 per side"
              "pnm_huge_maxval.pgm|not a supported image \\(PNM maxval 99999999999: must be 1 to 65535\\)"
+             # Found by an exploratory session: TGA colour indices past the map's entries were
+             # taken for entry 0 by stb_image 2.27 (exit 0), where PNG and BMP are refused.
+             "palette_index_past_map.tga|not a supported image \\(corrupt TGA: a pixel's colour index is 7, past its palette of 2 colours\\)"
+             "palette_index_past_map_rle.tga|not a supported image \\(corrupt TGA: a pixel's colour index is 9, past its palette of 2 colours\\)"
+             "palette_index_past_map_16bit.tga|not a supported image \\(corrupt TGA: a pixel's colour index is 300, past its palette of 2 colours\\)"
              "zero_size.png|the image is 0x0 pixels: nothing to use"
              "not_an_image.png|not a supported image \\(unknown format"
              "truncated.jpg|not a supported image \\(truncated or corrupt data"
@@ -52,7 +57,7 @@ endforeach()
 # before the data made stb_image 2.27 memcpy to a null pointer; empty IDATs are now dropped first.
 set(COVERED "coverage (0\\.[1-9]|[1-9])")
 foreach(file one_pixel.png sixteen_bit.png paletted.png alpha.png grey_alpha.png tiny.jpg
-             fuzz_png_empty_idat.png)
+             fuzz_png_empty_idat.png paletted.tga)
     string(MAKE_C_IDENTIFIER "${file}" id)
     foreach(role height color)
         pr_cli(image_${role}_${id} EXIT 0 EXPECT_FILE o.png STDOUT "o.png: 48x48 prism:relief:walk:tight, .*${COVERED}"
