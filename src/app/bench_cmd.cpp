@@ -158,6 +158,9 @@ CommandAction add_bench_command(CLI::App& app)
             if (reference && runs[i].settings.technique == Technique::Reference)
                 results.back()["reference"] = reference_json(*reference);
         }
+        // No fragment in any technique's counted frame: the times are of an empty view.
+        if (std::all_of(rows.begin(), rows.end(), [](const BenchRow& row) { return row.counters.fragments == 0; }))
+            warn_nothing_drawn("bench");
         if (!s->json.empty()) {
             const nlohmann::json report = {{"results", results},
                                            {"size", {session.spec.width, session.spec.height}},

@@ -69,6 +69,25 @@ inline void warn_if_capped(const Renderer::ReferenceStats& stats, const std::str
          (command == "compare" ? ": the metrics are against that surface" : ""));
 }
 
+// A view that drew nothing: a valid picture (a view away from the scene) but rarely the one
+// meant, said on stderr by render (its --out), compare and bench (the command's name). Until the
+// thirtieth session compare reported such a view as a perfect match (IoU 1, PSNR "same") and bench
+// as 0 fragments, without a word (found by an exploratory session).
+inline void warn_nothing_drawn(const std::string& subject)
+{
+    warn(subject + ": nothing was drawn: the scene is out of view or covers no pixel centre "
+                   "(check the camera, --fovy and --size)");
+}
+
+// Whether an image has no alpha at all (with --msaa a sliver may cover a fraction of a pixel:
+// any alpha counts as drawn).
+inline bool drew_nothing(const RgbaImage& image)
+{
+    for (std::size_t i = 3; i < image.pixels.size(); i += 4)
+        if (image.pixels[i] > 0) return false;
+    return true;
+}
+
 // The camera a report's images were drawn with (compare, render).
 inline nlohmann::json camera_json(const Camera& c)
 {

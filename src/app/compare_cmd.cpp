@@ -124,6 +124,7 @@ CommandAction add_compare_command(CLI::App& app)
         std::vector<Tile> bottom = {{"silhouette diff", RgbaImage{}}};
         bottom[0].image = reference.color;
         for (auto& p : bottom[0].image.pixels) p = 0; // an empty tile under the reference: legend only
+        bool nothing_drawn = drew_nothing(reference.color); // by the reference and every technique
         nlohmann::json results = nlohmann::json::array();
         // The names' column as wide as the longest ("prism:relief:exact" pushed the row out of line).
         int name_width = 14;
@@ -136,6 +137,7 @@ CommandAction add_compare_command(CLI::App& app)
                                            ? reference
                                            : capture(session, run.settings, ms);
             const CompareMetrics m = compare_frames(frame, reference);
+            nothing_drawn = nothing_drawn && drew_nothing(frame.color);
             nlohmann::json row = {{"technique", run.label},
                                   {"iou", m.iou},
                                   {"silhouette_wrong_px", m.silhouette_wrong_px},
@@ -195,6 +197,9 @@ CommandAction add_compare_command(CLI::App& app)
         std::vector<StagedFile*> staged = {grid ? &*grid : nullptr, json ? &*json : nullptr};
         for (const auto& t : tiles) staged.push_back(t.get());
         commit_together(staged);
+        // Every metric then compares two empty images: IoU 1 (the contract's, for an empty union)
+        // and "same" are true, and mean nothing.
+        if (nothing_drawn) warn_nothing_drawn("compare");
         if (!s->out.empty()) std::printf("wrote %s\n", s->out.c_str());
         if (!s->json.empty()) std::printf("wrote %s\n", s->json.c_str());
         if (!tile_files.empty()) std::printf("wrote %zu tiles in %s\n", tile_files.size(), s->tiles.c_str());

@@ -106,9 +106,7 @@ CommandAction add_render_command(CLI::App& app)
             json.emplace(s->json, report_text(report));
         }
         commit_together({&png, json ? &*json : nullptr});
-        if (!any)
-            warn(s->out + ": nothing was drawn: the scene is out of view or covers no pixel centre "
-                          "(check the camera, --fovy and --size)");
+        if (!any) warn_nothing_drawn(s->out);
         // A few covered pixels of a large image are not "0.0%": more digits then.
         const double percent = 100.0 * double(covered) / double(pixels);
         const std::string passes = offsets.size() > 1 ? " (" + std::to_string(offsets.size()) + " passes)" : "";

@@ -476,3 +476,16 @@ pr_cli_special(scene_eye_along_default_up EXIT 1 ONE_LINE NO_FILE o.png
 # conemap reads its height through the same checks: the PNM header before stb.
 pr_refuse(conemap_pnm_huge_width "pnm_huge_width.pgm" "the image is 2147483648x1 pixels, more than the limit of 16384 per side"
           ARGS conemap --height ${BAD}/pnm_huge_width.pgm --no-cache --out o.png)
+# A view that draws nothing (the camera looks away from the torus): compare called it a perfect
+# match (IoU 1, PSNR "same") and bench counted 0 fragments, without a word; render warned. Each
+# warns now, once, and succeeds (the contract's IoU of 1 for an empty union stays).
+pr_cli(compare_nothing_drawn_warns EXIT 0 ONE_LINE EXPECT_FILE g.png
+       STDERR "^prismrelief: warning: compare: nothing was drawn: the scene is out of view or covers no pixel centre \\(check the camera, --fovy and --size\\)"
+       JSON c.json CHECKS "results.0.iou:EQUAL:1|results.1.iou:EQUAL:1"
+       ARGS compare --mesh ${M}/torus.obj --eye 0,0,5 --target 0,0,10 --techniques prism,relief --size 24x24
+            --json c.json --out g.png)
+pr_cli(bench_nothing_drawn_warns EXIT 0 ONE_LINE
+       STDERR "^prismrelief: warning: bench: nothing was drawn: the scene is out of view or covers no pixel centre \\(check the camera, --fovy and --size\\)"
+       JSON b.json CHECKS "results.0.fragments:EQUAL:0"
+       ARGS bench --mesh ${M}/torus.obj --eye 0,0,5 --target 0,0,10 --techniques flat,relief --size 24x24
+            --frames 1 --warmup 0 --json b.json)
