@@ -155,9 +155,10 @@ void check_elevation(double elevation, const std::string& where)
         throw Error(where, "must be between -90 and 90 degrees");
 }
 
+// Any angle a float holds (1e308 said "must be a finite number": it is one, past the float range).
 void check_azimuth(double azimuth, const std::string& where)
 {
-    if (!std::isfinite(azimuth)) throw Error(where, "must be a finite number");
+    finite(azimuth, where);
 }
 
 } // namespace
@@ -778,7 +779,7 @@ SceneSpec make_scene_spec(const SceneOptions& o)
             obj.depth = finite(*o.depth, "--depth"); // (past the float range: refused, as in a scene file)
             obj.depth_place = "--depth";
         }
-        if (o.midlevel) obj.midlevel = *o.midlevel;
+        if (o.midlevel) obj.midlevel = float(*o.midlevel);
     }
     if (!o.light.empty()) spec.light = direction(parse_dvec3(o.light, "--light"), "--light");
     if (!o.eye.empty()) spec.camera.eye = check_position(parse_dvec3(o.eye, "--eye"), "--eye");
@@ -789,15 +790,15 @@ SceneSpec make_scene_spec(const SceneOptions& o)
     }
     if (o.fovy) {
         check_fovy(*o.fovy, "--fovy");
-        spec.camera.fovy_deg = *o.fovy;
+        spec.camera.fovy_deg = float(*o.fovy);
     }
     if (o.elevation) {
         check_elevation(*o.elevation, "--elevation");
-        spec.camera.elevation_deg = *o.elevation;
+        spec.camera.elevation_deg = float(*o.elevation);
     }
     if (o.azimuth) {
         check_azimuth(*o.azimuth, "--azimuth");
-        spec.camera.azimuth_deg = *o.azimuth;
+        spec.camera.azimuth_deg = float(*o.azimuth);
     }
     // Flags override the file: --elevation or --azimuth over a scene's camera.eye frames the
     // scene from those angles (around its camera.target, if it gives one), as --eye over a
@@ -832,8 +833,12 @@ SceneSpec make_scene_spec(const SceneOptions& o)
         spec.image_limits.max_dimension = *o.max_image_size;
         spec.image_limits.max_pixels = std::int64_t(*o.max_image_size) * *o.max_image_size;
     }
-    if (!(o.uv_scale > 0.0f) || !std::isfinite(o.uv_scale)) throw Error("--uv-scale", "must be > 0");
-    spec.mesh_options.uv_scale = o.uv_scale;
+    // A double, checked before it becomes a float: 1e300 was infinity, which said "must be > 0".
+    const float uv_scale = finite(o.uv_scale, "--uv-scale");
+    if (!(o.uv_scale > 0.0)) throw Error("--uv-scale", "must be > 0");
+    if (!(uv_scale >= std::numeric_limits<float>::min()))
+        throw Error("--uv-scale", "must be at least 1.2e-38 (the renderer's single precision)");
+    spec.mesh_options.uv_scale = uv_scale;
     spec.mesh_options.force_generated_uvs = o.generate_uvs;
     return spec;
 }

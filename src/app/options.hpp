@@ -21,14 +21,14 @@ struct SceneOptions {
     std::optional<std::string> height; // default: ObjectSpec's (builtin:bumps)
     std::string color;
     std::optional<double> depth; // double: a value past the float range is refused, not made infinite
-    std::optional<float> midlevel;
+    std::optional<double> midlevel; // doubles, as depth: checked before they become floats
     std::string light, eye, target, up;
-    std::optional<float> fovy, elevation, azimuth;
+    std::optional<double> fovy, elevation, azimuth;
     std::string size = "800x600";
     std::string backend = "osmesa";
     std::size_t max_triangles = MeshOptions{}.max_triangles;
     std::optional<int> max_image_size; // --max-image-size N: images up to NxN (default ImageLimits)
-    float uv_scale = MeshOptions{}.uv_scale;
+    double uv_scale = MeshOptions{}.uv_scale;
     bool generate_uvs = false;
     std::string cache_dir; // derived maps (cone maps); empty: default_cache_dir()
     bool no_cache = false; // --no-cache: derived maps in memory only
@@ -76,12 +76,14 @@ struct TechniqueOptions {
 // becomes the type's limit, so the flag's own range check reports it as out of range (exit 1,
 // bad input) rather than CLI11's "Could not convert" (exit 2, usage: --steps 99999999999999).
 // Anything else (12.5, 1e3, abc) is left to CLI11's conversion: the wrong shape, usage. Whole
-// numbers are decimal: "0x10" is refused, "010" is ten.
+// numbers are decimal: "0x10" is refused, "010" is ten. `typed`, if given, receives the text of a
+// value that was clamped, as typed, for a message that echoes it (--msaa 2147483648 said "got
+// 2147483647").
 template <typename T>
-CLI::Validator saturating()
+CLI::Validator saturating(std::string* typed = nullptr)
 {
     return CLI::Validator(
-        [](std::string& text) {
+        [typed](std::string& text) {
             // (CLI11 reads "" as 0 for an integer: --steps "" said "must be between 1 and 1024, got 0".)
             if (text.empty()) return std::string("expected a whole number, got an empty value");
             static const std::regex whole(R"(\s*[+-]?[0-9]+\s*)");
@@ -89,17 +91,24 @@ CLI::Validator saturating()
             if (std::regex_match(text, prefixed)) return "expected a decimal whole number, got '" + text + "'";
             if (!std::regex_match(text, whole)) return std::string();
             const bool negative = text.find('-') != std::string::npos;
+            const std::size_t first = text.find_first_not_of(" \t\n\r\f\v"); // (a digit at the latest)
+            const std::string as_typed = text.substr(first, text.find_last_not_of(" \t\n\r\f\v") + 1 - first);
+            if (typed) typed->clear();
+            const auto clamp_to = [&](T limit) {
+                if (typed) *typed = as_typed;
+                text = std::to_string(limit);
+            };
             try {
                 const long double v = std::stold(text);
                 if (v > static_cast<long double>(std::numeric_limits<T>::max()))
-                    text = std::to_string(std::numeric_limits<T>::max());
+                    clamp_to(std::numeric_limits<T>::max());
                 else if (v < static_cast<long double>(std::numeric_limits<T>::min()))
-                    text = std::to_string(std::numeric_limits<T>::min());
+                    clamp_to(std::numeric_limits<T>::min());
                 else // in decimal without leading zeros: CLI11 read "010" as octal (8)
                     text = negative ? std::to_string(static_cast<long long>(v))
                                     : std::to_string(static_cast<unsigned long long>(v));
             } catch (const std::out_of_range&) {
-                text = std::to_string(negative ? std::numeric_limits<T>::min() : std::numeric_limits<T>::max());
+                clamp_to(negative ? std::numeric_limits<T>::min() : std::numeric_limits<T>::max());
             }
             return std::string();
         },

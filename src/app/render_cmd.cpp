@@ -20,6 +20,7 @@ CommandAction add_render_command(CLI::App& app)
         std::string out;
         std::string json;
         int msaa = 1;
+        std::string msaa_typed; // --msaa past an int, as typed (saturating)
     };
     auto s = std::make_shared<State>();
     CLI::App* cmd = app.add_subcommand("render", "Render a scene with one technique to a PNG (RGBA, alpha = coverage)");
@@ -32,7 +33,7 @@ CommandAction add_render_command(CLI::App& app)
     cmd->add_option("--msaa", s->msaa,
                     "Samples per pixel: 1 (pixel centres), 2, 4, 8 or 16 (standard positions, one pass "
                     "each; alpha = the fraction covered)")
-        ->transform(saturating<int>())
+        ->transform(saturating<int>(&s->msaa_typed))
         ->group("Output")
         ->capture_default_str();
     cmd->footer("Example:\n  prismrelief render --mesh meshes/torus.obj --height builtin:bricks "
@@ -44,7 +45,7 @@ CommandAction add_render_command(CLI::App& app)
                                 "--technique " + s->technique.technique);
         const ReferenceOptions ref = make_reference_options(s->technique);
         check_quality_flags_apply(s->technique, {settings}, "--technique " + s->technique.technique);
-        const std::span<const glm::vec2> offsets = sample_offsets(s->msaa); // refuses other counts, naming --msaa
+        const std::span<const glm::vec2> offsets = sample_offsets(s->msaa, s->msaa_typed); // refuses other counts, naming --msaa
         check_png_output(s->out);
         if (!s->json.empty()) check_output_folder(s->json);
         Session session = open_session(s->scene, {{"--out", s->out}, {"--json", s->json}});

@@ -31,7 +31,7 @@ std::span<const glm::vec2> in_pixels(const std::array<glm::vec2, N>& sixteenths)
 
 } // namespace
 
-std::span<const glm::vec2> sample_offsets(int samples)
+std::span<const glm::vec2> sample_offsets(int samples, const std::string& typed)
 {
     switch (samples) {
     case 1: return in_pixels(kOne);
@@ -39,7 +39,7 @@ std::span<const glm::vec2> sample_offsets(int samples)
     case 4: return in_pixels(kFour);
     case 8: return in_pixels(kEight);
     case 16: return in_pixels(kSixteen);
-    default: throw Error("--msaa", "must be 1, 2, 4, 8 or 16, got " + std::to_string(samples));
+    default: throw Error("--msaa", "must be 1, 2, 4, 8 or 16, got " + (typed.empty() ? std::to_string(samples) : typed));
     }
 }
 

@@ -11,14 +11,16 @@
 
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace pr {
 
 // The standard sample positions of N-sample multisampling (Direct3D's fixed patterns, as GPUs
 // use them), in pixels from the pixel's centre, x right, y up; N = 1 (the centre), 2, 4, 8 or 16.
-// Throws pr::Error naming --msaa for another N.
-std::span<const glm::vec2> sample_offsets(int samples);
+// Throws pr::Error naming --msaa for another N, echoing `typed` where given (the flag's text, when
+// it was past an int and read as its limit).
+std::span<const glm::vec2> sample_offsets(int samples, const std::string& typed = {});
 
 // Averages straight-alpha RGBA8 images of one size: alpha is the mean coverage, colour the mean
 // of the covering samples' colours (weighted by their alpha), so edges blend with the background

@@ -489,3 +489,18 @@ pr_cli(bench_nothing_drawn_warns EXIT 0 ONE_LINE
        JSON b.json CHECKS "results.0.fragments:EQUAL:0"
        ARGS bench --mesh ${M}/torus.obj --eye 0,0,5 --target 0,0,10 --techniques flat,relief --size 24x24
             --frames 1 --warmup 0 --json b.json)
+# Float flags past the float range say so, as --depth does (found by an exploratory session):
+# --uv-scale 1e300 became infinity and said "must be > 0", --azimuth 1e308 "must be a finite
+# number". --fovy is checked as typed: 178.999999 rounds to 179 as a float, and was refused as
+# not "less than 179 degrees". --msaa past an int echoed the int's limit ("got 2147483647").
+pr_cli(uv_scale_past_float_range EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}--uv-scale: must be at most 3.4e38 in magnitude \\(the renderer's single precision\\)"
+       ARGS render --mesh ${M}/cube.obj --generate-uvs --uv-scale 1e300 --size 8x8 --out o.png)
+pr_cli(azimuth_past_float_range EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}--azimuth: must be at most 3.4e38 in magnitude \\(the renderer's single precision\\)"
+       ARGS render --mesh ${M}/cube.obj --azimuth 1e308 --size 8x8 --out o.png)
+pr_cli(fovy_just_under_179 EXIT 0 EXPECT_FILE o.png
+       ARGS render --mesh ${M}/cube.obj --fovy 178.999999 --size 8x8 --out o.png)
+pr_cli(msaa_past_int_echoed EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}--msaa: must be 1, 2, 4, 8 or 16, got 2147483648"
+       ARGS render --mesh ${M}/cube.obj --msaa 2147483648 --size 8x8 --out o.png)
