@@ -65,6 +65,12 @@ std::optional<glm::dvec3> three_numbers(const std::string& text)
         const std::size_t comma = n < 2 ? text.find(',', start) : std::string::npos;
         if (n < 2 && comma == std::string::npos) return std::nullopt;
         const std::string part = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        // Decimal, as every number flag: strtod reads "0x1" as 1 (--eye 0x1,2,3 was taken where
+        // --depth 0x10 is refused).
+        std::size_t digit = part.find_first_not_of(" \t");
+        if (digit != std::string::npos && (part[digit] == '+' || part[digit] == '-')) ++digit;
+        if (digit + 1 < part.size() && part[digit] == '0' && (part[digit + 1] == 'x' || part[digit + 1] == 'X'))
+            return std::nullopt;
         char* end = nullptr;
         v[n] = std::strtod(part.c_str(), &end); // (the last part: a comma in it is left over)
         if (end == part.c_str() || part.find_first_not_of(" \t", std::size_t(end - part.c_str())) != std::string::npos)
@@ -76,7 +82,7 @@ std::optional<glm::dvec3> three_numbers(const std::string& text)
 
 std::string vec3_shape_problem(const std::string& text)
 {
-    return three_numbers(text) ? "" : "expected x,y,z (three numbers), got '" + text + "'";
+    return three_numbers(text) ? "" : "expected x,y,z (three decimal numbers), got '" + text + "'";
 }
 
 // Parsed in double, so that a direction like 1e-30,0,0 or 1e300,0,0 keeps its meaning until it
@@ -195,11 +201,11 @@ void add_scene_options(CLI::App& app, SceneOptions& o)
         ->group("Scene");
     app.add_option("--depth", o.depth,
                    "Displacement depth in scene units (default: 4% of the mesh's bounding-box diagonal)")
-        ->check(a_number())
+        ->transform(a_number())
         ->group("Scene");
     app.add_option("--midlevel", o.midlevel,
                    "Height that stays on the base surface: 0 outward (default), 1 inward, 0.5 centred")
-        ->check(a_number())
+        ->transform(a_number())
         ->group("Scene");
     const CLI::Validator xyz = shape_validator(vec3_shape_problem, "x,y,z");
     app.add_option("--light", o.light,
@@ -217,7 +223,7 @@ void add_scene_options(CLI::App& app, SceneOptions& o)
         ->group("Scene");
     o.uv_scale_option = app.add_option("--uv-scale", o.uv_scale,
                    "Generated UVs (meshes without UVs): texture repeats across the largest extent")
-        ->check(a_number())
+        ->transform(a_number())
         ->group("Scene")
         ->capture_default_str();
     app.add_flag("--generate-uvs", o.generate_uvs, "Ignore the mesh's UVs and generate box-projected ones")
@@ -229,14 +235,14 @@ void add_scene_options(CLI::App& app, SceneOptions& o)
         ->group("Camera");
     app.add_option("--up", o.up, "x,y,z: up direction (default 0,1,0)")->check(xyz)->group("Camera");
     app.add_option("--fovy", o.fovy, "Vertical field of view, degrees (default 40)")
-        ->check(a_number())
+        ->transform(a_number())
         ->group("Camera");
     app.add_option("--elevation", o.elevation,
                    "Auto-framing: degrees above the horizontal plane (default 25)")
-        ->check(a_number())
+        ->transform(a_number())
         ->group("Camera");
     app.add_option("--azimuth", o.azimuth, "Auto-framing: degrees around the up axis (default 35)")
-        ->check(a_number())
+        ->transform(a_number())
         ->group("Camera");
     o.size_option = app.add_option("--size", o.size, "Image size WIDTHxHEIGHT")
                         ->check(shape_validator(size_shape_problem, "WIDTHxHEIGHT"))
@@ -309,7 +315,7 @@ void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_techn
     o.light_size_flag = app.add_option("--light-size", o.light_size,
                    "Soft shadows: the light's angular diameter in degrees, more than 0 and at most " +
                        std::to_string(int(kMaxLightSize)) + " (the sun: about 0.5)")
-        ->check(a_number())
+        ->transform(a_number())
         ->group("Technique")
         ->capture_default_str();
     o.depth_write_flag = app.add_flag("--depth-write", o.depth_write,

@@ -55,7 +55,7 @@ CommandAction add_view_command(CLI::App& app)
     // (Its numbers are checked as every other command's: --frames "" read as 0, interactive, and a
     // batch script with an unset variable never ended; "010" was octal, "0x3" three.)
     cmd->add_option("--divider", s->divider, "Split position, fraction of the width from the left")
-        ->check(a_number())
+        ->transform(a_number())
         ->group("View")
         ->capture_default_str();
     cmd->add_option("--overlay", s->overlay, "Wireframe overlay: none|base|shell")
@@ -81,7 +81,7 @@ CommandAction add_view_command(CLI::App& app)
         ->group("View");
     cmd->add_option("--render-scale", s->render_scale,
                     "Renderer pixels per window pixel (0.25-1; below 1 is faster on llvmpipe, upscaled)")
-        ->check(a_number())
+        ->transform(a_number())
         ->group("View")
         ->capture_default_str();
     cmd->add_flag("--no-panel", s->no_panel, "Start with the panel hidden (H or Tab shows it)")->group("View");
