@@ -190,6 +190,12 @@ foreach(case "height_dev_zero|render|--height|/dev/zero|--mesh|${M}/cube.obj|--s
                    STDERR "${E}${device}: is not a regular file \\(a character device\\)"
                    ARGS ${parts} --out o.png)
 endforeach()
+# A scene file with a NUL byte after its object: the JSON reader ended there and took the file
+# (trailing text after the object is refused; found by an exploratory session, thirtieth).
+pr_cli_special(scene_nul_byte EXIT 1 ONE_LINE NO_FILE o.png
+               SETUP "printf '{\"objects\": [{\"mesh\": \"${M}/cube.obj\"}]}\\000xyz' > nul.json"
+               STDERR "${E}nul.json: not valid JSON \\(a NUL byte at offset [0-9]+\\)"
+               ARGS render --scene nul.json --size 16x16 --out o.png)
 # A mesh's extension is checked first, so the device is named through a link (it read as "is empty").
 pr_cli_special(mesh_dev_zero EXIT 1 ONE_LINE NO_FILE o.png REQUIRES /dev/zero SETUP "ln -sf /dev/zero z.obj"
                STDERR "${E}z.obj: is not a regular file \\(a character device\\)"
