@@ -253,8 +253,6 @@ int march_light(vec3 origin, vec3 dir, float t_end, float rise, inout float run_
         // prism's texture frame, where the ray's slope may be less.)
         if (denom <= 0.0) break;
         float clear = c * (clearance - 2e-3) / denom; // (the clearance less the bias)
-        // (An end at the top of the height range is clear: no height passes it.)
-        clear = origin.z + t_end * dir.z >= 1.0 ? max(clear, dt) : clear;
 #else
         // Soft: the cone bounds the heights s further on by hc.x + s * run / c (under the surface
         // too), so the clearance there is at least clearance - s * denom / c, and the light seen
