@@ -240,6 +240,13 @@ void check_jpeg_tables(const std::string& subject, const std::vector<std::uint8_
                                                      missing, std::string_view(missing) == "DC" ? td : ta));
             }
         }
+        // (A segment past the end, once what it holds is checked: stb reported "unknown image
+        // type", which said the format was not JPEG; found by an exploratory session, thirtieth.)
+        if (i + 2 + length > b.size())
+            throw Error(subject, fmt::format("not a supported image (truncated or corrupt data: the JPEG "
+                                             "segment FF{:02X} at byte {} is {} bytes long, past the end of "
+                                             "the file)",
+                                             m, i, length));
         i += 2 + length;
     }
 }
@@ -293,9 +300,9 @@ Checked check_header(const std::string& subject, std::vector<std::uint8_t>& byte
     if (!stbi_info_from_memory(c.data, c.len, &w, &h, &comp)) {
         // stb tried every decoder and kept the last one's reason; with a known signature, the
         // useful thing to say is which format is damaged.
-        if (sniffed)
+        if (sniffed || jpeg_start(bytes) != 0)
             throw Error(subject, fmt::format("not a supported image (corrupt or unsupported {})",
-                                             sniffed->format));
+                                             sniffed ? sniffed->format : std::string("JPEG")));
         fail_decode(subject);
     }
     // (stb 2.27 reports a top-down BMP's height negative, as its header stores it: "8x-8 pixels".)

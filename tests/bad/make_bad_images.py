@@ -144,6 +144,10 @@ tiny = jpeg(16, 16)
 write("tiny.jpg", tiny)                                   # valid: renders (uniform height)
 write("truncated.jpg", tiny[: len(tiny) - 30])            # cut inside the Huffman tables
 write("huge_header.jpg", jpeg(60000, 60000, scan=False))  # claims 60000x60000, no scan
+# An APP1 segment claiming 65535 bytes in a file of a few hundred, and one claiming 1 (less than
+# its own length field): stb said "unknown format" of both.
+write("segment_past_end.jpg", b"\xff\xd8" + b"\xff\xe1\xff\xff" + b"Exif\x00\x00" + tiny[2:])
+write("segment_too_short.jpg", b"\xff\xd8" + b"\xff\xe1\x00\x01" + tiny[2:])
 
 # ---- binary meshes -----------------------------------------------------------------------------
 

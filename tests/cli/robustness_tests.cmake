@@ -33,6 +33,10 @@ foreach(case "truncated.png|not a supported image \\(truncated PNG: it needs at 
              "zero_size.png|the image is 0x0 pixels: nothing to use"
              "not_an_image.png|not a supported image \\(unknown format"
              "truncated.jpg|not a supported image \\(truncated or corrupt data"
+             # Found by an exploratory session (thirtieth): a segment's length past the end, or
+             # less than its own field, said "unknown format" of a JPEG.
+             "segment_past_end.jpg|not a supported image \\(truncated or corrupt data: the JPEG segment FFE1 at byte 2 is 65535 bytes long, past the end of the file\\)"
+             "segment_too_short.jpg|not a supported image \\(corrupt or unsupported JPEG\\)"
              "huge_header.jpg|the image is 60000x60000 pixels, more than the limit of 16384 per side"
              "huge_header.png|the image is 100000x100000 pixels, more than the limit of 16384 per side"
              "huge_area.png|the image is 16000x16000 = 256000000 pixels, more than the limit of 67108864"
