@@ -118,14 +118,14 @@ CLI::Validator saturating(std::string* typed = nullptr)
 // For a flag taking a number: not empty, and decimal (CLI11 reads "0x10" as 16, "0b11" as 3).
 // An empty value is usage (exit 2): CLI11 reads "" as no value for an optional (--depth "" drew
 // the default depth, exit 0). (An empty file name is bad input, exit 1: refuse_empty_file_names.)
-// Spaces around the number are dropped, as the whole-number and x,y,z flags drop them (CLI11
+// White space around the number is dropped, as the whole-number and x,y,z flags drop it (CLI11
 // refused --depth "1 " where it took --steps "1 ").
 inline CLI::Validator a_number()
 {
     return CLI::Validator(
         [](std::string& text) {
             if (text.empty()) return std::string("expected a number, got an empty value");
-            const std::size_t first = text.find_first_not_of(" \t"), last = text.find_last_not_of(" \t");
+            const std::size_t first = text.find_first_not_of(" \t\n\r\f\v"), last = text.find_last_not_of(" \t\n\r\f\v");
             if (first != std::string::npos) text = text.substr(first, last + 1 - first);
             std::size_t i = text.find_first_not_of(" \t");
             if (i != std::string::npos && (text[i] == '+' || text[i] == '-')) ++i;
