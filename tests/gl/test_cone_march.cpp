@@ -139,11 +139,9 @@ std::shared_ptr<HeightField> centre_box(int texels)
     });
 }
 
-// `s` drawn without shadows and with hard ones: the pixels covered, and of them those darkened.
-struct ShadowCount {
-    std::size_t covered = 0, dark = 0;
-};
-ShadowCount hard_shadows(Renderer& r, const Camera& c, glm::vec3 light, DrawSettings s)
+// `s` drawn without shadows and with hard ones: per pixel 0 where nothing is covered, 1 where it
+// is lit, 2 where the shadows darken it.
+std::vector<char> hard_shadow_mask(Renderer& r, const Camera& c, glm::vec3 light, DrawSettings s)
 {
     s.shadows = Shadows::None;
     r.draw(c, light, s);
@@ -151,11 +149,22 @@ ShadowCount hard_shadows(Renderer& r, const Camera& c, glm::vec3 light, DrawSett
     s.shadows = Shadows::Hard;
     r.draw(c, light, s);
     const RgbaImage shadowed = r.read_color();
+    std::vector<char> mask(lit.pixels.size() / 4, 0);
+    for (std::size_t p = 0; p < mask.size(); ++p)
+        mask[p] = lit.pixels[4 * p + 3] < 128 ? 0 : (darkened(lit, shadowed, p) ? 2 : 1);
+    return mask;
+}
+
+// The same: the pixels covered, and of them those darkened.
+struct ShadowCount {
+    std::size_t covered = 0, dark = 0;
+};
+ShadowCount hard_shadows(Renderer& r, const Camera& c, glm::vec3 light, DrawSettings s)
+{
     ShadowCount n;
-    for (std::size_t p = 0; p < lit.pixels.size() / 4; ++p) {
-        if (lit.pixels[4 * p + 3] < 128) continue;
-        ++n.covered;
-        n.dark += darkened(lit, shadowed, p);
+    for (const char m : hard_shadow_mask(r, c, light, s)) {
+        n.covered += m != 0;
+        n.dark += m == 2;
     }
     return n;
 }
@@ -1121,15 +1130,8 @@ TEST(Shadows, ThinWallsCastWholeShadowsUnderALowLight)
     const glm::vec3 light = glm::normalize(glm::vec3(1.0f, -0.3f, 0.155f));
     r.prepare_reference(scene, c, ReferenceOptions{256});
     const auto mask = [&](Technique t, Marcher m) {
-        DrawSettings s = settings(t, m);
-        s.shadows = Shadows::None;
-        r.draw(c, light, s);
-        const RgbaImage lit = r.read_color();
-        s.shadows = Shadows::Hard;
-        r.draw(c, light, s);
-        const RgbaImage shadowed = r.read_color();
-        std::vector<char> dark(lit.pixels.size() / 4);
-        for (std::size_t i = 0; i < dark.size(); ++i) dark[i] = lit.pixels[4 * i + 3] >= 128 && darkened(lit, shadowed, i);
+        std::vector<char> dark = hard_shadow_mask(r, c, light, settings(t, m));
+        for (char& d : dark) d = d == 2;
         return dark;
     };
     const std::vector<char> reference = mask(Technique::Reference, Marcher::Relief);
