@@ -67,13 +67,10 @@ std::optional<glm::dvec3> three_numbers(const std::string& text)
         const std::string part = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
         // Decimal, as every number flag: strtod reads "0x1" as 1 (--eye 0x1,2,3 was taken where
         // --depth 0x10 is refused).
-        std::size_t digit = part.find_first_not_of(" \t\n\r\f\v");
-        if (digit != std::string::npos && (part[digit] == '+' || part[digit] == '-')) ++digit;
-        if (digit + 1 < part.size() && part[digit] == '0' && (part[digit + 1] == 'x' || part[digit + 1] == 'X'))
-            return std::nullopt;
+        if (radix_prefixed(part)) return std::nullopt;
         char* end = nullptr;
         v[n] = std::strtod(part.c_str(), &end); // (the last part: a comma in it is left over)
-        if (end == part.c_str() || part.find_first_not_of(" \t\n\r\f\v", std::size_t(end - part.c_str())) != std::string::npos)
+        if (end == part.c_str() || part.find_first_not_of(kBlanks, std::size_t(end - part.c_str())) != std::string::npos)
             return std::nullopt;
         start = comma + 1;
     }

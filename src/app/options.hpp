@@ -72,6 +72,26 @@ struct TechniqueOptions {
     const CLI::Option* reference_max_triangles_flag = nullptr;
 };
 
+// White space around a flag's number, dropped by every number flag (std::isspace's, C locale).
+inline constexpr std::string_view kBlanks = " \t\n\r\f\v";
+
+// `text` without the white space around it.
+inline std::string_view trimmed(std::string_view text)
+{
+    const std::size_t first = text.find_first_not_of(kBlanks);
+    return first == std::string_view::npos ? std::string_view()
+                                           : text.substr(first, text.find_last_not_of(kBlanks) + 1 - first);
+}
+
+// Whether a number begins, after white space and a sign, with a radix prefix (0x, 0b, 0o), which
+// C's and CLI11's readers take where the flags take decimal numbers alone.
+inline bool radix_prefixed(std::string_view text)
+{
+    text = trimmed(text);
+    if (!text.empty() && (text[0] == '+' || text[0] == '-')) text.remove_prefix(1);
+    return text.size() >= 2 && text[0] == '0' && std::string_view("xXbBoO").find(text[1]) != std::string_view::npos;
+}
+
 // For an integer flag (->transform(saturating<int>())): a whole number beyond the type's range
 // becomes the type's limit, so the flag's own range check reports it as out of range (exit 1,
 // bad input) rather than CLI11's "Could not convert" (exit 2, usage: --steps 99999999999999).
@@ -91,8 +111,7 @@ CLI::Validator saturating(std::string* typed = nullptr)
             if (std::regex_match(text, prefixed)) return "expected a decimal whole number, got '" + text + "'";
             if (!std::regex_match(text, whole)) return std::string();
             const bool negative = text.find('-') != std::string::npos;
-            const std::size_t first = text.find_first_not_of(" \t\n\r\f\v"); // (a digit at the latest)
-            const std::string as_typed = text.substr(first, text.find_last_not_of(" \t\n\r\f\v") + 1 - first);
+            const std::string as_typed(trimmed(text));
             if (typed) typed->clear();
             const auto clamp_to = [&](T limit) {
                 if (typed) *typed = as_typed;
@@ -125,13 +144,8 @@ inline CLI::Validator a_number()
     return CLI::Validator(
         [](std::string& text) {
             if (text.empty()) return std::string("expected a number, got an empty value");
-            const std::size_t first = text.find_first_not_of(" \t\n\r\f\v"), last = text.find_last_not_of(" \t\n\r\f\v");
-            if (first != std::string::npos) text = text.substr(first, last + 1 - first);
-            std::size_t i = text.find_first_not_of(" \t");
-            if (i != std::string::npos && (text[i] == '+' || text[i] == '-')) ++i;
-            if (i + 1 < text.size() && text[i] == '0' &&
-                std::string_view("xXbBoO").find(text[i + 1]) != std::string_view::npos)
-                return "expected a decimal number, got '" + text + "'";
+            if (!trimmed(text).empty()) text = std::string(trimmed(text));
+            if (radix_prefixed(text)) return "expected a decimal number, got '" + text + "'";
             return std::string();
         },
         "", "");
