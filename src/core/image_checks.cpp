@@ -85,11 +85,6 @@ std::optional<PnmHeader> parse_pnm(const Bytes& b)
     return h;
 }
 
-[[noreturn]] void bad_maxval(const std::string& subject, std::uint64_t maxval)
-{
-    throw Error(subject, fmt::format("not a supported image (PNM maxval {}: must be 1 to 65535)", maxval));
-}
-
 // a * b, or UINT64_MAX where that does not fit.
 std::uint64_t saturating_product(std::uint64_t a, std::uint64_t b)
 {
@@ -100,7 +95,7 @@ void check_pnm(const std::string& subject, const Bytes& b)
 {
     const std::optional<PnmHeader> h = parse_pnm(b);
     if (!h) return; // stb refuses it
-    if (h->maxval == 0 || h->maxval > 65535) bad_maxval(subject, h->maxval);
+    // (Its maxval lies within 1 to 65535: check_pnm_header refused any other before stb read it.)
     const std::uint64_t sample = h->maxval > 255 ? 2 : 1;
     // (The size was checked against the limits first, check_pnm_header; saturating all the same.)
     const std::uint64_t samples = saturating_product(saturating_product(h->width, h->height), std::uint64_t(h->channels) * sample);
@@ -331,7 +326,8 @@ std::optional<std::pair<std::int64_t, std::int64_t>> check_pnm_header(const std:
 {
     const std::optional<PnmHeader> h = scan_pnm(b);
     if (!h) return std::nullopt;
-    if (h->numbers == 3 && (h->maxval == 0 || h->maxval > 65535)) bad_maxval(subject, h->maxval);
+    if (h->numbers == 3 && (h->maxval == 0 || h->maxval > 65535))
+        throw Error(subject, fmt::format("not a supported image (PNM maxval {}: must be 1 to 65535)", h->maxval));
     return std::pair{std::int64_t(h->width), std::int64_t(h->height)};
 }
 

@@ -20,6 +20,7 @@ namespace pr {
 // run-length scanlines are cut short or hold a run stb's decoder would loop on, for PSD
 // run-length data of 16 bits, which stb decodes as 8 (garbage), and for a colour-mapped TGA's
 // index past its map's entries (stb takes it for entry 0) or a palette BMP's past its palette.
+// A PNM's header is taken as checked by check_pnm_header (its maxval within 1 to 65535).
 void check_image_data(const std::string& subject, const std::vector<std::uint8_t>& bytes);
 
 // A binary PNM's (P5, P6) header, checked before stb_image reads it: stb 2.27 reads its numbers
