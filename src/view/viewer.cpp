@@ -553,11 +553,12 @@ void Viewer::take_screenshot(const std::string& path)
         // Never over a file the scene reads now: the start checks --screenshot against the inputs
         // it was given, but a height image dropped later was replaced by P's screenshot (found by
         // an exploratory session).
+        // (check_distinct_outputs passes over empty and built-in names.)
         std::vector<NamedPath> inputs;
         for (const ObjectSpec& obj : s_.spec.objects) {
             inputs.emplace_back("mesh", obj.mesh);
-            if (obj.height.rfind("builtin:", 0) != 0) inputs.emplace_back("height map", obj.height);
-            if (!obj.color.empty() && obj.color.rfind("builtin:", 0) != 0) inputs.emplace_back("colour map", obj.color);
+            inputs.emplace_back("height map", obj.height);
+            inputs.emplace_back("colour map", obj.color);
         }
         check_distinct_outputs({{"--screenshot", path}}, inputs);
         write_png(path, o_.screenshot_ui ? read_window() : compositor_->read_view());
