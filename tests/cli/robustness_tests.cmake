@@ -449,10 +449,11 @@ pr_cli(depth_hexadecimal EXIT 2 STDERR "usage: --depth: expected a decimal numbe
        ARGS render --mesh ${M}/cube.obj --depth 0x10 --size 8x8 --out o.png)
 pr_cli(steps_hexadecimal EXIT 2 STDERR "usage: --steps: expected a decimal whole number, got '0x10'" NO_FILE o.png
        ARGS render --mesh ${M}/cube.obj --steps 0x10 --size 8x8 --out o.png)
-# Spaces around a number are dropped by every number flag (--depth "1 " was usage where
-# --steps "1 " and --eye "1,2,3 " were taken), and x,y,z flags are decimal too (--eye 0x1,2,3 was
-# read as 1,2,3); found by an exploratory session, thirtieth.
+# White space around a number, a line end too, is dropped by every number flag (--depth "1 " was
+# usage where --steps "1 " and --eye "1,2,3 " were taken), and x,y,z flags are decimal too (--eye
+# 0x1,2,3 was read as 1,2,3); found by an exploratory session and a regression hunt, thirtieth.
 pr_cli(depth_spaces_around EXIT 0 ARGS render --mesh ${M}/cube.obj "--depth= 0.05 " --size 8x8 --out o.png)
+pr_cli(depth_line_end_after EXIT 0 ARGS render --mesh ${M}/cube.obj "--depth=0.05\n" --size 8x8 --out o.png)
 pr_cli(eye_hexadecimal EXIT 2 STDERR "usage: --eye: expected x,y,z \\(three decimal numbers\\), got '0x1,2,3'" NO_FILE o.png
        ARGS render --mesh ${M}/cube.obj --eye 0x1,2,3 --size 8x8 --out o.png)
 pr_cli(steps_leading_zero_is_decimal EXIT 0 JSON b.json CHECKS "steps:EQUAL:10"
