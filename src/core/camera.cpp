@@ -99,12 +99,28 @@ Camera frame_sphere(const Sphere& bounds, float fovy_deg, float aspect, float el
     return c;
 }
 
+namespace {
+
+// The planes are perpendicular to the view axis: a sphere's nearest point along it is its
+// centre's depth along the axis less its radius, which is less than its distance from the eye
+// less its radius wherever it lies off the axis. (Until the thirty-first session near was the
+// latter: a cube 27 degrees off the axis, in view, lay wholly in front of the near plane and
+// nothing was drawn; found by an exploratory session.) Far stays the distance plus the radius,
+// which encloses the sphere from any direction.
+double near_depth(const Camera& camera, const Sphere& b, double r)
+{
+    const glm::dvec3 forward = glm::normalize(camera.target - camera.eye);
+    return glm::dot(b.center - camera.eye, forward) - r;
+}
+
+} // namespace
+
 void fit_clip_planes(Camera& camera, const Sphere& bounds)
 {
     const double d = glm::length(camera.eye - bounds.center);
     const double r = bounds.radius * 1.05;
     camera.far_plane = float(d + r);
-    camera.near_plane = std::max(float(d - r), camera.far_plane * kNearFraction);
+    camera.near_plane = std::max(float(near_depth(camera, bounds, r)), camera.far_plane * kNearFraction);
 }
 
 void fit_clip_planes(Camera& camera, const std::vector<Sphere>& objects, const Sphere& all)
@@ -115,7 +131,7 @@ void fit_clip_planes(Camera& camera, const std::vector<Sphere>& objects, const S
         const double d = glm::length(camera.eye - b.center);
         const double r = b.radius * 1.05;
         far = std::max(far, d + r);
-        near = std::min(near, std::max(d - r, (d + r) * double(kNearFraction)));
+        near = std::min(near, std::max(near_depth(camera, b, r), (d + r) * double(kNearFraction)));
     }
     camera.far_plane = float(far);
     camera.near_plane = float(std::min(near, far * 0.5));

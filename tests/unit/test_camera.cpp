@@ -32,6 +32,27 @@ TEST(Camera, FarObjectDoesNotPushTheNearPlanePastNearOnes)
     EXPECT_LT(c.near_plane, 0.01f);
 }
 
+// The near plane is a plane across the view axis: it must lie before the nearest point of every
+// sphere along that axis, which for a sphere off the axis is nearer than its distance from the eye
+// less its radius (a cube 27 degrees off the axis lay wholly in front of the near plane).
+TEST(Camera, NearPlaneEnclosesSpheresOffTheViewAxis)
+{
+    pr::Camera c;
+    c.eye = {0.0, 0.0, 40.0};
+    c.target = {20.0, 0.0, 0.0};
+    const pr::Sphere cube{{0.0, 0.0, 0.0}, std::sqrt(3.0)};
+    const glm::dvec3 forward = glm::normalize(c.target - c.eye);
+    const double nearest = glm::dot(cube.center - c.eye, forward) - cube.radius; // about 34
+    pr::fit_clip_planes(c, cube);
+    EXPECT_LE(c.near_plane, nearest);
+    EXPECT_GT(c.near_plane, 0.0f);
+    EXPECT_GE(c.far_plane, glm::length(c.eye) + cube.radius);
+    const std::vector<pr::Sphere> objects = {cube, {{0.0, 0.0, -20.0}, 1.0}};
+    pr::fit_clip_planes(c, objects, pr::Sphere{{0.0, 0.0, -10.0}, 12.0});
+    EXPECT_LE(c.near_plane, nearest);
+    EXPECT_GT(c.near_plane, 0.0f);
+}
+
 // The view matrix is lookAt's, but its direction is normalized in double: eye and target 1e-23
 // apart gave glm::lookAt a NaN matrix (an empty image) though the view is valid.
 TEST(Camera, ViewMatrixIsLookAtsAndStaysFiniteForNearPoints)
