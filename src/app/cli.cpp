@@ -47,8 +47,11 @@ std::string usage_message(CLI::App& app, const CLI::ParseError& e, int argc, cha
             }
         }
         // Arguments the command does not take, named in the order given (CLI11's message listed
-        // them backwards: "not expected: 4 --msaa" for `compare --msaa 4`), an option first.
-        if (dynamic_cast<const CLI::ExtrasError*>(&e)) {
+        // them backwards: "not expected: 4 --msaa" for `compare --msaa 4`), an option first. Before
+        // a missing required option: CLI11 checks those first, so a misspelt `--outt x.png` was
+        // "--out is required", and `render --bogus` too (found by an audit).
+        if (dynamic_cast<const CLI::ExtrasError*>(&e) ||
+            (dynamic_cast<const CLI::RequiredError*>(&e) && !command->remaining().empty())) {
             const std::vector<std::string> extra = command->remaining();
             // (An option, not a negative number: `--depth 0.1 -3` has an extra value.)
             const auto option = std::find_if(extra.begin(), extra.end(), [](const std::string& a) {
@@ -66,6 +69,21 @@ std::string usage_message(CLI::App& app, const CLI::ParseError& e, int argc, cha
         return "unknown subcommand '" + std::string(argv[1]) + "' (expected " + names + ")";
     }
     return e.what();
+}
+
+// --help and --version end the parse where they stand (as getopt's callers do): what follows is
+// not read. What came before is: an unknown subcommand or option there is usage, as without them
+// (`prismrelief frobnicate --version` printed the version and exited 0; found by an audit).
+int help_or_usage(CLI::App& app, const CLI::ParseError& e, int argc, char** argv)
+{
+    std::vector<std::string> extra = app.remaining();
+    for (const CLI::App* command : app.get_subcommands({}))
+        if (command->parsed() && extra.empty()) extra = command->remaining();
+    if (extra.empty()) return app.exit(e);
+    const CLI::ExtrasError unknown(extra);
+    std::fprintf(stderr, "prismrelief: usage: %s (see prismrelief --help)\n",
+                 one_line(usage_message(app, unknown, argc, argv)).c_str());
+    return kExitUsage;
 }
 
 // A file option given an empty value (`--json ""`, a script's unset variable): CLI11 takes it as
@@ -166,11 +184,11 @@ int run_cli(int argc, char** argv)
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
+        return help_or_usage(app, e, argc, argv);
     } catch (const CLI::CallForAllHelp& e) {
-        return app.exit(e);
+        return help_or_usage(app, e, argc, argv);
     } catch (const CLI::CallForVersion& e) {
-        return app.exit(e);
+        return help_or_usage(app, e, argc, argv);
     } catch (const CLI::ParseError& e) {
         std::fprintf(stderr, "prismrelief: usage: %s (see prismrelief --help)\n",
                      one_line(usage_message(app, e, argc, argv)).c_str());

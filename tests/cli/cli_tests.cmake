@@ -30,6 +30,15 @@ pr_cli(option_of_another_command EXIT 2 ONE_LINE STDERR "usage: '--msaa': compar
 pr_cli(stray_argument EXIT 2 ONE_LINE STDERR "usage: 'stray': render takes no such argument"
        ARGS render --mesh ${M}/cube.obj stray --out x.png NO_FILE x.png)
 pr_cli(render_needs_out EXIT 2 STDERR "usage: .*--out" ARGS render --mesh ${M}/cube.obj)
+# An unknown option is named before a missing required one (a misspelt --outt was "--out is
+# required"), and --help or --version after an unknown subcommand or option is usage too (they
+# printed and exited 0; found by an audit).
+pr_cli(unknown_option_before_required EXIT 2 ONE_LINE STDERR "usage: '--outt': render has no such option"
+       ARGS render --mesh ${M}/cube.obj --outt x.png NO_FILE x.png)
+pr_cli(version_after_unknown_subcommand EXIT 2 ONE_LINE STDERR "usage: unknown subcommand 'frobnicate'"
+       ARGS frobnicate --version)
+pr_cli(help_after_unknown_option EXIT 2 ONE_LINE STDERR "usage: '--bogus': render has no such option"
+       ARGS render --bogus --help)
 pr_cli(non_numeric_steps EXIT 2 STDERR "usage: .*--steps" ARGS render --mesh ${M}/cube.obj --steps many --out x.png NO_FILE x.png)
 pr_cli(version EXIT 0 STDOUT "^prismrelief [0-9]+\\.[0-9]+\\.[0-9]+" ARGS --version)
 pr_cli(help EXIT 0 STDOUT "render" ARGS --help)
