@@ -595,6 +595,15 @@ TEST(ConeMap, CacheDropsTheLeastRecentlyUsedEntriesBeyondItsBound)
     }
     const std::uintmax_t entry_bytes = fs::file_size(entries[0]);
     const fs::path foreign = dir.write("cone/notes.txt", std::string(3 * entry_bytes, 'x'));
+    // Files that only look like entries (or their temporaries), older than every entry: neither
+    // counted nor removed (a name that began "cone-" and ended ".bin" was taken for an entry).
+    std::vector<fs::path> lookalikes;
+    for (const char* name : {"cone/cone-my-backup.bin", "cone/relaxed-rg16-32x32-0123456789abcdeg.bin",
+                             "cone/cone-rg16-032x32-0123456789abcdef.bin", "cone/cone-rg16-32x32-0123456789abcdef.bin.bak",
+                             "cone/.cone-x.bin.tmp1", "cone/.cone-rg16-8x8-2.bin.tmp999"}) {
+        lookalikes.push_back(dir.write(name, std::string(entry_bytes, 'y')));
+        fs::last_write_time(lookalikes.back(), Clock::now() - std::chrono::hours(5));
+    }
     EXPECT_EQ(trim_cone_cache(dir.path(), 3 * entry_bytes), 0u); // fits: nothing goes
     // Reading the oldest makes it the most recently used: the next trim takes the second one.
     EXPECT_TRUE(cached_cone_map(fields[0], ConeKind::Cone, dir.path()).from_cache);
@@ -603,6 +612,7 @@ TEST(ConeMap, CacheDropsTheLeastRecentlyUsedEntriesBeyondItsBound)
     EXPECT_FALSE(fs::exists(entries[1]));
     EXPECT_TRUE(fs::exists(entries[2]));
     EXPECT_TRUE(fs::exists(foreign));
+    for (const fs::path& p : lookalikes) EXPECT_TRUE(fs::exists(p)) << p;
     // `keep` stays even when it alone is over the bound.
     EXPECT_EQ(trim_cone_cache(dir.path(), 1, entries[2]), 1u);
     EXPECT_TRUE(fs::exists(entries[2]));
