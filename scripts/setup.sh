@@ -8,7 +8,7 @@ packages=(
     libopenmesh-dev libglm-dev libosmesa6-dev libegl-dev libgles-dev libglfw3-dev
     libstb-dev libcli11-dev nlohmann-json3-dev libfmt-dev libimgui-dev python3-glad
     libgtest-dev
-    xvfb xauth
+    xvfb xauth xdotool
 )
 
 missing=()

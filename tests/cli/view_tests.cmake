@@ -62,6 +62,25 @@ if(TARGET pr_view)
         set_tests_properties(view.${case} PROPERTIES LABELS "view;gl" TIMEOUT 300 RESOURCE_LOCK xvfb
                              SKIP_REGULAR_EXPRESSION "VIEW_TEST_SKIPPED")
     endforeach()
+
+    # Keys and the window manager (tests/cli/view_keys.sh): synthetic X input under xvfb-run,
+    # xdotool for the keys and x11_send for the close button and a dropped file. Skipped (never
+    # passed) without xvfb-run, xdotool or Xlib's headers; each viewer runs 60 s at most.
+    find_package(X11 QUIET)
+    set(x11_send "")
+    if(X11_FOUND)
+        add_executable(view_x11_send ${PROJECT_SOURCE_DIR}/tests/view/x11_send.cpp)
+        target_link_libraries(view_x11_send PRIVATE X11::X11)
+        set(x11_send $<TARGET_FILE:view_x11_send>)
+    endif()
+    foreach(case screenshot screenshot_refused close_key close_wm)
+        add_test(NAME view.keys.${case}
+                 COMMAND sh ${CMAKE_CURRENT_SOURCE_DIR}/cli/view_keys.sh ${case} $<TARGET_FILE:prismrelief>
+                         $<TARGET_FILE:view_mask_check> "${x11_send}" ${CMAKE_CURRENT_BINARY_DIR}/view_work/keys_${case}
+                         ${PROJECT_SOURCE_DIR}/meshes "${view_preload}")
+        set_tests_properties(view.keys.${case} PROPERTIES LABELS "view;gl" TIMEOUT 150 RESOURCE_LOCK xvfb
+                             SKIP_REGULAR_EXPRESSION "VIEW_TEST_SKIPPED")
+    endforeach()
 else()
     pr_cli(view_not_built EXIT 1 ONE_LINE STDERR "${E}view: this build has no viewer" ARGS view --mesh ${M}/torus.obj)
 endif()

@@ -1,0 +1,235 @@
+#!/bin/sh
+# The viewer's keys and window behaviours, driven by synthetic X input under xvfb-run: xdotool
+# finds the window and presses keys; tests/view/x11_send.cpp sends what xdotool cannot, the
+# window manager's close and a file manager's drop. One CASE per CTest test (view_tests.cmake):
+#   view_keys.sh CASE EXE CHECK X11_SEND WORKDIR MESHES [PRELOAD]
+# EXE prismrelief, CHECK view_mask_check, X11_SEND the helper (empty when not built), PRELOAD the
+# sanitizer build's LD_PRELOAD list (view_run.cmake). Prints VIEW_TEST_SKIPPED (CTest's
+# SKIP_REGULAR_EXPRESSION) when xvfb-run, xdotool or the helper is missing or no X server starts,
+# instead of passing. Every viewer runs under `timeout`, and waits are bounded: nothing hangs.
+set -u
+CASE=$1 EXE=$2 CHECK=$3 X11_SEND=$4 WORKDIR=$5 MESHES=$6 PRELOAD=${7:-}
+
+skip() {
+    echo "VIEW_TEST_SKIPPED: $*"
+    exit 0
+}
+
+if [ "${VIEW_KEYS_INSIDE:-}" != 1 ]; then
+    command -v xvfb-run >/dev/null 2>&1 || skip "xvfb-run is not installed (scripts/setup.sh installs xvfb, xauth and xdotool)"
+    command -v xdotool >/dev/null 2>&1 || skip "xdotool is not installed (scripts/setup.sh installs it)"
+    case $CASE in screenshot_refused | close_wm)
+        [ -n "$X11_SEND" ] && [ -x "$X11_SEND" ] || skip "x11_send was not built (no Xlib headers: libx11-dev)" ;;
+    esac
+    rm -rf "$WORKDIR" && mkdir -p "$WORKDIR" || exit 1
+    VIEW_KEYS_INSIDE=1 xvfb-run -a -s "-screen 0 1024x768x24" sh "$0" "$@" 2>"$WORKDIR/xvfb-run.err"
+    rc=$?
+    cat "$WORKDIR/xvfb-run.err" >&2
+    if grep -q -E "xvfb-run: error|Xvfb failed to start|[Cc]an't open display|cannot open display" "$WORKDIR/xvfb-run.err"; then
+        skip "no X server could be started under xvfb-run"
+    fi
+    exit $rc
+fi
+
+# --- inside xvfb-run --------------------------------------------------------------------------
+cd "$WORKDIR" || exit 1
+# Under the sanitizer preset: the viewer's GL/X11 libraries' own leaks, as view_run.cmake does.
+case ${LSAN_OPTIONS:-} in *suppressions=*)
+    supp=$(printf '%s\n' "$LSAN_OPTIONS" | sed -n 's/.*suppressions=\([^:]*\).*/\1/p')
+    if [ -f "$supp" ]; then
+        { cat "$supp"; printf '%s\n' "# viewer (tests/cli/view_keys.sh)" "leak:libGLX_mesa.so" "leak:libGLX.so" \
+            "leak:libGLdispatch.so" "leak:libX11.so" "leak:libxcb" "leak:libglfw.so"; } >lsan_view.supp
+        LSAN_OPTIONS=$(printf '%s\n' "$LSAN_OPTIONS" | sed "s|suppressions=$supp|suppressions=$WORKDIR/lsan_view.supp|")
+        export LSAN_OPTIONS
+    fi ;;
+esac
+
+pid=""
+fail() {
+    echo "FAIL ($CASE): $*"
+    for f in view.out view.err; do [ -s $f ] && { echo "--- $f:"; cat $f; }; done
+    [ -n "$pid" ] && kill "$pid" 2>/dev/null
+    exit 1
+}
+
+TORUS="--mesh $MESHES/torus.obj --height builtin:bricks --size 128x96"
+READY="ready-marker.png" # (never there: see start_view)
+
+# Starts `prismrelief view ARGS` in the background (60 s at most) and waits for its window and its
+# first frame: a --drop of a missing file is read after the first frame is drawn, and its
+# warning on stderr is the sign that the window is drawn and reads keys (a key read in the first
+# frame comes before anything is drawn). Sets pid and win.
+start_view() {
+    rm -f view.out view.err
+    if [ -n "$PRELOAD" ]; then
+        timeout -s KILL 60 env LD_PRELOAD="$PRELOAD" "$EXE" view "$@" --drop "$READY" >view.out 2>view.err &
+    else
+        timeout -s KILL 60 "$EXE" view "$@" --drop "$READY" >view.out 2>view.err &
+    fi
+    pid=$!
+    win=$(timeout 30 xdotool search --sync --onlyvisible --name '^prismrelief view$' 2>/dev/null | head -n 1)
+    [ -n "$win" ] || fail "no window named 'prismrelief view' within 30 s"
+    i=0
+    until grep -q "$READY" view.err 2>/dev/null; do
+        i=$((i + 1))
+        [ $i -le 300 ] || fail "the first frame was not drawn within 30 s"
+        kill -0 "$pid" 2>/dev/null || fail "the viewer ended before its first frame"
+        sleep 0.1
+    done
+}
+
+# Presses KEY (an xdotool key name) in the viewer's window: focus, key down, hold, key up. The hold
+# spans frames: a press and release read in one frame are no press for the viewer (Dear ImGui 1.86).
+press() {
+    timeout 10 xdotool windowfocus --sync "$win" keydown "$1" sleep 0.4 keyup "$1" ||
+        fail "xdotool could not press $1"
+}
+
+# Waits (30 s at most) for the viewer to end; sets rc and the stderr without the ready marker.
+wait_view() {
+    wait "$pid"
+    rc=$?
+    pid=""
+    [ $rc -ne 137 ] || fail "the viewer did not end within 60 s"
+    err=$(grep -v "$READY" view.err)
+}
+
+# Waits (15 s at most) for FILE to appear.
+wait_file() {
+    i=0
+    until [ -e "$1" ]; do
+        i=$((i + 1))
+        [ $i -le 150 ] || fail "$1 was not written within 15 s of the key"
+        sleep 0.1
+    done
+}
+
+# FILE is a PNG of 128x96 (signature and IHDR) and equals render's image REF.
+expect_png() {
+    [ "$(od -An -tx1 -N8 "$1" | tr -d ' \n')" = 89504e470d0a1a0a ] || fail "$1 is not a PNG"
+    [ "$(od -An -tx1 -j16 -N8 "$1" | tr -d ' \n')" = 0000008000000060 ] || fail "$1 is not 128x96"
+    "$CHECK" equal "$1" "$2" 4 || fail "$1 is not render's image $2"
+    "$CHECK" binary "$1" || fail "$1: alpha is not coverage"
+}
+
+render() {
+    "$EXE" render $TORUS "$@" >/dev/null || fail "render $* failed"
+}
+
+no_temporaries() {
+    leftover=$(ls -A | grep -v -x -E "$1|view.out|view.err|xvfb-run.err|lsan_view.supp" | tr '\n' ' ')
+    [ -z "$leftover" ] || fail "unexpected files left: $leftover"
+}
+
+case $CASE in
+screenshot)
+    # P with --screenshot (no --frames): writes that file, render's image; Q quits with 0.
+    render --technique pom --out render_pom.png
+    start_view $TORUS --technique pom --screenshot s.png
+    [ ! -e s.png ] || fail "s.png was written before P"
+    press p
+    wait_file s.png
+    expect_png s.png render_pom.png
+    press q
+    wait_view
+    [ $rc -eq 0 ] || fail "Q: exit $rc, expected 0"
+    [ -z "$err" ] || fail "unexpected stderr: $err"
+    grep -q -x "view: without --frames the window stays open: P writes s.png, Q quits" view.out ||
+        fail "no note that P writes s.png"
+    # Without --screenshot P writes prismrelief-view-N.png, N the first number whose file is not
+    # there (an earlier run's file is kept), again on every P; the number key 5 turns flat to the
+    # table's fifth technique, pom, first. Esc quits too.
+    printf 'an earlier picture\n' >prismrelief-view-1.png
+    cp prismrelief-view-1.png earlier.keep
+    start_view $TORUS --technique flat
+    press 5
+    press p
+    wait_file prismrelief-view-2.png
+    expect_png prismrelief-view-2.png render_pom.png
+    press p
+    wait_file prismrelief-view-3.png
+    expect_png prismrelief-view-3.png render_pom.png
+    press Escape
+    wait_view
+    [ $rc -eq 0 ] || fail "Esc: exit $rc, expected 0"
+    [ -z "$err" ] || fail "unexpected stderr: $err"
+    cmp -s prismrelief-view-1.png earlier.keep || fail "P replaced an earlier run's prismrelief-view-1.png"
+    [ ! -e prismrelief-view-4.png ] || fail "two P presses wrote three files"
+    no_temporaries "render_pom.png|s.png|prismrelief-view-[123].png|earlier.keep"
+    ;;
+screenshot_refused)
+    # A height image dropped on the window is an input from then on: P refuses to write the
+    # screenshot over it (one warning; the file stays as it was, byte for byte) and the viewer
+    # goes on; Q quits with 0. Before the drop the same P writes h.png, which no input names then.
+    render --technique pom --out render_pom.png
+    start_view $TORUS --technique pom --screenshot h.png
+    press p
+    i=0
+    until cmp -s h.png render_pom.png; do
+        i=$((i + 1))
+        [ $i -le 150 ] || fail "P before the drop did not write h.png"
+        sleep 0.1
+    done
+    cp h.png h.keep
+    "$X11_SEND" drop "$win" "$WORKDIR/h.png" || fail "the drop of h.png failed"
+    press p
+    i=0
+    until grep -q "would be overwritten" view.err; do
+        i=$((i + 1))
+        [ $i -le 150 ] || fail "P after the drop said nothing within 15 s"
+        sleep 0.1
+    done
+    press q
+    wait_view
+    [ $rc -eq 0 ] || fail "Q: exit $rc, expected 0"
+    # (h.png is P's RGBA picture: the drop says it reads the red channel.)
+    [ "$err" = "prismrelief: warning: $WORKDIR/h.png: colour image; using its first (red) channel as the height
+prismrelief: warning: --screenshot: h.png is the height map input: it would be overwritten" ] ||
+        fail "stderr is not the drop's note and the one refusal"
+    cmp -s h.png h.keep || fail "P wrote over the dropped height image h.png"
+    no_temporaries "h.png|h.keep|render_pom.png"
+    ;;
+close_key)
+    # Q before the N frames of --frames N --screenshot: exit 1, one error line, no file. Without
+    # --screenshot the same Q ends the run with its summary (exit 0).
+    start_view $TORUS --technique pom --frames 100000 --screenshot k.png
+    press q
+    wait_view
+    [ $rc -eq 1 ] || fail "Q before the frames: exit $rc, expected 1"
+    printf '%s\n' "$err" | grep -q -x -E "prismrelief: error: view: the window was closed after [1-9][0-9]* of 100000 frames: --screenshot k.png not written" ||
+        fail "stderr is not the error line"
+    [ "$(printf '%s\n' "$err" | wc -l)" -eq 1 ] || fail "more than one line on stderr"
+    [ ! -e k.png ] || fail "k.png was written"
+    no_temporaries ""
+    start_view $TORUS --technique pom --frames 100000
+    press q
+    wait_view
+    [ $rc -eq 0 ] || fail "Q without --screenshot: exit $rc, expected 0"
+    [ -z "$err" ] || fail "unexpected stderr: $err"
+    grep -q -E "^view: [1-9][0-9]* frames at 128x96: pom draw" view.out || fail "no summary of the frames drawn"
+    no_temporaries ""
+    ;;
+close_wm)
+    # The window manager's close (WM_DELETE_WINDOW) acts as Q: an error before the frames of
+    # --frames N --screenshot, exit 0 interactively.
+    start_view $TORUS --technique pom --frames 100000 --screenshot k.png
+    "$X11_SEND" close "$win" || fail "x11_send close failed"
+    wait_view
+    [ $rc -eq 1 ] || fail "close before the frames: exit $rc, expected 1"
+    printf '%s\n' "$err" | grep -q -x -E "prismrelief: error: view: the window was closed after [1-9][0-9]* of 100000 frames: --screenshot k.png not written" ||
+        fail "stderr is not the error line"
+    [ "$(printf '%s\n' "$err" | wc -l)" -eq 1 ] || fail "more than one line on stderr"
+    [ ! -e k.png ] || fail "k.png was written"
+    start_view $TORUS --technique pom --screenshot k.png
+    "$X11_SEND" close "$win" || fail "x11_send close failed"
+    wait_view
+    [ $rc -eq 0 ] || fail "interactive close: exit $rc, expected 0"
+    [ -z "$err" ] || fail "unexpected stderr: $err"
+    [ ! -e k.png ] || fail "k.png was written without P"
+    no_temporaries ""
+    ;;
+*)
+    fail "unknown case"
+    ;;
+esac
+echo "view.keys.$CASE: passed"
