@@ -143,6 +143,7 @@ screenshot)
     cp prismrelief-view-1.png earlier.keep
     start_view $TORUS --technique flat
     press 5
+    sleep 1 # (pom's first draw compiles its shaders: a P pressed and released within it is missed)
     press p
     wait_file prismrelief-view-2.png
     expect_png prismrelief-view-2.png render_pom.png
@@ -172,6 +173,7 @@ screenshot_refused)
     done
     cp h.png h.keep
     "$X11_SEND" drop "$win" "$WORKDIR/h.png" || fail "the drop of h.png failed"
+    sleep 1 # (the scene's upload and draw with the dropped height map, as after the key 5 above)
     press p
     i=0
     until grep -q "would be overwritten" view.err; do
