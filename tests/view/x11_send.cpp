@@ -108,7 +108,8 @@ int drop(Display* d, Window target, const std::string& path)
             XSendEvent(d, r.requestor, False, NoEventMask, &reply);
             XFlush(d);
         } else if (e.type == ClientMessage && e.xclient.message_type == finished) {
-            if (e.xclient.data.l[1] & 1) return 0;
+            // (The protocol's bit 0 says "accepted"; GLFW sends the length of the list it read.)
+            if (e.xclient.data.l[1] != 0) return 0;
             std::fprintf(stderr, "x11_send: the window refused the drop\n");
             return 1;
         }
