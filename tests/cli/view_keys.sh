@@ -35,7 +35,7 @@ fi
 cd "$WORKDIR" || exit 1
 # Under the sanitizer preset: the viewer's GL/X11 libraries' own leaks, as view_run.cmake does.
 case ${LSAN_OPTIONS:-} in *suppressions=*)
-    supp=$(printf '%s\n' "$LSAN_OPTIONS" | sed -n 's/.*suppressions=\([^:]*\).*/\1/p')
+    supp=$(printf '%s\n' "$LSAN_OPTIONS" | sed -n 's/^\(.*:\)\{0,1\}suppressions=\([^:]*\).*/\2/p') # (not print_suppressions)
     if [ -f "$supp" ]; then
         { cat "$supp"; printf '%s\n' "# viewer (tests/cli/view_keys.sh)" "leak:libGLX_mesa.so" "leak:libGLX.so" \
             "leak:libGLdispatch.so" "leak:libX11.so" "leak:libxcb" "leak:libglfw.so"; } >lsan_view.supp
@@ -67,8 +67,13 @@ start_view() {
         timeout -s KILL 60 "$EXE" view "$@" --drop "$READY" >view.out 2>view.err &
     fi
     pid=$!
-    win=$(timeout 30 xdotool search --sync --onlyvisible --name '^prismrelief view$' 2>/dev/null | head -n 1)
-    [ -n "$win" ] || fail "no window named 'prismrelief view' within 30 s"
+    i=0
+    until win=$(xdotool search --onlyvisible --name '^prismrelief view$' 2>/dev/null | head -n 1) && [ -n "$win" ]; do
+        i=$((i + 1))
+        [ $i -le 300 ] || fail "no window named 'prismrelief view' within 30 s"
+        kill -0 "$pid" 2>/dev/null || fail "the viewer ended before its window was shown"
+        sleep 0.1
+    done
     i=0
     until grep -q "$READY" view.err 2>/dev/null; do
         i=$((i + 1))
