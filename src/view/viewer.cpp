@@ -161,7 +161,7 @@ private:
     void draw_build_box();
     void technique_combo(int half);
     void take_screenshot(const std::string& path);
-    void screenshot_now(); // key P and the panel's button: --screenshot's path, else a numbered name
+    void screenshot_now(); // key P and the panel's button, once the frame is drawn: --screenshot's path, else a numbered name
     void reset_view();     // key R and the panel's button
     void reload_shaders(); // the watcher and the panel's button
     RgbaImage read_window() const;
@@ -234,6 +234,10 @@ private:
     std::vector<double> all_frame_ms_;
     Clock::time_point last_frame_ = Clock::now();
     int screenshot_counter_ = 0;
+    // P (or the panel's button) this frame: taken once the frame is drawn (screenshot_now). It was
+    // taken when the key was read, before the frame's draw: the picture lagged a frame behind (a
+    // technique key and P in one frame saved the technique before; P in the first frame, nothing).
+    bool screenshot_pending_ = false;
     std::array<std::string, 2> warmed_; // each half's variant last drawn plain (variant_key)
 };
 
@@ -734,7 +738,7 @@ void Viewer::handle_input()
     if (pressed('D')) reference_overlay_ = !reference_overlay_, dirty_ = true;
     if (pressed('R')) reset_view();
     if (pressed('H') || pressed(ImGui::GetKeyIndex(ImGuiKey_Tab))) show_panel_ = !show_panel_;
-    if (pressed('P')) screenshot_now();
+    if (pressed('P')) screenshot_pending_ = true;
     if (pressed('Q') || pressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) window_.request_close();
 }
 
@@ -894,7 +898,7 @@ void Viewer::draw_panel()
         }
         if (ImGui::Button("reset view (R)")) reset_view();
         ImGui::SameLine();
-        if (ImGui::Button("screenshot (P)")) screenshot_now();
+        if (ImGui::Button("screenshot (P)")) screenshot_pending_ = true;
     }
     if (ImGui::CollapsingHeader("Overlays", ImGuiTreeNodeFlags_DefaultOpen)) {
         int ov = int(overlay_);
@@ -1003,6 +1007,8 @@ int Viewer::run()
             const bool counted = !drew_meanwhile_;
             const bool last_frame = o_.frames > 0 && counted && counted_ + 1 >= o_.frames;
             if (last_frame && !o_.screenshot.empty()) take_screenshot(o_.screenshot);
+            else if (screenshot_pending_) screenshot_now();
+            screenshot_pending_ = false;
             window_.swap_buffers();
 
             const double ms = seconds_since(last_frame_) * 1000.0;
