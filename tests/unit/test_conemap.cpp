@@ -329,7 +329,7 @@ TEST(ConeMap, RelaxedEqualsBruteForceAndIsWider)
 TEST(ConeMap, RelaxedRaysLeaveTheSurfaceOutsideTheCone)
 {
     for (const Case& c : cases())
-    for (int budget : {256, 8}) {
+    for (int budget : {ConeBuildOptions{}.relaxed_budget, 8}) {
         if (c.field.width * c.field.height > 1300) continue;
         const HeightField& f = c.field;
         ConeBuildOptions o;
