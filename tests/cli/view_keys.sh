@@ -126,6 +126,17 @@ no_temporaries() {
     [ -z "$leftover" ] || fail "unexpected files left: $leftover"
 }
 
+# Waits for a viewer of --frames 100000 --screenshot k.png closed early ($1 says how): exit 1, the
+# one error line, no k.png.
+expect_closed_early() {
+    wait_view
+    [ $rc -eq 1 ] || fail "$1: exit $rc, expected 1"
+    printf '%s\n' "$err" | grep -q -x -E "prismrelief: error: view: the window was closed after [1-9][0-9]* of 100000 frames: --screenshot k.png not written" ||
+        fail "stderr is not the error line"
+    [ "$(printf '%s\n' "$err" | wc -l)" -eq 1 ] || fail "more than one line on stderr"
+    [ ! -e k.png ] || fail "k.png was written"
+}
+
 case $CASE in
 screenshot)
     # P with --screenshot (no --frames): writes that file, render's image; Q quits with 0.
@@ -201,12 +212,7 @@ close_key)
     # --screenshot the same Q ends the run with its summary (exit 0).
     start_view $TORUS --technique pom --frames 100000 --screenshot k.png
     press q
-    wait_view
-    [ $rc -eq 1 ] || fail "Q before the frames: exit $rc, expected 1"
-    printf '%s\n' "$err" | grep -q -x -E "prismrelief: error: view: the window was closed after [1-9][0-9]* of 100000 frames: --screenshot k.png not written" ||
-        fail "stderr is not the error line"
-    [ "$(printf '%s\n' "$err" | wc -l)" -eq 1 ] || fail "more than one line on stderr"
-    [ ! -e k.png ] || fail "k.png was written"
+    expect_closed_early "Q before the frames"
     no_temporaries ""
     start_view $TORUS --technique pom --frames 100000
     press q
@@ -221,12 +227,7 @@ close_wm)
     # --frames N --screenshot, exit 0 interactively.
     start_view $TORUS --technique pom --frames 100000 --screenshot k.png
     "$X11_SEND" close "$win" || fail "x11_send close failed"
-    wait_view
-    [ $rc -eq 1 ] || fail "close before the frames: exit $rc, expected 1"
-    printf '%s\n' "$err" | grep -q -x -E "prismrelief: error: view: the window was closed after [1-9][0-9]* of 100000 frames: --screenshot k.png not written" ||
-        fail "stderr is not the error line"
-    [ "$(printf '%s\n' "$err" | wc -l)" -eq 1 ] || fail "more than one line on stderr"
-    [ ! -e k.png ] || fail "k.png was written"
+    expect_closed_early "close before the frames"
     start_view $TORUS --technique pom --screenshot k.png
     "$X11_SEND" close "$win" || fail "x11_send close failed"
     wait_view
