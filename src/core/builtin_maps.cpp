@@ -265,17 +265,16 @@ Parsed parse(const std::string& spec, const ImageLimits& limits)
     const auto w = at == std::string::npos ? std::optional<int>(kDefaultSize) : parse_int(size.substr(0, x));
     const auto h = x == std::string_view::npos ? w : parse_int(size.substr(x + 1));
     const int max = limits.max_dimension;
-    // (A pattern shows in no fewer than 3 texels a side: below that an @N would be refused too,
-    // and the suggestion of one was.)
-    if (at == std::string::npos && kDefaultSize > max && max < 3 && !p.name.starts_with("const:"))
+    if (at == std::string::npos && kDefaultSize > max) {
+        // (A pattern shows in no fewer than 3 texels a side: below that an @N would be refused
+        // too, and the suggestion of one was.)
+        const bool pattern_too_small = max < 3 && !p.name.starts_with("const:");
         throw Error(spec, fmt::format("its default size, {0}x{0}, is over the limit of {1} per side "
-                                      "(--max-image-size), and its pattern needs at least 3 texels "
-                                      "per side: raise the limit",
-                                      kDefaultSize, max));
-    if (at == std::string::npos && kDefaultSize > max)
-        throw Error(spec, fmt::format("its default size, {0}x{0}, is over the limit of {1} per side "
-                                      "(--max-image-size): give a size, e.g. {2}@{1}",
-                                      kDefaultSize, max, spec));
+                                      "(--max-image-size){2}",
+                                      kDefaultSize, max,
+                                      pattern_too_small ? ", and its pattern needs at least 3 texels per side: raise the limit"
+                                                        : fmt::format(": give a size, e.g. {}@{}", spec, max)));
+    }
     if (!w || !h || *w < 1 || *h < 1 || *w > max || *h > max)
         throw Error(spec, fmt::format("size after '@' must be N or WxH with each side between 1 "
                                       "and {}, got '{}'",

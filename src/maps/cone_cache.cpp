@@ -28,6 +28,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <regex>
 #include <string_view>
 
 namespace pr {
@@ -163,32 +164,14 @@ std::string folder_problem(const std::filesystem::path& folder, const std::error
     return ec.message();
 }
 
-// The cache's own entries (<kind>-<format>-<W>x<H>-<key>.bin).
-// An entry's name, as cone_cache_path writes it: <kind>-<format>-<W>x<H>-<16 hex digits>.bin.
-// The whole pattern: a file of the user's that merely began "cone-" and ended ".bin" was counted
-// against the bound and removed (found by an exploratory session).
+// The cache's own entries, named as cone_cache_path names them:
+// <kind>-<format>-<W>x<H>-<16 hex digits>.bin. The whole pattern: a file of the user's that merely
+// began "cone-" and ended ".bin" was counted against the bound and removed (found by an
+// exploratory session).
 bool is_entry_name(std::string_view name)
 {
-    const auto take = [&name](std::string_view prefix) {
-        if (!name.starts_with(prefix)) return false;
-        name.remove_prefix(prefix.size());
-        return true;
-    };
-    // A whole number without a leading zero, then `end`.
-    const auto number = [&name](char end) {
-        std::size_t n = 0;
-        while (n < name.size() && n < 6 && name[n] >= '0' && name[n] <= '9') ++n;
-        if (n == 0 || n == name.size() || name[n] != end || (name[0] == '0')) return false;
-        name.remove_prefix(n + 1);
-        return true;
-    };
-    if (!take("cone-") && !take("relaxed-")) return false;
-    if (!take("rg8-") && !take("rg16-")) return false;
-    if (!number('x') || !number('-')) return false;
-    if (name.size() != 16 + 4 || !name.ends_with(".bin")) return false;
-    for (const char c : name.substr(0, 16))
-        if (!((c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'))) return false;
-    return true;
+    static const std::regex entry("(cone|relaxed)-(rg8|rg16)-[1-9][0-9]{0,5}x[1-9][0-9]{0,5}-[0-9a-f]{16}[.]bin");
+    return std::regex_match(name.begin(), name.end(), entry);
 }
 
 // An entry's temporary, as write_file_atomic names it: ".<entry>.tmpNNNNNN".

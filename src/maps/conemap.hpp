@@ -54,7 +54,7 @@ struct ConeBuildOptions {
     // narrower than the conservative cone. 0: unbounded (exact relaxed cones; slow on large maps).
     // 2048 since the thirty-first session (256 before): wider cones on maps of plateaus, where a
     // ray marches across a whole box top per candidate (builtin:boxes, relaxed-cone: 0.345 of
-    // relief's samples per fragment with 256, 0.325 with 2048), at 2-5x the build time
+    // relief's samples per fragment with 256, 0.324 with 2048), at 2-5x the build time
     // (docs/cone-maps.md, "The relaxed march budget").
     int relaxed_budget = 2048;
     // Quadtree nodes one texel's search may visit (both kinds). Where a search needs more (maps on
