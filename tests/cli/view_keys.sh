@@ -137,6 +137,15 @@ expect_closed_early() {
     [ ! -e k.png ] || fail "k.png was written"
 }
 
+# P with --screenshot s.png: writes s.png (removed first, so the wait sees the new one) and moves it
+# to NAME.
+shot() {
+    rm -f s.png
+    press p
+    wait_file s.png
+    mv s.png "$1"
+}
+
 case $CASE in
 screenshot)
     # P with --screenshot (no --frames): writes that file, render's image; Q quits with 0.
@@ -235,6 +244,80 @@ close_wm)
     [ -z "$err" ] || fail "unexpected stderr: $err"
     [ ! -e k.png ] || fail "k.png was written without P"
     no_temporaries ""
+    ;;
+techniques)
+    # The keys that pick what is drawn, each checked by P against render's image of what it
+    # should now draw: ] and [ step through the technique table, 0 picks the tenth (the prism),
+    # M the next marcher, Shift+6 the sixth technique for the right half (which turns split on),
+    # S split off, W the wireframe overlay (none, base, shell, none). Maps come from the cache
+    # that render filled (a cone map missing there is built on a thread, relief drawn meanwhile).
+    # Each technique's first draw compiles its shaders: a P held during it would be missed.
+    C="--cache-dir $WORKDIR/cache"
+    render $C --technique pom --out r_pom.png
+    render $C --technique relief --out r_relief.png
+    render $C --technique prism --marcher cone --out r_prism_cone.png
+    render $C --technique reference --out r_reference.png
+    "$EXE" view $TORUS $C --split pom,relief --frames 2 --screenshot v_split.png >/dev/null ||
+        fail "view --split pom,relief failed"
+    "$EXE" view $TORUS $C --technique pom --overlay base --frames 2 --screenshot v_base.png >/dev/null ||
+        fail "view --overlay base failed"
+    rm -f view.out view.err
+    start_view $TORUS $C --technique pom --no-panel --screenshot s.png
+    press bracketright
+    sleep 2
+    shot k_relief.png
+    expect_png k_relief.png r_relief.png
+    press 0
+    press m
+    sleep 3
+    shot k_prism_cone.png
+    expect_png k_prism_cone.png r_prism_cone.png
+    press bracketleft
+    sleep 3
+    shot k_reference.png
+    expect_png k_reference.png r_reference.png
+    press 5
+    press shift+6
+    sleep 2
+    shot k_split.png
+    "$CHECK" equal k_split.png v_split.png 4 || fail "Shift+6 after 5 is not --split pom,relief"
+    press s
+    sleep 1
+    shot k_pom.png
+    expect_png k_pom.png r_pom.png
+    press w
+    sleep 1
+    shot k_base.png
+    "$CHECK" equal k_base.png v_base.png 4 || fail "W is not --overlay base"
+    "$CHECK" rgb k_base.png r_pom.png 50 || fail "W drew no lines"
+    press w
+    press w
+    sleep 1
+    shot k_none.png
+    expect_png k_none.png r_pom.png
+    press q
+    wait_view
+    [ $rc -eq 0 ] || fail "Q: exit $rc, expected 0"
+    [ -z "$err" ] || fail "unexpected stderr: $err"
+    ;;
+orbit)
+    # A left drag orbits (the picture changes), R resets the view (render's picture again).
+    render --technique pom --out r_pom.png
+    start_view $TORUS --technique pom --no-panel --screenshot s.png
+    timeout 10 xdotool windowfocus --sync "$win" mousemove --window "$win" 40 48 mousedown 1 sleep 0.3 \
+        mousemove --window "$win" 70 60 sleep 0.3 mousemove --window "$win" 100 70 sleep 0.3 mouseup 1 ||
+        fail "xdotool could not drag"
+    sleep 1
+    shot k_orbit.png
+    "$CHECK" equal k_orbit.png r_pom.png 200 >/dev/null && fail "the drag did not turn the view"
+    press r
+    sleep 1
+    shot k_reset.png
+    expect_png k_reset.png r_pom.png
+    press q
+    wait_view
+    [ $rc -eq 0 ] || fail "Q: exit $rc, expected 0"
+    [ -z "$err" ] || fail "unexpected stderr: $err"
     ;;
 *)
     fail "unknown case"
