@@ -506,6 +506,14 @@ pr_cli(bench_nothing_drawn_warns EXIT 0 ONE_LINE
        JSON b.json CHECKS "results.0.fragments:EQUAL:0"
        ARGS bench --mesh ${M}/torus.obj --eye 0,0,5 --target 0,0,10 --techniques flat,relief --size 24x24
             --frames 1 --warmup 0 --json b.json)
+# The prism seen from inside its shell, looking out past the torus: every fragment is discarded,
+# so the counters had fragments (3072, 23.8 samples each) while nothing was drawn, and bench did
+# not warn (render did). It judges by the coverage now (found by an exploratory session).
+pr_cli(bench_nothing_drawn_warns_for_discarded_fragments EXIT 0 ONE_LINE
+       STDERR "^prismrelief: warning: bench: nothing was drawn: the scene is out of view or covers no pixel centre \\(check the camera, --fovy and --size\\)"
+       JSON b.json CHECKS "results.0.fragments:GREATER:1000"
+       ARGS bench --mesh ${M}/torus.obj --eye 1.36,0,0 --target 2,0,0 --techniques prism,prism:relaxed-cone --size 64x48
+            --frames 1 --warmup 0 --json b.json)
 # Float flags past the float range say so, as --depth does (found by an exploratory session):
 # --uv-scale 1e300 became infinity and said "must be > 0", --azimuth 1e308 "must be a finite
 # number". --fovy is checked as typed: 178.999999 rounds to 179 as a float, and was refused as
