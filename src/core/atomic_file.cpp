@@ -99,6 +99,7 @@ void remove_temporaries_and_die(int sig)
         if (g_committing.load() != 0) return;
     }
     unlink_live_temporaries();
+    clear_status_line_in_signal_handler();
     // SA_RESETHAND has restored the default action, and the signal is blocked while its handler
     // runs: raised again, it is delivered when the handler returns, and the process dies of it
     // (the exit status says which signal, as it would have without the handler).

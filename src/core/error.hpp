@@ -50,6 +50,9 @@ void drop_warnings();
 // by an exploratory session). `line` must fit the terminal's width: past it the terminal wraps,
 // and "\r" goes back to the start of the last row only.
 void status_line(std::FILE* out, const std::string& line);
+// Clears the status line shown, if any, with write() alone: for a handler of a signal that ends
+// the process (atomic_file.cpp), which may not take status_line()'s lock.
+void clear_status_line_in_signal_handler() noexcept;
 // The terminal columns `line` takes: its UTF-8 characters (wide ones counted as one).
 std::size_t display_columns(std::string_view line);
 

@@ -308,6 +308,21 @@ TEST(OutputSafetyDeathTest, SignalRemovesStagedTemporaries)
     EXPECT_TRUE(fs::is_empty(d));
 }
 
+// A signal that ends the run clears the status line (a progress bar) it finds on the terminal: a
+// SIGINT during a cone map's build left "… 52%" there, and the shell's prompt or the next output
+// ran on from it (found by an exploratory session, thirty-second).
+TEST(OutputSafetyDeathTest, SignalClearsTheStatusLine)
+{
+    EXPECT_EXIT(
+        {
+            remove_temporaries_on_signals();
+            status_line(stderr, "working 42%");
+            std::raise(SIGINT);
+            std::_Exit(2);
+        },
+        ::testing::KilledBySignal(SIGINT), "working 42%\r {11}\r$");
+}
+
 // A signal the process was started ignoring (nohup's SIGHUP) stays ignored.
 TEST(OutputSafetyDeathTest, IgnoredSignalsStayIgnored)
 {
