@@ -137,7 +137,7 @@ CommandAction add_conemap_command(CLI::App& app)
                                            {"from_cache", result.from_cache},
                                            // null without a cache (--no-cache, or no cache location), as search_ms is without a GPU
                                            {"cache_entry", s->no_cache || result.entry.empty() ? nlohmann::json()
-                                                                                              : nlohmann::json(result.entry.string())},
+                                                                                              : nlohmann::json(std::filesystem::absolute(result.entry).string())},
                                            {"ms", ms},
                                            // A GPU build only (null otherwise): the dispatches and
                                            // read-back, without creating the context, uploading and

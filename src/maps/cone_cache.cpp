@@ -1,7 +1,8 @@
 // The on-disk cache of cone maps (docs/cone-maps.md, "Cache").
 //
 // Entry: cache_dir/cone/<kind>-<format>-<W>x<H>-<key>.bin, key = FNV-1a 64 of (generator version,
-// kind, format, width, height, the height texels' float bits). Layout, little endian:
+// kind, format, the generator's three budgets, width, height, the height texels' float bits).
+// Layout, little endian:
 //   magic "PRCONE01" | u32 version, kind, format, width, height | u64 key | u64 payload FNV-1a |
 //   payload: width*height float32 heights, then width*height u16 ratio steps k (ratio = k/steps).
 // Every field is checked when read, and the stored heights must equal those the map is built from
@@ -327,11 +328,13 @@ ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const s
         const std::uint64_t entry_bytes = kHeaderBytes + field.texels.size() * 6;
         std::vector<std::uint8_t> bytes;
         std::string why;
+        bool gone = false; // removed since the check above (another process's trim): a miss
         try {
             bytes = read_input_bytes(result.entry.string(),
                                      {2 * entry_bytes, "a cone-map cache entry", "not this map's entry"});
         } catch (const Error& e) {
             why = e.problem();
+            gone = !std::filesystem::exists(std::filesystem::symlink_status(result.entry, ec));
         }
         if (why.empty()) why = deserialize(bytes, field, kind, options.format, key, result.map);
         if (why.empty()) {
@@ -341,7 +344,10 @@ ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const s
             if (options.progress) options.progress(1.0);
             return result;
         }
-        warn("cone-map cache entry " + result.entry.string() + ": " + why + "; rebuilding it");
+        // (An entry that went between the check and the read said "cannot open: No such file or
+        // directory; rebuilding it", a warning meant for entries that are wrong; found by an
+        // exploratory session, thirty-second.)
+        if (!gone) warn("cone-map cache entry " + result.entry.string() + ": " + why + "; rebuilding it");
     }
     result.map = build(field, kind, options);
     try {
@@ -351,6 +357,7 @@ ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const s
         trim_cone_cache(cache_dir, cone_cache_max_bytes(), result.entry);
     } catch (const Error& e) {
         warn("cone-map cache not written: " + std::string(e.what()));
+        result.entry.clear(); // (conemap --json's cache_entry named a file that was never written)
     }
     return result;
 }

@@ -212,7 +212,7 @@ void check_outputs_outside_cache(const std::vector<std::pair<std::string, std::f
 struct ConeCacheResult {
     ConeMap map;
     bool from_cache = false;
-    std::filesystem::path entry; // the cache file (may not exist when the cache is unwritable)
+    std::filesystem::path entry; // the cache file; empty without a cache or where it could not be written
 };
 ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const std::filesystem::path& cache_dir,
                                 const ConeBuildOptions& options = {});

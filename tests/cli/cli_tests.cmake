@@ -5,13 +5,13 @@ set(M ${PROJECT_SOURCE_DIR}/meshes)
 set(BAD ${PROJECT_SOURCE_DIR}/tests/bad)
 
 function(pr_cli name)
-    cmake_parse_arguments(T "ONE_LINE" "EXIT;STDERR;STDOUT;NO_FILE;EXPECT_FILE;KEEP_FILE;ENV;JSON;CHECKS" "ARGS" ${ARGN})
+    cmake_parse_arguments(T "ONE_LINE" "EXIT;STDERR;STDOUT;NO_FILE;EXPECT_FILE;KEEP_FILE;ENV;JSON;CHECKS;SETUP" "ARGS" ${ARGN})
     string(REPLACE ";" "|" args "${T_ARGS}")
     set(cmd ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:prismrelief> "-DARGS=${args}"
             -DWORKDIR=${PR_CLI_WORK}/${name} -DEXPECT_EXIT=${T_EXIT}
             "-DSTDERR_REGEX=${T_STDERR}" "-DSTDOUT_REGEX=${T_STDOUT}" -DNO_FILE=${T_NO_FILE}
             -DEXPECT_FILE=${T_EXPECT_FILE} -DKEEP_FILE=${T_KEEP_FILE} -DONE_LINE=${T_ONE_LINE} -DJSON_FILE=${T_JSON}
-            "-DJSON_CHECKS=${T_CHECKS}")
+            "-DJSON_CHECKS=${T_CHECKS}" "-DSETUP=${T_SETUP}")
     if(T_ENV)
         set(cmd ${CMAKE_COMMAND} -E env ${T_ENV} ${cmd})
     endif()

@@ -16,6 +16,16 @@ pr_cli(conemap_cache_hit EXIT 0 EXPECT_FILE m.png STDOUT "m.png: 40x40 cone rg16
        JSON m.json CHECKS "from_cache:STREQUAL:ON|cache_entry:TYPE:STRING"
        ARGS conemap --height builtin:pyramids@40 --out m.png --cache-dir ${PR_CLI_WORK}/conemap_cache/c --json m.json)
 set_tests_properties(cli.conemap_cache_hit PROPERTIES DEPENDS cli.conemap_cache_miss)
+# --json's cache_entry names the entry written, absolute (a relative --cache-dir gave a path that
+# meant nothing from another folder), and is null where the cache could not be written (it named
+# a file that was never written; found by an exploratory session, thirty-second).
+pr_cli(conemap_cache_entry_is_absolute EXIT 0 EXPECT_FILE o.png SETUP "mkdir rel"
+       JSON j.json CHECKS "from_cache:STREQUAL:OFF|cache_entry:MATCHES:^/.+/rel/cone/cone-rg16-16x16-[0-9a-f]+[.]bin$"
+       ARGS conemap --height builtin:bumps@16 --out o.png --cache-dir rel --json j.json)
+pr_cli(conemap_cache_not_written_has_no_entry EXIT 0 ONE_LINE EXPECT_FILE o.png SETUP "printf x > cfile"
+       STDERR "^prismrelief: warning: cone-map cache not written: "
+       JSON j.json CHECKS "from_cache:STREQUAL:OFF|cache_entry:TYPE:NULL"
+       ARGS conemap --height builtin:bumps@16 --out o.png --cache-dir cfile --json j.json)
 add_test(NAME cli.conemap_cache_reset COMMAND ${CMAKE_COMMAND} -E rm -rf ${PR_CLI_WORK}/conemap_cache/c)
 set_tests_properties(cli.conemap_cache_reset PROPERTIES LABELS "cli" FIXTURES_SETUP conemap_cache)
 set_tests_properties(cli.conemap_cache_miss PROPERTIES FIXTURES_REQUIRED conemap_cache)

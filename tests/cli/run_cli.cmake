@@ -4,7 +4,8 @@
 #   KEEP_FILE (optional: written before the run with a marker text, which it must still hold after),
 #   ONE_LINE (optional: stderr must be exactly one line), TIMEOUT (seconds, default 120),
 #   JSON_FILE + JSON_CHECKS (optional): checks "path:OP:value" separated by '|', path in dots
-#   (results.1.iou), OP one of LESS GREATER EQUAL LESS_EQUAL GREATER_EQUAL STREQUAL EXISTS TYPE (NULL, NUMBER, …)
+#   (results.1.iou), OP one of LESS GREATER EQUAL LESS_EQUAL GREATER_EQUAL STREQUAL MATCHES (a regular
+#   expression without ':') EXISTS TYPE (NULL, NUMBER, …)
 #   ABSENT (no value: path:ABSENT)
 #   SETUP (optional): a shell command run in a fresh, empty WORKDIR before the run; exit 77 skips the
 #   test (it prints "SKIPPED: " and the command's output: register the test with that as its
