@@ -137,6 +137,14 @@ expect_closed_early() {
     [ ! -e k.png ] || fail "k.png was written"
 }
 
+# Presses KEY (q by default) and expects the viewer to end with exit 0 and nothing on stderr.
+quit_quietly() {
+    press "${1:-q}"
+    wait_view
+    [ $rc -eq 0 ] || fail "${1:-q}: exit $rc, expected 0"
+    [ -z "$err" ] || fail "unexpected stderr: $err"
+}
+
 # P with --screenshot s.png: writes s.png (removed first, so the wait sees the new one) and moves it
 # to NAME.
 shot() {
@@ -155,10 +163,7 @@ screenshot)
     press p
     wait_file s.png
     expect_png s.png render_pom.png
-    press q
-    wait_view
-    [ $rc -eq 0 ] || fail "Q: exit $rc, expected 0"
-    [ -z "$err" ] || fail "unexpected stderr: $err"
+    quit_quietly
     grep -q -x "view: without --frames the window stays open: P writes s.png, Q quits" view.out ||
         fail "no note that P writes s.png"
     # Without --screenshot P writes prismrelief-view-N.png, N the first number whose file is not
@@ -295,10 +300,7 @@ techniques)
     sleep 1
     shot k_none.png
     expect_png k_none.png r_pom.png
-    press q
-    wait_view
-    [ $rc -eq 0 ] || fail "Q: exit $rc, expected 0"
-    [ -z "$err" ] || fail "unexpected stderr: $err"
+    quit_quietly
     ;;
 orbit)
     # A left drag orbits (the picture changes), R resets the view (render's picture again).
@@ -314,10 +316,7 @@ orbit)
     sleep 1
     shot k_reset.png
     expect_png k_reset.png r_pom.png
-    press q
-    wait_view
-    [ $rc -eq 0 ] || fail "Q: exit $rc, expected 0"
-    [ -z "$err" ] || fail "unexpected stderr: $err"
+    quit_quietly
     ;;
 *)
     fail "unknown case"

@@ -169,6 +169,19 @@ ShadowCount hard_shadows(Renderer& r, const Camera& c, glm::vec3 light, DrawSett
     return n;
 }
 
+// The pixels of `s` that a soft light (2 degrees) darkens by more than 30 levels (of the three
+// channels' sum) against the same draw without shadows.
+int darkened_by_soft_light(Renderer& r, const Camera& c, glm::vec3 light, DrawSettings s)
+{
+    const RgbaImage lit = prtest::drawn(r, c, light, s);
+    s.shadows = Shadows::Soft;
+    s.light_size = 2.0f;
+    const RgbaImage soft = prtest::drawn(r, c, light, s);
+    int n = 0;
+    for (std::size_t p = 0; p < lit.pixels.size() / 4; ++p) n += rgb_sum(soft, p) + 30 < rgb_sum(lit, p);
+    return n;
+}
+
 } // namespace
 
 // The contract's test: on a flat shell, cone and relaxed-cone (and max-mip inside the prism) find
@@ -525,20 +538,12 @@ TEST(Shadows, ASoftLightAlongTheNormalLeavesThePrismsWallsLit)
     Renderer r(128, 128);
     r.set_cache_dir(prtest::cache_dir());
     r.upload(prtest::one_object(prtest::square(), centre_box(64), 0.3f));
-    const Camera c = oblique_camera();
     const glm::vec3 light = glm::normalize(glm::vec3(0.0001f, 0.0f, 1.0f));
-    const auto darkened_by_shadows = [&](Marcher m) {
-        DrawSettings s = settings(Technique::Prism, m);
-        const RgbaImage lit = prtest::drawn(r, c, light, s);
-        s.shadows = Shadows::Soft;
-        s.light_size = 2.0f;
-        const RgbaImage soft = prtest::drawn(r, c, light, s);
-        int n = 0;
-        for (std::size_t p = 0; p < lit.pixels.size() / 4; ++p) n += rgb_sum(soft, p) + 30 < rgb_sum(lit, p);
-        return n;
+    const auto darkened = [&](Marcher m) {
+        return darkened_by_soft_light(r, oblique_camera(), light, settings(Technique::Prism, m));
     };
-    const int cone = darkened_by_shadows(Marcher::Cone);
-    EXPECT_LE(darkened_by_shadows(Marcher::Relief), cone + 10) << "the cone marcher: " << cone;
+    const int cone = darkened(Marcher::Cone);
+    EXPECT_LE(darkened(Marcher::Relief), cone + 10) << "the cone marcher: " << cone;
 }
 
 // The same light over the base-surface techniques: relief's hit, the middle of its last bracket,
@@ -552,21 +557,13 @@ TEST(Shadows, ASoftLightAlongTheNormalLeavesTheBaseSurfaceWallsLit)
     Renderer r(128, 128);
     r.set_cache_dir(prtest::cache_dir());
     r.upload(prtest::one_object(prtest::square(), centre_box(64), 0.3f));
-    const Camera c = oblique_camera();
     const glm::vec3 light = glm::normalize(glm::vec3(0.0001f, 0.0f, 1.0f));
-    const auto darkened_by_shadows = [&](Technique t) {
-        DrawSettings s = settings(t, Marcher::Relief);
-        const RgbaImage lit = prtest::drawn(r, c, light, s);
-        s.shadows = Shadows::Soft;
-        s.light_size = 2.0f;
-        const RgbaImage soft = prtest::drawn(r, c, light, s);
-        int n = 0;
-        for (std::size_t p = 0; p < lit.pixels.size() / 4; ++p) n += rgb_sum(soft, p) + 30 < rgb_sum(lit, p);
-        return n;
+    const auto darkened = [&](Technique t) {
+        return darkened_by_soft_light(r, oblique_camera(), light, settings(t, Marcher::Relief));
     };
-    const int cone = darkened_by_shadows(Technique::Cone);
+    const int cone = darkened(Technique::Cone);
     for (Technique t : {Technique::Relief, Technique::Pom, Technique::Steep, Technique::RelaxedCone})
-        EXPECT_LE(darkened_by_shadows(t), cone + 10) << technique_name(t) << "; the cone technique: " << cone;
+        EXPECT_LE(darkened(t), cone + 10) << technique_name(t) << "; the cone technique: " << cone;
 }
 
 // The cone marchers' soft light ray steps no further than the cone map's bound on the heights
