@@ -169,6 +169,14 @@ ShadowCount hard_shadows(Renderer& r, const Camera& c, glm::vec3 light, DrawSett
     return n;
 }
 
+// Per pixel 1 where hard shadows darken `s` (hard_shadow_mask's 2), else 0.
+std::vector<char> darkened_mask(Renderer& r, const Camera& c, glm::vec3 light, const DrawSettings& s)
+{
+    std::vector<char> dark = hard_shadow_mask(r, c, light, s);
+    for (char& d : dark) d = d == 2;
+    return dark;
+}
+
 // The pixels of `s` that a soft light (2 degrees) darkens by more than 30 levels (of the three
 // channels' sum) against the same draw without shadows.
 int darkened_by_soft_light(Renderer& r, const Camera& c, glm::vec3 light, DrawSettings s)
@@ -1154,11 +1162,7 @@ TEST(Shadows, ThinWallsCastWholeShadowsUnderALowLight)
     const Camera c = top_down_camera(3.0f, 40.0f);
     const glm::vec3 light = glm::normalize(glm::vec3(1.0f, -0.3f, 0.155f));
     r.prepare_reference(scene, c, ReferenceOptions{256});
-    const auto mask = [&](Technique t, Marcher m) {
-        std::vector<char> dark = hard_shadow_mask(r, c, light, settings(t, m));
-        for (char& d : dark) d = d == 2;
-        return dark;
-    };
+    const auto mask = [&](Technique t, Marcher m) { return darkened_mask(r, c, light, settings(t, m)); };
     const std::vector<char> reference = mask(Technique::Reference, Marcher::Relief);
     const std::size_t shadowed = std::size_t(std::count(reference.begin(), reference.end(), 1));
     ASSERT_GT(shadowed, 3000u) << "no shadows in view";
@@ -1196,11 +1200,7 @@ TEST(Shadows, ThinWallsShadowRaysLongerThanTheBound)
     c.far_plane = 20.0f;
     const glm::vec3 light = light_from_x(5.0f);
     r.prepare_reference(scene, c, ReferenceOptions{128});
-    const auto mask = [&](Technique t, Marcher m) {
-        std::vector<char> dark = hard_shadow_mask(r, c, light, settings(t, m));
-        for (char& d : dark) d = d == 2;
-        return dark;
-    };
+    const auto mask = [&](Technique t, Marcher m) { return darkened_mask(r, c, light, settings(t, m)); };
     const std::vector<char> reference = mask(Technique::Reference, Marcher::Relief);
     const std::size_t shadowed = std::size_t(std::count(reference.begin(), reference.end(), 1));
     ASSERT_GT(shadowed, 3000u) << "no shadows in view";
