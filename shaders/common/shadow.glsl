@@ -238,7 +238,8 @@ int march_light(vec3 origin, vec3 dir, float t_end, float rise, inout float run_
     // follows, at an open sheet's edge, the cone marchers stepped past it, and a wall there cast a
     // shadow a texel narrower than relief's; found by an exploratory session, thirtieth).
     float t = min(dt, t_end);
-    for (int i = 1; i <= steps + 1; ++i) { // (+ 1: a least step across t_split takes one more)
+    int most = t_split < t_end ? steps + 1 : steps; // (a least step across t_split takes one more)
+    for (int i = 1; i <= most; ++i) {
 #else
     for (int i = 1; i <= steps; ++i) {
         float t = i <= steps / 2 || t_split == t_end ? float(i) * dt : t_split + float(i - steps / 2) * dt_far;
