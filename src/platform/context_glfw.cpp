@@ -45,6 +45,15 @@ void glfw_drop_callback(GLFWwindow* window, int count, const char** paths)
         if (paths[i]) self->dropped_.emplace_back(paths[i]);
 }
 
+// Queued for the viewer (take_key_presses). Set before Dear ImGui's backend installs its own,
+// which calls this one first.
+void glfw_key_callback(GLFWwindow* window, int key, int /*scancode*/, int action, int mods)
+{
+    auto* self = static_cast<GlfwWindow*>(glfwGetWindowUserPointer(window));
+    if (!self || action != GLFW_PRESS) return;
+    self->keys_.push_back({key, (mods & GLFW_MOD_SHIFT) != 0});
+}
+
 std::unique_ptr<GlfwWindow> GlfwWindow::open(int width, int height, const std::string& title)
 {
     last_glfw_error().clear();
@@ -64,6 +73,7 @@ std::unique_ptr<GlfwWindow> GlfwWindow::open(int width, int height, const std::s
     }
     glfwSetWindowUserPointer(w->window_, w.get());
     glfwSetDropCallback(w->window_, &glfw_drop_callback);
+    glfwSetKeyCallback(w->window_, &glfw_key_callback);
     glfwMakeContextCurrent(w->window_);
     w->load_gl(&glfw_get_proc, "view", "GLFW");
     return w;
@@ -108,6 +118,13 @@ void GlfwWindow::poll_events(double timeout_s)
         glfwWaitEventsTimeout(timeout_s);
     else
         glfwPollEvents();
+}
+
+std::vector<GlfwWindow::KeyPress> GlfwWindow::take_key_presses()
+{
+    std::vector<KeyPress> out;
+    out.swap(keys_);
+    return out;
 }
 
 std::vector<std::string> GlfwWindow::take_dropped_files()

@@ -40,12 +40,22 @@ public:
     void poll_events(double timeout_s = 0.0);
     // Paths dropped onto the window since the last call (in drop order).
     std::vector<std::string> take_dropped_files();
+    // Keys pressed since the last call, in order (GLFW key codes: ASCII for letters, digits and
+    // brackets; repeats left out), each with whether Shift was held. Every press counts, however
+    // short: polled once a frame, a press and release within one slow frame were lost.
+    struct KeyPress {
+        int key = 0;
+        bool shift = false;
+    };
+    std::vector<KeyPress> take_key_presses();
 
 private:
     GlfwWindow() = default;
     GLFWwindow* window_ = nullptr;
     std::vector<std::string> dropped_;
+    std::vector<KeyPress> keys_;
     friend void glfw_drop_callback(GLFWwindow*, int, const char**);
+    friend void glfw_key_callback(GLFWwindow*, int, int, int, int);
 };
 
 } // namespace pr

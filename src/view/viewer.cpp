@@ -211,6 +211,11 @@ private:
     // with relief while its cone maps were built (drew_meanwhile_) is not one of them.
     int counted_ = 0;
     bool drew_meanwhile_ = false;
+    // The picture shown was drawn with a half meanwhile (which halves): P waits for the technique's
+    // own picture, and the panel says what the half waits for.
+    bool image_meanwhile_ = false;
+    std::array<bool, 2> half_meanwhile_{};
+    bool screenshot_waiting_ = false; // said once that P waits
 
     Camera initial_camera_;
     Sphere bounds_;
@@ -466,6 +471,16 @@ void Viewer::render_scene()
         // slower; its frames are left out of the times).
         const bool count = count_samples_ && rendered_ % 10 == 0;
         drew_meanwhile_ = false;
+        // A frame where a half draws relief meanwhile is not one of --frames' frames: the other
+        // half's draw is not timed for its summary either (it was, and with the build sharing the
+        // cores pom's median read 29.5 ms against 15.2 once the map was cached; found by an
+        // exploratory session, thirty-second).
+        bool any_meanwhile = false;
+        for (int k = 0; k < halves; ++k) {
+            const DrawSettings d = drawable(half_[k]);
+            half_meanwhile_[k] = d.technique != half_[k].technique || d.marcher != half_[k].marcher;
+            any_meanwhile |= half_meanwhile_[k];
+        }
         for (int k = 0; k < halves; ++k) {
             const int x0 = split_ ? (k == 0 ? 0 : divider_px) : 0;
             const int x1 = split_ ? (k == 0 ? divider_px : w) : w;
@@ -476,7 +491,7 @@ void Viewer::render_scene()
                 glScissor(x0, 0, x1 - x0, h);
             }
             DrawSettings d = drawable(half_[k]);
-            const bool meanwhile = d.technique != half_[k].technique || d.marcher != half_[k].marcher;
+            const bool meanwhile = half_meanwhile_[k];
             drew_meanwhile_ |= meanwhile;
             // A frame that counts samples draws the plain variant first, untimed, where this half
             // has not drawn it yet, and a plain draw that compiles its variant is not timed: the
@@ -488,9 +503,10 @@ void Viewer::render_scene()
             // A half whose settings changed forgets the figures of the ones before and counts its
             // samples in this frame: the panel showed the previous technique's samples under the
             // new one's name until the next tenth frame, and blended its time from 0 (found by an
-            // exploratory session).
+            // exploratory session). Also where it draws relief meanwhile (it showed the previous
+            // technique's figures under the new name while the map was built; a second one).
             HalfStats& st = stats_[k];
-            if (fresh && !meanwhile) {
+            if (fresh) {
                 st.draw_ms = 0.0;
                 st.samples_per_fragment = -1.0;
                 st.prisms_per_fragment = -1.0;
@@ -516,7 +532,7 @@ void Viewer::render_scene()
                 // (Compiled in this draw: not its time.)
             } else {
                 st.draw_ms = st.draw_ms <= 0.0 ? ms : 0.8 * st.draw_ms + 0.2 * ms;
-                if (o_.frames > 0) st.draws.push_back(ms); // for the --frames summary only
+                if (o_.frames > 0 && !any_meanwhile) st.draws.push_back(ms); // for the --frames summary only
             }
             if (overlay_ != WireOverlay::None) {
                 const auto kind = overlay_ == WireOverlay::Base ? Renderer::Overlay::BaseMesh
@@ -537,6 +553,7 @@ void Viewer::render_scene()
             compositor_->copy_reference(r.framebuffer(), w, h);
         }
         if (drew_meanwhile_ && cone_job_) ++cone_job_->frames_meanwhile;
+        image_meanwhile_ = drew_meanwhile_;
         shader_error_.clear();
         ++rendered_;
     } catch (const Error& e) {
@@ -696,50 +713,57 @@ void Viewer::handle_input()
         dirty_ = true;
     }
 
-    if (io.WantCaptureKeyboard) return;
-    const auto pressed = [](int key) { return ImGui::IsKeyPressed(key, false); };
+    // Every key pressed since the last frame, in order (GlfwWindow queues them). Polled with
+    // ImGui::IsKeyPressed, a press and release within one slow frame were lost: P, M or Q tapped
+    // while a soft-shadowed reference or a first prism draw took seconds on llvmpipe did nothing
+    // (found by an exploratory session, thirty-second).
+    const std::vector<GlfwWindow::KeyPress> keys = window_.take_key_presses();
+    if (io.WantCaptureKeyboard) return; // (typed into the panel)
     const auto& table = technique_table();
-    // 1..9, 0: the table's first ten techniques (Shift: the right half, which turns split on).
-    for (int i = 0; i < 10 && i < int(table.size()); ++i) {
-        if (pressed('0' + (i + 1) % 10)) {
-            const int k = io.KeyShift ? 1 : 0;
-            if (k == 1) split_ = true;
-            half_[k].technique = table[i].technique;
+    const int tab = ImGui::GetKeyIndex(ImGuiKey_Tab), escape = ImGui::GetKeyIndex(ImGuiKey_Escape);
+    for (const GlfwWindow::KeyPress& key : keys) {
+        // 1..9, 0: the table's first ten techniques (Shift: the right half, which turns split on).
+        for (int i = 0; i < 10 && i < int(table.size()); ++i) {
+            if (key.key == '0' + (i + 1) % 10) {
+                const int k = key.shift ? 1 : 0;
+                if (k == 1) split_ = true;
+                half_[k].technique = table[i].technique;
+                dirty_ = true;
+            }
+        }
+        // `[`, `]` and `M` act on the half under the cursor in split view (they acted on the left
+        // half alone: in the default split, POM | prism, `M` changed nothing to be seen; found by
+        // an exploratory session); `M` on the other half when that one is the prism and this one not.
+        const int pointed = split_ && mouse_px >= divider_ * w ? 1 : 0;
+        const auto cycle = [&](int step) {
+            DrawSettings& d = half_[pointed];
+            std::size_t at = 0;
+            for (std::size_t i = 0; i < table.size(); ++i)
+                if (table[i].technique == d.technique) at = i;
+            const std::size_t n = table.size();
+            d.technique = table[(at + (step > 0 ? 1 : n - 1)) % n].technique;
+            dirty_ = true;
+        };
+        if (key.key == ']') cycle(1);
+        if (key.key == '[') cycle(-1);
+        if (key.key == 'M') {
+            const int k = split_ && half_[pointed].technique != Technique::Prism &&
+                                  half_[1 - pointed].technique == Technique::Prism
+                              ? 1 - pointed
+                              : pointed;
+            const std::vector<Marcher>& all = all_marchers();
+            const auto at = std::find(all.begin(), all.end(), half_[k].marcher);
+            half_[k].marcher = at == all.end() || at + 1 == all.end() ? all.front() : *(at + 1);
             dirty_ = true;
         }
+        if (key.key == 'S') split_ = !split_, dirty_ = true;
+        if (key.key == 'W') overlay_ = WireOverlay((int(overlay_) + 1) % 3), dirty_ = true;
+        if (key.key == 'D') reference_overlay_ = !reference_overlay_, dirty_ = true;
+        if (key.key == 'R') reset_view();
+        if (key.key == 'H' || key.key == tab) show_panel_ = !show_panel_;
+        if (key.key == 'P') screenshot_pending_ = true;
+        if (key.key == 'Q' || key.key == escape) window_.request_close();
     }
-    // `[`, `]` and `M` act on the half under the cursor in split view (they acted on the left half
-    // alone: in the default split, POM | prism, `M` changed nothing to be seen; found by an
-    // exploratory session); `M` on the other half when that one is the prism and this one not.
-    const int pointed = split_ && mouse_px >= divider_ * w ? 1 : 0;
-    const auto cycle = [&](int step) {
-        DrawSettings& d = half_[pointed];
-        std::size_t at = 0;
-        for (std::size_t i = 0; i < table.size(); ++i)
-            if (table[i].technique == d.technique) at = i;
-        const std::size_t n = table.size();
-        d.technique = table[(at + (step > 0 ? 1 : n - 1)) % n].technique;
-        dirty_ = true;
-    };
-    if (pressed(']')) cycle(1);
-    if (pressed('[')) cycle(-1);
-    if (pressed('M')) {
-        const int k = split_ && half_[pointed].technique != Technique::Prism &&
-                              half_[1 - pointed].technique == Technique::Prism
-                          ? 1 - pointed
-                          : pointed;
-        const std::vector<Marcher>& all = all_marchers();
-        const auto at = std::find(all.begin(), all.end(), half_[k].marcher);
-        half_[k].marcher = at == all.end() || at + 1 == all.end() ? all.front() : *(at + 1);
-        dirty_ = true;
-    }
-    if (pressed('S')) split_ = !split_, dirty_ = true;
-    if (pressed('W')) overlay_ = WireOverlay((int(overlay_) + 1) % 3), dirty_ = true;
-    if (pressed('D')) reference_overlay_ = !reference_overlay_, dirty_ = true;
-    if (pressed('R')) reset_view();
-    if (pressed('H') || pressed(ImGui::GetKeyIndex(ImGuiKey_Tab))) show_panel_ = !show_panel_;
-    if (pressed('P')) screenshot_pending_ = true;
-    if (pressed('Q') || pressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) window_.request_close();
 }
 
 void Viewer::technique_combo(int k)
@@ -814,12 +838,19 @@ void Viewer::draw_panel()
     const auto fmt_half = [&](int k) {
         const HalfStats& st = stats_[k];
         const std::string name = display_name(half_[k]);
+        if (half_meanwhile_[k]) {
+            ImGui::Text("%-14s waits for its cone map", name.c_str());
+            return;
+        }
+        char time[32]; // "n/a" before its first timed draw (the first draws compile and count)
+        if (st.draw_ms > 0.0) std::snprintf(time, sizeof time, "%6.1f ms", st.draw_ms);
+        else std::snprintf(time, sizeof time, "   n/a ms");
         if (st.samples_per_fragment >= 0.0) {
-            ImGui::Text("%-14s %6.1f ms %5.1f samples/frag", name.c_str(), st.draw_ms, st.samples_per_fragment);
+            ImGui::Text("%-14s %s %5.1f samples/frag", name.c_str(), time, st.samples_per_fragment);
             // (On a line of its own, under the samples: beside them it was cut at the panel's edge.)
             if (st.prisms_per_fragment >= 0.0) ImGui::Text("%25s%5.1f prisms/frag", "", st.prisms_per_fragment);
         } else
-            ImGui::Text("%-14s %6.1f ms", name.c_str(), st.draw_ms);
+            ImGui::Text("%-14s %s", name.c_str(), time);
     };
     const float last = frame_ms_.empty() ? 0.0f : frame_ms_.back();
     ImGui::Text("frame %.1f ms (%.0f fps), %dx%d px", last, last > 0.0f ? 1000.0f / last : 0.0f,
@@ -1006,9 +1037,20 @@ int Viewer::run()
             ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
             const bool counted = !drew_meanwhile_;
             const bool last_frame = o_.frames > 0 && counted && counted_ + 1 >= o_.frames;
-            if (last_frame && !o_.screenshot.empty()) take_screenshot(o_.screenshot);
-            else if (screenshot_pending_) screenshot_now();
-            screenshot_pending_ = false;
+            if (last_frame && !o_.screenshot.empty()) {
+                take_screenshot(o_.screenshot);
+                screenshot_pending_ = false;
+            } else if (screenshot_pending_ && image_meanwhile_ && cone_job_) {
+                // The picture is relief's while the cone map builds: P saved it under the
+                // technique's screenshot without a word (found by an exploratory session,
+                // thirty-second). It waits for the technique's own picture.
+                if (!screenshot_waiting_) note("P: the screenshot waits for the cone map (relief is drawn meanwhile)");
+                screenshot_waiting_ = true;
+            } else if (screenshot_pending_) {
+                screenshot_now();
+                screenshot_pending_ = false;
+                screenshot_waiting_ = false;
+            }
             window_.swap_buffers();
 
             const double ms = seconds_since(last_frame_) * 1000.0;

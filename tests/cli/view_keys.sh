@@ -302,6 +302,37 @@ techniques)
     expect_png k_none.png r_pom.png
     quit_quietly
     ;;
+tap)
+    # Keys tapped (pressed and released at once, xdotool key) during slow frames (a soft-shadowed
+    # reference, every frame drawn: --frames): the viewer read the keys' state once a frame, and a
+    # press and release within one frame were no press, so P and Q did nothing. It reads every
+    # press now.
+    SOFT="--technique reference --shadows soft --light-size 30"
+    render $SOFT --out r_ref.png
+    start_view $TORUS $SOFT --frames 100000
+    timeout 10 xdotool windowfocus --sync "$win" key p || fail "xdotool could not tap p"
+    wait_file prismrelief-view-1.png
+    expect_png prismrelief-view-1.png r_ref.png
+    timeout 10 xdotool windowfocus --sync "$win" key q || fail "xdotool could not tap q"
+    wait_view
+    [ $rc -eq 0 ] || fail "q: exit $rc, expected 0"
+    ;;
+build)
+    # P while a cone map is built on the viewer's thread (relief drawn meanwhile) waits for the
+    # technique's own picture: it saved relief's under the technique's screenshot without a word.
+    NOISE="--mesh $MESHES/torus.obj --height builtin:noise@768 --size 128x96 --cache-dir $WORKDIR/cache"
+    start_view $NOISE --technique relaxed-cone --screenshot s.png
+    press p
+    i=0
+    until [ -e s.png ]; do
+        i=$((i + 1))
+        [ $i -le 900 ] || fail "s.png was not written within 90 s of P"
+        sleep 0.1
+    done
+    "$EXE" render $NOISE --technique relaxed-cone --out r_relaxed.png >/dev/null || fail "render failed"
+    expect_png s.png r_relaxed.png
+    quit_quietly
+    ;;
 orbit)
     # A left drag orbits (the picture changes), R resets the view (render's picture again).
     render --technique pom --out r_pom.png
