@@ -819,9 +819,18 @@ void Viewer::draw_build_box()
     ImGui::Begin("##cone map build", nullptr,
                  ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoInputs |
                      ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing);
-    ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "building the %s", cone_job_->what.c_str());
-    ImGui::ProgressBar(float(cone_job_->done->load()), ImVec2(300.0f * scale, 0.0f));
-    ImGui::TextDisabled("relief drawn meanwhile; the map is cached for later runs");
+    // 300 wide, less in a narrow window, its lines wrapped to that (at 400 pixels the box ran off
+    // the window's left edge; found by an exploratory session, thirty-second).
+    const float width = std::max(60.0f * scale, std::min(300.0f * scale, display.x - 32.0f * scale));
+    ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + width);
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.8f, 0.3f, 1.0f));
+    ImGui::TextWrapped("building the %s", cone_job_->what.c_str());
+    ImGui::PopStyleColor();
+    ImGui::ProgressBar(float(cone_job_->done->load()), ImVec2(width, 0.0f));
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+    ImGui::TextWrapped("relief drawn meanwhile; the map is cached for later runs");
+    ImGui::PopStyleColor();
+    ImGui::PopTextWrapPos();
     ImGui::End();
 }
 
