@@ -1,5 +1,6 @@
 #include "core/error.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <cstdio>
@@ -53,6 +54,10 @@ void status_line(std::FILE* out, const std::string& line)
     Warnings& w = warnings();
     std::lock_guard lock(w.mutex);
     const std::size_t shown = w.status_out == out ? display_columns(w.status) : 0;
+    // For a signal that comes while the line is written: what it may find on the terminal (the
+    // wider of the two lines), before the write.
+    g_status_columns = int(std::max(shown, display_columns(line)));
+    g_status_fd = ::fileno(out);
     if (line.empty()) {
         if (shown > 0) std::fprintf(out, "\r%*s\r", int(shown), "");
     } else {
@@ -64,7 +69,7 @@ void status_line(std::FILE* out, const std::string& line)
     w.status_out = line.empty() ? nullptr : out;
     w.status = line;
     g_status_columns = int(display_columns(line));
-    g_status_fd = line.empty() ? -1 : ::fileno(out);
+    if (line.empty()) g_status_fd = -1;
 }
 
 void clear_status_line_in_signal_handler() noexcept

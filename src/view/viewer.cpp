@@ -113,6 +113,7 @@ struct ConeJob {
     std::shared_ptr<std::atomic<bool>> cancel = std::make_shared<std::atomic<bool>>(false);
     std::future<Maps> maps;
     int frames_meanwhile = 0; // frames drawn with while_cone_maps_build()
+    std::vector<const HeightField*> fields; // what it builds for
 };
 
 class Viewer {
@@ -153,6 +154,7 @@ private:
     void init_imgui();
     void shutdown_imgui();
     void handle_input();
+    void handle_keys();
     void handle_drop(const std::string& path);
     void reload_scene(SceneSpec spec, bool reset_camera, bool keep_first_height = false);
     void apply_displacement();
@@ -305,15 +307,15 @@ void Viewer::apply_displacement()
 void Viewer::reload_scene(SceneSpec spec, bool reset_camera, bool keep_first_height)
 {
     Scene scene = load_scene(spec); // throws pr::Error naming the file: the old scene stays
-    if (keep_first_height && !scene.objects.empty() && !s_.scene.objects.empty()) {
-        // A dropped mesh keeps the first object's height map: the very field, so its cone maps,
-        // held or building, serve on. The build was cancelled and started again for the same
-        // map (5 s of a relaxed builtin:noise@768 lost; found by an exploratory session,
-        // thirty-second).
-        scene.objects[0].height = s_.scene.objects[0].height;
-    } else {
-        cancel_cone_job(); // for the old height maps
-    }
+    const bool keep = keep_first_height && !scene.objects.empty() && !s_.scene.objects.empty();
+    // A dropped mesh keeps the first object's height map: the very field, so its cone maps, held
+    // or building, serve on. The build was cancelled and started again for the same map (5 s of a
+    // relaxed builtin:noise@768 lost; found by an exploratory session, thirty-second). A build
+    // that is not for it is for height maps no longer drawn: cancelled.
+    if (keep) scene.objects[0].height = s_.scene.objects[0].height;
+    if (!keep || (cone_job_ && std::find(cone_job_->fields.begin(), cone_job_->fields.end(),
+                                         scene.objects[0].height.get()) == cone_job_->fields.end()))
+        cancel_cone_job();
     try {
         s_.renderer->upload(scene);
     } catch (const Error&) {
@@ -392,6 +394,7 @@ DrawSettings Viewer::drawable(const DrawSettings& d)
         for (const Renderer::ConeMapNeed& need : needs)
             if (std::find(fields.begin(), fields.end(), need.field.get()) == fields.end())
                 fields.push_back(need.field.get());
+        job.fields = fields;
         job.what = cone_map_label(map == AuxMap::Relaxed ? ConeKind::Relaxed : ConeKind::Cone, *fields.front());
         for (std::size_t i = 1; i < fields.size(); ++i)
             job.what += (i + 1 == fields.size() ? " and " : ", ") +
@@ -483,10 +486,16 @@ void Viewer::render_scene()
         // half's draw is not timed for its summary either (it was, and with the build sharing the
         // cores pom's median read 29.5 ms against 15.2 once the map was cached; found by an
         // exploratory session, thirty-second).
+        // (Halves with no columns are not drawn, and start no build.)
         bool any_meanwhile = false;
+        std::array<DrawSettings, 2> drawn;
         for (int k = 0; k < halves; ++k) {
-            const DrawSettings d = drawable(half_[k]);
-            half_meanwhile_[k] = d.technique != half_[k].technique || d.marcher != half_[k].marcher;
+            const int x0 = split_ ? (k == 0 ? 0 : divider_px) : 0;
+            const int x1 = split_ ? (k == 0 ? divider_px : w) : w;
+            half_meanwhile_[k] = false;
+            if (x1 <= x0) continue;
+            drawn[k] = drawable(half_[k]);
+            half_meanwhile_[k] = drawn[k].technique != half_[k].technique || drawn[k].marcher != half_[k].marcher;
             any_meanwhile |= half_meanwhile_[k];
         }
         for (int k = 0; k < halves; ++k) {
@@ -498,7 +507,7 @@ void Viewer::render_scene()
                 glEnable(GL_SCISSOR_TEST);
                 glScissor(x0, 0, x1 - x0, h);
             }
-            DrawSettings d = drawable(half_[k]);
+            DrawSettings d = drawn[k];
             const bool meanwhile = half_meanwhile_[k];
             drew_meanwhile_ |= meanwhile;
             // A frame that counts samples draws the plain variant first, untimed, where this half
@@ -721,12 +730,22 @@ void Viewer::handle_input()
         dirty_ = true;
     }
 
+}
+
+void Viewer::handle_keys()
+{
     // Every key pressed since the last frame, in order (GlfwWindow queues them). Polled with
     // ImGui::IsKeyPressed, a press and release within one slow frame were lost: P, M or Q tapped
     // while a soft-shadowed reference or a first prism draw took seconds on llvmpipe did nothing
-    // (found by an exploratory session, thirty-second).
+    // (found by an exploratory session, thirty-second). Called after the panel is drawn, so that a
+    // field it opened in this frame (Ctrl + click on a slider) takes them, not the scene: "0.05"
+    // typed into it during a slow frame turned the technique to the prism and then to pom.
+    const ImGuiIO& io = ImGui::GetIO();
     const std::vector<GlfwWindow::KeyPress> keys = window_.take_key_presses();
-    if (io.WantCaptureKeyboard) return; // (typed into the panel)
+    if (io.WantCaptureKeyboard || io.WantTextInput || ImGui::IsAnyItemActive()) return; // (the panel's)
+    const float fb_scale = io.DisplayFramebufferScale.x > 0.0f ? io.DisplayFramebufferScale.x : 1.0f;
+    const float w = float(compositor_->width());
+    const float mouse_px = io.MousePos.x * fb_scale;
     const auto& table = technique_table();
     const int tab = ImGui::GetKeyIndex(ImGuiKey_Tab), escape = ImGui::GetKeyIndex(ImGuiKey_Escape);
     for (const GlfwWindow::KeyPress& key : keys) {
@@ -1035,6 +1054,7 @@ int Viewer::run()
             handle_input();
             if (show_panel_) draw_panel();
             draw_build_box(); // (with the panel hidden too)
+            handle_keys();    // (after the panel: a field it opened this frame takes the keys)
             ImGui::Render();
 
             drew_meanwhile_ = false;
@@ -1063,6 +1083,11 @@ int Viewer::run()
                 // thirty-second). It waits for the technique's own picture.
                 if (!screenshot_waiting_) note("P: the screenshot waits for the cone map (relief is drawn meanwhile)");
                 screenshot_waiting_ = true;
+            } else if (screenshot_pending_ && image_meanwhile_) {
+                // Built, but the technique's draw failed (a shader error): the picture is still relief's.
+                error("P: no screenshot: the picture shown is relief's (the technique could not be drawn)");
+                screenshot_pending_ = false;
+                screenshot_waiting_ = false;
             } else if (screenshot_pending_) {
                 screenshot_now();
                 screenshot_pending_ = false;
@@ -1084,6 +1109,8 @@ int Viewer::run()
             counted_ += counted;
             if (o_.frames > 0 && counted_ >= o_.frames) break;
         }
+        // A P that waited for a cone map when the window closed (only the panel's log had said so).
+        if (screenshot_pending_) warn("P: no screenshot: the window closed while the cone map was built");
         // Closed (Q, the window's close button) before the frames asked for: a --screenshot was not
         // written, and the run fails, rather than exit 0 without its PNG (found by an exploratory
         // session).
