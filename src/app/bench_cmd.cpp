@@ -173,7 +173,7 @@ CommandAction add_bench_command(CLI::App& app)
                                            {"steps", s->quality.steps},
                                            {"refine", s->quality.refine}};
             write_file_atomic(s->json, report_text(report));
-            std::printf("wrote %s\n", s->json.c_str());
+            std::printf("wrote %s\n", one_line(s->json).c_str());
         }
         return kExitOk;
     };

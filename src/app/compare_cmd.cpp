@@ -200,9 +200,9 @@ CommandAction add_compare_command(CLI::App& app)
         // Every metric then compares two empty images: IoU 1 (the contract's, for an empty union)
         // and "same" are true, and mean nothing.
         if (nothing_drawn) warn_nothing_drawn("compare");
-        if (!s->out.empty()) std::printf("wrote %s\n", s->out.c_str());
-        if (!s->json.empty()) std::printf("wrote %s\n", s->json.c_str());
-        if (!tile_files.empty()) std::printf("wrote %zu tiles in %s\n", tile_files.size(), s->tiles.c_str());
+        if (!s->out.empty()) std::printf("wrote %s\n", one_line(s->out).c_str());
+        if (!s->json.empty()) std::printf("wrote %s\n", one_line(s->json).c_str());
+        if (!tile_files.empty()) std::printf("wrote %zu tiles in %s\n", tile_files.size(), one_line(s->tiles).c_str());
         return kExitOk;
     };
 }

@@ -122,7 +122,7 @@ CommandAction add_conemap_command(CLI::App& app)
         double sum = 0.0, lo = 1.0, hi = 0.0;
         for (float r : m.ratios) sum += r, lo = std::min(lo, double(r)), hi = std::max(hi, double(r));
         const double mean = m.ratios.empty() ? 0.0 : sum / double(m.ratios.size());
-        const std::string how = result.from_cache ? "from the cache (" + result.entry.string() + ")" : "built (" + device + ")";
+        const std::string how = result.from_cache ? "from the cache (" + one_line(result.entry.string()) + ")" : "built (" + device + ")";
         // Both outputs or neither: both are staged before either is renamed into place, so a
         // failure to write either leaves both destinations as they were.
         std::optional<StagedFile> json;
@@ -155,7 +155,7 @@ CommandAction add_conemap_command(CLI::App& app)
         }
         StagedFile png(s->out, encode_cone_png(s->out, result.map, options.format));
         commit_together({&png, json ? &*json : nullptr});
-        std::printf("%s: %dx%d %s %s, %s in %.0f ms, ratio min %.4f mean %.4f max %.4f\n", s->out.c_str(), m.width,
+        std::printf("%s: %dx%d %s %s, %s in %.0f ms, ratio min %.4f mean %.4f max %.4f\n", one_line(s->out).c_str(), m.width,
                     m.height, cone_kind_name(kind).c_str(), cone_format_name(options.format).c_str(), how.c_str(), ms,
                     lo, mean, hi);
         return kExitOk;

@@ -111,10 +111,10 @@ CommandAction add_render_command(CLI::App& app)
         // A few covered pixels of a large image are not "0.0%": more digits then.
         const double percent = 100.0 * double(covered) / double(pixels);
         const std::string passes = offsets.size() > 1 ? " (" + std::to_string(offsets.size()) + " passes)" : "";
-        std::printf("%s: %dx%d %s, %.1f ms%s%s, coverage %.*f%%\n", s->out.c_str(), image.width, image.height,
+        std::printf("%s: %dx%d %s, %.1f ms%s%s, coverage %.*f%%\n", one_line(s->out).c_str(), image.width, image.height,
                     configuration_name(settings).c_str(), ms, passes.c_str(),
                     again ? "" : " (first draw, with compiling)", covered > 0 && percent < 0.1 ? 4 : 1, percent);
-        if (!s->json.empty()) std::printf("wrote %s\n", s->json.c_str());
+        if (!s->json.empty()) std::printf("wrote %s\n", one_line(s->json).c_str());
         return kExitOk;
     };
 }

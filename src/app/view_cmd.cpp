@@ -139,7 +139,7 @@ CommandAction add_view_command(CLI::App& app)
         // (A script that meant a batch run waited for ever without a word; found by an exploratory
         // session.)
         if (!s->screenshot.empty() && s->frames == 0)
-            std::printf("view: without --frames the window stays open: P writes %s, Q quits\n", s->screenshot.c_str());
+            std::printf("view: without --frames the window stays open: P writes %s, Q quits\n", one_line(s->screenshot).c_str());
         o.screenshot = s->screenshot;
         o.screenshot_ui = s->screenshot_ui;
         o.panel = !s->no_panel;

@@ -601,7 +601,7 @@ void Viewer::take_screenshot(const std::string& path)
         check_distinct_outputs({{"--screenshot", path}}, inputs);
         write_png(path, o_.screenshot_ui ? read_window() : compositor_->read_view());
         note("wrote " + path);
-        if (o_.frames > 0) std::printf("%s: %dx%d\n", path.c_str(), compositor_->width(), compositor_->height());
+        if (o_.frames > 0) std::printf("%s: %dx%d\n", one_line(path).c_str(), compositor_->width(), compositor_->height());
     } catch (const Error& e) {
         if (o_.frames > 0) throw; // --frames --screenshot: the PNG is the result; failing to write it fails
         error(e.what());

@@ -529,3 +529,8 @@ pr_cli(fovy_just_under_179 EXIT 0 EXPECT_FILE o.png
 pr_cli(msaa_past_int_echoed EXIT 1 ONE_LINE NO_FILE o.png
        STDERR "${E}--msaa: must be 1, 2, 4, 8 or 16, got 2147483648"
        ARGS render --mesh ${M}/cube.obj --msaa 2147483648 --size 8x8 --out o.png)
+# The summary line on stdout names the output as the error lines do, control characters written
+# out: an --out holding a line break split it in two (found by an exploratory session,
+# thirty-second).
+pr_cli_special(summary_names_output_on_one_line BASH EXIT 0 STDOUT "^o\\\\nut[.]png: 16x16 flat"
+               ARGS render --mesh ${M}/cube.obj --technique flat --size 16x16 --out "$'o\\nut.png'")
