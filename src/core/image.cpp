@@ -466,9 +466,13 @@ HeightField load_height_file(const std::string& path, const ImageLimits& limits)
         hf.bits = 16;
         const bool swap = is_pnm(bytes) && stb_swaps_16_bit_pnm();
         const float top = float(maxval.value_or(65535));
+        // A PNM's maxval other than 65535 gives heights between 16-bit steps: kept to the steps
+        // the GPU holds (R16), as HDR's and the 8-bit PNM's are (v/1023 was kept as a float, so
+        // the reference's geometry and the R16 texture differed by up to half a step, and a map
+        // equal to a 16-bit PNG's had a cache entry of its own; found by an exploratory session).
         take_first_channel(hf, data.get(), n, [swap, top](stbi_us v) {
             if (swap) v = stbi_us(v >> 8 | v << 8);
-            return std::min(float(v) / top, 1.0f);
+            return top == 65535.0f ? float(v) / top : quantize16(float(v) / top);
         });
     } else if (stbi_is_hdr_from_memory(c.data, c.len)) {
         // Radiance HDR holds floats: clamp to the height range and keep 16 bits, which is what
