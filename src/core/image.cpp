@@ -495,6 +495,17 @@ HeightField load_height_file(const std::string& path, const ImageLimits& limits)
         // 8 bits, or a PNM's maxval under 255 taken at 16 (maxval 100: steps of 1/100).
         hf.bits = maxval.value_or(255) == 255 ? 8 : 16;
         fix_tga_origin(bytes, data.get(), hf.width, hf.height, n);
+        // stb gives a GIF's transparent pixels no colour (0, 0, 0, 0): their height is 0, not
+        // their palette entry's, where a PNG's transparent pixels keep theirs. Said, not silent (a
+        // transparent white made whole areas fall from 1 to 0; found by an exploratory session).
+        if (bytes.size() >= 4 && std::memcmp(bytes.data(), "GIF8", 4) == 0 && n == 4) {
+            std::size_t clear = 0;
+            for (std::size_t k = 3; k < std::size_t(hf.width) * std::size_t(hf.height) * 4; k += 4)
+                clear += data.get()[k] == 0;
+            if (clear > 0)
+                warn(path + ": " + std::to_string(clear) + " transparent GIF pixel" + (clear == 1 ? "" : "s") +
+                     " read as height 0 (their palette colour is not kept; save the map as PNG to keep it)");
+        }
         const float top = float(maxval.value_or(255));
         take_first_channel(hf, data.get(), n, [top, quantize = hf.bits == 16](stbi_uc v) {
             const float x = std::min(float(v) / top, 1.0f);

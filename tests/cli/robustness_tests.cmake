@@ -534,3 +534,9 @@ pr_cli(msaa_past_int_echoed EXIT 1 ONE_LINE NO_FILE o.png
 # thirty-second).
 pr_cli_special(summary_names_output_on_one_line BASH EXIT 0 STDOUT "^o\\\\nut[.]png: 16x16 flat"
                ARGS render --mesh ${M}/cube.obj --technique flat --size 16x16 --out "$'o\\nut.png'")
+# A GIF's transparent pixels read as height 0 (stb gives them no colour), where a PNG's keep
+# their colour: said, not silent (a transparent white made areas fall from 1 to 0; found by an
+# exploratory session, thirty-second). A 2x2 GIF whose grey 200 is transparent.
+pr_cli(gif_transparent_pixels_are_said EXIT 0 ONE_LINE EXPECT_FILE o.png SETUP "printf '\\107\\111\\106\\070\\071\\141\\002\\000\\002\\000\\200\\000\\000\\310\\310\\310\\377\\377\\377\\041\\371\\004\\001\\000\\000\\000\\000\\054\\000\\000\\000\\000\\002\\000\\002\\000\\000\\002\\003\\204\\035\\005\\000\\073' > t.gif"
+       STDERR "^prismrelief: warning: t.gif: 4 transparent GIF pixels read as height 0 \\(their palette colour is not kept"
+       ARGS conemap --height t.gif --format rg8 --no-cache --out o.png)
