@@ -244,7 +244,8 @@ private:
     // P (or the panel's button) this frame: taken once the frame is drawn (screenshot_now). It was
     // taken when the key was read, before the frame's draw: the picture lagged a frame behind (a
     // technique key and P in one frame saved the technique before; P in the first frame, nothing).
-    bool screenshot_pending_ = false;
+    // A count: two P in one frame (or while a map builds) write two files (numbered names).
+    int screenshot_pending_ = 0;
     std::array<std::string, 2> warmed_; // each half's variant last drawn plain (variant_key)
 };
 
@@ -311,11 +312,11 @@ void Viewer::reload_scene(SceneSpec spec, bool reset_camera, bool keep_first_hei
     // A dropped mesh keeps the first object's height map: the very field, so its cone maps, held
     // or building, serve on. The build was cancelled and started again for the same map (5 s of a
     // relaxed builtin:noise@768 lost; found by an exploratory session, thirty-second). A build
-    // that is not for it is for height maps no longer drawn: cancelled.
+    // that is not for it alone is for height maps no longer drawn too: cancelled.
     if (keep) scene.objects[0].height = s_.scene.objects[0].height;
-    if (!keep || (cone_job_ && std::find(cone_job_->fields.begin(), cone_job_->fields.end(),
-                                         scene.objects[0].height.get()) == cone_job_->fields.end()))
-        cancel_cone_job();
+    if (!keep || (cone_job_ && (cone_job_->fields.size() != 1 ||
+                                cone_job_->fields.front() != scene.objects[0].height.get())))
+        cancel_cone_job(); // (one for other maps too: the kept one's is restarted, from the cache if built)
     try {
         s_.renderer->upload(scene);
     } catch (const Error&) {
@@ -423,6 +424,10 @@ void Viewer::poll_cone_job()
     try {
         ConeJob::Maps maps = job.maps.get();
         for (auto& [field, map] : maps) s_.renderer->provide_cone_map(field, std::move(map));
+        // The technique is drawn now, whatever failed while relief stood in for it (the settings
+        // it was blocked on are the same: a relief that failed kept the technique undrawn after
+        // the build; found by an exploratory session, thirty-second).
+        blocked_key_.clear();
         // The technique's first draw follows: it counts samples and is left out of the times, as
         // the first frame is (it compiles the technique's shaders). It was timed: --frames printed
         // that one draw, about 190 ms for 3 ms, and no samples per fragment.
@@ -788,7 +793,7 @@ void Viewer::handle_keys()
         if (key.key == 'D') reference_overlay_ = !reference_overlay_, dirty_ = true;
         if (key.key == 'R') reset_view();
         if (key.key == 'H' || key.key == tab) show_panel_ = !show_panel_;
-        if (key.key == 'P') screenshot_pending_ = true;
+        if (key.key == 'P') ++screenshot_pending_;
         if (key.key == 'Q' || key.key == escape) window_.request_close();
     }
 }
@@ -838,18 +843,26 @@ void Viewer::draw_build_box()
     ImGui::Begin("##cone map build", nullptr,
                  ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoInputs |
                      ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing);
-    // 300 wide, less in a narrow window, its lines wrapped to that (at 400 pixels the box ran off
-    // the window's left edge; found by an exploratory session, thirty-second).
-    const float width = std::max(60.0f * scale, std::min(300.0f * scale, display.x - 32.0f * scale));
-    ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + width);
-    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.8f, 0.3f, 1.0f));
-    ImGui::TextWrapped("building the %s", cone_job_->what.c_str());
-    ImGui::PopStyleColor();
-    ImGui::ProgressBar(float(cone_job_->done->load()), ImVec2(width, 0.0f));
-    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-    ImGui::TextWrapped("relief drawn meanwhile; the map is cached for later runs");
-    ImGui::PopStyleColor();
-    ImGui::PopTextWrapPos();
+    // 300 wide with its lines wrapped to that where the window has room, else the bar alone,
+    // as wide as the window allows (at 400 pixels the box ran off the window's left edge, and
+    // wrapped lines ran off its foot in smaller ones; found by exploratory sessions, thirty-second).
+    const float done = float(cone_job_->done->load());
+    if (display.x >= 360.0f * scale && display.y >= 200.0f * scale) {
+        const float width = 300.0f * scale;
+        ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + width);
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.8f, 0.3f, 1.0f));
+        ImGui::TextWrapped("building the %s", cone_job_->what.c_str());
+        ImGui::PopStyleColor();
+        ImGui::ProgressBar(done, ImVec2(width, 0.0f));
+        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+        ImGui::TextWrapped("relief drawn meanwhile; the map is cached for later runs");
+        ImGui::PopStyleColor();
+        ImGui::PopTextWrapPos();
+    } else {
+        char label[48];
+        std::snprintf(label, sizeof label, "cone map %d%%", int(done * 100.0f));
+        ImGui::ProgressBar(done, ImVec2(std::max(1.0f, display.x - 32.0f * scale), 0.0f), label);
+    }
     ImGui::End();
 }
 
@@ -965,7 +978,7 @@ void Viewer::draw_panel()
         }
         if (ImGui::Button("reset view (R)")) reset_view();
         ImGui::SameLine();
-        if (ImGui::Button("screenshot (P)")) screenshot_pending_ = true;
+        if (ImGui::Button("screenshot (P)")) ++screenshot_pending_;
     }
     if (ImGui::CollapsingHeader("Overlays", ImGuiTreeNodeFlags_DefaultOpen)) {
         int ov = int(overlay_);
@@ -1076,21 +1089,20 @@ int Viewer::run()
             const bool last_frame = o_.frames > 0 && counted && counted_ + 1 >= o_.frames;
             if (last_frame && !o_.screenshot.empty()) {
                 take_screenshot(o_.screenshot);
-                screenshot_pending_ = false;
-            } else if (screenshot_pending_ && image_meanwhile_ && cone_job_) {
+                screenshot_pending_ = 0;
+            } else if (screenshot_pending_ > 0 && image_meanwhile_ && cone_job_) {
                 // The picture is relief's while the cone map builds: P saved it under the
                 // technique's screenshot without a word (found by an exploratory session,
                 // thirty-second). It waits for the technique's own picture.
                 if (!screenshot_waiting_) note("P: the screenshot waits for the cone map (relief is drawn meanwhile)");
                 screenshot_waiting_ = true;
-            } else if (screenshot_pending_ && image_meanwhile_) {
+            } else if (screenshot_pending_ > 0 && image_meanwhile_) {
                 // Built, but the technique's draw failed (a shader error): the picture is still relief's.
                 error("P: no screenshot: the picture shown is relief's (the technique could not be drawn)");
-                screenshot_pending_ = false;
+                screenshot_pending_ = 0;
                 screenshot_waiting_ = false;
-            } else if (screenshot_pending_) {
-                screenshot_now();
-                screenshot_pending_ = false;
+            } else if (screenshot_pending_ > 0) {
+                for (; screenshot_pending_ > 0; --screenshot_pending_) screenshot_now();
                 screenshot_waiting_ = false;
             }
             window_.swap_buffers();
@@ -1110,7 +1122,7 @@ int Viewer::run()
             if (o_.frames > 0 && counted_ >= o_.frames) break;
         }
         // A P that waited for a cone map when the window closed (only the panel's log had said so).
-        if (screenshot_pending_) warn("P: no screenshot: the window closed while the cone map was built");
+        if (screenshot_pending_ > 0) warn("P: no screenshot: the window closed while the cone map was built");
         // Closed (Q, the window's close button) before the frames asked for: a --screenshot was not
         // written, and the run fails, rather than exit 0 without its PNG (found by an exploratory
         // session).

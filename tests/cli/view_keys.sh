@@ -323,6 +323,11 @@ tap)
     timeout 10 xdotool windowfocus --sync "$win" key p || fail "xdotool could not tap p"
     wait_file prismrelief-view-1.png
     expect_png prismrelief-view-1.png r_ref.png
+    # Two taps within one frame: two pictures (one, while P was a flag).
+    timeout 10 xdotool windowfocus --sync "$win" key --delay 20 p p || fail "xdotool could not tap p p"
+    wait_file prismrelief-view-3.png
+    expect_png prismrelief-view-2.png r_ref.png
+    expect_png prismrelief-view-3.png r_ref.png
     timeout 10 xdotool windowfocus --sync "$win" key q || fail "xdotool could not tap q"
     wait_view
     [ $rc -eq 0 ] || fail "q: exit $rc, expected 0"
