@@ -734,7 +734,6 @@ void Viewer::handle_input()
         }
         dirty_ = true;
     }
-
 }
 
 void Viewer::handle_keys()
