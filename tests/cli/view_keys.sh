@@ -335,10 +335,10 @@ tap)
 build)
     # P while a cone map is built on the viewer's thread (relief drawn meanwhile) waits for the
     # technique's own picture: it saved relief's under the technique's screenshot without a word.
-    # (The relaxed map of noise@768 takes 10-20 s on two cores: s.png must not be there a second
+    # (The relaxed map of noise@640 takes about 7 s on two cores: s.png must not be there a second
     # after P. Under the sanitizers the build takes minutes: skipped there.)
     [ -z "$PRELOAD" ] || skip "a relaxed map's build under the sanitizers outlasts the viewer's 60 s"
-    NOISE="--mesh $MESHES/torus.obj --height builtin:noise@768 --size 128x96 --cache-dir $WORKDIR/cache"
+    NOISE="--mesh $MESHES/torus.obj --height builtin:noise@640 --size 128x96 --cache-dir $WORKDIR/cache"
     start_view $NOISE --technique relaxed-cone --screenshot s.png
     press p
     sleep 1
