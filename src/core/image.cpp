@@ -472,7 +472,7 @@ HeightField load_height_file(const std::string& path, const ImageLimits& limits)
         // equal to a 16-bit PNG's had a cache entry of its own; found by an exploratory session).
         take_first_channel(hf, data.get(), n, [swap, top](stbi_us v) {
             if (swap) v = stbi_us(v >> 8 | v << 8);
-            return top == 65535.0f ? float(v) / top : quantize16(float(v) / top);
+            return quantize16(float(v) / top); // (v / 65535 itself where the maxval is 65535)
         });
     } else if (stbi_is_hdr_from_memory(c.data, c.len)) {
         // Radiance HDR holds floats: clamp to the height range and keep 16 bits, which is what
@@ -498,7 +498,7 @@ HeightField load_height_file(const std::string& path, const ImageLimits& limits)
         // stb gives a GIF's transparent pixels no colour (0, 0, 0, 0): their height is 0, not
         // their palette entry's, where a PNG's transparent pixels keep theirs. Said, not silent (a
         // transparent white made whole areas fall from 1 to 0; found by an exploratory session).
-        if (bytes.size() >= 4 && std::memcmp(bytes.data(), "GIF8", 4) == 0 && n == 4) {
+        if (const std::optional<Sniffed> kind = sniff(bytes); kind && std::strcmp(kind->format, "GIF") == 0 && n == 4) {
             std::size_t clear = 0;
             for (std::size_t k = 3; k < std::size_t(hf.width) * std::size_t(hf.height) * 4; k += 4)
                 clear += data.get()[k] == 0;

@@ -486,26 +486,24 @@ void Viewer::render_scene()
         // Count samples on the first frame and every 10th after (the instrumented variant is
         // slower; its frames are left out of the times).
         const bool count = count_samples_ && rendered_ % 10 == 0;
+        // Half k's columns: [edges[k], edges[k + 1]).
+        const int edges[3] = {0, split_ ? divider_px : w, w};
+        // What each half draws, first: a frame where a half draws relief meanwhile is not one of
+        // --frames' frames, and the other half's draw is not timed for its summary either (it was,
+        // and with the build sharing the cores pom's median read 29.5 ms against 15.2 once the map
+        // was cached; found by an exploratory session, thirty-second). (Halves with no columns are
+        // not drawn, and start no build.)
         drew_meanwhile_ = false;
-        // A frame where a half draws relief meanwhile is not one of --frames' frames: the other
-        // half's draw is not timed for its summary either (it was, and with the build sharing the
-        // cores pom's median read 29.5 ms against 15.2 once the map was cached; found by an
-        // exploratory session, thirty-second).
-        // (Halves with no columns are not drawn, and start no build.)
-        bool any_meanwhile = false;
         std::array<DrawSettings, 2> drawn;
         for (int k = 0; k < halves; ++k) {
-            const int x0 = split_ ? (k == 0 ? 0 : divider_px) : 0;
-            const int x1 = split_ ? (k == 0 ? divider_px : w) : w;
             half_meanwhile_[k] = false;
-            if (x1 <= x0) continue;
+            if (edges[k + 1] <= edges[k]) continue;
             drawn[k] = drawable(half_[k]);
             half_meanwhile_[k] = drawn[k].technique != half_[k].technique || drawn[k].marcher != half_[k].marcher;
-            any_meanwhile |= half_meanwhile_[k];
+            drew_meanwhile_ |= half_meanwhile_[k];
         }
         for (int k = 0; k < halves; ++k) {
-            const int x0 = split_ ? (k == 0 ? 0 : divider_px) : 0;
-            const int x1 = split_ ? (k == 0 ? divider_px : w) : w;
+            const int x0 = edges[k], x1 = edges[k + 1];
             if (x1 <= x0) continue;
             if (split_) {
                 // Each half only draws its own columns (the renderer's clears and draws honour it).
@@ -514,7 +512,6 @@ void Viewer::render_scene()
             }
             DrawSettings d = drawn[k];
             const bool meanwhile = half_meanwhile_[k];
-            drew_meanwhile_ |= meanwhile;
             // A frame that counts samples draws the plain variant first, untimed, where this half
             // has not drawn it yet, and a plain draw that compiles its variant is not timed: the
             // next frame's plain draw compiled it, and `--frames 2` printed the compile's time as
@@ -554,7 +551,7 @@ void Viewer::render_scene()
                 // (Compiled in this draw: not its time.)
             } else {
                 st.draw_ms = st.draw_ms <= 0.0 ? ms : 0.8 * st.draw_ms + 0.2 * ms;
-                if (o_.frames > 0 && !any_meanwhile) st.draws.push_back(ms); // for the --frames summary only
+                if (o_.frames > 0 && !drew_meanwhile_) st.draws.push_back(ms); // for the --frames summary only
             }
             if (overlay_ != WireOverlay::None) {
                 const auto kind = overlay_ == WireOverlay::Base ? Renderer::Overlay::BaseMesh
