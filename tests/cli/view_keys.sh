@@ -214,6 +214,14 @@ screenshot_refused)
     done
     cp h.png h.keep
     "$X11_SEND" drop "$win" "$WORKDIR/h.png" || fail "the drop of h.png failed"
+    # The drop is read once its warning (a colour image as the height) is out: a P before it
+    # wrote h.png (a race seen once under the sanitizers with the suite in parallel).
+    i=0
+    until grep -q "colour image; using its first" view.err; do
+        i=$((i + 1))
+        [ $i -le 150 ] || fail "the drop of h.png was not read within 15 s"
+        sleep 0.1
+    done
     sleep 1 # (the scene's upload and draw with the dropped height map, as after the key 5 above)
     press p
     i=0
