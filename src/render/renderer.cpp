@@ -670,8 +670,7 @@ std::vector<Renderer::ConeMapNeed> Renderer::missing_cone_maps(AuxMap map)
                 return n.field == o.height_field && n.kind == kind;
             });
             if (listed || cone_maps_.count({o.height_field.get(), kind})) continue;
-            // (A cache entry is read by the draw: a corrupt one is rebuilt there, which is rare.) The
-            // entry's name hashes every texel: once per height field and kind, not every frame
+            // The entry's name hashes every texel: once per height field and kind, not every frame
             // that asks (the viewer asks while another map is built).
             auto entry = cone_entries_.find({o.height_field.get(), kind});
             if (entry == cone_entries_.end())
@@ -680,8 +679,7 @@ std::vector<Renderer::ConeMapNeed> Renderer::missing_cone_maps(AuxMap map)
                                      cone_cache_entry(*o.height_field, kind, ConeBuildOptions{}, cache_dir()))
                             .first;
             std::error_code ec;
-            if (std::filesystem::is_regular_file(entry->second, ec)) continue;
-            needs.push_back({o.height_field, kind});
+            needs.push_back({o.height_field, kind, std::filesystem::is_regular_file(entry->second, ec)});
         }
     }
     return needs;

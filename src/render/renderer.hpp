@@ -71,13 +71,15 @@ public:
     bool cone_maps_on_gpu() const { return cone_gpu_; }
 
     // Cone maps built elsewhere (the viewer builds them on a thread while it goes on drawing):
-    // what a draw with `map` would have to build first, neither in memory nor in the cache
-    // directory (for AuxMap::Relaxed the relaxed map and the cone map both), each once; and the
-    // hand-over of one such map, which the draws then use instead of building it (a map for a
-    // height field that no object draws with any more is dropped).
+    // what a draw with `map` would have to build or read from the cache first, not in memory (for
+    // AuxMap::Relaxed the relaxed map and the cone map both), each once; and the hand-over of one
+    // such map, which the draws then use instead of building it (a map for a height field that no
+    // object draws with any more is dropped). The viewer reads cache entries on its thread too:
+    // a damaged one is rebuilt there, not in the draw.
     struct ConeMapNeed {
         std::shared_ptr<const HeightField> field;
         ConeKind kind;
+        bool cached = false; // its cache entry exists (it may still be damaged)
     };
     std::vector<ConeMapNeed> missing_cone_maps(AuxMap map);
     void provide_cone_map(const std::shared_ptr<const HeightField>& field, ConeMap map);

@@ -243,6 +243,21 @@ elseif(CASE STREQUAL "cone_build")
     check(same cached.png render.png 0)
     expect_match("${view_out}" "relaxed-cone draw n/a \\(${built_samples} samples/fragment\\)"
                  "the samples per fragment after the build (${built_samples}) are not the cached run's")
+    # A damaged entry is rebuilt on the thread while relief is drawn: the draw rebuilt it, and the
+    # window stopped for the build's time.
+    file(GLOB entry ${WORKDIR}/view_cache/cone/relaxed-*128x128*)
+    list(LENGTH entry entries)
+    if(NOT entries EQUAL 1)
+        message(FATAL_ERROR "not one relaxed cache entry of 128x128: ${entry}")
+    endif()
+    file(WRITE ${entry} "damaged")
+    run_view(${noise} --cache-dir view_cache --frames 1 --screenshot damaged.png)
+    expect_match("${view_err}" "cone-map cache entry [^\n]*relaxed-[^\n]*; rebuilding it"
+                 "the damaged entry was not reported")
+    expect_match("${view_out}"
+                 "built the relaxed cone map of builtin:noise@128 in [0-9.]+ s \\([1-9][0-9]* frames? drawn with relief meanwhile\\)"
+                 "the damaged entry was not rebuilt on a thread")
+    check(same damaged.png render.png 0)
     # A height image dropped while a build runs cancels it (nothing of the old map is cached) and
     # builds the new one's: the screenshot is render's with the dropped image.
     run_view(--mesh ${MESHES}/torus.obj --height builtin:noise@512 --size 160x120 --technique relaxed-cone

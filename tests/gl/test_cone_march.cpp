@@ -1273,11 +1273,14 @@ TEST(ConeMarch, RendererTakesConeMapsBuiltElsewhere)
     };
     EXPECT_TRUE(reported("cone map of test"));
     EXPECT_TRUE(reported("relaxed cone map of test"));
-    // Now in the cache: nothing is missing for a renderer that reads it.
+    // Now in the cache: both are still missing from memory for a renderer that reads it, said cached.
+    EXPECT_FALSE(needs[0].cached);
     Renderer reads(96, 72);
     reads.set_cache_dir(dir / "built");
     reads.upload(prtest::one_object(prtest::square(), h, 0.2f));
-    EXPECT_TRUE(reads.missing_cone_maps(AuxMap::Relaxed).empty());
+    const std::vector<Renderer::ConeMapNeed> reads_needs = reads.missing_cone_maps(AuxMap::Relaxed);
+    ASSERT_EQ(reads_needs.size(), 2u);
+    EXPECT_TRUE(reads_needs[0].cached && reads_needs[1].cached);
     // Another height field: the maps held in memory are dropped with the old one.
     given.upload(prtest::one_object(prtest::square(), other, 0.2f));
     EXPECT_EQ(given.missing_cone_maps(AuxMap::Cone).size(), 1u);
