@@ -361,6 +361,35 @@ build)
     "$EXE" render $NOISE --technique relaxed-cone --out r_relaxed.png >/dev/null || fail "render failed"
     expect_png s.png r_relaxed.png
     quit_quietly
+    # A P still waiting when the window closes is said, and writes nothing.
+    rm -f s.png
+    start_view --mesh $MESHES/torus.obj --height builtin:noise@640 --size 128x96 --cache-dir $WORKDIR/cache_closed \
+        --technique relaxed-cone --screenshot s.png
+    press p
+    press q
+    wait_view
+    [ $rc -eq 0 ] || fail "q during the build: exit $rc, expected 0"
+    [ "$err" = "prismrelief: warning: P: no screenshot: the window closed while the cone map was built" ] ||
+        fail "stderr is not the one warning: $err"
+    [ ! -e s.png ] || fail "s.png was written"
+    # The technique cannot be drawn after the build (its marcher's shader is broken): P says the
+    # picture shown is relief's and writes nothing (it saved relief's picture under its name).
+    cp -r "$MESHES/../shaders" broken_shaders
+    sed -i '/^#ifdef PR_HEIGHT_FROM_CONE/a this is not glsl;' broken_shaders/march/cone.glsl
+    start_view --mesh $MESHES/torus.obj --height builtin:noise@128 --size 128x96 --cache-dir $WORKDIR/cache_broken \
+        --shader-dir broken_shaders --technique relaxed-cone --screenshot s.png
+    press p
+    i=0
+    until grep -q "picture shown is relief's" view.err; do
+        i=$((i + 1))
+        [ $i -le 300 ] || fail "P was not refused within 30 s"
+        sleep 0.1
+    done
+    [ ! -e s.png ] || fail "s.png was written (relief's picture)"
+    press q
+    wait_view
+    [ $rc -eq 0 ] || fail "q: exit $rc, expected 0"
+    printf '%s\n' "$err" | grep -q "march/cone.glsl:[0-9]" || fail "the compile error was not reported: $err"
     ;;
 orbit)
     # A left drag orbits (the picture changes), R resets the view (render's picture again).
