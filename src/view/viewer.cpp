@@ -173,6 +173,13 @@ private:
     void reload_shaders(); // the watcher and the panel's button
     RgbaImage read_window() const;
     bool half_needs_reference() const;
+    // Framebuffer pixels per window unit, and the cursor's column in framebuffer pixels.
+    static float framebuffer_scale()
+    {
+        const float s = ImGui::GetIO().DisplayFramebufferScale.x;
+        return s > 0.0f ? s : 1.0f;
+    }
+    static float cursor_column() { return ImGui::GetIO().MousePos.x * framebuffer_scale(); }
     // The first renderer column of the right half.
     int divider_column() const
     {
@@ -714,9 +721,9 @@ void Viewer::shutdown_imgui()
 void Viewer::handle_input()
 {
     ImGuiIO& io = ImGui::GetIO();
-    const float fb_scale = io.DisplayFramebufferScale.x > 0.0f ? io.DisplayFramebufferScale.x : 1.0f;
+    const float fb_scale = framebuffer_scale();
     const float w = float(compositor_->width());
-    const float mouse_px = io.MousePos.x * fb_scale;
+    const float mouse_px = cursor_column();
     const bool near_divider = split_ && std::abs(mouse_px - divider_ * w) < 6.0f * fb_scale;
 
     if (!io.WantCaptureMouse) {
@@ -770,9 +777,7 @@ void Viewer::handle_keys()
     const ImGuiIO& io = ImGui::GetIO();
     const std::vector<GlfwWindow::KeyPress> keys = window_.take_key_presses();
     if (io.WantCaptureKeyboard || io.WantTextInput || ImGui::IsAnyItemActive()) return; // (the panel's)
-    const float fb_scale = io.DisplayFramebufferScale.x > 0.0f ? io.DisplayFramebufferScale.x : 1.0f;
-    const float w = float(compositor_->width());
-    const float mouse_px = io.MousePos.x * fb_scale;
+    const bool right_half = split_ && cursor_column() >= divider_ * float(compositor_->width());
     const auto& table = technique_table();
     const int tab = ImGui::GetKeyIndex(ImGuiKey_Tab), escape = ImGui::GetKeyIndex(ImGuiKey_Escape);
     for (const GlfwWindow::KeyPress& key : keys) {
@@ -788,7 +793,7 @@ void Viewer::handle_keys()
         // `[`, `]` and `M` act on the half under the cursor in split view (they acted on the left
         // half alone: in the default split, POM | prism, `M` changed nothing to be seen; found by
         // an exploratory session); `M` on the other half when that one is the prism and this one not.
-        const int pointed = split_ && mouse_px >= divider_ * w ? 1 : 0;
+        const int pointed = right_half ? 1 : 0;
         const auto cycle = [&](int step) {
             DrawSettings& d = half_[pointed];
             std::size_t at = 0;
@@ -1098,7 +1103,7 @@ int Viewer::run()
                 render_scene();
             }
             Compositor::Present p;
-            const float fb_scale = ImGui::GetIO().DisplayFramebufferScale.x;
+            const float fb_scale = framebuffer_scale();
             // The line on the right half's first column (at the right edge, the last column). It
             // was drawn at divider * width: at odd widths a column left of where the halves meet.
             const int line = std::min(compositor_->view_column(divider_column(), s_.renderer->width()), fb.width - 1);
