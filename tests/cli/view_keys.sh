@@ -100,6 +100,16 @@ wait_view() {
     err=$(grep -v "$READY" view.err)
 }
 
+# Waits (SECONDS at most) for the viewer's stderr to hold TEXT; else fails with WHY.
+wait_stderr() {
+    i=0
+    until grep -q "$1" view.err; do
+        i=$((i + 1))
+        [ $i -le $(($2 * 10)) ] || fail "$3"
+        sleep 0.1
+    done
+}
+
 # Waits (15 s at most) for FILE to appear.
 wait_file() {
     i=0
@@ -216,20 +226,10 @@ screenshot_refused)
     "$X11_SEND" drop "$win" "$WORKDIR/h.png" || fail "the drop of h.png failed"
     # The drop is read once its warning (a colour image as the height) is out: a P before it
     # wrote h.png (a race seen once under the sanitizers with the suite in parallel).
-    i=0
-    until grep -q "colour image; using its first" view.err; do
-        i=$((i + 1))
-        [ $i -le 150 ] || fail "the drop of h.png was not read within 15 s"
-        sleep 0.1
-    done
+    wait_stderr "colour image; using its first" 15 "the drop of h.png was not read within 15 s"
     sleep 1 # (the scene's upload and draw with the dropped height map, as after the key 5 above)
     press p
-    i=0
-    until grep -q "would be overwritten" view.err; do
-        i=$((i + 1))
-        [ $i -le 150 ] || fail "P after the drop said nothing within 15 s"
-        sleep 0.1
-    done
+    wait_stderr "would be overwritten" 15 "P after the drop said nothing within 15 s"
     press q
     wait_view
     [ $rc -eq 0 ] || fail "Q: exit $rc, expected 0"
@@ -379,12 +379,7 @@ build)
     start_view --mesh $MESHES/torus.obj --height builtin:noise@128 --size 128x96 --cache-dir $WORKDIR/cache_broken \
         --shader-dir broken_shaders --technique relaxed-cone --screenshot s.png
     press p
-    i=0
-    until grep -q "picture shown is relief's" view.err; do
-        i=$((i + 1))
-        [ $i -le 300 ] || fail "P was not refused within 30 s"
-        sleep 0.1
-    done
+    wait_stderr "picture shown is relief's" 30 "P was not refused within 30 s"
     [ ! -e s.png ] || fail "s.png was written (relief's picture)"
     press q
     wait_view
