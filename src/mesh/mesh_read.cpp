@@ -475,6 +475,8 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
     if (magic != "OFF") {
         if (n_head > 0 && tok[0].size() >= 3 && tok[0].substr(tok[0].size() - 3) == "OFF")
             fail(subject, "unsupported OFF variant " + shown(tok[0]) + " (only 3D [ST][C][N]OFF)");
+        if (n_head == 0) // (a comment there was taken out: strip_off_comments)
+            fail(subject, "line 1 is blank or a comment: the OFF header line must be the file's first");
         fail(subject, "does not start with an OFF header line");
     }
     if (n_head > 2 || (n_head == 2 && tok[1] != "BINARY"))
@@ -1386,6 +1388,46 @@ void blank_obj_comments(string& text)
     }
 }
 
+// Geomview's OFF allows comments, from '#' to the line's end, anywhere: OpenMesh's reader takes
+// none (a comment line was read as values), and the scan refused them with messages that blamed
+// something else ("the counts must be on the line after 'OFF'" for `OFF # cube`, "vertex
+// position is not three finite numbers" for a comment line among the vertices; found by an
+// exploratory session, thirty-third). Taken out, with the white space before them, before either
+// reads the text; the line breaks stay, so every line keeps its number. In a binary OFF only the
+// header line's (the data after it is not text).
+void strip_off_comments(string& text)
+{
+    if (text.find('#') == string::npos) return;
+    string out;
+    out.reserve(text.size());
+    bool first_line = true;
+    for (size_t i = 0; i < text.size();) {
+        size_t end = text.find('\n', i);
+        end = end == string::npos ? text.size() : end + 1;
+        string_view line(text.data() + i, end - i);
+        size_t keep = line.size();
+        if (const size_t hash = line.find('#'); hash != string_view::npos) {
+            size_t eol = line.size();
+            while (eol > hash && (line[eol - 1] == '\n' || line[eol - 1] == '\r')) --eol;
+            keep = hash;
+            while (keep > 0 && (line[keep - 1] == ' ' || line[keep - 1] == '\t')) --keep;
+            out.append(line.substr(0, keep)).append(line.substr(eol));
+        } else {
+            out.append(line);
+        }
+        i = end;
+        if (first_line) {
+            first_line = false;
+            string_view tok[2];
+            if (tokenize(out, tok, 2) == 2 && tok[1] == "BINARY") {
+                out.append(text, i, string::npos);
+                break;
+            }
+        }
+    }
+    text = std::move(out);
+}
+
 // A backslash at the end of a line continues it on the next ("f 1 2 \\" then "3 4"); neither
 // the scan nor OpenMesh's reader joins such lines. The joined line keeps the text's length and
 // every later line its number: each backslash and line break become a space, and the line breaks
@@ -1529,6 +1571,7 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
         // OBJ texture coordinates belong to face corners; per-vertex ones would lose seams.
         requested += omio::Options::FaceTexCoord;
     } else if (ext == ".off") {
+        strip_off_comments(text);
         expect = scan_off(subject, text, options);
         requested += omio::Options::VertexTexCoord;
     } else if (ext == ".ply") {
