@@ -1097,8 +1097,27 @@ Expect scan_stl(const string& subject, string_view text, const MeshOptions& opti
     LineReader lines(text);
     string_view line;
     string_view tok[5];
+    // The next line with a word on it must start with `word` (a facet's "endloop", "endfacet"):
+    // a file cut inside a facet after its third vertex was read without a word, the facet and
+    // the rest of the file gone (found by an exploratory session, thirty-third).
+    const auto expect_word = [&](string_view word) {
+        size_t n = 0;
+        do {
+            if (!lines.next(line)) fail(subject, "file ends inside a facet (no '" + string(word) + "')");
+            n = tokenize(line, tok, 1);
+        } while (n == 0);
+        if (keyword(tok[0], word)) return;
+        if (keyword(tok[0], "vertex"))
+            fail(subject, line_prefix(lines.line()) +
+                              "a vertex beyond the three after 'outer loop' (STL facets are triangles)");
+        const bool cut = tok[0].size() < word.size() && keyword(tok[0], word.substr(0, tok[0].size()));
+        fail(subject, line_prefix(lines.line()) + "expected '" + string(word) + "', found " + shown(tok[0]) +
+                          (cut ? " (the file is cut short?)" : ""));
+    };
+    bool solid_ended = false; // "endsolid" after the last facet
     while (lines.next(line)) {
         const size_t n = tokenize(line, tok, 5);
+        if (n >= 1 && keyword(tok[0], "endsolid")) solid_ended = true;
         if (n >= 2 && (keyword(tok[0], "solid") || keyword(tok[0], "endsolid"))) {
             const size_t from = size_t(tok[1].data() - text.data());
             e.stl_names.emplace_back(from, size_t(line.data() + line.size() - text.data()) - from);
@@ -1120,8 +1139,16 @@ Expect scan_stl(const string& subject, string_view text, const MeshOptions& opti
                 fail(subject,
                      line_prefix(lines.line()) + "expected 'vertex x y z' with finite numbers");
         }
+        expect_word("endloop");
+        expect_word("endfacet");
         ++e.file_faces;
+        solid_ended = false;
     }
+    // A file cut between two facets reads without a fault but the facets after the cut: the
+    // last solid's "endsolid" is the one sign of its end.
+    if (e.file_faces > 0 && !solid_ended)
+        warn(subject + ": no 'endsolid' after its last facet: the file may be cut short (" +
+             std::to_string(e.file_faces) + " facet" + (e.file_faces == 1 ? "" : "s") + " read)");
     // A binary STL whose header starts with "solid" (as some exporters write) but whose size does
     // not match its count, cut short or padded: said "contains no faces".
     if (e.file_faces == 0 && text.size() >= 84 && text.find('\0') != string_view::npos) {

@@ -1461,6 +1461,33 @@ TEST(MeshErrors, StlFacetWithFourVerticesIsRefused)
     EXPECT_ERROR_MENTIONS(load_error(p), p, "line 7: a vertex beyond the three after 'outer loop' (STL facets are triangles)");
 }
 
+// An ASCII STL cut short: inside a facet after its third vertex, or inside "endfacet", it was
+// read without a word, the facets after the cut gone (found by an exploratory session,
+// thirty-third). Cut between two facets, only the missing "endsolid" says so: a warning.
+TEST(MeshErrors, StlCutShortIsSaid)
+{
+    TempDir dir;
+    const std::string whole = octa_stl_ascii();
+    const std::size_t third = whole.find("    endloop", whole.find("facet", whole.find("endfacet")));
+    const fs::path in_facet = dir.write("a.stl", whole.substr(0, third));
+    EXPECT_ERROR_MENTIONS(load_error(in_facet), in_facet, "file ends inside a facet (no 'endloop')");
+    const std::size_t endfacet = whole.find("  endfacet", third);
+    const fs::path in_word = dir.write("b.stl", whole.substr(0, endfacet + 4) + "\n");
+    EXPECT_ERROR_MENTIONS(load_error(in_word), in_word, "line 15: expected 'endfacet', found 'en' (the file is cut short?)");
+    std::string swapped = whole;
+    swapped.replace(swapped.find("  endfacet"), 10, "  endloop ");
+    const fs::path twice = dir.write("c.stl", swapped);
+    EXPECT_ERROR_MENTIONS(load_error(twice), twice, "line 8: expected 'endfacet', found 'endloop'");
+    const fs::path between = dir.write("d.stl", whole.substr(0, whole.find("  facet", third)));
+    ::testing::internal::CaptureStderr();
+    EXPECT_EQ(pr::load_mesh(between).triangle_count(), 2u);
+    EXPECT_NE(::testing::internal::GetCapturedStderr().find("no 'endsolid' after its last facet: the file may be cut short (2 facets read)"),
+              std::string::npos);
+    ::testing::internal::CaptureStderr(); // the whole file: no such word
+    EXPECT_EQ(pr::load_mesh(dir.write("e.stl", whole)).triangle_count(), 8u);
+    EXPECT_EQ(::testing::internal::GetCapturedStderr().find("endsolid"), std::string::npos);
+}
+
 TEST(MeshErrors, HexadecimalNumbersAreRefused)
 {
     // strtod takes 0x1p0 for 1; OpenMesh's stream reads 0: the apex of this tetrahedron came out
