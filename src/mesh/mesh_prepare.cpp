@@ -1132,8 +1132,10 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     }
     if (fallback_normals > 0)
         warn(name + ": " + std::to_string(fallback_normals) +
-             " positions have no defined normal (their faces cancel out); used the normal of the "
-             "first face around each");
+             (fallback_normals == 1 ? " position has no defined normal (its faces cancel out); used the normal of "
+                                      "the first face around it"
+                                    : " positions have no defined normal (their faces cancel out); used the "
+                                      "normal of the first face around each"));
 
     // ---- topology remarks: non-manifold edges and inconsistent orientation ---------------------
     if (weld_count < (size_t(1) << 31)) {

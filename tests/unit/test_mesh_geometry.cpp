@@ -235,7 +235,17 @@ TEST(MeshNormals, CancellingSheetsTakeTheFirstFacesSide)
     ::testing::internal::CaptureStderr();
     const pr::PreparedMesh m = pr::prepare_mesh(raw, {}, "test");
     const std::string warnings = ::testing::internal::GetCapturedStderr();
-    EXPECT_NE(warnings.find("4 positions have no defined normal"), std::string::npos) << warnings;
+    EXPECT_NE(warnings.find("4 positions have no defined normal (their faces cancel out)"), std::string::npos) << warnings;
+    // One such position is said in the singular (it read "1 positions have"): two triangles
+    // facing away from each other, touching at a corner of the same angle.
+    const pr::RawMesh bow = soup({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {-1, 0, 0}}, {{0, 1, 2}, {0, 3, 4}});
+    ::testing::internal::CaptureStderr();
+    pr::prepare_mesh(bow, {}, "bow");
+    const std::string one = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(one.find("bow: 1 position has no defined normal (its faces cancel out); used the normal of the first "
+                       "face around it"),
+              std::string::npos)
+        << one;
     EXPECT_EQ(m.triangle_count(), 4u);
     for (const pr::MeshVertex& v : m.vertices) EXPECT_EQ(v.normal, glm::vec3(0, 0, 1));
     // Listed the other way round, the other side.
