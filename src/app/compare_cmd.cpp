@@ -154,7 +154,7 @@ CommandAction add_compare_command(CLI::App& app)
             row.update(prism_configuration(run.settings));
             row.update(shadows_json(run.settings));
             results.push_back(row);
-            std::printf("%-*s %8.4f %10zu %12s %12s %8s %9.2f\n", name_width, run.label.c_str(), m.iou,
+            std::printf("%-*s %8s %10zu %12s %12s %8s %9.2f\n", name_width, run.label.c_str(), iou_text(m.iou).c_str(),
                         m.silhouette_wrong_px,
                         m.depth_error_mean ? fixed(*m.depth_error_mean, 5).c_str() : "-",
                         m.depth_error_max ? fixed(*m.depth_error_max, 5).c_str() : "-",
@@ -162,7 +162,7 @@ CommandAction add_compare_command(CLI::App& app)
             // The name and the IoU on lines of their own, each cut at the strip's end where it is
             // too long (on one line, at 128 px the IoU of "prism:max-mip" read "IoU 0"; with the
             // number first, at 256 px "prism:relaxed-cone" read "prism:re").
-            top.push_back({run.label + "\nIoU " + fixed(m.iou, 4), frame.color});
+            top.push_back({run.label + "\nIoU " + iou_text(m.iou), frame.color});
             if (run.settings.technique != Technique::Reference) tile_images.push_back(top.size() - 1);
             bottom.push_back({std::to_string(m.silhouette_wrong_px) + " px wrong",
                               silhouette_diff_tile(frame.color, reference.color)});

@@ -174,6 +174,10 @@ pr_cli(compare_sphere EXIT 0 EXPECT_FILE cmp.png STDOUT "pom .*relief .*referenc
        CHECKS "${R}.0.technique:STREQUAL:pom|${R}.0.iou:LESS:0.98|${R}.0.iou:GREATER:0.5|${R}.0.silhouette_wrong_px:GREATER:50|${R}.0.depth_error_mean:GREATER:0|${R}.0.depth_error_max:EXISTS|${R}.0.psnr:GREATER:5|${R}.0.ms:GREATER:0|${R}.2.technique:STREQUAL:reference|${R}.2.iou:EQUAL:1|${R}.2.silhouette_wrong_px:EQUAL:0|${R}.2.identical:STREQUAL:ON|${R}.2.psnr:TYPE:NULL|reference.level:GREATER:1"
        ARGS compare --mesh ${M}/uv_sphere.obj --height builtin:bumps@128 --depth 0.12 --size 128x128
             --techniques pom,relief,reference --out cmp.png --json cmp.json)
+# An IoU under 1 is never shown as 1.0000: the prism's two wrong pixels at 512² read as perfect.
+pr_cli(compare_iou_under_one_is_not_shown_as_one EXIT 0 STDOUT "prism +0\\.9999[0-9]+ +[1-9]"
+       JSON iou1.json CHECKS "${R}.0.iou:LESS:1"
+       ARGS compare --mesh ${M}/uv_sphere.obj --size 512x512 --techniques prism --out iou1.png --json iou1.json)
 # A shell of depth 0 (or nearly): the exact exit found no face beyond its slack and the vertex
 # exit divided by the shell's thickness, so the prism was black (torus: depth error 0.73, 7.6 dB)
 # or empty (plane: IoU 0), exit 0; the walk lost rays where all its faces meet (rock: IoU 0.9963,

@@ -367,4 +367,10 @@ TEST(Grid, LongLabelsBreakAfterAColon)
     EXPECT_NE(strip(0), strip(1));
     // A label that fits keeps its one line.
     EXPECT_EQ(pr::plan_grid({{"relief", solid(96, 8, {})}}, 1).strip_height, pr::kGlyphRows + 1 + 2);
+    // Where even a part does not fit ("relaxed-cone:" in a 64-pixel tile), it is cut on a line of
+    // its own and the rest still breaks: "prism:" / "relaxed-co" / "walk:full" / "IoU 1" (the
+    // rest went on the cut line, three lines, and the four variants of relaxed-cone read alike).
+    const std::vector<pr::Tile> narrow{{"prism:relaxed-cone:walk:full\nIoU 1", solid(64, 8, {})},
+                                       {"prism:relaxed-cone:exact\nIoU 1", solid(64, 8, {})}};
+    EXPECT_EQ(pr::plan_grid(narrow, 2).strip_height, 4 * (pr::kGlyphRows + 1) + 2);
 }
