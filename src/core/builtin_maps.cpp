@@ -349,8 +349,10 @@ std::optional<std::vector<double>> height_values(const std::string& spec, const 
         }
         // Bricks and noise have no cells to enlarge: at 2 texels a side every texel centre of
         // bricks lies in the mortar, and noise normalizes to a constant (they were accepted as
-        // constant maps before the sixteenth session).
-        if (flat(v))
+        // constant maps before the sixteenth session). A cell pattern under 3 texels both ways
+        // has a texel a cell at most: boxes@2 came out as four random heights, no box (found by
+        // an exploratory session, thirty-third); long thin maps (@64x1) sample it and are kept.
+        if (flat(v) || (e.cells && std::max(p.width, p.height) < 3))
             throw Error(spec, e.cells ? "too small for its pattern; at least 3 texels per side"
                                       : "too small for its pattern: every texel centre takes the same height");
         if (e.normalize) {

@@ -218,7 +218,8 @@ TEST(BuiltinHeight, SmallSizesShowTheirPattern)
     }
     // Bricks and noise, which have no cells to enlarge, came out constant at these sizes (all
     // mortar, or noise normalized to 0.5) and were accepted until the sixteenth session.
-    for (const char* spec : {"builtin:bumps@2", "builtin:pyramids@1", "builtin:bumps@2x1", "builtin:bricks@2",
+    for (const char* spec : {"builtin:bumps@2", "builtin:pyramids@1", "builtin:bumps@2x1", "builtin:boxes@2",
+                             "builtin:pyramids@2x1", "builtin:bricks@2",
                              "builtin:bricks@1", "builtin:noise@1", "builtin:noise@2"}) {
         EXPECT_NE(problem_of(spec).find("too small for its pattern"), std::string::npos) << spec;
         // (Bricks have a colour map of their own, whose grain shows at any size.)
