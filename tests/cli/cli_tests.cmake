@@ -232,10 +232,13 @@ pr_cli(compare_out_folder_missing EXIT 1 ONE_LINE STDERR "${E}nodir/c.png: folde
        ARGS compare --mesh ${M}/cube.obj --techniques pom --out nodir/c.png)
 
 # Nothing in view: no fragments, so no samples per fragment (null; it said 0, as flat's).
-pr_cli(bench_nothing_in_view EXIT 0 JSON b.json STDOUT "prism +[0-9.]+ +[0-9.]+ +[0-9.]+ +0 +- +-"
+pr_cli(bench_nothing_in_view EXIT 0 JSON b.json STDOUT "prism +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +0 +- +-"
        CHECKS "${R}.0.fragments:EQUAL:0|${R}.0.samples_per_fragment_mean:TYPE:NULL|${R}.0.samples_per_fragment_p95:TYPE:NULL"
        ARGS bench --mesh ${M}/cube.obj --eye 0,0,50 --target 0,0,100 --size 32x24 --frames 1 --warmup 0
             --techniques prism --json b.json)
+# The table's ratio column: each median over the first row's (the JSON's ms_ratio_to_first).
+pr_cli(bench_table_has_the_ratio EXIT 0 STDOUT "ms_max +ratio +fragments.*flat( +[0-9.]+)( +[0-9.]+)( +[0-9.]+) +1\\.00 +[0-9]+ .*pom( +[0-9.]+)( +[0-9.]+)( +[0-9.]+) +[0-9]+\\.[0-9][0-9] +[0-9]+ "
+       ARGS bench --mesh ${M}/cube.obj --size 32x24 --frames 1 --warmup 0 --techniques flat,pom)
 # bench counters: flat takes no height samples; pom with --steps 8 takes 1..9 (it refines
 # nothing: with --refine, which only the list's flat and pom were given, it is refused).
 pr_cli(bench_counters EXIT 0 JSON b.json
