@@ -139,8 +139,8 @@ CommandAction add_bench_command(CLI::App& app)
             const bool walk = runs[i].settings.prism_walk();
             const double prisms = any ? double(row.counters.prisms) / double(row.counters.fragments) : 0.0;
             const double ratio = base > 0 ? med / base : 0.0;
-            std::printf("%-*s %9.2f %9.2f %9.2f %7.2f %11llu %9s %9s %9s\n", name_width, row.label.c_str(), med, *mn,
-                        *mx, ratio, static_cast<unsigned long long>(row.counters.fragments), any ? fixed(mean, 2).c_str() : "-",
+            std::printf("%-*s %9.2f %9.2f %9.2f %7s %11llu %9s %9s %9s\n", name_width, row.label.c_str(), med, *mn,
+                        *mx, base > 0 ? fixed(ratio, 2).c_str() : "-", static_cast<unsigned long long>(row.counters.fragments), any ? fixed(mean, 2).c_str() : "-",
                         any ? fixed(p95, 0).c_str() : "-", walk && any ? fixed(prisms, 2).c_str() : "-");
             results.push_back({{"technique", row.label},
                                {"ms_median", med},

@@ -119,14 +119,4 @@ inline std::string fixed(double v, int digits)
     return buf;
 }
 
-// An IoU in the table and the grid: 4 digits, more where those would round an IoU under 1 up to
-// "1.0000" (a prism with 2 wrong pixels at 512² read as perfect; found by an exploratory
-// session, thirty-third). "1.0000" is an exact 1.
-inline std::string iou_text(double iou)
-{
-    int digits = 4;
-    while (iou < 1.0 && digits < 9 && fixed(iou, digits).front() == '1') ++digits;
-    return fixed(iou, digits);
-}
-
 } // namespace pr

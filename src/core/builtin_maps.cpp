@@ -341,8 +341,11 @@ std::optional<std::vector<double>> height_values(const std::string& spec, const 
             // Where every texel centre sits at the same place in its cell (one or two texels per
             // cell: bumps@8, bumps@16), a cell pattern comes out flat. Such maps take fewer, larger
             // cells, halving until the pattern shows; every map that shows it with kCells keeps
-            // that layout, bit for bit. With one cell a side of 3 texels shows any of them.
-            while (flat(v) && cells > 1) {
+            // that layout, bit for bit. With one cell a side of 3 texels shows any of them. Also
+            // until a cell has 3 texels along the map's longer side: boxes give each cell its own
+            // height, so one texel a cell was never flat and boxes@8 came out as 64 random heights,
+            // no box (found by a review, thirty-third). Maps of 24 texels and more keep kCells.
+            while ((flat(v) || std::max(p.width, p.height) < 3 * cells) && cells > 1) {
                 cells /= 2;
                 v = sample();
             }
@@ -353,7 +356,7 @@ std::optional<std::vector<double>> height_values(const std::string& spec, const 
         // has a texel a cell at most: boxes@2 came out as four random heights, no box (found by
         // an exploratory session, thirty-third); long thin maps (@64x1) sample it and are kept.
         if (flat(v) || (e.cells && std::max(p.width, p.height) < 3))
-            throw Error(spec, e.cells ? "too small for its pattern; at least 3 texels per side"
+            throw Error(spec, e.cells ? "too small for its pattern; at least 3 texels along its longer side"
                                       : "too small for its pattern: every texel centre takes the same height");
         if (e.normalize) {
             const auto [lo, hi] = std::minmax_element(v.begin(), v.end());

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 #include <fmt/format.h>
@@ -100,6 +101,15 @@ CompareMetrics compare_frames(const FrameCapture& technique, const FrameCapture&
     }
     m.identical = m.silhouette_wrong_px == 0 && squared_error == 0.0;
     return m;
+}
+
+std::string iou_text(double iou)
+{
+    char text[32];
+    for (int digits = 4;; ++digits) {
+        std::snprintf(text, sizeof text, "%.*f", digits, iou);
+        if (!(iou < 1.0) || text[0] != '1' || digits == 9) return text;
+    }
 }
 
 } // namespace pr

@@ -1097,22 +1097,33 @@ Expect scan_stl(const string& subject, string_view text, const MeshOptions& opti
     LineReader lines(text);
     string_view line;
     string_view tok[5];
-    // The next line with a word on it must start with `word` (a facet's "endloop", "endfacet"):
-    // a file cut inside a facet after its third vertex was read without a word, the facet and
-    // the rest of the file gone (found by an exploratory session, thirty-third).
-    const auto expect_word = [&](string_view word) {
-        size_t n = 0;
-        do {
-            if (!lines.next(line)) fail(subject, "file ends inside a facet (no '" + string(word) + "')");
-            n = tokenize(line, tok, 1);
-        } while (n == 0);
-        if (keyword(tok[0], word)) return;
-        if (keyword(tok[0], "vertex"))
+    // After a facet's third vertex: "endloop", then "endfacet", words read across lines (a file
+    // cut inside a facet after its third vertex was read without a word, the facet and the rest
+    // of the file gone; found by an exploratory session, thirty-third). A facet without
+    // "endloop" but with its "endfacet" is taken, as OpenMesh's reader takes it.
+    const auto close_facet = [&] {
+        string_view rest; // what is left of the current line
+        const auto next_word = [&](string_view want) {
+            for (;;) {
+                string_view word[1];
+                if (tokenize(rest, word, 1) > 0) { // (the count of all the words)
+                    rest.remove_prefix(size_t(word[0].data() + word[0].size() - rest.data()));
+                    return word[0];
+                }
+                if (!lines.next(rest)) fail(subject, "file ends inside a facet (no '" + string(want) + "')");
+            }
+        };
+        string_view word = next_word("endloop");
+        if (keyword(word, "endloop")) word = next_word("endfacet");
+        if (keyword(word, "endfacet")) return;
+        if (keyword(word, "vertex"))
             fail(subject, line_prefix(lines.line()) +
                               "a vertex beyond the three after 'outer loop' (STL facets are triangles)");
-        const bool cut = tok[0].size() < word.size() && keyword(tok[0], word.substr(0, tok[0].size()));
-        fail(subject, line_prefix(lines.line()) + "expected '" + string(word) + "', found " + shown(tok[0]) +
-                          (cut ? " (the file is cut short?)" : ""));
+        const auto cut_from = [&](string_view full) {
+            return word.size() < full.size() && keyword(word, full.substr(0, word.size()));
+        };
+        fail(subject, line_prefix(lines.line()) + "expected 'endfacet', found " + shown(word) +
+                          (cut_from("endloop") || cut_from("endfacet") ? " (the file is cut short?)" : ""));
     };
     bool solid_ended = false; // "endsolid" after the last facet
     while (lines.next(line)) {
@@ -1139,8 +1150,7 @@ Expect scan_stl(const string& subject, string_view text, const MeshOptions& opti
                 fail(subject,
                      line_prefix(lines.line()) + "expected 'vertex x y z' with finite numbers");
         }
-        expect_word("endloop");
-        expect_word("endfacet");
+        close_facet();
         ++e.file_faces;
         solid_ended = false;
     }
@@ -1598,6 +1608,7 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
         // OBJ texture coordinates belong to face corners; per-vertex ones would lose seams.
         requested += omio::Options::FaceTexCoord;
     } else if (ext == ".off") {
+        refuse_cr_line_ends(subject, text); // (first: with no line ends a comment would run to the file's end)
         strip_off_comments(text);
         expect = scan_off(subject, text, options);
         requested += omio::Options::VertexTexCoord;

@@ -400,6 +400,9 @@ DrawSettings Viewer::drawable(const DrawSettings& d)
     if (needs.empty()) return d;
     const bool all_cached =
         std::all_of(needs.begin(), needs.end(), [](const Renderer::ConeMapNeed& n) { return n.cached; });
+    // The other half's maps being built: cached ones are read by the draw, as before the thread
+    // read them (this half drew relief for the whole of the other's build; found by a review).
+    if (cone_job_ && all_cached) return d;
     if (!cone_job_) { // one build at a time: the other half's maps follow
         ConeJob& job = cone_job_.emplace();
         job.map = map;
@@ -437,7 +440,7 @@ DrawSettings Viewer::drawable(const DrawSettings& d)
     }
     // Maps in the cache are read as the draw read them, without a frame of relief first: the
     // frame waits for the read, unless the thread finds an entry damaged and starts building.
-    if (all_cached && cone_job_->map == map) {
+    if (all_cached) {
         while (cone_job_->maps.wait_for(std::chrono::milliseconds(2)) != std::future_status::ready &&
                !*cone_job_->building) {
         }

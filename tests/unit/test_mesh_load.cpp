@@ -460,6 +460,9 @@ TEST(MeshLoad, OffCommentsAreReadPast)
                           dir.path() / "bad.off", "line 7: vertex position is not three finite numbers");
     EXPECT_ERROR_MENTIONS(load_error(dir.write("first.off", "# made by hand\nOFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")),
                           dir.path() / "first.off", "line 1 is blank or a comment: the OFF header line must be the file's first");
+    // Classic Mac line ends are said as such, a comment or not (the comment ran to the file's end).
+    EXPECT_ERROR_MENTIONS(load_error(dir.write("mac.off", "OFF # mac\r3 1 0\r0 0 0\r1 0 0\r0 1 0\r3 0 1 2\r")),
+                          dir.path() / "mac.off", "uses CR line ends (classic Mac OS)");
     // Binary: a comment after the header; the data's '#' bytes (0x23) are values.
     std::vector<char> b;
     const std::string head = "OFF BINARY # three corners\n";
@@ -1486,6 +1489,14 @@ TEST(MeshErrors, StlCutShortIsSaid)
     ::testing::internal::CaptureStderr(); // the whole file: no such word
     EXPECT_EQ(pr::load_mesh(dir.write("e.stl", whole)).triangle_count(), 8u);
     EXPECT_EQ(::testing::internal::GetCapturedStderr().find("endsolid"), std::string::npos);
+    // The words are read across lines ("endloop endfacet" on one), and a facet without
+    // "endloop" but closed by "endfacet" is taken, as OpenMesh's reader takes it.
+    std::string joined = whole, bare = whole;
+    for (std::size_t at; (at = joined.find("endloop\n  endfacet")) != std::string::npos;)
+        joined.replace(at, 18, "ENDLOOP ENDFACET");
+    for (std::size_t at; (at = bare.find("    endloop\n")) != std::string::npos;) bare.erase(at, 12);
+    EXPECT_EQ(pr::load_mesh(dir.write("f.stl", joined)).triangle_count(), 8u);
+    EXPECT_EQ(pr::load_mesh(dir.write("g.stl", bare)).triangle_count(), 8u);
 }
 
 TEST(MeshErrors, HexadecimalNumbersAreRefused)

@@ -295,3 +295,15 @@ TEST(Metrics, SizeMismatchThrows)
 }
 
 } // namespace
+
+// compare's table and grid: an IoU under 1 never reads 1.0000 (2 wrong pixels at 512² did).
+TEST(Metrics, IouTextNeverRoundsUpToOne)
+{
+    EXPECT_EQ(pr::iou_text(1.0), "1.0000");
+    EXPECT_EQ(pr::iou_text(0.5), "0.5000");
+    EXPECT_EQ(pr::iou_text(0.99994), "0.9999");
+    EXPECT_EQ(pr::iou_text(0.99996), "0.99996");
+    EXPECT_EQ(pr::iou_text(0.9999962), "0.999996");
+    EXPECT_EQ(pr::iou_text(1.0 - 1.0 / 268435456.0), "0.999999996"); // one pixel of 16384²
+    EXPECT_EQ(pr::iou_text(0.0), "0.0000");
+}
