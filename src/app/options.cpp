@@ -712,6 +712,13 @@ SceneFileValues read_scene_file(const std::string& file, SceneSpec& spec)
                     else throw Error(ow, "unknown key '" + k + "'");
                 }
                 if (o.mesh.empty()) throw Error(ow, "has no \"mesh\"");
+                // A colour map replaces the plain colour: both in one object, base_color did
+                // nothing without a word (the docs' own example gave both; found by an
+                // exploratory session, thirty-third). (--color over a scene's base_color is the
+                // user's own choice, not refused.)
+                if (oj.contains("base_color") && !o.color.empty())
+                    throw Error(ow + ".base_color", "has no effect next to \"color\", whose map gives the colour: "
+                                                    "give one of them");
                 spec.objects.push_back(o);
             }
         } else if (key == "camera") {

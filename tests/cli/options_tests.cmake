@@ -109,6 +109,9 @@ pr_scene_refused(duplicate_mesh ", \"mesh\": \"${M}/cube.obj\"}]}" "objects\\[0\
 pr_scene_refused(duplicate_top "}], \"size\": \"48x48\", \"size\": \"64x64\"}" "\"size\" is given twice")
 pr_scene_refused(duplicate_nested ", \"transform\": {\"rotate\": [0, 0, 0]}}, {\"mesh\": \"${M}/cube.obj\", \"transform\": {\"scale\": 1, \"scale\": 2}}]}" "objects\\[1\\].transform: \"scale\" is given twice")
 pr_scene(base_color_range ", \"base_color\": [2, -1, 0.5]}]}")
+# A colour map and a plain colour in one object: base_color did nothing without a word.
+pr_scene_refused(base_color_and_color ", \"color\": \"builtin:checker\", \"base_color\": [1, 0, 0]}]}"
+                 "objects\\[0\\].base_color: has no effect next to \"color\", whose map gives the colour: give one of them")
 pr_cli(scene_base_color_range EXIT 1 ONE_LINE
        STDERR "${E}.*base_color_range.json: objects\\[0\\].base_color: must be three numbers between 0 and 1"
        NO_FILE o.png ARGS render --scene ${OS}/base_color_range.json --out o.png)
