@@ -782,13 +782,16 @@ SceneSpec make_scene_spec(const SceneOptions& o)
     if (o.midlevel) check_midlevel(*o.midlevel, "--midlevel");
     // Object flags apply to every object of the scene (for one object: override it).
     for (ObjectSpec& obj : spec.objects) {
+        // A map that cannot be read is said under its flag's name, as a scene's under its place:
+        // `--height q.png --color q.png` said "q.png: …" of either (found by an exploratory
+        // session, thirty-third).
         if (o.height) {
             obj.height = *o.height;
-            obj.height_place.clear();
+            obj.height_place = "--height";
         }
         if (!o.color.empty()) {
             obj.color = o.color;
-            obj.color_place.clear();
+            obj.color_place = "--color";
         }
         if (o.depth) {
             obj.depth = finite(*o.depth, "--depth"); // (past the float range: refused, as in a scene file)

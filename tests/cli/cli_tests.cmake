@@ -60,13 +60,13 @@ pr_cli(mesh_absurd_header EXIT 1 ONE_LINE STDERR "${E}.*huge_header.off: " NO_FI
        ARGS render --mesh ${BAD}/huge_header.off --out out.png)
 pr_cli(mesh_unknown_format EXIT 1 ONE_LINE STDERR "${E}.*bad_scene.json: .*(OBJ|obj)" NO_FILE out.png
        ARGS render --mesh ${BAD}/bad_scene.json --out out.png)
-pr_cli(missing_height EXIT 1 ONE_LINE STDERR "${E}nonexistent.png: " NO_FILE out.png
+pr_cli(missing_height EXIT 1 ONE_LINE STDERR "${E}--height: nonexistent.png: " NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --height nonexistent.png --out out.png)
 pr_cli(height_not_an_image EXIT 1 ONE_LINE STDERR "${E}.*not_an_image.png: " NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --height ${BAD}/not_an_image.png --out out.png)
-pr_cli(unknown_builtin EXIT 1 ONE_LINE STDERR "${E}builtin:nope: .*bumps" NO_FILE out.png
+pr_cli(unknown_builtin EXIT 1 ONE_LINE STDERR "${E}--height: builtin:nope: .*bumps" NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --height builtin:nope --out out.png)
-pr_cli(missing_color EXIT 1 ONE_LINE STDERR "${E}nocolor.png: " NO_FILE out.png
+pr_cli(missing_color EXIT 1 ONE_LINE STDERR "${E}--color: nocolor.png: " NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --color nocolor.png --out out.png)
 pr_cli(unknown_technique EXIT 1 ONE_LINE STDERR "${E}--technique: .*pom" NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --technique magic --out out.png)

@@ -52,7 +52,7 @@ pr_cli(conemap_needs_out EXIT 2 STDERR "usage: .*--out" ARGS conemap --height bu
 # --max-image-size holds for a built-in map's default size (512) as for @N; the message says it
 # is the default size, not a size after '@' the user never wrote.
 pr_cli(max_image_size_builtin_default EXIT 1 ONE_LINE
-       STDERR "${CM}builtin:bumps: its default size, 512x512, is over the limit of 16 per side \\(--max-image-size\\): give a size, e.g. builtin:bumps@16" NO_FILE o.png
+       STDERR "${CM}--height: builtin:bumps: its default size, 512x512, is over the limit of 16 per side \\(--max-image-size\\): give a size, e.g. builtin:bumps@16" NO_FILE o.png
        ARGS render --mesh ${M}/cube.obj --height builtin:bumps --technique cone --max-image-size 16 --size 32x32
             --cache-dir mis_cache --out o.png)
 # Under 3 per side no pattern shows: it suggested builtin:bumps@1, which is then refused as too
@@ -61,7 +61,7 @@ pr_cli(max_image_size_below_any_pattern EXIT 1 ONE_LINE
        STDERR "${CM}builtin:bumps: its default size, 512x512, is over the limit of 2 per side \\(--max-image-size\\), and its pattern needs at least 3 texels per side: raise the limit" NO_FILE o.png
        ARGS render --mesh ${M}/cube.obj --color builtin:checker@2 --max-image-size 2 --size 32x32 --out o.png)
 pr_cli(max_image_size_below_any_pattern_constant EXIT 1 ONE_LINE
-       STDERR "${CM}builtin:const:0.5: its default size, 512x512, is over the limit of 2 per side \\(--max-image-size\\): give a size, e.g. builtin:const:0.5@2" NO_FILE o.png
+       STDERR "${CM}--height: builtin:const:0.5: its default size, 512x512, is over the limit of 2 per side \\(--max-image-size\\): give a size, e.g. builtin:const:0.5@2" NO_FILE o.png
        ARGS render --mesh ${M}/cube.obj --height builtin:const:0.5 --max-image-size 2 --size 32x32 --out o.png)
 pr_cli(conemap_builtin_too_small EXIT 1 ONE_LINE STDERR "${CM}builtin:bumps@2: too small for its pattern; at least 3"
        NO_FILE o.png ARGS conemap --height builtin:bumps@2 --out o.png --no-cache)

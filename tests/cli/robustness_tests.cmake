@@ -190,8 +190,12 @@ foreach(case "height_dev_zero|render|--height|/dev/zero|--mesh|${M}/cube.obj|--s
     string(REPLACE "|" ";" parts "${case}")
     list(POP_FRONT parts name)
     list(GET parts 2 device)
+    set(flag "") # a map given by a flag of render is said under the flag's name
+    if(name MATCHES "^(height|color)_")
+        set(flag "--${CMAKE_MATCH_1}: ")
+    endif()
     pr_cli_special(${name} EXIT 1 ONE_LINE NO_FILE o.png REQUIRES ${device}
-                   STDERR "${E}${device}: is not a regular file \\(a character device\\)"
+                   STDERR "${E}${flag}${device}: is not a regular file \\(a character device\\)"
                    ARGS ${parts} --out o.png)
 endforeach()
 # A scene file with a NUL byte after its object: the JSON reader ended there and took the file
@@ -215,8 +219,12 @@ foreach(case "height_fifo_no_writer|h.png|render|--mesh|${M}/cube.obj|--height|h
              "scene_fifo_no_writer|s.json|render|--scene|s.json|--size|32x32")
     string(REPLACE "|" ";" parts "${case}")
     list(POP_FRONT parts name fifo)
+    set(flag "")
+    if(name MATCHES "^(height|color)_")
+        set(flag "--${CMAKE_MATCH_1}: ")
+    endif()
     pr_cli_special(${name} EXIT 1 ONE_LINE NO_FILE o.png SETUP "rm -f ${fifo} && mkfifo ${fifo}"
-                   STDERR "${E}${fifo}: ${NO_WRITER}" ARGS ${parts} --out o.png)
+                   STDERR "${E}${flag}${fifo}: ${NO_WRITER}" ARGS ${parts} --out o.png)
 endforeach()
 # The developer variables that name files: a FIFO as a shader under PRISMRELIEF_SHADER_DIR hung in
 # its read, and one as PRISMRELIEF_OSMESA_LIBRARY in dlopen (SETUP exports the variable).
@@ -245,7 +253,7 @@ pr_cli_special(scene_process_substitution BASH EXIT 0 EXPECT_FILE o.png STDOUT "
 pr_cli_special(conemap_process_substitution BASH EXIT 0 EXPECT_FILE c.png STDOUT "c.png: 32x32 cone rg16"
                ARGS conemap --height "<(cat '${BAD}/sixteen_bit.png')" --no-cache --out c.png)
 pr_cli_special(height_process_substitution_empty BASH EXIT 1 ONE_LINE NO_FILE o.png
-               STDERR "${E}/dev/fd/[0-9]+: is a pipe \\(FIFO\\) "
+               STDERR "${E}--height: /dev/fd/[0-9]+: is a pipe \\(FIFO\\) "
                ARGS render --mesh '${M}/cube.obj' --height "<(true)" --size 32x32 --out o.png)
 # An output through a descriptor's link to a regular file (`--json /dev/fd/3 3>>run.log`) is
 # refused: it was renamed over run.log, whose earlier lines were lost (docs/robustness.md).
@@ -270,14 +278,14 @@ pr_cli_special(mesh_obj_mtllib_fifo EXIT 0 EXPECT_FILE o.png STDOUT "o.png: 32x3
 find_program(PR_TRUNCATE truncate)
 if(PR_TRUNCATE)
     pr_cli_special(height_file_beyond_limit EXIT 1 ONE_LINE NO_FILE o.png SETUP "truncate -s 100M big.png"
-                   STDERR "${E}big.png: is 100 MiB \\(104857600 bytes\\), more than 64.0 MiB: the most an image within the limit of 256 pixels can take \\(8 bytes a pixel, and 64 MiB\\)"
+                   STDERR "${E}--height: big.png: is 100 MiB \\(104857600 bytes\\), more than 64.0 MiB: the most an image within the limit of 256 pixels can take \\(8 bytes a pixel, and 64 MiB\\)"
                    ARGS render --mesh ${M}/cube.obj --height big.png --max-image-size 16 --size 32x32 --out o.png)
     pr_cli_special(mesh_file_beyond_limit EXIT 1 ONE_LINE NO_FILE o.png SETUP "truncate -s 100M big.obj"
                    STDERR "${E}big.obj: is 100 MiB \\(104857600 bytes\\), more than 64 MiB: the most a mesh within the limit of 1000 triangles can take \\(512 bytes a triangle, and at least 64 MiB\\)"
                    ARGS render --mesh big.obj --max-triangles 1000 --size 32x32 --out o.png)
 endif()
 pr_cli_special(height_pipe_beyond_limit BASH EXIT 1 ONE_LINE NO_FILE o.png REQUIRES /dev/zero
-               STDERR "${E}/dev/fd/[0-9]+: is a pipe that gave more than 64.0 MiB: the most an image within the limit of 256 pixels"
+               STDERR "${E}--height: /dev/fd/[0-9]+: is a pipe that gave more than 64.0 MiB: the most an image within the limit of 256 pixels"
                ARGS render --mesh '${M}/cube.obj' --height "<(head -c 80000000 /dev/zero)" --max-image-size 16 --size 32x32 --out o.png)
 
 # ---- GL failures --------------------------------------------------------------------------------
