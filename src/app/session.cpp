@@ -72,8 +72,13 @@ Session open_session(const SceneOptions& options, const std::vector<NamedPath>& 
         // names: when the eye came from the scene file, name the file (make_scene_spec does for
         // the cases it can check).
         const bool file_eye = !options.scene_file.empty() && options.eye.empty();
-        if (file_eye && (e.subject() == "--eye" || (e.subject() == "--up" && options.up.empty())))
-            throw Error(options.scene_file + ": camera", e.problem());
+        if (file_eye && (e.subject() == "--eye" || (e.subject() == "--up" && options.up.empty()))) {
+            // (Its advice named the flags alone; found by an exploratory session, thirty-third.)
+            std::string problem = e.problem();
+            if (const std::size_t at = problem.find("(give --up or --target)"); at != std::string::npos)
+                problem.replace(at, std::string::npos, "(give camera.up or camera.target, or --up or --target)");
+            throw Error(options.scene_file + ": camera", problem);
+        }
         throw;
     }
     s.light = scene_light(s.spec, s.camera);

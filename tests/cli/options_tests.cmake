@@ -109,6 +109,9 @@ pr_scene_refused(duplicate_mesh ", \"mesh\": \"${M}/cube.obj\"}]}" "objects\\[0\
 pr_scene_refused(duplicate_top "}], \"size\": \"48x48\", \"size\": \"64x64\"}" "\"size\" is given twice")
 pr_scene_refused(duplicate_nested ", \"transform\": {\"rotate\": [0, 0, 0]}}, {\"mesh\": \"${M}/cube.obj\", \"transform\": {\"scale\": 1, \"scale\": 2}}]}" "objects\\[1\\].transform: \"scale\" is given twice")
 pr_scene(base_color_range ", \"base_color\": [2, -1, 0.5]}]}")
+# A scene's eye over the shell's centre along the default up: the advice names the scene's keys too.
+pr_scene_refused(eye_along_up "}], \"camera\": {\"eye\": [0, 5, 0]}}"
+                 "camera: looks straight along the default up direction 0,1,0 at the shell's centre \\(give camera.up or camera.target, or --up or --target\\)")
 # A colour map and a plain colour in one object: base_color did nothing without a word.
 pr_scene_refused(base_color_and_color ", \"color\": \"builtin:checker\", \"base_color\": [1, 0, 0]}]}"
                  "objects\\[0\\].base_color: has no effect next to \"color\", whose map gives the colour: give one of them")
