@@ -86,7 +86,14 @@ CommandAction add_conemap_command(CLI::App& app)
         // read; else once the cache has missed (build, below), while the max pyramid is built. Not
         // before a cache hit: the process would only wait for it at exit.
         if (gpu && s->no_cache) preload_backend(gl_backend);
-        const HeightField field = load_height(s->height);
+        // Said under the flag's name, as render's maps are.
+        const HeightField field = [&] {
+            try {
+                return load_height(s->height);
+            } catch (const Error& e) {
+                throw Error("--height", e.subject() + ": " + e.problem(), e.detail());
+            }
+        }();
         release_warnings(); // every input accepted (core/error.hpp)
 
         ProgressBar bar("conemap");

@@ -33,7 +33,7 @@ set_tests_properties(cli.conemap_cache_hit PROPERTIES FIXTURES_REQUIRED conemap_
 # Errors: exit 1, one line naming the file or option, no output file.
 pr_cli(conemap_bad_height EXIT 1 ONE_LINE STDERR "${CM}.*not_an_image.png: " NO_FILE o.png
        ARGS conemap --height ${BAD}/not_an_image.png --out o.png --no-cache)
-pr_cli(conemap_missing_height EXIT 1 ONE_LINE STDERR "${CM}nope.png: " NO_FILE o.png
+pr_cli(conemap_missing_height EXIT 1 ONE_LINE STDERR "${CM}--height: nope.png: " NO_FILE o.png
        ARGS conemap --height nope.png --out o.png --no-cache)
 pr_cli(conemap_bad_kind EXIT 1 ONE_LINE STDERR "${CM}--kind: unknown cone-map kind 'wide'" NO_FILE o.png
        ARGS conemap --height builtin:bumps@16 --kind wide --out o.png --no-cache)
@@ -63,7 +63,7 @@ pr_cli(max_image_size_below_any_pattern EXIT 1 ONE_LINE
 pr_cli(max_image_size_below_any_pattern_constant EXIT 1 ONE_LINE
        STDERR "${CM}--height: builtin:const:0.5: its default size, 512x512, is over the limit of 2 per side \\(--max-image-size\\): give a size, e.g. builtin:const:0.5@2" NO_FILE o.png
        ARGS render --mesh ${M}/cube.obj --height builtin:const:0.5 --max-image-size 2 --size 32x32 --out o.png)
-pr_cli(conemap_builtin_too_small EXIT 1 ONE_LINE STDERR "${CM}builtin:bumps@2: too small for its pattern; at least 3"
+pr_cli(conemap_builtin_too_small EXIT 1 ONE_LINE STDERR "${CM}--height: builtin:bumps@2: too small for its pattern; at least 3"
        NO_FILE o.png ARGS conemap --height builtin:bumps@2 --out o.png --no-cache)
 pr_cli(conemap_help EXIT 0 STDOUT "--kind.*--format.*--backend" ARGS conemap --help)
 # Both outputs or neither: a report that cannot be written (/proc takes no new files) takes the PNG.

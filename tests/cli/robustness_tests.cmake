@@ -191,8 +191,8 @@ foreach(case "height_dev_zero|render|--height|/dev/zero|--mesh|${M}/cube.obj|--s
     list(POP_FRONT parts name)
     list(GET parts 2 device)
     set(flag "") # a map given by a flag of render is said under the flag's name
-    if(name MATCHES "^(height|color)_")
-        set(flag "--${CMAKE_MATCH_1}: ")
+    if(name MATCHES "^(conemap_)?(height|color)_")
+        set(flag "--${CMAKE_MATCH_2}: ")
     endif()
     pr_cli_special(${name} EXIT 1 ONE_LINE NO_FILE o.png REQUIRES ${device}
                    STDERR "${E}${flag}${device}: is not a regular file \\(a character device\\)"
@@ -222,6 +222,8 @@ foreach(case "height_fifo_no_writer|h.png|render|--mesh|${M}/cube.obj|--height|h
     set(flag "")
     if(name MATCHES "^(height|color)_")
         set(flag "--${CMAKE_MATCH_1}: ")
+    elseif(name MATCHES "^conemap_")
+        set(flag "--height: ")
     endif()
     pr_cli_special(${name} EXIT 1 ONE_LINE NO_FILE o.png SETUP "rm -f ${fifo} && mkfifo ${fifo}"
                    STDERR "${E}${flag}${fifo}: ${NO_WRITER}" ARGS ${parts} --out o.png)
