@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# The figures of docs/benchmarks.md "GPU" on a machine with a GPU, through EGL: frame times of every
-# technique at 1280x720 on the bundled meshes and scenes (with and without shadows), the prism
+# The GPU figures of docs/benchmarks.md (its sections on an H200 and the H100s) on a machine with a
+# GPU, through EGL: frame times of flat, pom, relief, the cone marchers, the prism's variants and
+# reference at 1280x720 on the bundled meshes and scenes (with and without shadows), the prism
 # accuracy and watertightness tables, cone-map generation on the CPU's threads against the compute
 # shader, the tiles of one compare view to set beside llvmpipe's, and where the prism's time goes
 # (its walk with the least march: `--steps 1`, linear). Each step has a time limit

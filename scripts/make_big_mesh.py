@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Writes a finely subdivided torus as OBJ (with UVs) for the memory and time measurements of
-docs/robustness.md. The file is large (about 60 MB for a million triangles): write it outside the
+docs/robustness.md. The file is large (about 68 MB for a million triangles): write it outside the
 source tree and do not commit it.
 
     python3 scripts/make_big_mesh.py /tmp/torus_1m.obj            # 1000 x 500 quads = 1,000,000 triangles
