@@ -5,6 +5,7 @@
 #include "core/input_file.hpp"
 #include "core/transform.hpp"
 #include "core/image.hpp"
+#include "maps/conemap.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -255,7 +256,7 @@ void add_scene_options(CLI::App& app, SceneOptions& o)
         ->group("Output");
     app.add_flag("--no-cache", o.no_cache, "Build derived maps in memory only: neither read nor write the cache")
         ->group("Output");
-    app.add_option("--cone-backend", o.cone_backend,
+    o.cone_backend_option = app.add_option("--cone-backend", o.cone_backend,
                    "Where cone maps missing from the cache are built: cpu (threads) or gpu (compute "
                    "shader in the render's context: for a real GPU, with --backend egl)")
         ->group("Output")
@@ -380,6 +381,21 @@ void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<Draw
     if (given(o.reference_max_triangles_flag) && o.reference_level > 0)
         throw Error("--reference-max-triangles", "has no effect: it bounds the automatic level only, and --reference-level " +
                                                      std::to_string(o.reference_level) + " is given");
+}
+
+void check_cone_backend_applies(const SceneOptions& o, const std::vector<DrawSettings>& drawn_settings,
+                                const std::string& drawn)
+{
+    if (o.cone_backend_option == nullptr || o.cone_backend_option->count() == 0) return;
+    parse_cone_backend_gpu(o.cone_backend, "--cone-backend"); // (a bad value is said as such first)
+    const bool reads = std::any_of(drawn_settings.begin(), drawn_settings.end(), [](const DrawSettings& d) {
+        return d.aux_map() == AuxMap::Cone || d.aux_map() == AuxMap::Relaxed;
+    });
+    // (It was accepted and ignored; found by an exploratory session, thirty-third.)
+    if (!reads)
+        throw Error("--cone-backend", "has no effect: " + drawn +
+                                          " reads no cone map (cone, relaxed-cone and the prism's cone marchers do): "
+                                          "leave it out");
 }
 
 ReferenceOptions make_reference_options(const TechniqueOptions& o)

@@ -35,6 +35,7 @@ struct SceneOptions {
     std::string cone_backend = "cpu"; // where missing cone maps are built: cpu or gpu
 
     CLI::Option* size_option = nullptr;
+    const CLI::Option* cone_backend_option = nullptr; // given or not: check_cone_backend_applies
     // Given or not: --uv-scale where every mesh has UVs of its own is refused (open_session).
     const CLI::Option* uv_scale_option = nullptr;
     // The viewer: a mesh dropped on its window later is loaded with these options too, and may
@@ -175,6 +176,10 @@ void check_prism_flags_apply(const TechniqueOptions& o, bool any_prism, const st
 //   (reads_steps and the others, render/technique.hpp);
 // - --reference-level and --reference-max-triangles where the reference is not drawn (compare
 //   always draws it).
+// --cone-backend given where nothing drawn reads a cone map (render, compare, bench): refused,
+// as the quality flags are.
+void check_cone_backend_applies(const SceneOptions& o, const std::vector<DrawSettings>& drawn_settings,
+                                const std::string& drawn);
 void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<DrawSettings>& drawn_settings,
                                const std::string& drawn);
 

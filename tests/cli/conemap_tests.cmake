@@ -82,6 +82,15 @@ pr_cli(compare_fast_marchers EXIT 0 STDOUT "prism:cone .*prism:relaxed-cone .*pr
 pr_cli(render_cone_backend_gpu EXIT 0 EXPECT_FILE g.png STDOUT "g.png: 64x48 prism"
        ARGS render --mesh ${M}/torus.obj --height builtin:noise@48 --technique prism --marcher relaxed-cone
             --cone-backend gpu --size 64x48 --cache-dir gpu_cache --out g.png)
+# Where nothing drawn reads a cone map it is refused, as the quality flags are (it was accepted and
+# ignored); one technique of a list that reads one is enough.
+pr_cli(cone_backend_unread EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${CM}--cone-backend: has no effect: --technique relief reads no cone map \\(cone, relaxed-cone and the prism's cone marchers do\\): leave it out"
+       ARGS render --mesh ${M}/cube.obj --technique relief --cone-backend cpu --size 16x16 --out o.png)
+pr_cli(cone_backend_unread_compare EXIT 1 ONE_LINE NO_FILE o.png STDERR "${CM}--cone-backend: has no effect: --techniques pom,prism:max-mip"
+       ARGS compare --mesh ${M}/cube.obj --techniques pom,prism:max-mip --cone-backend cpu --size 16x16 --out o.png)
+pr_cli(cone_backend_read_in_a_list EXIT 0 EXPECT_FILE o.png
+       ARGS compare --mesh ${M}/cube.obj --height builtin:bumps@16 --techniques pom,prism:cone --cone-backend cpu --no-cache --size 16x16 --out o.png)
 pr_cli(cone_backend_unknown EXIT 1 ONE_LINE STDERR "${CM}--cone-backend: unknown cone-map backend 'tpu'" NO_FILE o.png
        ARGS render --mesh ${M}/cube.obj --cone-backend tpu --out o.png)
 pr_cli(shadows_unknown EXIT 1 ONE_LINE STDERR "${CM}--shadows: unknown shadow mode 'dark'" NO_FILE o.png
