@@ -1602,6 +1602,11 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
     Expect expect;
     omio::Options requested = omio::Options::VertexNormal;
     if (ext == ".obj") {
+        // OBJ is text: a NUL byte in its first kilobyte is another kind of file under the name
+        // (a PNG renamed .obj said "contains no faces"; found by an exploratory session,
+        // thirty-third).
+        if (string_view(text).substr(0, 1024).find('\0') != string_view::npos)
+            fail(subject, "holds binary data, not OBJ text (another kind of file named .obj?)");
         blank_obj_comments(text);
         join_obj_continuations(text);
         expect = scan_obj(subject, text, options);

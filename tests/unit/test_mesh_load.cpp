@@ -432,6 +432,15 @@ TEST(MeshLoad, OffWithTextureCoordinatesAndNormals)
     EXPECT_FALSE(n.had_uvs);
 }
 
+// A binary file named .obj (an image renamed) said "contains no faces".
+TEST(MeshErrors, BinaryDataNamedObjIsSaid)
+{
+    TempDir dir;
+    const std::string png("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16);
+    const fs::path p = dir.write("image.obj", png + std::string(64, 'x'));
+    EXPECT_ERROR_MENTIONS(load_error(p), p, "holds binary data, not OBJ text (another kind of file named .obj?)");
+}
+
 // Geomview's OFF allows '#' comments anywhere: they were refused with messages that blamed
 // something else ("the counts must be on the line after 'OFF'" for `OFF # cube`; found by an
 // exploratory session, thirty-third). Read past now, in every variant's values; in a binary OFF
