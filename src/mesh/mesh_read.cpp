@@ -1599,6 +1599,12 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
         (ext != ".stl" || starts_solid(string_view(text).substr(3))))
         text.erase(0, 3);
 
+    // UTF-16 text (Windows tools write it, with its byte-order mark): every other byte is NUL.
+    if (ext != ".stl") {
+        const string_view head = string_view(text).substr(0, 2);
+        if (head == "\xFF\xFE" || head == "\xFE\xFF" || (text.size() >= 2 && text[0] != '\0' && text[1] == '\0'))
+            fail(subject, "is UTF-16 text; the reader takes ASCII or UTF-8: save it as UTF-8");
+    }
     Expect expect;
     omio::Options requested = omio::Options::VertexNormal;
     if (ext == ".obj") {

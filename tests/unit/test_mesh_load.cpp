@@ -439,6 +439,15 @@ TEST(MeshErrors, BinaryDataNamedObjIsSaid)
     const std::string png("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16);
     const fs::path p = dir.write("image.obj", png + std::string(64, 'x'));
     EXPECT_ERROR_MENTIONS(load_error(p), p, "holds binary data, not OBJ text (another kind of file named .obj?)");
+    // UTF-16 text, with its byte-order mark or without, is said as such.
+    std::string utf16 = "\xFF\xFE";
+    for (char c : std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")) utf16 += std::string{c, '\0'};
+    for (const char* name : {"u.obj", "u.off"}) {
+        const fs::path u = dir.write(name, utf16);
+        EXPECT_ERROR_MENTIONS(load_error(u), u, "is UTF-16 text; the reader takes ASCII or UTF-8: save it as UTF-8");
+    }
+    const fs::path bare = dir.write("b.obj", utf16.substr(2));
+    EXPECT_ERROR_MENTIONS(load_error(bare), bare, "is UTF-16 text");
 }
 
 // Geomview's OFF allows '#' comments anywhere: they were refused with messages that blamed
