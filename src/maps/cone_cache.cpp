@@ -308,6 +308,54 @@ std::filesystem::path cone_cache_entry(const HeightField& field, ConeKind kind, 
     return entry_for_key(field, kind, options.format, cache_dir, cache_key(field, kind, options));
 }
 
+namespace {
+
+// The entry's map, read as the user's own files are (core/input_file.hpp): a huge file cannot
+// fill memory (no more than twice the size of this map's entry is read; within that,
+// deserialize() says what is wrong), and a FIFO put in the entry's place between the check and
+// the read is refused after a second without a writer (one with a writer that never writes could
+// still hold it: the cache folder is the user's own, docs/robustness.md). Empty `why`: read;
+// else why not, `gone` where the entry was removed since the check (another process's trim: a miss).
+struct EntryRead {
+    ConeMap map;
+    std::string why;
+    bool gone = false;
+};
+EntryRead read_entry(const std::filesystem::path& entry, const HeightField& field, ConeKind kind,
+                     ConeFormat format, std::uint64_t key)
+{
+    EntryRead r;
+    std::error_code ec;
+    const std::uint64_t entry_bytes = kHeaderBytes + field.texels.size() * 6;
+    std::vector<std::uint8_t> bytes;
+    try {
+        bytes = read_input_bytes(entry.string(), {2 * entry_bytes, "a cone-map cache entry", "not this map's entry"});
+    } catch (const Error& e) {
+        r.why = e.problem();
+        r.gone = !std::filesystem::exists(std::filesystem::symlink_status(entry, ec));
+        return r;
+    }
+    r.why = deserialize(bytes, field, kind, format, key, r.map);
+    // Used now: the last entries a trim removes (a read-only cache keeps its times).
+    if (r.why.empty()) std::filesystem::last_write_time(entry, std::filesystem::file_time_type::clock::now(), ec);
+    return r;
+}
+
+} // namespace
+
+std::optional<ConeMap> read_cached_cone_map(const HeightField& field, ConeKind kind,
+                                            const std::filesystem::path& cache_dir, const ConeBuildOptions& options)
+{
+    if (cache_dir.empty()) return std::nullopt;
+    const std::uint64_t key = cache_key(field, kind, options);
+    const std::filesystem::path entry = entry_for_key(field, kind, options.format, cache_dir, key);
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(entry, ec)) return std::nullopt;
+    EntryRead r = read_entry(entry, field, kind, options.format, key);
+    if (!r.why.empty()) return std::nullopt;
+    return std::move(r.map);
+}
+
 ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const std::filesystem::path& cache_dir,
                                 const ConeBuildOptions& options, const ConeBuilder& build)
 {
@@ -320,27 +368,10 @@ ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const s
     result.entry = entry_for_key(field, kind, options.format, cache_dir, key);
     std::error_code ec;
     if (std::filesystem::is_regular_file(result.entry, ec)) {
-        // Read as the user's own files are (core/input_file.hpp): a huge file cannot fill memory
-        // (no more than twice the size of this map's entry is read; within that, deserialize()
-        // says what is wrong), and a FIFO put in the entry's place between the check above and
-        // the read is refused after a second without a writer (one with a writer that never
-        // writes could still hold it: the cache folder is the user's own, docs/robustness.md).
-        const std::uint64_t entry_bytes = kHeaderBytes + field.texels.size() * 6;
-        std::vector<std::uint8_t> bytes;
-        std::string why;
-        bool gone = false; // removed since the check above (another process's trim): a miss
-        try {
-            bytes = read_input_bytes(result.entry.string(),
-                                     {2 * entry_bytes, "a cone-map cache entry", "not this map's entry"});
-        } catch (const Error& e) {
-            why = e.problem();
-            gone = !std::filesystem::exists(std::filesystem::symlink_status(result.entry, ec));
-        }
-        if (why.empty()) why = deserialize(bytes, field, kind, options.format, key, result.map);
-        if (why.empty()) {
+        EntryRead r = read_entry(result.entry, field, kind, options.format, key);
+        if (r.why.empty()) {
+            result.map = std::move(r.map);
             result.from_cache = true;
-            // Used now: the last entries a trim removes (a read-only cache keeps its times).
-            std::filesystem::last_write_time(result.entry, std::filesystem::file_time_type::clock::now(), ec);
             // (No progress: on a terminal a hit drew "building … 100%" for a moment; found by an
             // exploratory session, thirty-second.)
             return result;
@@ -348,7 +379,7 @@ ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const s
         // (An entry that went between the check and the read said "cannot open: No such file or
         // directory; rebuilding it", a warning meant for entries that are wrong; found by an
         // exploratory session, thirty-second.)
-        if (!gone) warn("cone-map cache entry " + result.entry.string() + ": " + why + "; rebuilding it");
+        if (!r.gone) warn("cone-map cache entry " + result.entry.string() + ": " + r.why + "; rebuilding it");
     }
     result.map = build(field, kind, options);
     try {

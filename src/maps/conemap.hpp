@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -220,6 +221,13 @@ ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const s
 using ConeBuilder = std::function<ConeMap(const HeightField&, ConeKind, const ConeBuildOptions&)>;
 ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const std::filesystem::path& cache_dir,
                                 const ConeBuildOptions& options, const ConeBuilder& build);
+// The map's cache entry alone, read and checked as cached_cone_map reads it, without a word:
+// nothing where there is no cache, no entry, or one that cannot be read or is wrong (which
+// cached_cone_map then rebuilds, saying why). The viewer reads entries so in the frame and has the
+// rest built on its thread.
+std::optional<ConeMap> read_cached_cone_map(const HeightField& field, ConeKind kind,
+                                            const std::filesystem::path& cache_dir,
+                                            const ConeBuildOptions& options = {});
 // The cache's bound: PRISMRELIEF_CACHE_MAX_MB (MiB; 0: none) if set and valid, else 2048 MiB
 // (a relaxed rg16 entry of 1024² takes 6 MiB, of 4096² 96 MiB).
 std::uint64_t cone_cache_max_bytes();

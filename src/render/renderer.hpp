@@ -74,8 +74,8 @@ public:
     // what a draw with `map` would have to build or read from the cache first, not in memory (for
     // AuxMap::Relaxed the relaxed map and the cone map both), each once; and the hand-over of one
     // such map, which the draws then use instead of building it (a map for a height field that no
-    // object draws with any more is dropped). The viewer reads cache entries on its thread too:
-    // a damaged one is rebuilt there, not in the draw.
+    // object draws with any more is dropped). The viewer reads the cached ones itself
+    // (read_cached_cone_map, which never builds) and has the rest built on its thread.
     struct ConeMapNeed {
         std::shared_ptr<const HeightField> field;
         ConeKind kind;

@@ -28,6 +28,7 @@
 #include <filesystem>
 #include <future>
 #include <memory>
+#include <set>
 #include <utility>
 
 namespace pr::view {
@@ -115,7 +116,6 @@ struct ConeJob {
     Clock::time_point start = Clock::now();
     std::shared_ptr<std::atomic<double>> done = std::make_shared<std::atomic<double>>(0.0);
     std::shared_ptr<std::atomic<bool>> cancel = std::make_shared<std::atomic<bool>>(false);
-    std::shared_ptr<std::atomic<bool>> building = std::make_shared<std::atomic<bool>>(false); // not only reading
     std::future<Result> maps;
     int frames_meanwhile = 0; // frames drawn with while_cone_maps_build()
     std::vector<const HeightField*> fields; // what it builds for
@@ -202,6 +202,9 @@ private:
     GlfwWindow& window_;
     const ViewerOptions& o_;
     std::optional<ConeJob> cone_job_;
+    // Cache entries drawable() found it could not read (damaged): not read again every frame while
+    // they wait for a build (each read hashed every texel and read the file).
+    std::set<std::pair<const HeightField*, ConeKind>> unreadable_entries_;
     bool cone_builds_inline_ = false; // after a background build failed: in the draw, as render does
     std::optional<Compositor> compositor_;
     std::optional<ShaderWatch> watch_;
@@ -320,6 +323,7 @@ void Viewer::apply_displacement()
 void Viewer::reload_scene(SceneSpec spec, bool reset_camera, bool keep_first_height)
 {
     Scene scene = load_scene(spec); // throws pr::Error naming the file: the old scene stays
+    unreadable_entries_.clear(); // (of the old height fields)
     const bool keep = keep_first_height && !scene.objects.empty() && !s_.scene.objects.empty();
     // A dropped mesh keeps the first object's height map: the very field, so its cone maps, held
     // or building, serve on. The build was cancelled and started again for the same map (5 s of a
@@ -361,7 +365,9 @@ void Viewer::handle_drop(const std::string& path)
         if (ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl") {
             ObjectSpec obj = spec.objects.at(0);
             obj.mesh = path;
+            obj.mesh_place.clear(); // (its errors are the dropped file's, not the flag's or the scene's)
             obj.depth.reset();
+            obj.depth_place.clear();
             obj.transform = glm::dmat4(1.0);
             spec.objects = {obj};
             spec.camera.eye.reset();
@@ -370,7 +376,12 @@ void Viewer::handle_drop(const std::string& path)
         } else if (const auto images = {".png", ".jpg", ".jpeg", ".bmp", ".tga", ".pgm", ".ppm", ".pnm", ".hdr",
                                         ".gif", ".psd", ".pic"};
                    std::find(images.begin(), images.end(), ext) != images.end()) {
-            for (ObjectSpec& obj : spec.objects) obj.height = path;
+            // (A dropped map that cannot be read was said under --height or the scene's place;
+            // found by an exploratory session, thirty-third.)
+            for (ObjectSpec& obj : spec.objects) {
+                obj.height = path;
+                obj.height_place.clear();
+            }
             reload_scene(std::move(spec), false);
         } else {
             throw Error(path, "cannot load this file type (drop a mesh: OBJ, OFF, PLY, STL; or a height "
@@ -397,12 +408,23 @@ DrawSettings Viewer::drawable(const DrawSettings& d)
         return d;
     if (cone_job_ && cone_job_->map == map) return while_cone_maps_build(d);
     std::vector<Renderer::ConeMapNeed> needs = s_.renderer->missing_cone_maps(map);
+    // What the cache holds is read here, as the draw read it (no frame of relief before a cached
+    // map), but without building: an entry that cannot be read or is wrong is left to the thread,
+    // which rebuilds it (saying why) while relief is drawn. The draw rebuilt it in the frame, and
+    // the window stopped for the build's time: 10.5 s for the relaxed map of builtin:noise@768
+    // (thirty-third session; a split half next to another's build too, found by an exploratory
+    // session).
+    std::erase_if(needs, [&](const Renderer::ConeMapNeed& need) {
+        if (!need.cached || unreadable_entries_.count({need.field.get(), need.kind})) return false;
+        std::optional<ConeMap> read = read_cached_cone_map(*need.field, need.kind, s_.renderer->cache_dir());
+        if (!read) {
+            unreadable_entries_.insert({need.field.get(), need.kind});
+            return false;
+        }
+        s_.renderer->provide_cone_map(need.field, std::move(*read));
+        return true;
+    });
     if (needs.empty()) return d;
-    const bool all_cached =
-        std::all_of(needs.begin(), needs.end(), [](const Renderer::ConeMapNeed& n) { return n.cached; });
-    // The other half's maps being built: cached ones are read by the draw, as before the thread
-    // read them (this half drew relief for the whole of the other's build; found by a review).
-    if (cone_job_ && all_cached) return d;
     if (!cone_job_) { // one build at a time: the other half's maps follow
         ConeJob& job = cone_job_.emplace();
         job.map = map;
@@ -417,35 +439,21 @@ DrawSettings Viewer::drawable(const DrawSettings& d)
         for (std::size_t i = 1; i < fields.size(); ++i)
             job.what += (i + 1 == fields.size() ? " and " : ", ") +
                         (fields[i]->name.empty() ? std::string("another height map") : fields[i]->name);
-        // Cache entries are read here too: a damaged one is rebuilt, and the window goes on
-        // drawing meanwhile (read by the draw, its rebuild stopped the window for the build's
-        // time: 10.5 s for a relaxed map of builtin:noise@768).
+        // (An entry that could not be read above is read again here: cached_cone_map says why it
+        // rebuilds it. One that another process wrote meanwhile is read: nothing to say then.)
         job.maps = std::async(std::launch::async, [needs = std::move(needs), dir = s_.renderer->cache_dir(),
-                                                   done = job.done, cancel = job.cancel, building = job.building]() {
+                                                   done = job.done, cancel = job.cancel]() {
             ConeJob::Result result;
-            const ConeBuilder build = [&building](const HeightField& f, ConeKind k, const ConeBuildOptions& o) {
-                *building = true;
-                return build_cone_map_cpu(f, k, o);
-            };
             for (std::size_t i = 0; i < needs.size(); ++i) {
                 ConeBuildOptions options;
                 options.cancel = cancel.get();
                 options.progress = [&done, i, n = needs.size()](double f) { *done = (double(i) + f) / double(n); };
-                ConeCacheResult got = cached_cone_map(*needs[i].field, needs[i].kind, dir, options, build);
+                ConeCacheResult got = cached_cone_map(*needs[i].field, needs[i].kind, dir, options);
                 result.built |= !got.from_cache;
                 result.maps.emplace_back(needs[i].field, std::move(got.map));
             }
             return result;
         });
-    }
-    // Maps in the cache are read as the draw read them, without a frame of relief first: the
-    // frame waits for the read, unless the thread finds an entry damaged and starts building.
-    if (all_cached) {
-        while (cone_job_->maps.wait_for(std::chrono::milliseconds(2)) != std::future_status::ready &&
-               !*cone_job_->building) {
-        }
-        poll_cone_job();
-        if (!cone_job_) return d;
     }
     return while_cone_maps_build(d);
 }

@@ -195,6 +195,9 @@ elseif(CASE STREQUAL "drop")
     endif()
     run_render(--mesh ${MESHES}/cube.obj --height builtin:bricks --size 160x120 --technique relief --out cube_render.png)
     check(same cube.png cube_render.png 4)
+    # A dropped file's error is its own, not said under the flag that named the map before.
+    run_view(${torus} --technique relief --frames 2 --drop nonexistent.png)
+    expect_match("${view_err}" "warning: nonexistent.png: cannot open" "the bad dropped image was said under a flag")
 elseif(CASE STREQUAL "shader_error")
     # A broken shader in --shader-dir is reported with file and line. Interactively the viewer
     # shows it in the panel and goes on (hot reload); with --frames a frame that cannot be drawn
@@ -258,6 +261,24 @@ elseif(CASE STREQUAL "cone_build")
                  "built the relaxed cone map of builtin:noise@128 in [0-9.]+ s \\([1-9][0-9]* frames? drawn with relief meanwhile\\)"
                  "the damaged entry was not rebuilt on a thread")
     check(same damaged.png render.png 0)
+    # The same in split view, the other half reading its relaxed map from the cache: the damaged
+    # cone map is built on the thread while both halves draw. The other half's draw read the
+    # cache while that build ran and rebuilt the map in the frame: one frame for the whole build
+    # (0.7 s here). Frames drawn meanwhile come ten a second with --frames: a build of 0.35 s or
+    # more that saw fewer than two stopped the window.
+    set(split --mesh ${MESHES}/torus.obj --height builtin:noise@384 --size 160x120 --cache-dir split_cache)
+    run_render(${split} --technique relaxed-cone --out split_render.png)
+    file(GLOB entry ${WORKDIR}/split_cache/cone/cone-*384x384*)
+    file(WRITE ${entry} "damaged")
+    run_view(${split} --split cone,relaxed-cone --frames 1)
+    if(NOT view_out MATCHES "built the cone map of builtin:noise@384 in ([0-9.]+) s \\(([0-9]+) frames? drawn with relief meanwhile\\)")
+        message(FATAL_ERROR "the damaged cone map of a split view was not rebuilt on a thread:\n${view_out}")
+    endif()
+    set(build_s ${CMAKE_MATCH_1})
+    set(meanwhile ${CMAKE_MATCH_2})
+    if(build_s GREATER_EQUAL 0.35 AND meanwhile LESS 2)
+        message(FATAL_ERROR "the window drew ${meanwhile} frame(s) in the ${build_s} s of the build:\n${view_out}")
+    endif()
     # A height image dropped while a build runs cancels it (nothing of the old map is cached) and
     # builds the new one's: the screenshot is render's with the dropped image.
     run_view(--mesh ${MESHES}/torus.obj --height builtin:noise@512 --size 160x120 --technique relaxed-cone

@@ -728,6 +728,33 @@ TEST(ConeMap, CacheRoundTripAndCorruptEntryIsRebuilt)
     }
 }
 
+// read_cached_cone_map (the viewer's read in the frame): the entry's map, or nothing, without a
+// word and without building, where there is no cache, no entry or a wrong one.
+TEST(ConeMap, ReadingTheCacheAloneNeverBuilds)
+{
+    prtest::TempDir dir;
+    const HeightField f = smooth_map(32, 32, 6);
+    EXPECT_FALSE(read_cached_cone_map(f, ConeKind::Relaxed, dir.path()).has_value()); // no entry
+    EXPECT_FALSE(read_cached_cone_map(f, ConeKind::Relaxed, {}).has_value());         // no cache
+    EXPECT_TRUE(fs::is_empty(dir.path()));
+    const ConeCacheResult built = cached_cone_map(f, ConeKind::Relaxed, dir.path());
+    const std::optional<ConeMap> read = read_cached_cone_map(f, ConeKind::Relaxed, dir.path());
+    ASSERT_TRUE(read.has_value());
+    EXPECT_EQ(read->ratios, built.map.ratios);
+    EXPECT_EQ(read->heights, built.map.heights);
+    EXPECT_FALSE(read_cached_cone_map(f, ConeKind::Cone, dir.path()).has_value()); // another kind's entry
+    {
+        std::fstream io(built.entry, std::ios::in | std::ios::out | std::ios::binary);
+        io.seekp(100);
+        io.put(char(0x5A));
+    }
+    const auto before = fs::last_write_time(built.entry);
+    ::testing::internal::CaptureStderr();
+    EXPECT_FALSE(read_cached_cone_map(f, ConeKind::Relaxed, dir.path()).has_value());
+    EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+    EXPECT_EQ(fs::last_write_time(built.entry), before); // neither rebuilt nor marked used
+}
+
 // An entry of the wrong length (cut short, or with bytes appended) is rebuilt, and the warning
 // gives the length expected and the one found.
 TEST(ConeMap, CacheEntryOfTheWrongSizeSaysSo)
