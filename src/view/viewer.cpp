@@ -467,11 +467,13 @@ void Viewer::poll_cone_job()
     try {
         ConeJob::Result result = job.maps.get();
         for (auto& [field, map] : result.maps) s_.renderer->provide_cone_map(field, std::move(map));
-        if (!result.built) return; // read from the cache within the frame that asked: nothing to say
         // The technique is drawn now, whatever failed while relief stood in for it (the settings
         // it was blocked on are the same: a relief that failed kept the technique undrawn after
         // the build; found by an exploratory session, thirty-second).
         blocked_key_.clear();
+        // All read from the cache after all (an entry the frame could not read, mended meanwhile
+        // by another process): nothing was built, nothing to say.
+        if (!result.built) return;
         // The technique's first draw follows: it counts samples and is left out of the times, as
         // the first frame is (it compiles the technique's shaders). It was timed: --frames printed
         // that one draw, about 190 ms for 3 ms, and no samples per fragment.
