@@ -18,6 +18,14 @@ pr_cli(compare_out_and_json_same_file EXIT 1 ONE_LINE STDERR "${E}--json: ./same
        ARGS compare --mesh ${M}/cube.obj --techniques pom --size 32x32 --out same.png --json ./same.png)
 pr_cli(conemap_out_and_json_same_file EXIT 1 ONE_LINE STDERR "${E}--json: .*same.png is also the --out file" KEEP_FILE same.png
        ARGS conemap --height builtin:bumps@16 --out same.png --json ../conemap_out_and_json_same_file/same.png --no-cache)
+# ... also where a folder on the way is a link: a new file named through it was not (the JSON was
+# written over the picture, exit 0); and a link's `..` is its target's parent: a/../t.png, `a` a
+# link to x/y, is x/t.png, another file than t.png (refused as the same).
+pr_cli(render_out_and_json_through_a_folder_link EXIT 1 ONE_LINE SETUP "ln -sfn . here && rm -f n.png"
+       STDERR "${E}--json: here/n.png is also the --out file" NO_FILE n.png
+       ARGS render --mesh ${M}/cube.obj --size 16x16 --out n.png --json here/n.png)
+pr_cli(render_out_through_a_link_and_up EXIT 0 SETUP "mkdir -p x/y && ln -sfn x/y a && rm -f t.png x/t.png" EXPECT_FILE x/t.png
+       ARGS render --mesh ${M}/cube.obj --size 16x16 --out a/../t.png --json t.png)
 pr_cli(render_out_over_height_map EXIT 1 ONE_LINE STDERR "${E}--out: keep.png is the --height input" KEEP_FILE keep.png
        ARGS render --mesh ${M}/cube.obj --height keep.png --size 32x32 --out keep.png)
 pr_cli(bench_json_over_scene EXIT 1 ONE_LINE STDERR "${E}--json: keep.json is the --scene input" KEEP_FILE keep.json
