@@ -58,15 +58,19 @@ public:
     // where it fits, down to 10; then the label loses its middle ("...").
     static std::string bar_line(const std::string& label, double fraction, int columns)
     {
-        const int room = std::max(columns, 20) - 1, fixed = 9; // ": [", "] ", "100%"
+        char percent[8];
+        std::snprintf(percent, sizeof percent, "%3d%%", std::clamp(int(fraction * 100.0 + 0.5), 0, 100));
+        // Under 20 columns, the percentage alone where it fits (the bar took 19 columns whatever
+        // the width and wrapped, and a signal's clearing went back to its last row only; found by
+        // an exploratory session, thirty-third).
+        if (columns < 20) return columns - 1 >= 4 ? std::string(percent) : std::string();
+        const int room = columns - 1, fixed = 9; // ": [", "] ", "100%"
         const int length = int(display_columns(label));
         int width = std::clamp(room - fixed - length, 10, 30);
         // (Narrower still on a very narrow terminal, where the label keeps 12 columns.)
         if (room - fixed - width < 12) width = std::max(room - fixed - 12, 3);
         const int filled = std::clamp(int(fraction * width + 0.5), 0, width);
         const std::string shown = shortened(label, std::size_t(room - fixed - width));
-        char percent[8];
-        std::snprintf(percent, sizeof percent, "%3d%%", std::clamp(int(fraction * 100.0 + 0.5), 0, 100));
         return shown + ": [" + std::string(std::size_t(filled), '#') + std::string(std::size_t(width - filled), '.') +
                "] " + percent;
     }

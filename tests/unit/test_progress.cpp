@@ -95,13 +95,15 @@ TEST(Progress, BarsFitTheTerminalsWidth)
 {
     const std::string long_label = "building relaxed cone map of /home/someone/projects/relief/heights/" +
                                    std::string("\xc3\xa9t\xc3\xa9-") + "cobblestones_4096.png";
-    for (int columns : {20, 24, 40, 80, 81, 120, 300})
+    for (int columns : {1, 4, 5, 14, 19, 20, 24, 40, 80, 81, 120, 300})
         for (double fraction : {0.0, 0.37, 1.0}) {
             const std::string line = pr::ProgressBar::bar_line(long_label, fraction, columns);
             EXPECT_LE(pr::display_columns(line), std::size_t(columns - 1)) << columns << ": " << line;
             EXPECT_EQ(pr::one_line(line), line) << "not whole UTF-8 characters: " << line;
             if (columns >= 40) EXPECT_NE(line.find("4096.png: ["), std::string::npos) << line; // the name's end
         }
+    EXPECT_EQ(pr::ProgressBar::bar_line(long_label, 0.37, 14), " 37%"); // (the bar took 19 columns and wrapped)
+    EXPECT_EQ(pr::ProgressBar::bar_line(long_label, 0.37, 4), "");
     // Shortened where it must be only, with the whole 30-wide bar where it fits.
     const std::string wide = pr::ProgressBar::bar_line(long_label, 0.5, 300);
     EXPECT_EQ(wide.rfind(long_label + ": [###############...............]  50%", 0), 0u) << wide;
