@@ -1782,9 +1782,14 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
     if (!ok)
         fail(subject, "could not be read as " + ext.substr(1) + " (the reader reported a failure)");
 
+    // (In a binary PLY whose header counts more vertices than its body holds, the vertices take the
+    // first faces' bytes and the faces are read shifted: say what may be the cause; found by an
+    // exploratory session, thirty-third.)
     if (importer.first_bad_face >= 0)
-        fail(subject,
-             "face " + std::to_string(importer.first_bad_face) + " " + importer.bad_problem);
+        fail(subject, "face " + std::to_string(importer.first_bad_face) + " " + importer.bad_problem +
+                          (ext == ".ply" && expect.binary && importer.bad_problem.rfind("has fewer than 3", 0) == 0
+                               ? " (in a binary PLY: does the header count more vertices than the file holds?)"
+                               : ""));
     if (expect.vertices != 0 && mesh.positions.size() != expect.vertices)
         fail(subject, std::to_string(mesh.positions.size()) + " of " +
                           std::to_string(expect.vertices) + " vertices could be read");

@@ -1643,6 +1643,8 @@ TEST(MeshErrors, BinaryPlyHeadersAndBodiesAreReadOrNamed)
     EXPECT_EQ(::testing::internal::GetCapturedStderr(), ""); // (no line of the reader's)
     const fs::path cut = dir.write_bytes("cut.ply", file(head("float", 4, 2, "", ""), 4, 1));
     EXPECT_ERROR_MENTIONS(load_error(cut), cut, "binary PLY ends inside its face 1 of 2 (cut short, or a count too large?)");
+    const fs::path more = dir.write_bytes("more.ply", file(head("float", 5, 2, "", ""), 4, 2));
+    EXPECT_ERROR_MENTIONS(load_error(more), more, "(in a binary PLY: does the header count more vertices than the file holds?)");
     const fs::path edges = dir.write_bytes(
         "e.ply", file(head("float", 4, 2, "", "", "element edge 2\nproperty int vertex1\nproperty int vertex2\n"), 4, 2));
     EXPECT_ERROR_MENTIONS(load_error(edges), edges,
