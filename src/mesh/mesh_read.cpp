@@ -448,9 +448,9 @@ string binary_off_in_openmesh_layout(string_view body, size_t vertex_words)
     return {};
 }
 
+// (CR line ends are refused by read_raw_mesh, before strip_off_comments.)
 Expect scan_off(const string& subject, string_view text, const MeshOptions& options)
 {
-    refuse_cr_line_ends(subject, text);
     Expect e;
     LineReader lines(text);
     string_view header;
@@ -812,7 +812,7 @@ void normalize_ply_header(string& text)
     // written from the line's start, with the line end of the line before it (an indented one, or
     // one whose line end differed, put the body a byte or two off; found by a review).
     string out;
-    out.reserve(text.size());
+    out.reserve(header_end);
     LineReader lines(string_view(text).substr(0, header_end));
     string_view line;
     bool previous_cr = false;
@@ -838,8 +838,8 @@ void normalize_ply_header(string& text)
         if (lines.offset() <= header_end && text[lines.offset() - 1] == '\n') out += '\n';
         if (words > 0) previous_cr = cr;
     }
-    out.append(text, header_end, string::npos);
-    text = std::move(out);
+    // (The header alone is rewritten, where it changed: the body may be hundreds of megabytes.)
+    if (string_view(text).substr(0, header_end) != out) text.replace(0, header_end, out);
 }
 
 Expect scan_ply(const string& subject, string_view text, const MeshOptions& options)
