@@ -91,7 +91,7 @@ CommandAction add_conemap_command(CLI::App& app)
             try {
                 return load_height(s->height);
             } catch (const Error& e) {
-                throw Error("--height", e.subject() + ": " + e.problem(), e.detail());
+                throw e.under("--height");
             }
         }();
         release_warnings(); // every input accepted (core/error.hpp)

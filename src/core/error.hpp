@@ -20,6 +20,9 @@ public:
     const std::string& subject() const { return subject_; }
     const std::string& problem() const { return problem_; }
     const std::string& detail() const { return detail_; }
+    // The same error said under a place that names where its subject came from ("--height: a.png:
+    // cannot open", "s.json: objects[1].color: builtin:nah: …").
+    Error under(const std::string& place) const { return Error(place, subject_ + ": " + problem_, detail_); }
 
 private:
     std::string subject_;

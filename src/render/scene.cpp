@@ -60,7 +60,7 @@ Scene load_scene(const SceneSpec& spec)
             return load();
         } catch (const Error& e) {
             if (place.empty()) throw;
-            throw Error(place, e.subject() + ": " + e.problem(), e.detail());
+            throw e.under(place);
         }
     };
     for (const ObjectSpec& o : spec.objects) {
