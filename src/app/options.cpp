@@ -741,11 +741,15 @@ SceneFileValues read_scene_file(const std::string& file, SceneSpec& spec)
             if (!value.is_object()) throw Error(where, "expected an object");
             for (const auto& [k, v] : value.items()) {
                 const std::string w = where + "." + k;
-                if (k == "eye") spec.camera.eye = check_position(json_dvec3(v, w), w);
+                if (k == "eye") {
+                    spec.camera.eye = check_position(json_dvec3(v, w), w);
+                    spec.camera.eye_place = where; // (scene_camera's subject: the target may be the shell's centre)
+                }
                 else if (k == "target") spec.camera.target = check_position(json_dvec3(v, w), w);
                 else if (k == "up") {
                     spec.camera.up = direction(json_dvec3(v, w), w);
                     spec.camera.up_given = true;
+                    spec.camera.up_place = w;
                     found.up = true;
                 } else if (k == "fovy") spec.camera.fovy_deg = json_checked(v, w, check_fovy);
                 else if (k == "elevation") spec.camera.elevation_deg = json_checked(v, w, check_elevation);
@@ -816,11 +820,15 @@ SceneSpec make_scene_spec(const SceneOptions& o)
         if (o.midlevel) obj.midlevel = float(*o.midlevel);
     }
     if (!o.light.empty()) spec.light = direction(parse_dvec3(o.light, "--light"), "--light");
-    if (!o.eye.empty()) spec.camera.eye = check_position(parse_dvec3(o.eye, "--eye"), "--eye");
+    if (!o.eye.empty()) {
+        spec.camera.eye = check_position(parse_dvec3(o.eye, "--eye"), "--eye");
+        spec.camera.eye_place = "--eye";
+    }
     if (!o.target.empty()) spec.camera.target = check_position(parse_dvec3(o.target, "--target"), "--target");
     if (!o.up.empty()) {
         spec.camera.up = direction(parse_dvec3(o.up, "--up"), "--up");
         spec.camera.up_given = true;
+        spec.camera.up_place = "--up";
     }
     if (o.fovy) {
         check_fovy(*o.fovy, "--fovy");
@@ -844,7 +852,7 @@ SceneSpec make_scene_spec(const SceneOptions& o)
                     "has no effect with --eye (it places the auto-framed camera; an eye given is where the camera is)");
     // An explicit camera is checked here, where it is known whether each value came from a flag
     // or from the file; without a target (the shell's centre), scene_camera checks it once the
-    // scene is loaded (open_session names the file there).
+    // scene is loaded (CameraSpec's places name the file or the flag).
     if (spec.camera.eye && spec.camera.target) {
         const std::string eye_subject = !o.eye.empty()      ? "--eye"
                                         : !o.target.empty() ? "--target"

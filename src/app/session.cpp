@@ -64,23 +64,7 @@ Session open_session(const SceneOptions& options, const std::vector<NamedPath>& 
                                       (s.scene.objects.size() > 1 ? "every mesh has" : "the mesh has") +
                                       " UVs of its own (it sizes generated ones; --generate-uvs generates them "
                                       "instead of the file's)");
-    // Before the context: a bad camera fails fast, without GL.
-    try {
-        s.camera = scene_camera(s.spec, s.scene);
-    } catch (const Error& e) {
-        // An eye without a target (the shell's centre) is checked only here, under the flags'
-        // names: when the eye came from the scene file, name the file (make_scene_spec does for
-        // the cases it can check).
-        const bool file_eye = !options.scene_file.empty() && options.eye.empty();
-        if (file_eye && (e.subject() == "--eye" || (e.subject() == "--up" && options.up.empty()))) {
-            // (Its advice named the flags alone; found by an exploratory session, thirty-third.)
-            std::string problem = e.problem();
-            if (const std::size_t at = problem.find("(give --up or --target)"); at != std::string::npos)
-                problem.replace(at, std::string::npos, "(give camera.up or camera.target, or --up or --target)");
-            throw Error(options.scene_file + ": camera", problem);
-        }
-        throw;
-    }
+    s.camera = scene_camera(s.spec, s.scene); // before the context: a bad camera fails fast, without GL
     s.light = scene_light(s.spec, s.camera);
     s.context = make_context ? make_context(s.spec) : create_headless_context(backend);
     s.renderer = std::make_unique<Renderer>(s.spec.width, s.spec.height);

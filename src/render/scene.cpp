@@ -181,11 +181,15 @@ Camera scene_camera(const SceneSpec& spec, const Scene& scene)
         // (The options check a camera whose target is given, naming the flag or the scene key;
         // without one the target is the shell's centre, known only now.)
         switch (view_problem(glm::dvec3(camera.eye), glm::dvec3(camera.target), glm::dvec3(camera.up))) {
-        case ViewProblem::SamePoint: throw Error("--eye", "eye and target are the same point");
-        case ViewProblem::UpAlongView:
-            if (c.up_given) throw Error("--up", "up is parallel to the viewing direction");
-            throw Error("--eye", "looks straight along the default up direction 0,1,0 at the shell's centre (give "
-                                 "--up or --target)");
+        case ViewProblem::SamePoint: throw Error(c.eye_place, "eye and target are the same point");
+        case ViewProblem::UpAlongView: {
+            if (c.up_given) throw Error(c.up_place, "up is parallel to the viewing direction");
+            // An eye from a scene file: the file's keys can mend it too.
+            const bool flag_eye = c.eye_place.rfind("--", 0) == 0;
+            throw Error(c.eye_place, std::string("looks straight along the default up direction 0,1,0 at the shell's "
+                                                 "centre (give ") +
+                                         (flag_eye ? "--up or --target)" : "camera.up or camera.target, or --up or --target)"));
+        }
         case ViewProblem::None: break;
         }
         fit_clip_planes(camera, scene.object_bounds, scene.shell_bounds);

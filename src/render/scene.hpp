@@ -37,6 +37,10 @@ struct CameraSpec {
     std::optional<glm::dvec3> target; // alone: auto-framed distance around this point
     glm::vec3 up{0.0f, 1.0f, 0.0f};
     bool up_given = false;           // by --up or the scene file (else the default: messages say so)
+    // Where the eye and up came from, for scene_camera's messages: the flags, or a scene file's
+    // camera ("FILE: camera", "FILE: camera.up").
+    std::string eye_place = "--eye";
+    std::string up_place = "--up";
     float fovy_deg = 40.0f;
     float elevation_deg = 25.0f; // auto-framing (no --eye)
     float azimuth_deg = 35.0f;

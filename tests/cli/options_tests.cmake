@@ -112,6 +112,17 @@ pr_scene(base_color_range ", \"base_color\": [2, -1, 0.5]}]}")
 # A scene's eye over the shell's centre along the default up: the advice names the scene's keys too.
 pr_scene_refused(eye_along_up "}], \"camera\": {\"eye\": [0, 5, 0]}}"
                  "camera: looks straight along the default up direction 0,1,0 at the shell's centre \\(give camera.up or camera.target, or --up or --target\\)")
+# An up along the view at the shell's centre is named where it came from: the file's camera.up
+# under a flag's eye too (it said --up, which the user never gave).
+pr_scene_refused(eye_along_file_up "}], \"camera\": {\"eye\": [0, 5, 0], \"up\": [0, 2, 0]}}"
+                 "camera.up: up is parallel to the viewing direction")
+pr_scene(up_along_y "}], \"camera\": {\"up\": [0, 2, 0]}}")
+pr_cli(scene_file_up_flag_eye EXIT 1 ONE_LINE STDERR "${E}.*up_along_y.json: camera.up: up is parallel to the viewing direction"
+       NO_FILE o.png ARGS render --scene ${OS}/up_along_y.json --eye 0,5,0 --out o.png)
+# A flag's eye over the file's: the advice names the flags alone.
+pr_cli(scene_flag_eye_along_up EXIT 1 ONE_LINE
+       STDERR "${E}--eye: looks straight along the default up direction 0,1,0 at the shell's centre \\(give --up or --target\\)"
+       NO_FILE o.png ARGS render --scene ${OS}/eye_along_up.json --eye 0,7,0 --out o.png)
 # A colour map and a plain colour in one object: base_color did nothing without a word.
 pr_scene_refused(base_color_and_color ", \"color\": \"builtin:checker\", \"base_color\": [1, 0, 0]}]}"
                  "objects\\[0\\].base_color: has no effect next to \"color\", whose map gives the colour: give one of them")
