@@ -4,6 +4,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/image.hpp"
+#include "core/number_text.hpp"
 #include "render/multisample.hpp"
 
 #include <cstdio>
@@ -109,12 +110,15 @@ CommandAction add_render_command(CLI::App& app)
         }
         commit_together({&png, json ? &*json : nullptr});
         if (!any) warn_nothing_drawn(s->out);
-        // A few covered pixels of a large image are not "0.0%": more digits then.
-        const double percent = 100.0 * double(covered) / double(pixels);
+        // A few covered pixels of a large image are not "0.0%", nor all but a few "100.0%": more
+        // digits then (one pixel of 2047² read 0.0000%, 65534 of 65536 100.0%; found by an
+        // exploratory session, thirty-fourth).
+        const double fraction = 100.0 * double(covered) / double(pixels);
+        const std::string percent = bounded_text(fraction, fraction < 0.1 ? 4 : 1, 0.0, 100.0);
         const std::string passes = offsets.size() > 1 ? " (" + std::to_string(offsets.size()) + " passes)" : "";
-        std::printf("%s: %dx%d %s, %.1f ms%s%s, coverage %.*f%%\n", one_line(s->out).c_str(), image.width, image.height,
+        std::printf("%s: %dx%d %s, %.1f ms%s%s, coverage %s%%\n", one_line(s->out).c_str(), image.width, image.height,
                     configuration_name(settings).c_str(), ms, passes.c_str(),
-                    again ? "" : " (first draw, with compiling)", covered > 0 && percent < 0.1 ? 4 : 1, percent);
+                    again ? "" : " (first draw, with compiling)", percent.c_str());
         if (!s->json.empty()) std::printf("wrote %s\n", one_line(s->json).c_str());
         return kExitOk;
     };

@@ -1,6 +1,7 @@
 #include "eval/metrics.hpp"
 
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "core/stats.hpp"
 
 #include <algorithm>
@@ -105,11 +106,7 @@ CompareMetrics compare_frames(const FrameCapture& technique, const FrameCapture&
 
 std::string iou_text(double iou)
 {
-    char text[32];
-    for (int digits = 4;; ++digits) {
-        std::snprintf(text, sizeof text, "%.*f", digits, iou);
-        if (!(iou < 1.0) || text[0] != '1' || digits == 9) return text;
-    }
+    return bounded_text(iou, 4, 0.0, 1.0);
 }
 
 } // namespace pr

@@ -56,7 +56,7 @@ CompareMetrics compare_frames(const FrameCapture& technique, const FrameCapture&
 
 // An IoU as compare's table and grid show it: 4 digits, more (up to 9) where 4 would round an
 // IoU under 1 up to "1.0000" (a prism with 2 wrong pixels at 512² read as perfect; found by an
-// exploratory session, thirty-third). "1.0000" is an exact 1.
+// exploratory session, thirty-third), or one over 0 down to "0.0000". Those are exact.
 std::string iou_text(double iou);
 
 } // namespace pr

@@ -40,6 +40,14 @@ pr_cli(conemap_out_tga EXIT 1 ONE_LINE STDERR "${E}c.TGA: only PNG images are wr
 # A few covered pixels of a large image are not "coverage 0.0%".
 pr_cli(render_small_coverage_has_digits EXIT 0 EXPECT_FILE o.png STDOUT "coverage 0\\.0[0-9][0-9][1-9]%"
        ARGS render --mesh ${M}/torus.obj --size 4096x16 --out o.png)
+# One pixel of 2047² read "coverage 0.0000%", all but two of 256² "100.0%" (found by an
+# exploratory session, thirty-fourth): digits enough to say neither none nor all.
+pr_cli(render_one_pixel_coverage_not_zero EXIT 0 EXPECT_FILE o.png STDOUT "coverage 0\\.00002%"
+       ARGS render --mesh ${M}/plane.obj --height builtin:const:1 --eye 0,8000,0 --target 0,0,0 --up 0,0,-1
+            --technique flat --size 2047x2047 --out o.png)
+pr_cli(render_two_pixels_short_not_full EXIT 0 EXPECT_FILE o.png STDOUT "coverage 99\\.997%"
+       ARGS render --mesh ${M}/plane.obj --height builtin:const:1 --eye 0.37815,1.2,0 --target 0.37815,0,0
+            --up 0.31,0,-1 --fovy 45.24 --technique flat --size 256x256 --out o.png)
 
 # Reports say which prism they measured: a row labelled "prism" holds --marcher's choice.
 # With --shadows hard the reference is drawn with its geometry's own shadows (a shadow map): the

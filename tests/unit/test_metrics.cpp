@@ -3,6 +3,7 @@
 // out by hand.
 #include "core/camera.hpp"
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "eval/metrics.hpp"
 
 #include <gtest/gtest.h>
@@ -306,4 +307,9 @@ TEST(Metrics, IouTextNeverRoundsUpToOne)
     EXPECT_EQ(pr::iou_text(0.9999962), "0.999996");
     EXPECT_EQ(pr::iou_text(1.0 - 1.0 / 268435456.0), "0.999999996"); // one pixel of 16384²
     EXPECT_EQ(pr::iou_text(0.0), "0.0000");
+    EXPECT_EQ(pr::iou_text(0.00004), "0.00004"); // not an empty intersection
+    EXPECT_EQ(pr::bounded_text(99.99695, 1, 0.0, 100.0), "99.997"); // 65534 of 65536 pixels: not 100.0 %
+    EXPECT_EQ(pr::bounded_text(2.3865e-05, 4, 0.0, 100.0), "0.00002");
+    EXPECT_EQ(pr::bounded_text(100.0, 1, 0.0, 100.0), "100.0");
+    EXPECT_EQ(pr::bounded_text(42.04, 1, 0.0, 100.0), "42.0");
 }
