@@ -402,29 +402,42 @@ float light_walk(uint prim, vec3 tex, vec3 hit, vec3 light_dir)
 
 #endif
 
+// The displaced surface's axes dS/du and dS/dv at the hit as the reference's triangles have
+// them: the prism's layer at the hit's height `h` (its corners moved along their normals to it),
+// linear in uv over the triangle, plus `slope_du` and `slope_dv`, the height's slopes along the
+// normal. False for a uv triangle with no area (or axes past the float range). The vertices'
+// averaged tangents, which the shading takes, are no such thing where the mesh has creases: on
+// the bundled cube they lean with the welded corner normals, up to 55 degrees from the face.
+bool layer_axes(float h, vec3 slope_du, vec3 slope_dv, out vec3 du, out vec3 dv)
+{
+    vec2 e1 = corner_tex[1].xy - corner_tex[0].xy, e2 = corner_tex[2].xy - corner_tex[0].xy;
+    float det = e1.x * e2.y - e2.x * e1.y;
+    vec3 lift = vec3(h * u_displace.x);
+    vec3 c0 = corner_world[0] + lift * corner_normal[0];
+    vec3 c1 = corner_world[1] + lift * corner_normal[1] - c0, c2 = corner_world[2] + lift * corner_normal[2] - c0;
+    // [c1 c2] = [du dv] [e1 e2]
+    du = (c1 * e2.y - c2 * e1.y) / det + slope_du;
+    dv = (c2 * e1.x - c1 * e2.x) / det + slope_dv;
+    vec3 m = max(abs(du), abs(dv));
+    return det != 0.0 && max(max(m.x, m.y), m.z) < 1e30;
+}
+
 // The colour map's level at the hit, as GL's isotropic filtering takes it for the pixel's
 // footprint: the rays one pixel right and one up (offset at the hit's view depth, from the
-// projection's focal lengths) meet the displaced surface's tangent plane through the hit (`n`,
-// spanned by `t` = dS/du and `b` = dS/dv), and their points' offsets, in that frame, are the uv
-// gradients (those of the reference's triangles there: a wall facing the eye is read sharp). The
-// reference's colour is filtered by its triangles' implicit derivatives; the prism's, read at
-// level 0, aliased in minified views
+// projection's focal lengths) meet the displaced surface's tangent plane through the hit
+// (spanned by `t` = dS/du and `b` = dS/dv: layer_axes), and their points' offsets, in that
+// frame, are the uv gradients (those of the reference's triangles there: a wall facing the eye is
+// read sharp). The reference's colour is filtered by its triangles' implicit derivatives; the
+// prism's, read at level 0, aliased in minified views
 // (against the reference, with builtin:bricks for colour: the torus at 160x120 24.3 dB, now 29.7;
 // the plane seen 8 degrees up 27.2, now 35.4; plane_and_torus.json 29.2, now 38.0).
 // Implicit derivatives of the hit's uv are no use here: the walk's control flow leaves them
-// undefined, and they jump at every edge of a bump.
-float hit_color_lod(vec3 hit, vec3 n, vec3 t_axis, vec3 b_axis)
+// undefined, and they jump at every edge of a bump. (Until the thirty-fourth session the plane
+// was the shading's, of the vertices' averaged tangents: on the cube it leaned with the corner
+// normals, read coarse levels, and past its horizon the texture's mean: checker 28.9 dB at
+// constant height, found by an exploratory session.)
+float hit_color_lod(vec3 hit, vec3 t_axis, vec3 b_axis)
 {
-    vec3 to_hit = hit - u_eye.xyz;
-    float view_depth = -(u_view * vec4(hit, 1.0)).z;
-    vec2 pixel = (2.0 * view_depth) * u_viewport.zw / vec2(u_proj[0][0], u_proj[1][1]); // world, at the hit's depth
-    vec3 ray_x = to_hit + pixel.x * vec3(u_view[0][0], u_view[1][0], u_view[2][0]);
-    vec3 ray_y = to_hit + pixel.y * vec3(u_view[0][1], u_view[1][1], u_view[2][1]);
-    float along = dot(to_hit, n);
-    // Grazing: a ray past the plane's horizon (or along it) has no footprint there: the coarsest level.
-    if (!(dot(ray_x, n) * along > 0.0 && dot(ray_y, n) * along > 0.0)) return 64.0;
-    vec3 off_x = ray_x * (along / dot(ray_x, n)) - to_hit;
-    vec3 off_y = ray_y * (along / dot(ray_y, n)) - to_hit;
     // In UV units: off = du t + dv b (off lies in the plane), by the 2x2 normal equations, all
     // over a power of two that brings the frame's largest component to [1, 2) (as frame_scale:
     // the determinant grows as the object's scale to the fourth, and overflowed past 1e9, which
@@ -433,8 +446,17 @@ float hit_color_lod(vec3 hit, vec3 n, vec3 t_axis, vec3 b_axis)
     float k = scale_to_unit(max(max(largest.x, largest.y), largest.z));
     t_axis *= k;
     b_axis *= k;
-    off_x *= k;
-    off_y *= k;
+    vec3 n = cross(t_axis, b_axis);
+    vec3 to_hit = hit - u_eye.xyz;
+    float view_depth = -(u_view * vec4(hit, 1.0)).z;
+    vec2 pixel = (2.0 * view_depth) * u_viewport.zw / vec2(u_proj[0][0], u_proj[1][1]); // world, at the hit's depth
+    vec3 ray_x = to_hit + pixel.x * vec3(u_view[0][0], u_view[1][0], u_view[2][0]);
+    vec3 ray_y = to_hit + pixel.y * vec3(u_view[0][1], u_view[1][1], u_view[2][1]);
+    float along = dot(to_hit, n);
+    // Grazing: a ray past the plane's horizon (or along it) has no footprint there: the coarsest level.
+    if (!(dot(ray_x, n) * along > 0.0 && dot(ray_y, n) * along > 0.0)) return 64.0;
+    vec3 off_x = (ray_x * (along / dot(ray_x, n)) - to_hit) * k;
+    vec3 off_y = (ray_y * (along / dot(ray_y, n)) - to_hit) * k;
     float tt = dot(t_axis, t_axis), tb = dot(t_axis, b_axis), bb = dot(b_axis, b_axis);
     float det = tt * bb - tb * tb;
     vec2 px = vec2(dot(off_x, t_axis), dot(off_x, b_axis)), py = vec2(dot(off_y, t_axis), dot(off_y, b_axis));
@@ -798,7 +820,11 @@ void main()
     vec3 albedo = u_base_color.rgb;
     if (has_color_texture()) {
         // (textureLod with that level: llvmpipe's textureGrad with the gradients cost more.)
-        albedo = textureLod(s_color, tex.xy, hit_color_lod(hit, shading_n, surface_du, surface_dv)).rgb;
+        vec3 lod_du = surface_du, lod_dv = surface_dv;
+        vec3 layer_du, layer_dv;
+        if (layer_axes(tex.z, surface_du - t_axis, surface_dv - b_axis, layer_du, layer_dv))
+            lod_du = layer_du, lod_dv = layer_dv;
+        albedo = textureLod(s_color, tex.xy, hit_color_lod(hit, lod_du, lod_dv)).rgb;
     }
     o_color = vec4(shade_blinn_phong(albedo, shading_n, light_dir, -normalize(dir), visibility), 1.0);
     vec4 clip = u_view_proj * vec4(hit, 1.0);
