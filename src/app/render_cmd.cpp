@@ -114,7 +114,7 @@ CommandAction add_render_command(CLI::App& app)
         // digits then (one pixel of 2047² read 0.0000%, 65534 of 65536 100.0%; found by an
         // exploratory session, thirty-fourth).
         const double fraction = 100.0 * double(covered) / double(pixels);
-        const std::string percent = bounded_text(fraction, fraction < 0.1 ? 4 : 1, 0.0, 100.0);
+        const std::string percent = bounded_text(fraction, covered > 0 && fraction < 0.1 ? 4 : 1, 0.0, 100.0);
         const std::string passes = offsets.size() > 1 ? " (" + std::to_string(offsets.size()) + " passes)" : "";
         std::printf("%s: %dx%d %s, %.1f ms%s%s, coverage %s%%\n", one_line(s->out).c_str(), image.width, image.height,
                     configuration_name(settings).c_str(), ms, passes.c_str(),

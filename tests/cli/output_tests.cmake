@@ -45,6 +45,9 @@ pr_cli(render_small_coverage_has_digits EXIT 0 EXPECT_FILE o.png STDOUT "coverag
 pr_cli(render_one_pixel_coverage_not_zero EXIT 0 EXPECT_FILE o.png STDOUT "coverage 0\\.00002%"
        ARGS render --mesh ${M}/plane.obj --height builtin:const:1 --eye 0,8000,0 --target 0,0,0 --up 0,0,-1
             --technique flat --size 2047x2047 --out o.png)
+# And none is "0.0%" (the fix above printed "0.0000%" for none; found by a review).
+pr_cli(render_no_pixel_coverage_zero EXIT 0 EXPECT_FILE o.png STDOUT "coverage 0\\.0%"
+       ARGS render --mesh ${M}/torus.obj --eye 0,0,-50 --target 0,0,-100 --size 32x32 --out o.png)
 pr_cli(render_two_pixels_short_not_full EXIT 0 EXPECT_FILE o.png STDOUT "coverage 99\\.997%"
        ARGS render --mesh ${M}/plane.obj --height builtin:const:1 --eye 0.37815,1.2,0 --target 0.37815,0,0
             --up 0.31,0,-1 --fovy 45.24 --technique flat --size 256x256 --out o.png)
