@@ -7,6 +7,7 @@
 #include "render/renderer.hpp"
 
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
@@ -67,6 +68,19 @@ inline void warn_if_capped(const Renderer::ReferenceStats& stats, const std::str
          std::to_string(stats.triangles) +
          " triangles) by --reference-max-triangles, coarser than a texel and a pixel per edge" +
          (command == "compare" ? ": the metrics are against that surface" : ""));
+}
+
+// A reference whose shadow map came out coarse against the pixels it shades
+// (Renderer::ShadowFit): on 1 % of the picture or more, said by compare and render, whose
+// reference's shadows then lose detail there (a far or large object in view).
+inline void warn_if_shadow_map_coarse(const Renderer::ShadowFit& fit, const std::string& command)
+{
+    if (fit.coarse_share < 0.01) return;
+    warn(fmt::format("{}: the reference's shadow map spans everything the image shows, and on {:.0f} % of the "
+                     "picture its texels are wider than two pixels (up to {:.0f}): its shadows lose their detail "
+                     "there (a far or large object in view stretches the map; docs/compare.md){}",
+                     command, 100.0 * fit.coarse_share, fit.widest,
+                     command == "compare" ? ", and the metrics count that against the techniques" : ""));
 }
 
 // A view that drew nothing: a valid picture (a view away from the scene) but rarely the one

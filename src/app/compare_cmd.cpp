@@ -119,6 +119,7 @@ CommandAction add_compare_command(CLI::App& app)
         warn_if_capped(ref_stats, "compare");
         double ref_ms = 0.0;
         const FrameCapture reference = capture(session, ref_settings, ref_ms);
+        warn_if_shadow_map_coarse(session.renderer->shadow_fit(), "compare");
 
         std::vector<Tile> top = {{"reference", reference.color}};
         std::vector<std::size_t> tile_images = {0}; // their images in `top`, in tile_files' order

@@ -77,6 +77,7 @@ CommandAction add_render_command(CLI::App& app)
             if (offsets.size() > 1) resolve.add(renderer.read_color());
         }
         const RgbaImage image = offsets.size() > 1 ? resolve.result() : renderer.read_color();
+        if (settings.technique == Technique::Reference) warn_if_shadow_map_coarse(renderer.shadow_fit(), "render");
         // Covered pixels (alpha >= 128), and whether any alpha at all: an empty picture is a valid
         // one (a view away from the scene), but rarely the one meant (with --msaa a sliver may
         // cover a fraction of a pixel: any alpha counts).

@@ -127,6 +127,17 @@ public:
     };
     ReferenceStats prepare_reference(const Scene& scene, const Camera& camera, const ReferenceOptions& options);
 
+    // How fine the reference's last shadow map was against the pixels it shaded: one map (per
+    // direction of a soft light) spans every point the image shows, so a far or large object in
+    // view stretches it. `coarse_share`: the share of the shown points whose pixel is narrower
+    // than half a texel (their shadows lose detail: a bump's shadow goes); `widest`: the widest
+    // texel there, in those points' pixels. Zero before any shadowed reference was drawn.
+    struct ShadowFit {
+        double coarse_share = 0.0;
+        double widest = 0.0;
+    };
+    ShadowFit shadow_fit() const { return shadow_fit_; }
+
     RgbaImage read_color() const;               // RGBA8, alpha = coverage, bottom row first
     std::vector<float> read_depth() const;      // window depth in [0,1]: 1 at the near plane, 0 = nothing drawn
     SampleCounters read_counters() const;       // after a draw with settings.count_samples
@@ -275,6 +286,7 @@ private:
         glm::dvec3 origin{0.0};
     };
     std::vector<ShadowLayer> shadow_layers_;
+    ShadowFit shadow_fit_;
     glm::vec2 shadow_bias_{0.0f}; // the look-up's offset off the triangle (world) and depth bias (0..1)
     int shadow_layer_drawn_ = 0;  // the layer ensure_shadow_map draws (u_shadow_bias.w)
     std::optional<glm::vec3> shadow_light_;

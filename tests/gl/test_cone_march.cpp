@@ -942,6 +942,47 @@ TEST(Shadows, TheReferencesShadowMapCoversWhatTheImageShows)
     EXPECT_NEAR(double(with_far.dark), double(alone.dark), 0.02 * double(alone.dark));
 }
 
+// A far object in view does stretch the one map (it spans every point shown): the renderer says
+// how coarse it came out against the pixels it shades (Renderer::ShadowFit; compare and render
+// warn), where a torus 300 units off in the picture took the near one's bumps' shadows without a
+// word (found by an exploratory session, thirty-fourth).
+TEST(Shadows, TheReferenceSaysWhereItsShadowMapIsCoarse)
+{
+    prtest::context();
+    ObjectSpec torus;
+    torus.mesh = std::string(PR_SOURCE_DIR) + "/meshes/torus.obj";
+    torus.height = "builtin:bumps@128";
+    torus.depth = 0.08f;
+    SceneSpec one;
+    one.objects = {torus};
+    one.width = 160;
+    one.height = 100; // (the far torus in the picture's top edge)
+    one.camera.eye = glm::dvec3(2.2, 2.0, 3.2);
+    one.camera.target = glm::dvec3(0.0);
+    SceneSpec two = one;
+    two.objects.push_back(torus);
+    two.objects.back().transform =
+        glm::scale(glm::translate(glm::dmat4(1.0), glm::dvec3(-300.0, -40.0, -300.0)), glm::dvec3(30.0));
+    const glm::vec3 light = glm::normalize(glm::vec3(1.0f, 0.5f, 0.2f));
+    for (const bool far : {false, true}) {
+        const Scene scene = load_scene(far ? two : one);
+        const Camera c = scene_camera(one, scene); // (its clip planes hold the far torus too)
+        Renderer r(one.width, one.height);
+        r.upload(scene);
+        r.prepare_reference(scene, c, ReferenceOptions{});
+        DrawSettings s;
+        s.technique = Technique::Reference;
+        const ShadowCount n = hard_shadows(r, c, light, s);
+        ASSERT_GT(n.covered, 1000u);
+        if (far) {
+            EXPECT_GT(r.shadow_fit().coarse_share, 0.5);
+            EXPECT_GT(r.shadow_fit().widest, 2.5);
+        } else {
+            EXPECT_EQ(r.shadow_fit().coarse_share, 0.0);
+        }
+    }
+}
+
 // The prism's light ray walks the prisms as its view ray does, so only heights the mesh shows cast
 // shadows: a square whose uvs cover 0.05..0.8 of a map whose only relief, a wall, stands at
 // u 0.85..0.95, is a flat floor, lit all over by a light low from the wall's side. Marched through
