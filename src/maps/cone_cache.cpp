@@ -21,7 +21,10 @@
 #include "core/fnv.hpp"
 #include "core/input_file.hpp"
 
+#include <sys/stat.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -163,6 +166,24 @@ std::string folder_problem(const std::filesystem::path& folder, const std::error
             return "cannot create it: " + part.string() + " is not a folder";
     }
     return ec.message();
+}
+
+// The cache's folders, each missing part made with mode 0700, as the XDG base directory
+// specification asks: only the user writes them (entries are checked for accidents, not forgery:
+// docs/robustness.md). create_directories made them with the process's umask: under umask 000
+// anyone could write forged entries (found by an exploratory session, thirty-fourth). A folder
+// that exists keeps its mode.
+void create_private_directories(const std::filesystem::path& folder, std::error_code& ec)
+{
+    std::filesystem::path part;
+    for (const std::filesystem::path& name : folder) {
+        part /= name;
+        if (::mkdir(part.c_str(), 0700) != 0 && errno != EEXIST) {
+            ec = std::error_code(errno, std::generic_category());
+            return;
+        }
+    }
+    if (!std::filesystem::is_directory(folder, ec) && !ec) ec = std::make_error_code(std::errc::not_a_directory);
 }
 
 // The cache's own entries, named as cone_cache_path names them:
@@ -383,8 +404,17 @@ ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const s
     }
     result.map = build(field, kind, options);
     try {
-        std::filesystem::create_directories(result.entry.parent_path(), ec);
+        create_private_directories(result.entry.parent_path(), ec);
         if (ec) throw Error(result.entry.parent_path().string(), folder_problem(result.entry.parent_path(), ec));
+        // A FIFO, socket or device node where the entry goes, or an empty folder: the cache is
+        // the user's own and the entry is being rebuilt, so it goes (written over, it stayed, and
+        // every run rebuilt the map and warned; found by an exploratory session, thirty-fourth).
+        // A folder with anything in it is left, and said.
+        std::error_code se;
+        const std::filesystem::file_status st = std::filesystem::symlink_status(result.entry, se);
+        if (!se && std::filesystem::exists(st) && !std::filesystem::is_regular_file(st) &&
+            !std::filesystem::is_symlink(st))
+            std::filesystem::remove(result.entry, se);
         write_file_atomic(result.entry, serialize(result.map, options.format, key), OldMode::Drop);
         trim_cone_cache(cache_dir, cone_cache_max_bytes(), result.entry);
     } catch (const Error& e) {

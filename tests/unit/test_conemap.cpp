@@ -5,6 +5,7 @@
 #include "temp_dir.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <atomic>
@@ -680,6 +681,33 @@ TEST(ConeMap, PngReadRejectsBadFiles)
     std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     bytes.resize(bytes.size() / 2);
     EXPECT_THROW(read_cone_png(dir.write_bytes("half.png", bytes), ConeKind::Cone), Error);
+}
+
+// A FIFO or an empty folder where an entry goes is replaced by the entry (written over, it stayed:
+// every run rebuilt the map and warned); the cache's folders are made 0700 whatever the umask
+// (under umask 000 anyone could write entries). Found by an exploratory session, thirty-fourth.
+TEST(ConeMap, CacheReplacesSpecialFilesAndMakesPrivateFolders)
+{
+    prtest::TempDir dir;
+    const HeightField f = smooth_map(16, 16, 3);
+    const mode_t old_mask = ::umask(0);
+    const ConeCacheResult first = cached_cone_map(f, ConeKind::Cone, dir.path() / "made" / "here");
+    ::umask(old_mask);
+    ASSERT_FALSE(first.entry.empty());
+    for (const fs::path& folder : {dir.path() / "made", dir.path() / "made" / "here", first.entry.parent_path()})
+        EXPECT_EQ(fs::status(folder).permissions() & fs::perms::all, fs::perms::owner_all) << folder;
+    for (const bool fifo : {true, false}) {
+        fs::remove(first.entry);
+        if (fifo)
+            ASSERT_EQ(::mkfifo(first.entry.c_str(), 0600), 0);
+        else
+            fs::create_directory(first.entry);
+        ::testing::internal::CaptureStderr();
+        EXPECT_FALSE(cached_cone_map(f, ConeKind::Cone, dir.path() / "made" / "here").from_cache);
+        EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+        EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(first.entry))) << fifo;
+        EXPECT_TRUE(cached_cone_map(f, ConeKind::Cone, dir.path() / "made" / "here").from_cache);
+    }
 }
 
 TEST(ConeMap, CacheRoundTripAndCorruptEntryIsRebuilt)

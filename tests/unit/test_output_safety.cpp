@@ -372,6 +372,8 @@ TEST(ConeCacheLocation, UnreadableEntrySaysWhy)
     const HeightField f = ramp(16, 16);
     const fs::path entry = cached_cone_map(f, ConeKind::Cone, dir.path()).entry;
     fs::permissions(entry, fs::perms::none);
+    // (The cache's folders are made 0700: here, as a folder of another's made so, others may look in.)
+    fs::permissions(entry.parent_path(), fs::perms::others_read | fs::perms::others_exec, fs::perm_options::add);
     const fs::path said = dir.path() / "stderr.txt";
     const std::optional<int> status = exit_status_without_root(
         [&] { return cached_cone_map(f, ConeKind::Cone, dir.path()).from_cache ? 1 : 0; }, said);
