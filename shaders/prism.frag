@@ -730,6 +730,15 @@ void main()
     UvGrad g = UvGrad(vec2(0.0), vec2(0.0));
     vec3 surface_du, surface_dv; // dS/du, dS/dv of the displaced surface at the hit
     vec3 shading_n = height_normal_frame(tex.xy, t_axis, b_axis, n, u_displace.x, surface_du, surface_dv);
+    // The colour's footprint frame, while corner_world and the rest are still the hit prism's (the
+    // light's walk below loads the prisms it crosses: the level was measured on the last of those;
+    // found by a review).
+    vec3 lod_du = surface_du, lod_dv = surface_dv;
+    {
+        vec3 layer_du, layer_dv;
+        if (layer_axes(tex.z, surface_du - t_axis, surface_dv - b_axis, layer_du, layer_dv))
+            lod_du = layer_du, lod_dv = layer_dv;
+    }
 #ifdef PR_PRISM_WALK
     if (below) shading_n = -shading_n; // the back of the surface, seen through a tear
 #endif
@@ -820,10 +829,6 @@ void main()
     vec3 albedo = u_base_color.rgb;
     if (has_color_texture()) {
         // (textureLod with that level: llvmpipe's textureGrad with the gradients cost more.)
-        vec3 lod_du = surface_du, lod_dv = surface_dv;
-        vec3 layer_du, layer_dv;
-        if (layer_axes(tex.z, surface_du - t_axis, surface_dv - b_axis, layer_du, layer_dv))
-            lod_du = layer_du, lod_dv = layer_dv;
         albedo = textureLod(s_color, tex.xy, hit_color_lod(hit, lod_du, lod_dv)).rgb;
     }
     o_color = vec4(shade_blinn_phong(albedo, shading_n, light_dir, -normalize(dir), visibility), 1.0);

@@ -4,6 +4,7 @@
 #include "app/options.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/number_text.hpp"
 #include "render/renderer.hpp"
 
 #include <CLI/CLI.hpp>
@@ -71,15 +72,15 @@ inline void warn_if_capped(const Renderer::ReferenceStats& stats, const std::str
 }
 
 // A reference whose shadow map came out coarse against the pixels it shades
-// (Renderer::ShadowFit): on 1 % of the picture or more, said by compare and render, whose
+// (Renderer::ShadowFit): on 1 % of what the image shows or more, said by compare and render, whose
 // reference's shadows then lose detail there (a far or large object in view).
 inline void warn_if_shadow_map_coarse(const Renderer::ShadowFit& fit, const std::string& command)
 {
     if (fit.coarse_share < 0.01) return;
-    warn(fmt::format("{}: the reference's shadow map spans everything the image shows, and on {:.0f} % of the "
-                     "picture its texels are wider than two pixels (up to {:.0f}): its shadows lose their detail "
+    warn(fmt::format("{}: the reference's shadow map spans everything the image shows, and on {} % of what it "
+                     "shows its texels are wider than two pixels (up to {:.1f}): its shadows lose their detail "
                      "there (a far or large object in view stretches the map; docs/compare.md){}",
-                     command, 100.0 * fit.coarse_share, fit.widest,
+                     command, bounded_text(100.0 * fit.coarse_share, 0, 0.0, 100.0), fit.widest,
                      command == "compare" ? ", and the metrics count that against the techniques" : ""));
 }
 

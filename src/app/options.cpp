@@ -473,6 +473,11 @@ DrawSettings make_draw_settings(const TechniqueOptions& o, const std::string& te
     if (!(o.light_size > 0.0 && o.light_size <= double(kMaxLightSize)))
         throw Error("--light-size", "must be more than 0 and at most " + std::to_string(int(kMaxLightSize)) +
                                         " degrees (--shadows hard is a point light)");
+    // (Under float's range it became 0, which the check above refuses, and reports said 0; found by
+    // an exploratory session, thirty-fourth.)
+    if (!(static_cast<float>(o.light_size) >= std::numeric_limits<float>::min()))
+        throw Error("--light-size", "must be at least 1.2e-38 degrees (the renderer's single precision; --shadows "
+                                    "hard is a point light)");
     s.light_size = static_cast<float>(o.light_size);
     return s;
 }

@@ -837,7 +837,7 @@ void normalize_ply_header(string& text)
     while (lines.next(line)) {
         const bool cr = !line.empty() && line.back() == '\r';
         string_view body = cr ? line.substr(0, line.size() - 1) : line;
-        while (!body.empty() && (body.back() == ' ' || body.back() == '\t')) body.remove_suffix(1);
+        while (!body.empty() && is_space(body.back())) body.remove_suffix(1); // (\v and \f too: a review)
         string_view tok[6];
         string fixed(body);
         const size_t words = tokenize(body, tok, 6);
@@ -878,14 +878,13 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
         // (a number after "element NAME"). A word that does not parse as its number leaves the
         // stream failed and its header loop spinning forever (found by tests/fuzz/fuzz_mesh), so
         // every line must hold exactly the words OpenMesh will take from it.
+        if (tok[0] == "comment" || tok[0] == "obj_info") continue; // (dropped before the reader sees them: normalize_ply_header)
         if (!have_format && tok[0] != "format")
             fail(subject, where + "expected the format line right after 'ply'");
         if (tok[0] == "end_header") {
             if (n != 1) fail(subject, where + "unexpected words after end_header");
             ended = true;
             break;
-        } else if (tok[0] == "comment" || tok[0] == "obj_info") {
-            continue; // (dropped before the reader sees them: normalize_ply_header)
         } else if (tok[0] == "format") {
             if (n != 3 || !parse_finite_float(tok[2]))
                 fail(subject, where + "malformed format line (expected 'format TYPE 1.0')");

@@ -253,6 +253,11 @@ foreach(bad 0 -1 30.5 nan inf)
            STDERR "${E}--light-size: must be more than 0 and at most 30 degrees \\(--shadows hard is a point light\\)"
            ARGS render ${TQ} --technique pom --shadows soft --light-size ${bad} --out o.png)
 endforeach()
+foreach(tiny 1e-50 1e-39)
+    pr_cli(light_size_${tiny} EXIT 1 ONE_LINE NO_FILE o.png
+           STDERR "${E}--light-size: must be at least 1.2e-38 degrees \\(the renderer's single precision; --shadows hard is a point light\\)"
+           ARGS render ${TQ} --technique pom --shadows soft --light-size ${tiny} --out o.png)
+endforeach()
 pr_cli(light_size_taken_by_one_technique EXIT 0 EXPECT_FILE c.json
        ARGS compare ${TQ} --techniques flat,pom --shadows soft --light-size 0.53 --json c.json)
 pr_cli(light_size_in_render_json EXIT 0 EXPECT_FILE o.png JSON o.json CHECKS "shadows:STREQUAL:soft|light_size:GREATER:0.5299|light_size:LESS:0.5301"

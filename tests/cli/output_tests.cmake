@@ -108,7 +108,7 @@ file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/far_torus.json "{\"objects\": [{\"mesh\":
     {\"mesh\": \"${M}/torus.obj\", \"depth\": 2, \"transform\": {\"translate\": [-300, -40, -300], \"scale\": 30}}],
     \"camera\": {\"eye\": [2.2, 2, 3.2], \"target\": [0, 0, 0]}, \"light\": [1, 0.5, 0.2]}")
 pr_cli(compare_says_the_shadow_map_is_coarse EXIT 0 JSON c.json CHECKS "results.0.iou:GREATER:0.9"
-       STDERR "compare: the reference's shadow map spans everything the image shows, and on [0-9]+ % of the picture its texels are wider than two pixels"
+       STDERR "compare: the reference's shadow map spans everything the image shows, and on [0-9]+ % of what it shows its texels are wider than two pixels"
        ARGS compare --scene ${CMAKE_CURRENT_BINARY_DIR}/far_torus.json --size 128x80 --techniques prism --shadows hard --json c.json)
 # Each row says the shadows it drew: none for flat.
 pr_cli(compare_json_names_the_shadows EXIT 0 JSON c.json
