@@ -174,6 +174,7 @@ CommandAction add_bench_command(CLI::App& app)
         if (!s->json.empty()) {
             const nlohmann::json report = {{"results", results},
                                            {"size", {session.spec.width, session.spec.height}},
+                                           {"objects", scene_json(session.scene)},
                                            {"renderer", session.context->description()},
                                            {"steps", s->quality.steps},
                                            {"refine", s->quality.refine}};

@@ -38,12 +38,38 @@ inline nlohmann::json prism_configuration(const DrawSettings& s)
             {"prism_shell", s.full_shell || s.prism_exit != PrismExit::Walk ? "full" : "tight"}}; // (other exits: full)
 }
 
-// The march's quality a draw took: "steps", "refine" and "depth_write" (render, and each row of
-// compare and bench; bench's rows had none until the twenty-fourth session, only the report's
-// steps and refine: a row drawn with --depth-write did not say so).
+// A float as a report gives it: its 7 digits (0.3, not 0.30000001192092896).
+inline double float_json(float v)
+{
+    char digits[32];
+    std::snprintf(digits, sizeof digits, "%.7g", double(v));
+    return std::strtod(digits, nullptr);
+}
+
+// The march's quality a draw took: "steps", "refine", "depth_write" and, where the technique reads
+// it, "normal_quality" (render, and each row of compare and bench; bench's rows had none until the
+// twenty-fourth session, only the report's steps and refine: a row drawn with --depth-write did
+// not say so).
 inline nlohmann::json quality_json(const DrawSettings& s)
 {
-    return {{"steps", s.steps}, {"refine", s.refine}, {"depth_write", s.depth_write}};
+    nlohmann::json j = {{"steps", s.steps}, {"refine", s.refine}, {"depth_write", s.depth_write}};
+    // (Where the technique reads it: the pictures of gather and sobel differ by up to 12 dB, and
+    // the reports could not tell them apart; found by an exploratory session, thirty-fourth.)
+    if (reads_normal_quality(s)) j["normal_quality"] = normal_quality_name(s.normal_quality);
+    return j;
+}
+
+// What each object was drawn with: the mesh and height map as named, and the depth and midlevel
+// used (the automatic depth, 4 % of the diagonal, was written nowhere), for every report.
+inline nlohmann::json scene_json(const Scene& scene)
+{
+    nlohmann::json objects = nlohmann::json::array();
+    for (const SceneObject& o : scene.objects)
+        objects.push_back({{"mesh", o.mesh_name},
+                           {"height", o.height ? o.height->name : std::string()},
+                           {"depth", float_json(o.depth)},
+                           {"midlevel", float_json(o.midlevel)}});
+    return objects;
 }
 
 // The shadows a draw drew: "shadows" (none where it draws none: flat),
@@ -51,11 +77,7 @@ inline nlohmann::json quality_json(const DrawSettings& s)
 inline nlohmann::json shadows_json(const DrawSettings& s)
 {
     nlohmann::json j = {{"shadows", shadows_name(drawn_shadows(s))}};
-    if (reads_light_size(s)) {
-        char digits[32];
-        std::snprintf(digits, sizeof digits, "%.7g", double(s.light_size));
-        j["light_size"] = std::strtod(digits, nullptr);
-    }
+    if (reads_light_size(s)) j["light_size"] = float_json(s.light_size);
     return j;
 }
 

@@ -179,6 +179,7 @@ CommandAction add_compare_command(CLI::App& app)
                  return r;
              }()},
             {"size", {session.spec.width, session.spec.height}},
+            {"objects", scene_json(session.scene)},
             {"camera", camera_json(session.camera)},
             {"renderer", session.context->description()}};
         // Both outputs staged before either replaces a file: a failure leaves both as they were.

@@ -102,6 +102,7 @@ CommandAction add_render_command(CLI::App& app)
                                      {"covered_px", covered},
                                      {"coverage", double(covered) / double(pixels)},
                                      {"camera", camera_json(session.camera)},
+                                     {"objects", scene_json(session.scene)},
                                      {"renderer", session.context->description()}};
             report.update(quality_json(settings));
             report.update(prism_configuration(settings));
