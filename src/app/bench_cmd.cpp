@@ -27,7 +27,7 @@ struct BenchRow {
 };
 
 // The p-th percentile (0..1) of samples per fragment from the counters' histogram.
-double histogram_percentile(const std::vector<std::uint32_t>& histogram, double p)
+double histogram_percentile(const std::vector<std::uint64_t>& histogram, double p)
 {
     std::uint64_t total = 0;
     for (auto n : histogram) total += n;

@@ -40,7 +40,7 @@ struct GpuOutOfMemory : Error {
 // Bins of the histogram of height samples per fragment (bench's p95): the last holds that many
 // or more. (256 before: every p95 above 255 read 255, at --steps 1024 on a flat map too.)
 constexpr int kHistogramBins = 8192;
-constexpr int kCounterWords = 6; // before the histogram (shaders/common/counters.glsl)
+constexpr int kCounterWords = 7; // before the histogram, two words a bin (shaders/common/counters.glsl)
 // The largest shell (radius of the sphere around it) the prism draws: its exit tests multiply three
 // world lengths in floats, which overflow (3.4e38): the torus drew right at a radius of 2.2e13, nothing at 6.5e13.
 constexpr float kPrismMaxShellRadius = 1e13f;
@@ -418,7 +418,7 @@ Renderer::Renderer(int width, int height) : width_(width), height_(height)
     object_ubo_ = gl::Buffer::create();
     glNamedBufferStorage(object_ubo_.id(), sizeof(shader::ObjectBlock), nullptr, GL_DYNAMIC_STORAGE_BIT);
     counters_ = gl::Buffer::create();
-    const std::size_t counter_bytes = (kCounterWords + kHistogramBins) * sizeof(std::uint32_t);
+    const std::size_t counter_bytes = (kCounterWords + 2 * kHistogramBins) * sizeof(std::uint32_t);
     glNamedBufferStorage(counters_.id(), counter_bytes, nullptr,
                          GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
     const auto* name = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
@@ -1231,6 +1231,12 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     if (settings.count_samples) {
         const GLuint zero = 0;
         glClearNamedBufferData(counters_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+        if (counts_below_carry_ != 0) { // (tests of the carry)
+            const std::uint32_t start = 0u - counts_below_carry_;
+            glNamedBufferSubData(counters_.id(), 0, sizeof start, &start);
+            for (int i = 0; i < kHistogramBins; ++i)
+                glNamedBufferSubData(counters_.id(), GLintptr((kCounterWords + 2 * i) * sizeof start), sizeof start, &start);
+        }
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_COUNTERS, counters_.id());
     }
 
@@ -1527,20 +1533,24 @@ std::vector<float> Renderer::read_depth() const
 
 SampleCounters Renderer::read_counters() const
 {
-    // (counters.glsl: fragments, the last bin's samples' low word, the walk's prisms in two words,
-    // the most of one fragment, the last bin's samples' high word, the histogram.)
-    std::vector<std::uint32_t> raw(kCounterWords + kHistogramBins);
+    // (counters.glsl: fragments' low word, the last bin's samples' low word, the walk's prisms in
+    // two words, the most of one fragment, the last bin's samples' high word, fragments' high
+    // word, the histogram in two words a bin.)
+    std::vector<std::uint32_t> raw(kCounterWords + 2 * kHistogramBins);
     glGetNamedBufferSubData(counters_.id(), 0, static_cast<GLsizeiptr>(raw.size() * sizeof(std::uint32_t)),
                             raw.data());
     SampleCounters c;
-    c.fragments = raw[0];
-    c.prisms = std::uint64_t(raw[2]) | std::uint64_t(raw[3]) << 32;
+    const auto words = [](std::uint32_t low, std::uint32_t high) { return std::uint64_t(low) | std::uint64_t(high) << 32; };
+    c.fragments = words(raw[0], raw[6]);
+    c.prisms = words(raw[2], raw[3]);
     c.prisms_most = raw[4];
-    c.histogram.assign(raw.begin() + kCounterWords, raw.end());
+    c.histogram.resize(kHistogramBins);
+    for (int i = 0; i < kHistogramBins; ++i)
+        c.histogram[std::size_t(i)] = words(raw[std::size_t(kCounterWords + 2 * i)], raw[std::size_t(kCounterWords + 2 * i + 1)]);
     // The total in 64 bits from the histogram; the last bin's fragments were summed apart (in two
     // words: one wrapped past 4.3 G samples, about 524,000 fragments of 8,191 samples or more;
     // found by an exploratory session, thirty-second).
-    c.samples = std::uint64_t(raw[1]) | std::uint64_t(raw[5]) << 32;
+    c.samples = words(raw[1], raw[5]);
     for (std::size_t i = 0; i + 1 < c.histogram.size(); ++i) c.samples += std::uint64_t(i) * c.histogram[i];
     return c;
 }

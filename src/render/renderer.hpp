@@ -29,7 +29,7 @@ struct SampleCounters {
     std::uint64_t samples = 0;    // height samples taken by marchers (contract definition)
     std::uint64_t prisms = 0;     // prisms the prism walk's view rays crossed (counters.glsl)
     std::uint32_t prisms_most = 0; // the most one fragment's ray crossed
-    std::vector<std::uint32_t> histogram; // fragments by samples taken (last bin: that many or more)
+    std::vector<std::uint64_t> histogram; // fragments by samples taken (last bin: that many or more)
 };
 
 class Renderer {
@@ -141,6 +141,9 @@ public:
     RgbaImage read_color() const;               // RGBA8, alpha = coverage, bottom row first
     std::vector<float> read_depth() const;      // window depth in [0,1]: 1 at the near plane, 0 = nothing drawn
     SampleCounters read_counters() const;       // after a draw with settings.count_samples
+    // Tests: each count (fragments, every bin) starts `below` under 2^32 instead of at 0, so that a
+    // small draw carries into the high words (counters.glsl); 0 (the default) starts at 0.
+    void start_counts_below_carry(std::uint32_t below) { counts_below_carry_ = below; }
 
     // Builds (or returns the cached) program for a variant; throws pr::Error with the log.
     // The prism walk has variants by the mesh's UV seams: Seamless for a mesh without any (it
@@ -286,6 +289,7 @@ private:
         glm::dvec3 origin{0.0};
     };
     std::vector<ShadowLayer> shadow_layers_;
+    std::uint32_t counts_below_carry_ = 0; // start_counts_below_carry
     ShadowFit shadow_fit_;
     glm::vec2 shadow_bias_{0.0f}; // the look-up's offset off the triangle (world) and depth bias (0..1)
     int shadow_layer_drawn_ = 0;  // the layer ensure_shadow_map draws (u_shadow_bias.w)

@@ -268,6 +268,38 @@ TEST(ConeMarch, TakesFewerSamplesThanRelief)
     std::printf("height samples per fragment, torus: prism relief %.2f, max-mip %.2f\n", torus_relief, torus_max_mip);
 }
 
+// The counts are 64-bit: fragments and every bin of the histogram carry into a high word (one
+// word wrapped past 4.3 G fragments, 1100 layers over 2048², and bench reported 318,767,104;
+// found by a review, thirty-fourth session). Counts started 16 under 2^32 end 2^32 - 16 over
+// those started at 0.
+TEST(ConeMarch, CountsCarryPastFourBillion)
+{
+    prtest::context();
+    auto h = std::make_shared<HeightField>(load_height("builtin:bumps@64"));
+    Renderer r(64, 48);
+    r.upload(prtest::one_object(prtest::square(), h, 0.15f));
+    const Camera c = oblique_camera();
+    for (const Technique t : {Technique::Flat, Technique::Relief}) {
+        DrawSettings s = settings(t);
+        s.count_samples = true;
+        r.start_counts_below_carry(0);
+        r.draw(c, kLight, s);
+        const SampleCounters from_zero = r.read_counters();
+        r.start_counts_below_carry(16);
+        r.draw(c, kLight, s);
+        const SampleCounters carried = r.read_counters();
+        r.start_counts_below_carry(0);
+        const std::uint64_t start = (std::uint64_t(1) << 32) - 16;
+        ASSERT_GT(from_zero.fragments, 100u);
+        EXPECT_EQ(carried.fragments, from_zero.fragments + start) << technique_name(t);
+        ASSERT_EQ(carried.histogram.size(), from_zero.histogram.size());
+        std::size_t differing = 0;
+        for (std::size_t i = 0; i < carried.histogram.size(); ++i)
+            differing += carried.histogram[i] != from_zero.histogram[i] + start;
+        EXPECT_EQ(differing, 0u) << technique_name(t);
+    }
+}
+
 // Where the surface is straight (a ramp, which bilinear filtering keeps exact), the cone marchers'
 // refinement (false position, march/cone.glsl) takes one sample: it lands on the surface and
 // stops there. The halvings it replaced took two (and a secant), relief's take --refine. The hits
