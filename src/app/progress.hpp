@@ -67,31 +67,18 @@ public:
         const int room = columns - 1, fixed = 9; // ": [", "] ", "100%"
         const int length = int(display_columns(label));
         int width = std::clamp(room - fixed - length, 10, 30);
-        // (Narrower still on a very narrow terminal, where the label keeps 12 columns.)
-        if (room - fixed - width < 12) width = std::max(room - fixed - 12, 3);
+        // (Narrower still on a very narrow terminal, where the label keeps 12 columns, or all of
+        // a shorter one: "bench" took 12 too, and its bar came out narrower than 10 where 15 fit;
+        // found by a review.)
+        const int label_room = std::min(12, length);
+        if (room - fixed - width < label_room) width = std::max(room - fixed - label_room, 3);
         const int filled = std::clamp(int(fraction * width + 0.5), 0, width);
-        const std::string shown = shortened(label, std::size_t(room - fixed - width));
+        const std::string shown = shortened_to_columns(label, std::size_t(room - fixed - width));
         return shown + ": [" + std::string(std::size_t(filled), '#') + std::string(std::size_t(width - filled), '.') +
                "] " + percent;
     }
 
 private:
-    // `text` in at most `columns` columns: its start and (more of) its end around "...", cut
-    // between UTF-8 characters.
-    static std::string shortened(const std::string& text, std::size_t columns)
-    {
-        const std::size_t length = display_columns(text);
-        if (length <= columns) return text;
-        const std::size_t keep = columns > 3 ? columns - 3 : 0, head = keep / 4, tail = keep - head;
-        // The byte where character `n` starts.
-        const auto byte_of = [&text](std::size_t n) {
-            std::size_t i = 0;
-            for (std::size_t seen = 0; i < text.size(); ++i)
-                if ((static_cast<unsigned char>(text[i]) & 0xC0u) != 0x80u && seen++ == n) break;
-            return i;
-        };
-        return text.substr(0, byte_of(head)) + "..." + text.substr(byte_of(length - tail));
-    }
     static int terminal_columns(std::FILE* out)
     {
         winsize size{};

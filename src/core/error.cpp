@@ -90,11 +90,76 @@ void clear_status_line_in_signal_handler() noexcept
     [[maybe_unused]] const ssize_t ignored = ::write(fd, blanks, 1);
 }
 
+namespace {
+
+// The character starting at byte `i` of `text` (UTF-8; a stray or cut byte stands for itself) and
+// its length in bytes.
+std::pair<char32_t, std::size_t> character_at(std::string_view text, std::size_t i)
+{
+    const auto b = static_cast<unsigned char>(text[i]);
+    const std::size_t n = b < 0x80u ? 1 : (b >> 5) == 0x6u ? 2 : (b >> 4) == 0xEu ? 3 : (b >> 3) == 0x1Eu ? 4 : 1;
+    if (n == 1 || i + n > text.size()) return {b, 1};
+    char32_t c = b & (0x7Fu >> n);
+    for (std::size_t k = 1; k < n; ++k) {
+        const auto next = static_cast<unsigned char>(text[i + k]);
+        if ((next & 0xC0u) != 0x80u) return {b, 1};
+        c = (c << 6) | (next & 0x3Fu);
+    }
+    return {c, n};
+}
+
+// The columns a terminal gives character `c`: two for the wide and full-width ones (CJK, Hangul,
+// full-width forms, emoji; Unicode's East Asian Width W and F, in blocks), none for combining
+// marks and zero-width spaces, else one.
+std::size_t character_columns(char32_t c)
+{
+    static constexpr std::pair<char32_t, char32_t> wide[] = {
+        {0x1100, 0x115F},   {0x2E80, 0x303E},   {0x3041, 0x33FF},   {0x3400, 0x4DBF}, {0x4E00, 0x9FFF},
+        {0xA000, 0xA4CF},   {0xAC00, 0xD7A3},   {0xF900, 0xFAFF},   {0xFE30, 0xFE4F}, {0xFF00, 0xFF60},
+        {0xFFE0, 0xFFE6},   {0x1F300, 0x1F64F}, {0x1F900, 0x1F9FF}, {0x20000, 0x3FFFD}};
+    static constexpr std::pair<char32_t, char32_t> none[] = {{0x0300, 0x036F}, {0x200B, 0x200F}, {0xFE00, 0xFE0F}};
+    for (const auto& [lo, hi] : wide)
+        if (c >= lo && c <= hi) return 2;
+    for (const auto& [lo, hi] : none)
+        if (c >= lo && c <= hi) return 0;
+    return 1;
+}
+
+} // namespace
+
 std::size_t display_columns(std::string_view line)
 {
     std::size_t n = 0;
-    for (const char c : line) n += (static_cast<unsigned char>(c) & 0xC0u) != 0x80u; // (not a continuation byte)
+    for (std::size_t i = 0; i < line.size();) {
+        const auto [c, bytes] = character_at(line, i);
+        n += character_columns(c);
+        i += bytes;
+    }
     return n;
+}
+
+std::string shortened_to_columns(const std::string& text, std::size_t columns)
+{
+    if (display_columns(text) <= columns) return text;
+    const std::size_t keep = columns > 3 ? columns - 3 : 0, head = keep / 4, tail = keep - head;
+    // Whole characters from the start while they fit in `head` columns, and from the end in `tail`.
+    std::size_t head_end = 0;
+    for (std::size_t used = 0; head_end < text.size();) {
+        const auto [c, bytes] = character_at(text, head_end);
+        if (used + character_columns(c) > head) break;
+        used += character_columns(c);
+        head_end += bytes;
+    }
+    std::vector<std::size_t> starts; // where each character starts
+    for (std::size_t i = 0; i < text.size(); i += character_at(text, i).second) starts.push_back(i);
+    std::size_t tail_start = text.size();
+    for (std::size_t k = starts.size(), used = 0; k-- > 0 && starts[k] >= head_end;) {
+        const std::size_t w = character_columns(character_at(text, starts[k]).first);
+        if (used + w > tail) break;
+        used += w;
+        tail_start = starts[k];
+    }
+    return text.substr(0, head_end) + "..." + text.substr(tail_start);
 }
 
 void warn(const std::string& message)

@@ -56,8 +56,13 @@ void status_line(std::FILE* out, const std::string& line);
 // Clears the status line shown, if any, with write() alone: for a handler of a signal that ends
 // the process (atomic_file.cpp), which may not take status_line()'s lock.
 void clear_status_line_in_signal_handler() noexcept;
-// The terminal columns `line` takes: its UTF-8 characters (wide ones counted as one).
+// The terminal columns `line` takes: its UTF-8 characters, the wide ones (CJK, full-width forms,
+// emoji) two each and combining marks none (counted one each, a CJK file name's progress bar
+// wrapped and left a line at every redraw; found by a review, thirty-fourth session).
 std::size_t display_columns(std::string_view line);
+// `text` in at most `columns` columns: its start and (more of) its end around "...", cut between
+// whole characters.
+std::string shortened_to_columns(const std::string& text, std::size_t columns);
 
 // `text` with its control characters written out ("\n", "\r", "\t", else "\xNN"), so that a
 // message quoting a file name or a value that holds a line break stays one line on stderr; past

@@ -110,6 +110,19 @@ TEST(Progress, BarsFitTheTerminalsWidth)
     const std::string narrow = pr::ProgressBar::bar_line(long_label, 0.5, 80);
     EXPECT_EQ(narrow.rfind("building rel", 0), 0u) << narrow;
     EXPECT_NE(narrow.find("..."), std::string::npos) << narrow;
+    // Wide characters take two columns each (a CJK name's bar wrapped: 59 characters in 83
+    // columns), and a short label keeps its room for the bar (bench's was 8 wide where 15 fit);
+    // found by a review, thirty-fourth session.
+    const std::string cjk = "building cone map of \xe5\x9b\xbe\xe5\x83\x8f/" + std::string(20, 'x') +
+                            "\xe9\xab\x98\xe5\xba\xa6\xe5\x9b\xbe\xe9\xab\x98\xe5\xba\xa6\xe5\x9b\xbe.png";
+    EXPECT_EQ(pr::display_columns("\xe9\xab\x98\xe5\xba\xa6"), 4u);
+    EXPECT_EQ(pr::display_columns("e\xcc\x81"), 1u); // (a combining accent)
+    for (int columns = 20; columns <= 90; ++columns) {
+        const std::string line = pr::ProgressBar::bar_line(cjk, 0.5, columns);
+        EXPECT_LE(pr::display_columns(line), std::size_t(columns - 1)) << columns << ": " << line;
+        EXPECT_EQ(pr::one_line(line), line) << "not whole UTF-8 characters: " << line;
+    }
+    EXPECT_EQ(pr::ProgressBar::bar_line("bench", 1.0 / 3.0, 30), "bench: [#####..........]  33%");
 
     // Drawn at that width, and cleared over all of it.
     std::FILE* out = std::tmpfile();
