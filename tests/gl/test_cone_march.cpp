@@ -943,19 +943,26 @@ TEST(Shadows, TheReferencesSoftLightStopsAtTheSurfacesOwnHorizon)
 // units away, out of view, leaves the first one's shadows as they are. Over the sphere around
 // both shells its texels were 70 times coarser, and the bumps' shadows were lost (found by a
 // review: 528 shadowed pixels of 1,294).
-TEST(Shadows, TheReferencesShadowMapCoversWhatTheImageShows)
+// The bundled torus at depth 0.08 with `height`, alone in a `width` x `height` scene.
+SceneSpec torus_scene(const std::string& height, int width, int image_height)
 {
-    prtest::context();
     ObjectSpec torus;
     torus.mesh = std::string(PR_SOURCE_DIR) + "/meshes/torus.obj";
-    torus.height = "builtin:boxes@128";
+    torus.height = height;
     torus.depth = 0.08f;
     SceneSpec one;
     one.objects = {torus};
-    one.width = 160;
-    one.height = 120;
+    one.width = width;
+    one.height = image_height;
+    return one;
+}
+
+TEST(Shadows, TheReferencesShadowMapCoversWhatTheImageShows)
+{
+    prtest::context();
+    const SceneSpec one = torus_scene("builtin:boxes@128", 160, 120);
     SceneSpec two = one;
-    two.objects.push_back(torus);
+    two.objects.push_back(one.objects[0]);
     two.objects.back().transform = glm::translate(glm::dmat4(1.0), glm::dvec3(300.0, 0.0, 0.0));
     const glm::vec3 light = glm::normalize(glm::vec3(1.0f, 0.35f, 0.2f));
     const Scene scene_one = load_scene(one);
@@ -981,18 +988,11 @@ TEST(Shadows, TheReferencesShadowMapCoversWhatTheImageShows)
 TEST(Shadows, TheReferenceSaysWhereItsShadowMapIsCoarse)
 {
     prtest::context();
-    ObjectSpec torus;
-    torus.mesh = std::string(PR_SOURCE_DIR) + "/meshes/torus.obj";
-    torus.height = "builtin:bumps@128";
-    torus.depth = 0.08f;
-    SceneSpec one;
-    one.objects = {torus};
-    one.width = 160;
-    one.height = 100; // (the far torus in the picture's top edge)
+    SceneSpec one = torus_scene("builtin:bumps@128", 160, 100); // (the far torus in the picture's top edge)
     one.camera.eye = glm::dvec3(2.2, 2.0, 3.2);
     one.camera.target = glm::dvec3(0.0);
     SceneSpec two = one;
-    two.objects.push_back(torus);
+    two.objects.push_back(one.objects[0]);
     two.objects.back().transform =
         glm::scale(glm::translate(glm::dmat4(1.0), glm::dvec3(-300.0, -40.0, -300.0)), glm::dvec3(30.0));
     const glm::vec3 light = glm::normalize(glm::vec3(1.0f, 0.5f, 0.2f));
