@@ -790,7 +790,12 @@ void Viewer::handle_keys()
     const ImGuiIO& io = ImGui::GetIO();
     const std::vector<GlfwWindow::KeyPress> keys = window_.take_key_presses();
     if (io.WantCaptureKeyboard || io.WantTextInput || ImGui::IsAnyItemActive()) return; // (the panel's)
-    const bool right_half = split_ && cursor_column() >= divider_ * float(compositor_->width());
+    // The half drawn under the cursor: its renderer column against the right half's first
+    // (divider_ * width unrounded gave the right half's first column to the left half where the
+    // product's fraction was under a half; found by an exploratory session, thirty-fourth).
+    const int cursor_renderer_column = int(std::floor(cursor_column() * float(s_.renderer->width()) /
+                                                      float(std::max(compositor_->width(), 1))));
+    const bool right_half = split_ && cursor_renderer_column >= divider_column();
     const auto& table = technique_table();
     const int tab = ImGui::GetKeyIndex(ImGuiKey_Tab), escape = ImGui::GetKeyIndex(ImGuiKey_Escape);
     for (const GlfwWindow::KeyPress& key : keys) {
