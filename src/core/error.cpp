@@ -9,7 +9,11 @@
 #include <string>
 #include <vector>
 
+#include <clocale>
+#include <cwchar>
+#include <locale.h>
 #include <unistd.h>
+#include <wchar.h>
 
 namespace pr {
 
@@ -108,11 +112,21 @@ std::pair<char32_t, std::size_t> character_at(std::string_view text, std::size_t
     return {c, n};
 }
 
-// The columns a terminal gives character `c`: two for the wide and full-width ones (CJK, Hangul,
-// full-width forms, emoji; Unicode's East Asian Width W and F, in blocks), none for combining
-// marks and zero-width spaces, else one.
+// The columns a terminal gives character `c`: the C library's wcwidth under the C.UTF-8 locale
+// (glibc's tables, which terminals follow: two for wide and full-width characters and emoji, none
+// for combining marks), one for what it calls unprintable. Where that locale is missing, a table
+// of the main blocks: two for CJK, Hangul, full-width forms and emoji, none for combining marks
+// and zero-width spaces. (The table alone, in the first version, counted 8,556 wide characters
+// one column, 🚀 among them; found by a review.)
 std::size_t character_columns(char32_t c)
 {
+    static const locale_t utf8 = newlocale(LC_CTYPE_MASK, "C.UTF-8", locale_t(0));
+    if (utf8 && c <= 0x10FFFF) {
+        const locale_t before = uselocale(utf8);
+        const int w = wcwidth(static_cast<wchar_t>(c));
+        uselocale(before);
+        return w < 0 ? 1 : std::size_t(w);
+    }
     static constexpr std::pair<char32_t, char32_t> wide[] = {
         {0x1100, 0x115F},   {0x2E80, 0x303E},   {0x3041, 0x33FF},   {0x3400, 0x4DBF}, {0x4E00, 0x9FFF},
         {0xA000, 0xA4CF},   {0xAC00, 0xD7A3},   {0xF900, 0xFAFF},   {0xFE30, 0xFE4F}, {0xFF00, 0xFF60},
@@ -141,6 +155,7 @@ std::size_t display_columns(std::string_view line)
 std::string shortened_to_columns(const std::string& text, std::size_t columns)
 {
     if (display_columns(text) <= columns) return text;
+    if (columns < 3) return std::string(columns, '.'); // (no room for "..." and anything)
     const std::size_t keep = columns > 3 ? columns - 3 : 0, head = keep / 4, tail = keep - head;
     // Whole characters from the start while they fit in `head` columns, and from the end in `tail`.
     std::size_t head_end = 0;
@@ -159,6 +174,9 @@ std::string shortened_to_columns(const std::string& text, std::size_t columns)
         used += w;
         tail_start = starts[k];
     }
+    // (Not a combining mark whose base did not fit: it would sit on the last dot.)
+    while (tail_start < text.size() && character_columns(character_at(text, tail_start).first) == 0)
+        tail_start += character_at(text, tail_start).second;
     return text.substr(0, head_end) + "..." + text.substr(tail_start);
 }
 

@@ -117,6 +117,9 @@ TEST(Progress, BarsFitTheTerminalsWidth)
                             "\xe9\xab\x98\xe5\xba\xa6\xe5\x9b\xbe\xe9\xab\x98\xe5\xba\xa6\xe5\x9b\xbe.png";
     EXPECT_EQ(pr::display_columns("\xe9\xab\x98\xe5\xba\xa6"), 4u);
     EXPECT_EQ(pr::display_columns("e\xcc\x81"), 1u); // (a combining accent)
+    EXPECT_EQ(pr::display_columns("\xf0\x9f\x9a\x80\xe2\xad\x90"), 4u); // U+1F680, U+2B50: wide (a review)
+    EXPECT_EQ(pr::shortened_to_columns("abcdefgh", 2), "..");
+    EXPECT_EQ(pr::shortened_to_columns("abcdefghij\xe9\xab\x98\xcc\x81", 4), "...");
     for (int columns = 20; columns <= 90; ++columns) {
         const std::string line = pr::ProgressBar::bar_line(cjk, 0.5, columns);
         EXPECT_LE(pr::display_columns(line), std::size_t(columns - 1)) << columns << ": " << line;
