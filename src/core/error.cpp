@@ -9,8 +9,6 @@
 #include <string>
 #include <vector>
 
-#include <clocale>
-#include <cwchar>
 #include <locale.h>
 #include <unistd.h>
 #include <wchar.h>
