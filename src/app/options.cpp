@@ -191,7 +191,7 @@ void add_scene_options(CLI::App& app, SceneOptions& o)
         ->group("Scene");
     app.add_option("--mesh", o.mesh, "Mesh file: OBJ, OFF, PLY or STL")->group("Scene");
     app.add_option("--height", o.height,
-                   "Height map: image file (PNG, JPEG, BMP, TGA, PNM, HDR, GIF, PSD, PIC; 8/16-bit; first channel) or builtin:NAME "
+                   "Height map: image file (PNG, JPEG, BMP, TGA, binary PNM, HDR, GIF, PSD, PIC; 8/16-bit; first channel) or builtin:NAME "
                    "with NAME one of " + list(builtin_height_names()) + " (default builtin:bumps)")
         ->group("Scene");
     app.add_option("--color", o.color, "Colour texture: image file or builtin:NAME (" +

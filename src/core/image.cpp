@@ -91,7 +91,7 @@ std::string stb_reason()
     const char* raw = stbi_failure_reason();
     const std::string code = raw ? raw : "unknown error";
     if (code == "unknown image type")
-        return "unknown format; readable formats: PNG, JPEG, BMP, TGA, GIF, PSD, HDR, PIC, PNM";
+        return "unknown format; readable formats: PNG, JPEG, BMP, TGA, GIF, PSD, HDR, PIC, binary PNM (P5, P6)";
     if (code == "outofdata" || code == "read past buffer" || code == "not enough pixels" ||
         code == "bad file" || code == "no IDAT")
         return "truncated or corrupt data: " + code;
@@ -293,6 +293,14 @@ Checked check_header(const std::string& subject, std::vector<std::uint8_t>& byte
     if (sniffed && sniffed->width && sniffed->height)
         check_image_dimensions(subject, *sniffed->width, *sniffed->height, limits);
     check_png(subject, bytes);
+    // A PNM in its ASCII forms (P1-P3) or a bitmap (P4): stb reads binary greymaps and pixmaps
+    // alone, and its "unknown format" listed PNM among the readable ones (found by an exploratory
+    // session, thirty-fourth).
+    if (bytes.size() >= 3 && bytes[0] == 'P' && bytes[1] >= '1' && bytes[1] <= '4' &&
+        (bytes[2] == ' ' || bytes[2] == '\t' || bytes[2] == '\n' || bytes[2] == '\r' || bytes[2] == '#'))
+        throw Error(subject, fmt::format("a PNM in the {} form (P{}), which is not read: save it as a binary "
+                                         "greymap or pixmap (P5, P6) or as PNG",
+                                         bytes[1] == '4' ? "bitmap" : "ASCII", char(bytes[1])));
     // A PNM's header before stb's first look at it (check_pnm_header: stb's reader overflows).
     if (const auto pnm = check_pnm_header(subject, bytes)) check_image_dimensions(subject, pnm->first, pnm->second, limits);
     const Checked c{bytes.data(), static_cast<int>(bytes.size())};
@@ -449,6 +457,22 @@ void apply_orientation(StbiPtr<T>& data, int& w, int& h, int n, int orientation)
     h = oh;
 }
 
+// stb gives a GIF's transparent pixels no colour (0, 0, 0, 0), where a PNG's keep their palette
+// entry's: said, not silent, with what they were read as (`as`). RGBA `data` of w x h. (As a
+// height a transparent white made whole areas fall from 1 to 0; as a colour map its pixels came
+// out black; both found by exploratory sessions, the colour's in the thirty-fourth.)
+void warn_transparent_gif(const std::string& path, const std::vector<std::uint8_t>& bytes, const stbi_uc* data, int w,
+                          int h, const char* as)
+{
+    const std::optional<Sniffed> kind = sniff(bytes);
+    if (!kind || std::strcmp(kind->format, "GIF") != 0) return;
+    std::size_t clear = 0;
+    for (std::size_t k = 3; k < std::size_t(w) * std::size_t(h) * 4; k += 4) clear += data[k] == 0;
+    if (clear > 0)
+        warn(path + ": " + std::to_string(clear) + " transparent GIF pixel" + (clear == 1 ? "" : "s") + " read as " + as +
+             " (their palette colour is not kept; save the map as PNG to keep it)");
+}
+
 HeightField load_height_file(const std::string& path, const ImageLimits& limits)
 {
     std::vector<std::uint8_t> bytes = read_file(path, limits);
@@ -498,14 +522,7 @@ HeightField load_height_file(const std::string& path, const ImageLimits& limits)
         // stb gives a GIF's transparent pixels no colour (0, 0, 0, 0): their height is 0, not
         // their palette entry's, where a PNG's transparent pixels keep theirs. Said, not silent (a
         // transparent white made whole areas fall from 1 to 0; found by an exploratory session).
-        if (const std::optional<Sniffed> kind = sniff(bytes); kind && std::strcmp(kind->format, "GIF") == 0 && n == 4) {
-            std::size_t clear = 0;
-            for (std::size_t k = 3; k < std::size_t(hf.width) * std::size_t(hf.height) * 4; k += 4)
-                clear += data.get()[k] == 0;
-            if (clear > 0)
-                warn(path + ": " + std::to_string(clear) + " transparent GIF pixel" + (clear == 1 ? "" : "s") +
-                     " read as height 0 (their palette colour is not kept; save the map as PNG to keep it)");
-        }
+        if (n == 4) warn_transparent_gif(path, bytes, data.get(), hf.width, hf.height, "height 0");
         const float top = float(maxval.value_or(255));
         take_first_channel(hf, data.get(), n, [top, quantize = hf.bits == 16](stbi_uc v) {
             const float x = std::min(float(v) / top, 1.0f);
@@ -556,6 +573,7 @@ RgbaImage load_rgba_file(const std::string& path, const ImageLimits& limits)
     }
     if (!data) fail_decode(path);
     check_decoded(path, w, h, limits);
+    warn_transparent_gif(path, bytes, data.get(), w, h, "black");
     apply_orientation(data, w, h, 4, jpeg_exif_orientation(bytes));
     fix_tga_origin(bytes, data.get(), w, h, 4);
     RgbaImage img;

@@ -46,7 +46,7 @@ struct RgbaImage {
     glm::u8vec4 at(int x, int y) const { const auto* p = &pixels[4 * (std::size_t(y) * width + x)]; return {p[0], p[1], p[2], p[3]}; }
 };
 
-// `spec` is a file (PNG, JPEG, BMP, TGA, PNM, HDR, GIF, PSD, PIC; 8 or 16 bit; first channel) or "builtin:NAME" (see
+// `spec` is a file (PNG, JPEG, BMP, TGA, binary PNM, HDR, GIF, PSD, PIC; 8 or 16 bit; first channel) or "builtin:NAME" (see
 // builtin_height_names()). Throws pr::Error naming the file on any problem (missing, not an
 // image, truncated, 0x0, too large).
 // Throws pr::Error(subject, …) when a w x h image is empty or exceeds `limits` (every image read

@@ -385,7 +385,7 @@ void Viewer::handle_drop(const std::string& path)
             reload_scene(std::move(spec), false);
         } else {
             throw Error(path, "cannot load this file type (drop a mesh: OBJ, OFF, PLY, STL; or a height "
-                              "image: PNG, JPEG, BMP, TGA, PNM, HDR, GIF, PSD, PIC)");
+                              "image: PNG, JPEG, BMP, TGA, binary PNM, HDR, GIF, PSD, PIC)");
         }
         note("loaded " + path);
     } catch (const Error& e) {

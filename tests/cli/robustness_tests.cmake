@@ -551,3 +551,15 @@ pr_cli_special(summary_names_output_on_one_line BASH EXIT 0 STDOUT "^o\\\\nut[.]
 pr_cli(gif_transparent_pixels_are_said EXIT 0 ONE_LINE EXPECT_FILE o.png SETUP "printf '\\107\\111\\106\\070\\071\\141\\002\\000\\002\\000\\200\\000\\000\\310\\310\\310\\377\\377\\377\\041\\371\\004\\001\\000\\000\\000\\000\\054\\000\\000\\000\\000\\002\\000\\002\\000\\000\\002\\003\\204\\035\\005\\000\\073' > t.gif"
        STDERR "^prismrelief: warning: t.gif: 4 transparent GIF pixels read as height 0 \\(their palette colour is not kept"
        ARGS conemap --height t.gif --format rg8 --no-cache --out o.png)
+# PNM in its ASCII forms or a bitmap: said as such (it was "unknown format; readable formats: …,
+# PNM"; found by an exploratory session, thirty-fourth).
+pr_cli(pnm_ascii_is_named EXIT 1 ONE_LINE NO_FILE o.png SETUP "printf 'P2\\n2 2\\n255\\n0 10\\n20 30\\n' > a.pgm"
+       STDERR "${E}--height: a.pgm: a PNM in the ASCII form \\(P2\\), which is not read: save it as a binary greymap or pixmap \\(P5, P6\\) or as PNG"
+       ARGS conemap --height a.pgm --no-cache --out o.png)
+pr_cli(pnm_bitmap_is_named EXIT 1 ONE_LINE NO_FILE o.png SETUP "printf 'P4\\n8 1\\n\\125' > a.pbm"
+       STDERR "${E}--color: a.pbm: a PNM in the bitmap form \\(P4\\), which is not read"
+       ARGS render --mesh ${M}/cube.obj --color a.pbm --size 16x16 --out o.png)
+# As a colour map they came out black without a word (found by an exploratory session, thirty-fourth).
+pr_cli(gif_transparent_colour_pixels_are_said EXIT 0 ONE_LINE EXPECT_FILE o.png SETUP "printf '\\107\\111\\106\\070\\071\\141\\002\\000\\002\\000\\200\\000\\000\\310\\310\\310\\377\\377\\377\\041\\371\\004\\001\\000\\000\\000\\000\\054\\000\\000\\000\\000\\002\\000\\002\\000\\000\\002\\003\\204\\035\\005\\000\\073' > t.gif"
+       STDERR "^prismrelief: warning: t.gif: 4 transparent GIF pixels read as black \\(their palette colour is not kept"
+       ARGS render --mesh ${M}/cube.obj --technique flat --color t.gif --size 16x16 --out o.png)
