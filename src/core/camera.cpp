@@ -109,7 +109,12 @@ namespace {
 // which encloses the sphere from any direction.
 double near_depth(const Camera& camera, const Sphere& b, double r)
 {
-    const glm::dvec3 forward = glm::normalize(camera.target - camera.eye);
+    // Over its largest component first, as unit_direction does for the view matrix (in double
+    // here): normalize's squared length underflowed for eye and target under 1.5e-162 apart, the
+    // near plane came out NaN and the image empty (found by an exploratory session, thirty-fourth).
+    glm::dvec3 forward = camera.target - camera.eye;
+    const double largest = std::max({std::abs(forward.x), std::abs(forward.y), std::abs(forward.z)});
+    forward = largest > 0.0 && std::isfinite(largest) ? glm::normalize(forward / largest) : glm::dvec3(0.0, 0.0, -1.0);
     return glm::dot(b.center - camera.eye, forward) - r;
 }
 

@@ -44,6 +44,9 @@ pr_cli(eye_along_given_up EXIT 1 ONE_LINE STDERR "${E}--up: up is parallel to th
        NO_FILE o.png ARGS render --mesh ${M}/torus.obj --eye 0,5,0 --up 0,2,0 --out o.png)
 pr_same_image(up_huge_same_image ARGS ${T} A --up 0,3e19,0 B --up 0,1,0)
 pr_same_image(up_tiny_same_image ARGS ${T} A --up 1e-30,0,0 B --up 1,0,0)
+# An eye and a target 1e-170 apart: the clip planes' view direction underflowed (NaN near plane,
+# an empty image; found by an exploratory session, thirty-fourth).
+pr_same_image(eye_target_tiny_apart_same_image ARGS ${T} --technique flat --eye 0,0,0 A --target 1e-170,0,0 B --target 1,0,0)
 pr_cli(up_zero EXIT 1 ONE_LINE STDERR "${E}--up: must not be the zero vector" NO_FILE o.png
        ARGS render ${T} --up 0,0,0 --out o.png)
 pr_scene(up_huge "}], \"camera\": {\"up\": [0, 3e19, 0]}}")
