@@ -154,13 +154,14 @@ std::string shortened_to_columns(const std::string& text, std::size_t columns)
 {
     if (display_columns(text) <= columns) return text;
     if (columns < 3) return std::string(columns, '.'); // (no room for "..." and anything)
-    const std::size_t keep = columns > 3 ? columns - 3 : 0, head = keep / 4, tail = keep - head;
+    const std::size_t keep = columns - 3, head = keep / 4, tail = keep - head;
     // Whole characters from the start while they fit in `head` columns, and from the end in `tail`.
     std::size_t head_end = 0;
     for (std::size_t used = 0; head_end < text.size();) {
         const auto [c, bytes] = character_at(text, head_end);
-        if (used + character_columns(c) > head) break;
-        used += character_columns(c);
+        const std::size_t w = character_columns(c);
+        if (used + w > head) break;
+        used += w;
         head_end += bytes;
     }
     std::vector<std::size_t> starts; // where each character starts

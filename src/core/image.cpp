@@ -293,15 +293,8 @@ Checked check_header(const std::string& subject, std::vector<std::uint8_t>& byte
     if (sniffed && sniffed->width && sniffed->height)
         check_image_dimensions(subject, *sniffed->width, *sniffed->height, limits);
     check_png(subject, bytes);
-    // A PNM in its ASCII forms (P1-P3) or a bitmap (P4): stb reads binary greymaps and pixmaps
-    // alone, and its "unknown format" listed PNM among the readable ones (found by an exploratory
-    // session, thirty-fourth).
-    if (bytes.size() >= 3 && bytes[0] == 'P' && bytes[1] >= '1' && bytes[1] <= '4' &&
-        (bytes[2] == ' ' || bytes[2] == '\t' || bytes[2] == '\n' || bytes[2] == '\r' || bytes[2] == '#'))
-        throw Error(subject, fmt::format("a PNM in the {} form (P{}), which is not read: save it as a binary "
-                                         "greymap or pixmap (P5, P6) or as PNG",
-                                         bytes[1] == '4' ? "bitmap" : "ASCII", char(bytes[1])));
-    // A PNM's header before stb's first look at it (check_pnm_header: stb's reader overflows).
+    // A PNM's header before stb's first look at it (check_pnm_header: stb's reader overflows, and
+    // the ASCII and bitmap forms it does not read are named).
     if (const auto pnm = check_pnm_header(subject, bytes)) check_image_dimensions(subject, pnm->first, pnm->second, limits);
     const Checked c{bytes.data(), static_cast<int>(bytes.size())};
     int w = 0, h = 0, comp = 0;

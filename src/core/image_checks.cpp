@@ -32,6 +32,9 @@ std::uint32_t be32(const Bytes& b, std::size_t o) { return be16(b, o) << 16 | be
                                      format, needed, size));
 }
 
+// White space between a PNM header's words.
+bool pnm_space(std::uint8_t c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
+
 struct PnmHeader {
     std::uint64_t width = 0, height = 0, maxval = 0; // (each at most INT64_MAX: more digits saturate)
     int channels = 0;
@@ -48,9 +51,8 @@ std::optional<PnmHeader> scan_pnm(const Bytes& b)
     PnmHeader h;
     h.channels = b[1] == '6' ? 3 : 1;
     std::size_t i = 2;
-    const auto space = [](std::uint8_t c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; };
     const auto skip = [&] {
-        while (i < b.size() && (space(b[i]) || b[i] == '#')) {
+        while (i < b.size() && (pnm_space(b[i]) || b[i] == '#')) {
             if (b[i] == '#')
                 while (i < b.size() && b[i] != '\n' && b[i] != '\r') ++i;
             else
@@ -324,6 +326,12 @@ std::string chunk_name(const Bytes& b, std::size_t o)
 std::optional<std::pair<std::int64_t, std::int64_t>> check_pnm_header(const std::string& subject,
                                                                       const std::vector<std::uint8_t>& b)
 {
+    // The ASCII forms (P1-P3) and the bitmap (P4), which stb does not read: its "unknown format"
+    // listed PNM among the readable ones (found by an exploratory session, thirty-fourth).
+    if (b.size() >= 3 && b[0] == 'P' && b[1] >= '1' && b[1] <= '4' && (pnm_space(b[2]) || b[2] == '#'))
+        throw Error(subject, fmt::format("a PNM in the {} form (P{}), which is not read: save it as a binary "
+                                         "greymap or pixmap (P5, P6) or as PNG",
+                                         b[1] == '4' ? "bitmap" : "ASCII", char(b[1])));
     const std::optional<PnmHeader> h = scan_pnm(b);
     if (!h) return std::nullopt;
     if (h->numbers == 3 && (h->maxval == 0 || h->maxval > 65535))

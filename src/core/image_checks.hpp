@@ -29,7 +29,8 @@ void check_image_data(const std::string& subject, const std::vector<std::uint8_t
 // ("-2147483648x1 pixels") or "unknown format" for a maxval over 65535. Throws Error(subject, ...)
 // for a maxval outside 1 to 65535; returns the width and height as the header states them (0 for
 // one it does not hold, as stb takes it; more digits than an int64 holds saturate), for the
-// caller to check against the limits; nullopt for other formats.
+// caller to check against the limits; nullopt for other formats. A PNM in its ASCII forms
+// (P1-P3) or a bitmap (P4), which stb does not read, is refused as such.
 std::optional<std::pair<std::int64_t, std::int64_t>> check_pnm_header(const std::string& subject,
                                                                       const std::vector<std::uint8_t>& bytes);
 
