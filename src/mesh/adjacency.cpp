@@ -1,4 +1,5 @@
 #include "mesh/adjacency.hpp"
+#include "mesh/dense_index.hpp"
 
 #include "core/error.hpp"
 
@@ -36,15 +37,9 @@ EdgeAdjacency edge_adjacency(const std::vector<MeshVertex>& vertices, const std:
         return near(d0, whole) && near(d1, whole);
     };
     const std::uint32_t weld_count = welded_position_count(vertices);
-    std::vector<std::uint32_t> start(std::size_t(weld_count) + 1, 0);
-    for (std::size_t edge = 0; edge < triangles * 3; ++edge) ++start[ends(edge).first + 1];
-    for (std::size_t w = 0; w < weld_count; ++w) start[w + 1] += start[w];
-    std::vector<std::uint32_t> bucket(triangles * 3);
-    {
-        std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-        for (std::size_t edge = 0; edge < triangles * 3; ++edge)
-            bucket[fill[ends(edge).first]++] = static_cast<std::uint32_t>(edge);
-    }
+    Buckets by_end = bucket_by_key(weld_count, triangles * 3, [&](std::size_t edge) { return ends(edge).first; });
+    const std::vector<std::uint32_t>& start = by_end.start;
+    std::vector<std::uint32_t>& bucket = by_end.items;
     for (std::size_t w = 0; w < weld_count; ++w) {
         const auto first = bucket.begin() + start[w], last = bucket.begin() + start[w + 1];
         std::sort(first, last, [&](std::uint32_t x, std::uint32_t y) {

@@ -70,4 +70,30 @@ private:
     std::vector<std::uint32_t> slots_;
 };
 
+// Items 0 .. count - 1 grouped by a key below `key_count` (a counting sort, in time linear in both):
+// the items of key k are items[start[k]] .. items[start[k + 1] - 1], in increasing order. Items
+// for which `take(i)` is false are left out.
+struct Buckets {
+    std::vector<std::uint32_t> start, items;
+};
+template <class KeyOf, class Take>
+Buckets bucket_by_key(std::size_t key_count, std::size_t count, KeyOf key_of, Take take)
+{
+    Buckets b;
+    b.start.assign(key_count + 1, 0);
+    for (std::size_t i = 0; i < count; ++i)
+        if (take(i)) ++b.start[std::size_t(key_of(i)) + 1];
+    for (std::size_t k = 0; k < key_count; ++k) b.start[k + 1] += b.start[k];
+    b.items.resize(b.start[key_count]);
+    std::vector<std::uint32_t> fill(b.start.begin(), b.start.end() - 1);
+    for (std::size_t i = 0; i < count; ++i)
+        if (take(i)) b.items[fill[std::size_t(key_of(i))]++] = std::uint32_t(i);
+    return b;
+}
+template <class KeyOf>
+Buckets bucket_by_key(std::size_t key_count, std::size_t count, KeyOf key_of)
+{
+    return bucket_by_key(key_count, count, key_of, [](std::size_t) { return true; });
+}
+
 } // namespace pr

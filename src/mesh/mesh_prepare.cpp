@@ -484,16 +484,10 @@ FaceNeighbours generated_face_neighbours(const std::vector<Triangle>& tris, cons
         const uint32_t a = corner[edge], b = corner[3 * (edge / 3) + (edge % 3 + 1) % 3];
         return std::pair{std::min(a, b), std::max(a, b)};
     };
-    std::vector<uint32_t> start(weld_count + 1, 0), bucket;
-    for (size_t e = 0; e < corner.size(); ++e)
-        if (generated(tris[e / 3].face)) ++start[ends(e).first + 1];
-    for (size_t w = 0; w < weld_count; ++w) start[w + 1] += start[w];
-    bucket.resize(start[weld_count]);
-    {
-        std::vector<uint32_t> fill(start.begin(), start.end() - 1);
-        for (size_t e = 0; e < corner.size(); ++e)
-            if (generated(tris[e / 3].face)) bucket[fill[ends(e).first]++] = uint32_t(e);
-    }
+    Buckets by_end = bucket_by_key(weld_count, corner.size(), [&](size_t e) { return ends(e).first; },
+                                   [&](size_t e) { return generated(tris[e / 3].face); });
+    const std::vector<uint32_t>& start = by_end.start;
+    std::vector<uint32_t>& bucket = by_end.items;
     std::vector<uint32_t> across(tris.size() * 3, kNone); // the face across each triangle edge
     for (size_t w = 0; w < weld_count; ++w) {
         const auto first = bucket.begin() + start[w], last = bucket.begin() + start[w + 1];
@@ -1236,17 +1230,11 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         // cones touching at their apex lost a third of one cone near it, IoU 0.89, without a word;
         // found by an exploratory session, thirty-fourth; docs/prism.md "Known limits").
         {
-            // Each weld's triangles, bucketed by weld (a sort of the pairs took 11 % of a
-            // million-triangle mesh's load; found by a review).
-            std::vector<uint32_t> first(weld_count + 1, 0), incident(tris.size() * 3);
-            for (const Triangle& t : tris)
-                for (int k = 0; k < 3; ++k) ++first[size_t(tri_weld(t, k)) + 1];
-            for (size_t w = 0; w < weld_count; ++w) first[w + 1] += first[w];
-            {
-                std::vector<uint32_t> next(first.begin(), first.end() - 1);
-                for (uint32_t i = 0; i < uint32_t(tris.size()); ++i)
-                    for (int k = 0; k < 3; ++k) incident[next[size_t(tri_weld(tris[i], k))]++] = i;
-            }
+            // Each weld's corners (corner c is triangle c / 3's), bucketed by weld (a sort of the
+            // pairs took 11 % of a million-triangle mesh's load; found by a review).
+            const Buckets around = bucket_by_key(weld_count, tris.size() * 3,
+                                                 [&](size_t c) { return tri_weld(tris[c / 3], int(c % 3)); });
+            const std::vector<uint32_t>& first = around.start;
             size_t pinched = 0;
             std::vector<uint32_t> parent;
             std::vector<std::pair<uint32_t, uint32_t>> neighbours; // (other weld, the fan's triangle)
@@ -1262,7 +1250,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
                 neighbours.clear();
                 for (size_t k = i; k < j; ++k)
                     for (int c = 0; c < 3; ++c)
-                        if (const uint32_t w = uint32_t(tri_weld(tris[incident[k]], c)); w != v)
+                        if (const uint32_t w = uint32_t(tri_weld(tris[around.items[k] / 3], c)); w != v)
                             neighbours.push_back({w, uint32_t(k - i)});
                 std::sort(neighbours.begin(), neighbours.end());
                 for (size_t k = 1; k < neighbours.size(); ++k)
