@@ -22,6 +22,8 @@ struct Warnings {
     std::set<std::string> said;
     bool holding = false;
     std::vector<std::string> held; // lines, in order
+    std::vector<std::string> printed; // messages, in order (for an observer that comes later)
+    std::function<void(const std::string&)> observer;
     std::FILE* status_out = nullptr; // status_line()'s, while one is shown
     std::string status;
 };
@@ -39,9 +41,15 @@ std::atomic<int> g_status_fd{-1};
 std::atomic<int> g_status_columns{0};
 static_assert(std::atomic<int>::is_always_lock_free, "a signal handler reads them");
 
-// Prints a warning's line on stderr, around the status line if one is shown there (w.mutex held).
-void print_warning(const Warnings& w, const std::string& line)
+constexpr std::string_view kWarningPrefix = "prismrelief: warning: ";
+
+// Prints a warning's line on stderr, around the status line if one is shown there, and hands its
+// message to the observer (w.mutex held).
+void print_warning(Warnings& w, const std::string& line)
 {
+    std::string message = line.substr(kWarningPrefix.size(), line.size() - kWarningPrefix.size() - 1);
+    if (w.observer) w.observer(message);
+    w.printed.push_back(std::move(message));
     const bool around = w.status_out == stderr && !w.status.empty();
     if (around) std::fprintf(stderr, "\r%*s\r", int(display_columns(w.status)), "");
     std::fputs(line.c_str(), stderr);
@@ -184,9 +192,18 @@ void warn(const std::string& message)
     Warnings& w = warnings();
     std::lock_guard lock(w.mutex);
     if (!w.said.insert(message).second) return;
-    const std::string line = "prismrelief: warning: " + one_line(message) + "\n";
+    const std::string line = std::string(kWarningPrefix) + one_line(message) + "\n";
     if (w.holding) w.held.push_back(line);
     else print_warning(w, line);
+}
+
+void observe_warnings(std::function<void(const std::string&)> observer)
+{
+    Warnings& w = warnings();
+    std::lock_guard lock(w.mutex);
+    w.observer = std::move(observer);
+    if (w.observer)
+        for (const std::string& message : w.printed) w.observer(message);
 }
 
 void hold_warnings()

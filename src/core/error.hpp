@@ -1,6 +1,7 @@
 #pragma once
 // Errors that reach the user as one line: "prismrelief: error: <subject>: <problem>".
 #include <cstdio>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -36,6 +37,13 @@ enum ExitCode : int { kExitOk = 0, kExitFailure = 1, kExitUsage = 2 };
 // Non-fatal remarks about input that is only odd (non-manifold, degenerate faces, ...):
 // printed as "prismrelief: warning: ..." on stderr, once each (as one line: one_line()).
 void warn(const std::string& message);
+
+// Hands every warning from now on to `observer` as it is printed (the message, without the
+// "prismrelief: warning: " before it), and first those printed before, in order: the viewer's
+// panel log shows what stderr says (a dropped mesh's warnings reached the terminal only; thirty-
+// fifth session). It runs with warn()'s lock held, on whichever thread warned: it must not warn
+// and must take its own lock. An empty function stops it.
+void observe_warnings(std::function<void(const std::string&)> observer);
 
 // Warnings while a command reads and checks its inputs are held (hold_warnings, run_cli) and
 // printed when the command has accepted them all (release_warnings; at the latest when it

@@ -28,6 +28,7 @@
 #include <filesystem>
 #include <future>
 #include <memory>
+#include <mutex>
 #include <set>
 #include <utility>
 
@@ -140,9 +141,19 @@ public:
         remember_scene();
         if (!o_.shader_dir.empty()) watch_.emplace(o_.shader_dir);
         pending_drops_ = o_.drops;
+        // The panel's log shows the warnings stderr shows: the scene's as loaded, then a dropped
+        // file's, a cone map's cache's (they reached the terminal only; thirty-fifth session).
+        observe_warnings([this](const std::string& message) {
+            std::lock_guard lock(warned_mutex_);
+            warned_.push_back(message);
+        });
     }
 
-    ~Viewer() { cancel_cone_job(); }
+    ~Viewer()
+    {
+        observe_warnings({});
+        cancel_cone_job();
+    }
     Viewer(const Viewer&) = delete;
     Viewer& operator=(const Viewer&) = delete;
 
@@ -197,6 +208,7 @@ private:
     }
     void error(const std::string& message); // warns, and shows it in the panel's log
     void note(const std::string& message);  // the panel's log only (newest last, the last six)
+    void log_warnings();                    // the warnings said since, in the panel's log
 
     Session& s_;
     GlfwWindow& window_;
@@ -250,7 +262,9 @@ private:
     std::string shader_error_;  // the last compile error (panel), cleared by a good draw
     std::string blocked_key_;   // settings that failed to draw; retried when they or shaders change
     std::vector<std::string> pending_drops_;
-    std::deque<std::string> log_; // load errors and notices (newest last)
+    std::deque<std::string> log_; // load errors, warnings and notices (newest last)
+    std::mutex warned_mutex_;     // (warnings come from the cone maps' thread too)
+    std::vector<std::string> warned_; // warnings not yet in the log
     float panel_width_ = 0.0f;    // the panel's width as the user left it (0: not drawn yet)
     std::deque<float> frame_ms_; // recent frame times (plot)
     std::vector<double> all_frame_ms_;
@@ -274,6 +288,18 @@ void Viewer::note(const std::string& message)
 {
     log_.push_back(message);
     while (log_.size() > 6) log_.pop_front();
+}
+
+void Viewer::log_warnings()
+{
+    std::vector<std::string> warned;
+    {
+        std::lock_guard lock(warned_mutex_);
+        warned.swap(warned_);
+    }
+    for (const std::string& message : warned)
+        if (std::find(log_.begin(), log_.end(), message) == log_.end()) // (error() put it there)
+            note("warning: " + message);
 }
 
 void Viewer::remember_scene()
@@ -1084,6 +1110,7 @@ int Viewer::run()
                 for (const std::string& path : pending_drops_) handle_drop(path);
                 pending_drops_.clear();
             }
+            log_warnings();
             if (watch_ && seconds_since(last_watch_) > 0.5) {
                 last_watch_ = Clock::now();
                 if (watch_->changed()) {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 TEST(OneLine, ControlCharactersAreWrittenOut)
 {
@@ -56,4 +57,24 @@ TEST(OneLine, ALongLineOfBytesThatAreNotUtf8IsCutToo)
     EXPECT_LE(line.size(), pr::kLongestLine + 64);
     EXPECT_EQ(line.find(" [... 0 bytes"), std::string::npos);
     EXPECT_EQ(line.substr(line.size() - 16), ": does not exist");
+}
+
+// The viewer's panel log shows the warnings stderr shows (observe_warnings): those said before it
+// looks, in order, then each one as it is said, once, without the "prismrelief: warning: " prefix.
+TEST(Warnings, AnObserverHearsThoseSaidBeforeAndAfter)
+{
+    testing::internal::CaptureStderr();
+    pr::warn("observer test: before\nthe observer");
+    std::vector<std::string> heard;
+    pr::observe_warnings([&heard](const std::string& message) { heard.push_back(message); });
+    pr::warn("observer test: after it");
+    pr::warn("observer test: after it"); // (said once)
+    pr::observe_warnings({});
+    pr::warn("observer test: once it stopped");
+    const std::string err = testing::internal::GetCapturedStderr();
+    EXPECT_NE(err.find("prismrelief: warning: observer test: once it stopped\n"), std::string::npos) << err;
+    std::vector<std::string> ours; // (other tests' warnings may come before)
+    for (const std::string& m : heard)
+        if (m.rfind("observer test:", 0) == 0) ours.push_back(m);
+    EXPECT_EQ(ours, (std::vector<std::string>{"observer test: before\\nthe observer", "observer test: after it"}));
 }
