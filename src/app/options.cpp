@@ -517,32 +517,32 @@ std::string json_path(const json& j, const std::string& where, const std::filesy
 {
     if (!j.is_string()) throw Error(where, "expected a string");
     const std::string s = j.get<std::string>();
+    // (The system reads a name up to its first NUL: "a\u0000b.obj" opened the file "a", and the
+    // report named the other; found by an exploratory session, thirty-fifth.)
+    if (s.find('\0') != std::string::npos) throw Error(where, "a file name cannot hold a NUL character");
     if (s.rfind("builtin:", 0) == 0 || s.empty()) return s;
     const std::filesystem::path p(s);
-    return p.is_absolute() ? s : (base / p).lexically_normal().string();
+    // Not lexically_normal(): "scn/../meshes/m.obj" is not "meshes/m.obj" where scn is a link to
+    // a folder elsewhere (the kernel goes up from where the link leads; the scene loaded another
+    // file, or none; found by an exploratory session, thirty-fifth).
+    return p.is_absolute() ? s : (base / p).string();
 }
 
 // An object's transform must leave a solid object where floats can draw it: a singular matrix
 // flattens it (the prism shell then has no thickness, and nothing was drawn), and the ratio of
-// its largest to its smallest stretch (the condition number, from Frobenius norms: within a
-// factor 3 of the 2-norm one) is kept to 1e6, so that float rounding of the larger axes stays
-// well below the smaller (floats carry about 7 digits). Mirrors (negative determinant) are fine.
+// its largest to its smallest stretch (the condition number) is kept to 1e6, so that float
+// rounding of the larger axes stays well below the smaller (floats carry about 7 digits).
+// Mirrors (negative determinant) are fine.
 void check_linear_part(const glm::dmat4& t, const std::string& subject)
 {
     const glm::dmat3 a(t);
-    double largest = 0.0, squares = 0.0;
-    for (int c = 0; c < 3; ++c) {
-        largest = std::max(largest, glm::length(a[c]));
-        squares += glm::dot(a[c], a[c]);
-    }
+    double largest = 0.0;
+    for (int c = 0; c < 3; ++c) largest = std::max(largest, glm::length(a[c]));
     if (largest > kMaxCoordinate) throw Error(subject, "scales by more than 1e15 (float precision)");
     if (largest < 1.0 / kMaxCoordinate) throw Error(subject, "scales by less than 1e-15 (float precision)");
     if (glm::determinant(a) == 0.0)
         throw Error(subject, "is singular: it flattens the object (to a plane, a line or a point)");
-    const glm::dmat3 inv = glm::inverse(a);
-    double inv_squares = 0.0;
-    for (int c = 0; c < 3; ++c) inv_squares += glm::dot(inv[c], inv[c]);
-    const double condition = std::sqrt(squares * inv_squares);
+    const double condition = condition_number(a);
     if (!(condition <= 1e6)) // NaN too
         throw Error(subject, "is nearly singular: it flattens the object (condition number " +
                                  number_text(condition) + ", at most 1e6)");

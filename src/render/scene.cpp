@@ -94,7 +94,11 @@ Scene load_scene(const SceneSpec& spec)
         // (A mesh far from its file's origin is kept relative to PreparedMesh::origin.) Positions
         // past kMaxCoordinate are refused as a scene's translations are.
         obj.transform = o.transform * glm::translate(glm::dmat4(1.0), obj.mesh.origin);
-        if (const glm::dvec3 at(obj.transform[3]);
+        // (Where its box's centre lands: the file's origin is the centre only for a mesh that was
+        // kept relative to it; one centred at 3e15 but large for it was let through. Found by an
+        // exploratory session, thirty-fifth.)
+        const glm::dvec3 box_centre = 0.5 * (glm::dvec3(obj.mesh.bbox_min) + glm::dvec3(obj.mesh.bbox_max));
+        if (const glm::dvec3 at(obj.transform * glm::dvec4(box_centre, 1.0));
             std::max({std::abs(at.x), std::abs(at.y), std::abs(at.z)}) > kMaxCoordinate) {
             char where[96];
             std::snprintf(where, sizeof where, "%.6g, %.6g, %.6g", at.x, at.y, at.z);

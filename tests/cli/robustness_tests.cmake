@@ -380,6 +380,12 @@ pr_cli_special(mesh_past_1e15_refused EXIT 1 ONE_LINE NO_FILE o.png
                SETUP "printf 'v 1e16 0 0\\nv 1.0000000001e16 0 0\\nv 1e16 1 0\\nvt 0 0\\nvt 1 0\\nvt 0 1\\nf 1/1 2/2 3/3\\n' > f.obj"
                STDERR "${E}f.obj: the object lies more than 1e15 scene units from the origin \\(its centre at 1e\\+16, 0.5, 0\\)"
                ARGS render --mesh f.obj --size 16x16 --out o.png)
+# …and one large for its distance, which its file's origin stays the centre of (it is recentred
+# only when far for its size): its box's centre at 3e15 was let through.
+pr_cli_special(mesh_large_past_1e15_refused EXIT 1 ONE_LINE NO_FILE o.png
+               SETUP "printf 'v 2.5e15 0 0\\nv 3.5e15 0 0\\nv 3e15 1e15 0\\nf 1 2 3\\n' > g.obj"
+               STDERR "${E}g.obj: the object lies more than 1e15 scene units from the origin \\(its centre at 3e\\+15, 5e\\+14, 0\\)"
+               ARGS render --mesh g.obj --size 16x16 --out o.png)
 # An object beyond the sizes single precision draws (a triangle 1e19 or 1e-23 units across in
 # its file) drew nothing with every technique, exit 0, warning to check the camera.
 foreach(size 1e19 1e-23)
@@ -563,3 +569,14 @@ pr_cli(pnm_bitmap_is_named EXIT 1 ONE_LINE NO_FILE o.png SETUP "printf 'P4\\n8 1
 pr_cli(gif_transparent_colour_pixels_are_said EXIT 0 ONE_LINE EXPECT_FILE o.png SETUP "printf '\\107\\111\\106\\070\\071\\141\\002\\000\\002\\000\\200\\000\\000\\310\\310\\310\\377\\377\\377\\041\\371\\004\\001\\000\\000\\000\\000\\054\\000\\000\\000\\000\\002\\000\\002\\000\\000\\002\\003\\204\\035\\005\\000\\073' > t.gif"
        STDERR "^prismrelief: warning: t.gif: 4 transparent GIF pixels read as black \\(their palette colour is not kept"
        ARGS render --mesh ${M}/cube.obj --technique flat --color t.gif --size 16x16 --out o.png)
+# A scene's relative paths go from its folder as the kernel goes: through a link to a folder
+# elsewhere, "../" leads up from where the link points (it was taken off the link's name, and the
+# scene named a file that did not exist, or drew another).
+pr_cli_special(scene_path_through_linked_folder EXIT 0 EXPECT_FILE o.png
+               SETUP "mkdir -p p/scenes p/meshes && cp ${M}/cube.obj p/meshes/m.obj && printf '{\"objects\":[{\"mesh\":\"../meshes/m.obj\"}]}' > p/scenes/s.json && ln -s p/scenes l"
+               ARGS render --scene l/s.json --size 16x16 --out o.png)
+# A NUL in a scene's file name: the system reads up to it ("a\u0000b.obj" opened "a").
+pr_cli_special(scene_path_with_nul_refused EXIT 1 ONE_LINE NO_FILE o.png
+               SETUP "cp ${M}/cube.obj a && printf '%s' '{\"objects\":[{\"mesh\":\"a\\u0000b.obj\"}]}' > n.json"
+               STDERR "${E}n.json: objects\\[0\\].mesh: a file name cannot hold a NUL character"
+               ARGS render --scene n.json --size 16x16 --out o.png)

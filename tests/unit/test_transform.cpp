@@ -39,3 +39,25 @@ TEST(Transform, NormalMatrixOfTheIdentityKeepsNormalsExactly)
     const glm::vec3 n = glm::normalize(glm::vec3(0.3f, -0.8f, 0.52f));
     EXPECT_EQ(glm::normalize(pr::normal_matrix(glm::mat4(1.0f)) * n), n);
 }
+
+// The ratio of the largest stretch to the smallest (2-norm), as docs/scenes.md states the limit;
+// it was taken from Frobenius norms, up to 3 times as large, and refused [1, 1.2e-6, 1].
+TEST(Transform, ConditionNumberIsTheRatioOfLargestToSmallestStretch)
+{
+    EXPECT_NEAR(pr::condition_number(glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0, 1.2e-6, 0), glm::dvec3(0, 0, 1))),
+                1.0 / 1.2e-6, 1e-3);
+    // Rotated and mirrored: the stretches 3, 1 and 2.
+    const glm::dmat3 r(glm::rotate(glm::dmat4(1.0), 0.7, glm::normalize(glm::dvec3(1, 2, 3))));
+    const glm::dmat3 d(glm::dvec3(3, 0, 0), glm::dvec3(0, -1, 0), glm::dvec3(0, 0, 2));
+    EXPECT_NEAR(pr::condition_number(r * d * glm::transpose(r)), 3.0, 1e-12);
+    EXPECT_NEAR(pr::condition_number(r * d), 3.0, 1e-12);
+    // A shear by k: singular values (sqrt(k^2 + 4) ± k) / 2, so the ratio is their quotient.
+    for (const double k : {0.5, 10.0, 999.0}) {
+        SCOPED_TRACE(k);
+        glm::dmat3 shear(1.0);
+        shear[1][0] = k; // column 1, row 0: x += k y
+        const double hi = (std::sqrt(k * k + 4.0) + k) / 2.0, lo = (std::sqrt(k * k + 4.0) - k) / 2.0;
+        EXPECT_NEAR(pr::condition_number(shear), hi / lo, 1e-9 * hi / lo);
+    }
+    EXPECT_GT(pr::condition_number(glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(2, 0, 0), glm::dvec3(0, 0, 1))), 1e12);
+}
