@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
@@ -81,13 +82,23 @@ inline nlohmann::json shadows_json(const DrawSettings& s)
     return j;
 }
 
+// "level 4", or with objects at different levels "levels 4, 33" (each object's, in order).
+inline std::string reference_levels_text(const Renderer::ReferenceStats& stats)
+{
+    const bool same = std::all_of(stats.levels.begin(), stats.levels.end(), [&](int l) { return l == stats.level; });
+    if (same) return "level " + std::to_string(stats.level);
+    std::string text = "levels ";
+    for (std::size_t i = 0; i < stats.levels.size(); ++i) text += (i ? ", " : "") + std::to_string(stats.levels[i]);
+    return text;
+}
+
 // A reference whose automatic level --reference-max-triangles lowered: said on stderr by the
 // commands that measure against it or time it (compare, bench; render prints its level line).
 // Until the twenty-fourth session only the JSON said so (found by an exploratory session).
 inline void warn_if_capped(const Renderer::ReferenceStats& stats, const std::string& command)
 {
     if (!stats.capped) return;
-    warn(command + ": the reference is capped at level " + std::to_string(stats.level) + " (" +
+    warn(command + ": the reference is capped at " + reference_levels_text(stats) + " (" +
          std::to_string(stats.triangles) +
          " triangles) by --reference-max-triangles, coarser than a texel and a pixel per edge" +
          (command == "compare" ? ": the metrics are against that surface" : ""));
@@ -137,7 +148,7 @@ inline nlohmann::json camera_json(const Camera& c)
 // How the reference geometry was built (compare, render --technique reference).
 inline nlohmann::json reference_json(const Renderer::ReferenceStats& r)
 {
-    return {{"level", r.level}, {"triangles", r.triangles}, {"bytes", r.bytes}, {"build_ms", r.build_ms}, {"capped", r.capped}};
+    return {{"level", r.level}, {"levels", r.levels}, {"triangles", r.triangles}, {"bytes", r.bytes}, {"build_ms", r.build_ms}, {"capped", r.capped}};
 }
 
 // A report's text. File names are bytes, not always UTF-8, and JSON strings must be: a byte that

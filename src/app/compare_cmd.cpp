@@ -205,7 +205,8 @@ CommandAction add_compare_command(CLI::App& app)
         if (nothing_drawn) warn_nothing_drawn("compare");
         if (!s->out.empty()) std::printf("wrote %s\n", one_line(s->out).c_str());
         if (!s->json.empty()) std::printf("wrote %s\n", one_line(s->json).c_str());
-        if (!tile_files.empty()) std::printf("wrote %zu tiles in %s\n", tile_files.size(), one_line(s->tiles).c_str());
+        if (!tile_files.empty()) std::printf("wrote %zu tile%s in %s\n", tile_files.size(), tile_files.size() == 1 ? "" : "s",
+                                             one_line(s->tiles).c_str());
         return kExitOk;
     };
 }

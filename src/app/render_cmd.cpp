@@ -57,7 +57,7 @@ CommandAction add_render_command(CLI::App& app)
         Renderer::ReferenceStats stats;
         if (settings.technique == Technique::Reference) {
             stats = renderer.prepare_reference(session.scene, session.camera, ref);
-            std::printf("reference: level %d, %zu triangles, %.1f MB, built in %.0f ms%s\n", stats.level,
+            std::printf("reference: %s, %zu triangles, %.1f MB, built in %.0f ms%s\n", reference_levels_text(stats).c_str(),
                         stats.triangles, double(stats.bytes) / 1e6, stats.build_ms,
                         stats.capped ? " (level capped by --reference-max-triangles)" : "");
         }

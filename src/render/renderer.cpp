@@ -573,7 +573,8 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
             lv = choose_reference_level(so.mesh, so.transform, *so.height, so.depth, so.midlevel, camera,
                                         height_, options.max_triangles);
         }
-        if (k == 0) stats.level = lv.level;
+        stats.level = std::max(stats.level, lv.level);
+        stats.levels.push_back(lv.level);
         stats.capped = stats.capped || lv.capped;
         const std::size_t per_base = std::size_t(lv.level) * std::size_t(lv.level);
         const std::size_t batch = std::max<std::size_t>(1, kChunkTriangles / per_base);

@@ -119,7 +119,9 @@ public:
     // level depends on pixel size). `scene` must be the one given to upload(). Generation is
     // chunked, so CPU memory holds one chunk at a time; the GPU holds the whole result.
     struct ReferenceStats {
-        int level = 0;               // of the first object (the usual single-object case)
+        int level = 0;               // the finest object's
+        std::vector<int> levels;     // each object's, in the scene's order (one number gave the
+                                     // first's: found by an exploratory session, thirty-fifth)
         std::size_t triangles = 0;   // all objects
         std::size_t bytes = 0;       // GPU bytes of vertex and index data
         double build_ms = 0.0;
