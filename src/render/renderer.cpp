@@ -1182,16 +1182,22 @@ void Renderer::check_drawable(const DrawSettings& settings, const std::string& o
     // single precision): a shell about 10^14 units across overflows them, one about 10^-10
     // across underflows them, and either drew nothing at all (the torus at --depth 10^14, or
     // scaled by 3·10^13 or 10^-10). Refused, not drawn empty.
-    for (const GpuObject& o : objects_) {
+    // With several objects, which one (and its own scale: "scale the scene up" was wrong for one
+    // tiny object beside others; found by an exploratory session, thirty-fifth).
+    for (std::size_t k = 0; k < objects_.size(); ++k) {
+        const GpuObject& o = objects_[k];
         const bool large = !(o.shell_radius <= kPrismMaxShellRadius);
         if (!large && o.shell_radius >= kPrismMinShellRadius) continue;
+        const bool one = objects_.size() == 1;
+        const std::string which = one ? "an object's" : "object " + std::to_string(k) + "'s";
+        const std::string what = one ? "the scene" : "that object";
         char across[32];
         std::snprintf(across, sizeof across, "%.3g", 2.0 * double(o.shell_radius));
-        throw Error(option, std::string("prism: an object's displacement shell is ") + across +
-                                       (large ? " scene units across, more than the prism's single-precision geometry "
-                                                "takes (2e13): scale the scene down or use a smaller --depth"
-                                              : " scene units across, less than the prism's single-precision geometry "
-                                                "takes (2e-9): scale the scene up"));
+        throw Error(option, "prism: " + which + " displacement shell is " + across +
+                                (large ? " scene units across, more than the prism's single-precision geometry "
+                                         "takes (2e13): scale " + what + " down or use a smaller depth"
+                                       : " scene units across, less than the prism's single-precision geometry "
+                                         "takes (2e-9): scale " + what + " up"));
     }
 }
 

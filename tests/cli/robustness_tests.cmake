@@ -580,3 +580,9 @@ pr_cli_special(scene_path_with_nul_refused EXIT 1 ONE_LINE NO_FILE o.png
                SETUP "cp ${M}/cube.obj a && printf '%s' '{\"objects\":[{\"mesh\":\"a\\u0000b.obj\"}]}' > n.json"
                STDERR "${E}n.json: objects\\[0\\].mesh: a file name cannot hold a NUL character"
                ARGS render --scene n.json --size 16x16 --out o.png)
+# Several objects: the one whose shell the prism cannot take is named, and its scale is what to
+# change (it said "an object's" and "scale the scene up" for one tiny object beside others).
+pr_cli_special(prism_names_the_tiny_object EXIT 1 ONE_LINE NO_FILE o.png
+               SETUP "printf '{\"objects\":[{\"mesh\":\"${M}/cube.obj\"},{\"mesh\":\"${M}/torus.obj\",\"transform\":{\"scale\":1e-10}}]}' > t.json"
+               STDERR "${E}--technique: prism: object 1's displacement shell is 4.38e-10 scene units across, less than .*: scale that object up"
+               ARGS render --scene t.json --technique prism --size 16x16 --out o.png)
