@@ -566,6 +566,21 @@ RgbaImage load_rgba_file(const std::string& path, const ImageLimits& limits)
     }
     if (!data) fail_decode(path);
     check_decoded(path, w, h, limits);
+    // stb encodes a Radiance HDR file's floats as an 8-bit image's (gamma 2.2, as the colour map
+    // of a PNG is read), and what lies past 1 comes out white: said, not silent (an observation
+    // of the thirty-fourth session).
+    if (stbi_is_hdr_from_memory(c.data, c.len)) {
+        int fw = 0, fh = 0, fn = 0;
+        StbiPtr<float> f(stbi_loadf_from_memory(c.data, c.len, &fw, &fh, &fn, 0));
+        std::size_t over = 0;
+        if (f)
+            for (std::size_t k = 0; k < std::size_t(fw) * fh * fn; ++k)
+                if (k % fn < 3 && !(f.get()[k] <= 1.0f)) ++over; // (NaN too)
+        if (over > 0)
+            warn(path + ": " + std::to_string(over) + " HDR colour value" + (over == 1 ? " is" : "s are") +
+                 " past 1 (or not a number): the colour map reads " + (over == 1 ? "it" : "them") +
+                 " as white (an 8-bit colour, gamma 2.2)");
+    }
     warn_transparent_gif(path, bytes, data.get(), w, h, "black");
     apply_orientation(data, w, h, 4, jpeg_exif_orientation(bytes));
     fix_tga_origin(bytes, data.get(), w, h, 4);

@@ -569,6 +569,10 @@ pr_cli(pnm_bitmap_is_named EXIT 1 ONE_LINE NO_FILE o.png SETUP "printf 'P4\\n8 1
 pr_cli(gif_transparent_colour_pixels_are_said EXIT 0 ONE_LINE EXPECT_FILE o.png SETUP "printf '\\107\\111\\106\\070\\071\\141\\002\\000\\002\\000\\200\\000\\000\\310\\310\\310\\377\\377\\377\\041\\371\\004\\001\\000\\000\\000\\000\\054\\000\\000\\000\\000\\002\\000\\002\\000\\000\\002\\003\\204\\035\\005\\000\\073' > t.gif"
        STDERR "^prismrelief: warning: t.gif: 4 transparent GIF pixels read as black \\(their palette colour is not kept"
        ARGS render --mesh ${M}/cube.obj --technique flat --color t.gif --size 16x16 --out o.png)
+# An HDR colour map's values past 1 come out white: said (2x1: 4.0 grey and 0.5 grey).
+pr_cli(hdr_colour_past_one_is_said EXIT 0 ONE_LINE EXPECT_FILE o.png SETUP "printf '#?RADIANCE\\nFORMAT=32-bit_rle_rgbe\\n\\n-Y 1 +X 2\\n\\200\\200\\200\\203\\200\\200\\200\\200' > c.hdr"
+       STDERR "^prismrelief: warning: c.hdr: 3 HDR colour values are past 1 \\(or not a number\\): the colour map reads them as white"
+       ARGS render --mesh ${M}/cube.obj --technique flat --color c.hdr --size 16x16 --out o.png)
 # A scene's relative paths go from its folder as the kernel goes: through a link to a folder
 # elsewhere, "../" leads up from where the link points (it was taken off the link's name, and the
 # scene named a file that did not exist, or drew another).
