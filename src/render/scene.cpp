@@ -94,17 +94,6 @@ Scene load_scene(const SceneSpec& spec)
         // (A mesh far from its file's origin is kept relative to PreparedMesh::origin.) Positions
         // past kMaxCoordinate are refused as a scene's translations are.
         obj.transform = o.transform * glm::translate(glm::dmat4(1.0), obj.mesh.origin);
-        // (Where its box's centre lands: the file's origin is the centre only for a mesh that was
-        // kept relative to it; one centred at 3e15 but large for it was let through. Found by an
-        // exploratory session, thirty-fifth.)
-        const glm::dvec3 box_centre = 0.5 * (glm::dvec3(obj.mesh.bbox_min) + glm::dvec3(obj.mesh.bbox_max));
-        if (const glm::dvec3 at(obj.transform * glm::dvec4(box_centre, 1.0));
-            std::max({std::abs(at.x), std::abs(at.y), std::abs(at.z)}) > kMaxCoordinate) {
-            char where[96];
-            std::snprintf(where, sizeof where, "%.6g, %.6g, %.6g", at.x, at.y, at.z);
-            throw Error(mesh_place, std::string("the object lies more than 1e15 scene units from the origin (its centre at ") +
-                                        where + "), past the renderer's precision: move it nearer");
-        }
         // A mirroring transform (negative determinant) turns the triangles' winding: counter-
         // clockwise seen from outside in the mesh becomes clockwise in world space, where faces
         // are judged (culling, gl_FrontFacing, the prism's faces and walk). Each triangle reversed
@@ -159,6 +148,16 @@ Scene load_scene(const SceneSpec& spec)
                                         (diagonal >= kSmallestAcross ? "more than the renderer's single precision draws (1e18): scale it down"
                                                                      : "less than the renderer's single precision draws (1e-21): scale it up") +
                                         " (a scene's transform \"scale\", or the file's units)");
+        // Where its box's centre lands (the file's origin is the centre only for a mesh that was
+        // kept relative to it: one centred at 3e15 but large for it was let through; found by an
+        // exploratory session, thirty-fifth). After the size check, which says more of a mesh
+        // both huge and far.
+        if (const glm::dvec3 at = 0.5 * (olo + ohi); std::max({std::abs(at.x), std::abs(at.y), std::abs(at.z)}) > kMaxCoordinate) {
+            char where[96];
+            std::snprintf(where, sizeof where, "%.6g, %.6g, %.6g", at.x, at.y, at.z);
+            throw Error(mesh_place, std::string("the object lies more than 1e15 scene units from the origin (its centre at ") +
+                                        where + "), past the renderer's precision: move it nearer");
+        }
         const Box box = shell_box(obj);
         if (const Sphere s = sphere_around(box); !(2.0 * s.radius <= kLargestAcross))
             throw Error(depth_place, "the object's displacement shell is too large for the renderer's single "

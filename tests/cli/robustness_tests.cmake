@@ -577,7 +577,7 @@ pr_cli(hdr_colour_past_one_is_said EXIT 0 ONE_LINE EXPECT_FILE o.png SETUP "prin
 # elsewhere, "../" leads up from where the link points (it was taken off the link's name, and the
 # scene named a file that did not exist, or drew another).
 pr_cli_special(scene_path_through_linked_folder EXIT 0 EXPECT_FILE o.png
-               SETUP "mkdir -p p/scenes p/meshes && cp ${M}/cube.obj p/meshes/m.obj && printf '{\"objects\":[{\"mesh\":\"../meshes/m.obj\"}]}' > p/scenes/s.json && ln -s p/scenes l"
+               SETUP "mkdir -p p/scenes p/meshes && cp ${M}/cube.obj p/meshes/m.obj && printf '{\"objects\":[{\"mesh\":\"../meshes/m.obj\"}]}' > p/scenes/s.json && ln -sfn p/scenes l"
                ARGS render --scene l/s.json --size 16x16 --out o.png)
 # A NUL in a scene's file name: the system reads up to it ("a\u0000b.obj" opened "a").
 pr_cli_special(scene_path_with_nul_refused EXIT 1 ONE_LINE NO_FILE o.png
