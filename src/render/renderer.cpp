@@ -37,9 +37,10 @@ struct GpuOutOfMemory : Error {
     using Error::Error;
 };
 
-// Bins of the histogram of height samples per fragment (bench's p95): the last holds that many
-// or more. (256 before: every p95 above 255 read 255, at --steps 1024 on a flat map too.)
-constexpr int kHistogramBins = 8192;
+// Bins of the histogram of height samples per fragment (bench's p95): sample_bin() in
+// shaders/common/counters.glsl, sample_bin_low() here. (256 before the thirteenth session: every
+// p95 above 255 read 255; 8192 before the thirty-fifth, the last "that many or more".)
+constexpr int kHistogramBins = kExactSampleBins + 18 * 1024;
 constexpr int kCounterWords = 7; // before the histogram, two words a bin (shaders/common/counters.glsl)
 // The largest shell (radius of the sphere around it) the prism draws: its exit tests multiply three
 // world lengths in floats, which overflow (3.4e38): the torus drew right at a radius of 2.2e13, nothing at 6.5e13.
@@ -1554,11 +1555,11 @@ SampleCounters Renderer::read_counters() const
     c.histogram.resize(kHistogramBins);
     for (int i = 0; i < kHistogramBins; ++i)
         c.histogram[std::size_t(i)] = words(raw[std::size_t(kCounterWords + 2 * i)], raw[std::size_t(kCounterWords + 2 * i + 1)]);
-    // The total in 64 bits from the histogram; the last bin's fragments were summed apart (in two
+    // The total in 64 bits from the exact bins; the fragments past them were summed apart (in two
     // words: one wrapped past 4.3 G samples, about 524,000 fragments of 8,191 samples or more;
     // found by an exploratory session, thirty-second).
     c.samples = words(raw[1], raw[5]);
-    for (std::size_t i = 0; i + 1 < c.histogram.size(); ++i) c.samples += std::uint64_t(i) * c.histogram[i];
+    for (std::size_t i = 0; i < std::size_t(kExactSampleBins); ++i) c.samples += std::uint64_t(i) * c.histogram[i];
     return c;
 }
 

@@ -10,6 +10,8 @@
 #include "render/scene.hpp"
 #include "render/technique.hpp"
 
+#include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -23,13 +25,24 @@ namespace pr {
 // Reads an RGBA8 texture's level 0 (bottom row first, as GL stores it).
 RgbaImage read_texture_rgba8(GLuint texture, int width, int height);
 
+// The histogram of height samples per fragment: bin n holds the fragments that took n samples
+// below kExactSampleBins; past it each octave has 1024 bins (shaders/common/counters.glsl,
+// sample_bin), up to 2^31. The fewest samples a fragment in `bin` took.
+inline constexpr int kExactSampleBins = 8192;
+inline std::uint64_t sample_bin_low(std::size_t bin)
+{
+    if (bin < std::size_t(kExactSampleBins)) return bin;
+    const std::size_t octave = (bin - kExactSampleBins) / 1024 + 13, step = (bin - kExactSampleBins) % 1024;
+    return std::uint64_t(1024 + step) << (octave - 10);
+}
+
 // Per-draw GPU counters (instrumented variants only).
 struct SampleCounters {
     std::uint64_t fragments = 0;  // fragments that ran the technique's shader
     std::uint64_t samples = 0;    // height samples taken by marchers (contract definition)
     std::uint64_t prisms = 0;     // prisms the prism walk's view rays crossed (counters.glsl)
     std::uint32_t prisms_most = 0; // the most one fragment's ray crossed
-    std::vector<std::uint64_t> histogram; // fragments by samples taken (last bin: that many or more)
+    std::vector<std::uint64_t> histogram; // fragments by samples taken (bins: sample_bin_low)
 };
 
 class Renderer {
