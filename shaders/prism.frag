@@ -6,6 +6,9 @@
 // discarded: that is what makes the outline true. A hit writes its real depth.
 #include "common/shared.h"
 #define PR_HIT_EPSILON PR_PRISM_HIT_EPSILON
+#if !defined(PR_PRISM_WALK) && defined(PR_SHADOWS)
+#define PR_HEIGHT_FLIP 1 // (the light's march from the slab's bottom, main)
+#endif
 #include "common/height.glsl"
 #include "common/lighting.glsl"
 #include "common/counters.glsl"
@@ -706,6 +709,16 @@ void main()
         vec3 last;
         s = refine_segment(march_segment(tex_in, tex_out, bend, vec3(0.0), true, false, below, last),
                            segment_ray(tex_in, tex_out, bend));
+        // These exits keep the slab (docs/prism.md item 12): a ray that comes in through a bottom
+        // cap (from under an open sheet) is under the surface there and hits at its entry, and
+        // what it shows is the surface's back: shaded as the walk shades a back (the normal
+        // turned; the light's march through the field turned over). It was shaded as the front:
+        // the plane seen from below, lit from above, came out lit where the reference is dark
+        // (4.8 dB, now 47; found by an exploratory session, thirty-fifth). A bottom cap of an
+        // open mesh only: walls entered under the surface are the slab's own, and a closed
+        // mesh's bottoms show only from inside its body, through the cracks and holes these
+        // exits leave (the vertex exit's on creases), where its images stay as they were.
+        below = s >= 0.0 && tex_in.z < 1e-4 && tex_out.z > tex_in.z && (u_march.w & PR_FLAG_OPEN_SHELL) != 0;
     }
 #endif
     if (s < 0.0) {
@@ -739,9 +752,7 @@ void main()
         if (layer_axes(tex.z, surface_du - t_axis, surface_dv - b_axis, layer_du, layer_dv))
             lod_du = layer_du, lod_dv = layer_dv;
     }
-#ifdef PR_PRISM_WALK
-    if (below) shading_n = -shading_n; // the back of the surface, seen through a tear
-#endif
+    if (below) shading_n = -shading_n; // the back of the surface (through a tear; the slab's bottom)
     vec3 light_dir = normalize(u_light_dir.xyz);
     float visibility = 1.0;
 #ifdef PR_SHADOWS
@@ -755,7 +766,7 @@ void main()
         // the twenty-second session the back was never shadowed: the bundled plane seen from
         // below, under a light from below, 17.9 dB against the reference, which shadows it.)
         vec3 from = tex;
-#ifdef PR_PRISM_TEARS
+#if defined(PR_PRISM_TEARS) || !defined(PR_PRISM_WALK)
         bool turned = below && (u_march.w & PR_FLAG_OPEN_SHELL) != 0;
         if (turned) {
             from.z = 1.0 - from.z;
@@ -776,7 +787,7 @@ void main()
         from.z = max(from.z, height_at(from.xy, g));
 #endif
         visibility = light_visibility(from, l_tex, g);
-#ifdef PR_PRISM_TEARS
+#if defined(PR_PRISM_TEARS) || !defined(PR_PRISM_WALK)
         g_height_flip = 0.0;
         if (below && !turned) visibility = 0.0;
 #endif

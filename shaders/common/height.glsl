@@ -20,10 +20,11 @@ int g_height_samples = 0;
 layout(binding = PR_TEX_CONE) uniform sampler2D s_cone;
 #endif
 
-#ifdef PR_PRISM_TEARS
-// 1 while the prism walk marches a ray *under* the surface (through a tear, prism.frag): heights
-// read as 1 - h and the ray's height is flipped too, so "comes out above h" is "meets 1 - h from
-// above" and one marcher serves both.
+// 1 while the prism walk marches a ray *under* the surface (through a tear, prism.frag), or the
+// light's march from the back of an open sheet goes: heights read as 1 - h and the ray's height
+// is flipped too, so "comes out above h" is "meets 1 - h from above" and one marcher serves both.
+// (PR_HEIGHT_FLIP: the prism's exact and vertex exits, for the light's march alone.)
+#if defined(PR_PRISM_TEARS) || defined(PR_HEIGHT_FLIP)
 float g_height_flip = 0.0;
 #endif
 
@@ -35,7 +36,7 @@ float height_at(vec2 uv, UvGrad g)
 #else
     float h = textureGrad(s_height, uv, g.dx, g.dy).r;
 #endif
-#ifdef PR_PRISM_TEARS
+#if defined(PR_PRISM_TEARS) || defined(PR_HEIGHT_FLIP)
     return abs(g_height_flip - h);
 #else
     return h;

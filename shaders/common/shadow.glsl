@@ -153,7 +153,7 @@ float soft_horizon(vec3 l_tex)
 vec3 light_cone_at(vec2 uv)
 {
     vec3 hc = cone_at(uv);
-#ifdef PR_PRISM_TEARS
+#if defined(PR_PRISM_TEARS) || defined(PR_HEIGHT_FLIP)
     if (g_height_flip > 0.0) hc = vec3(1.0 - hc.x, 0.0, 0.0);
 #endif
     return hc;

@@ -363,11 +363,16 @@ void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<Draw
          "prism's walk with max-mip)"},
         {o.normal_quality_flag, reads_normal_quality, "takes no normal from the heights (flat shades with the mesh's)"},
         {o.light_size_flag, reads_light_size,
-         "draws no soft shadows (the light's size shapes --shadows soft only, of every technique but flat)"},
+         "draws no shadows (flat never does)"},
         {o.depth_write_flag, reads_depth_write,
          "writes the same depth without it (only steep, pom, relief, cone and relaxed-cone show points below the "
          "polygon; the prism always writes its depth)"},
     };
+    // (Said as "pom draws no soft shadows" where --shadows soft was not given: pom draws them with
+    // it; found by an exploratory session, thirty-fifth.)
+    if (given(o.light_size_flag) && parse_shadows(o.shadows, "--shadows") != Shadows::Soft)
+        throw Error(o.light_size_flag->get_name(), "has no effect without --shadows soft (it is the soft light's "
+                                                   "size): add --shadows soft, or leave it out");
     for (const auto& u : unread)
         if (given(u.flag) && !any(u.reads))
             throw Error(u.flag->get_name(), "has no effect: " + drawn + " " + u.not_done + ": leave it out");

@@ -49,6 +49,9 @@ CommandAction add_view_command(CLI::App& app)
     add_technique_options(*cmd, s->technique, true);
     s->technique_flag = cmd->get_option("--technique");
     s->backend_flag = cmd->get_option("--backend");
+    // Refused (the window's context draws), so not listed with a default as if it worked (found by
+    // a docs audit, thirty-fifth session); the footer says so.
+    cmd->get_option("--backend")->group("");
     s->split_flag = cmd->add_option("--split", s->split,
                                     "Split-screen compare: A,B (left, right), e.g. pom,prism or pom,prism:cone")
                         ->group("View");

@@ -877,7 +877,8 @@ void Renderer::upload_object(const GpuObject& o, const DrawSettings& settings, f
     ob.u_normal_matrix = glm::mat4(normal_matrix(o.local));
     ob.u_displace = glm::vec4(o.depth, midlevel, o.height_size.x, o.height_size.y);
     ob.u_march = glm::ivec4(settings.steps, settings.refine, eye ? int(eye->prism) : -1,
-                            (o.color_texture ? PR_FLAG_COLOR_TEXTURE : 0) | (o.open_shell ? PR_FLAG_OPEN_SHELL : 0));
+                            (o.color_texture ? PR_FLAG_COLOR_TEXTURE : 0) |
+                                (o.open_shell || (o.closed && !*o.closed) ? PR_FLAG_OPEN_SHELL : 0));
     ob.u_eye_tex = eye ? glm::vec4(eye->tex, 0.0f) : glm::vec4(0.0f);
     ob.u_walk = glm::ivec4(o.walk_max_prisms, 0, 0, 0);
     ob.u_material = glm::vec4(0.12f, 0.88f, 0.18f, 48.0f);
@@ -1210,6 +1211,10 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     ensure_aux_textures(aux_map);
     check_drawable(settings);
     if (settings.technique == Technique::Prism) ensure_prism_data(walk);
+    // The exact and vertex exits shade an open sheet's bottoms as its back (prism.frag): whether
+    // each mesh is open, learnt without the walk's data (the flag was set by a walk's draw only).
+    if (settings.technique == Technique::Prism && !walk)
+        for (GpuObject& o : objects_) closed_shell(o);
     // A base-surface technique writing its depth draws a closed mesh's front faces only where the
     // eye is outside its body and shell: the depth a grazing front fragment writes may lie behind
     // the object's own far faces, which then showed through (a cube at --depth 0.15: 478 of 3,521

@@ -252,9 +252,10 @@ pr_cli(depth_write_with_offset EXIT 1 ONE_LINE NO_FILE b.json STDERR "${E}--dept
 # --light-size (the soft light's angular diameter, degrees) where no soft shadow is drawn; out of
 # its range; and taken by one technique of a list with soft shadows.
 pr_cli(light_size_with_hard_shadows EXIT 1 ONE_LINE NO_FILE o.png
-       STDERR "${E}--light-size: has no effect: --technique pom draws no soft shadows \\(the light's size shapes --shadows soft only, of every technique but flat\\): leave it out"
+       STDERR "${E}--light-size: has no effect without --shadows soft \\(it is the soft light's size\\): add --shadows soft, or leave it out"
        ARGS render ${TQ} --technique pom --shadows hard --light-size 4 --out o.png)
-pr_cli(light_size_without_shadows EXIT 1 ONE_LINE NO_FILE b.json STDERR "${E}--light-size: has no effect: --techniques pom,prism draws no soft shadows"
+# (It said "pom,prism draws no soft shadows", which they do with --shadows soft.)
+pr_cli(light_size_without_shadows EXIT 1 ONE_LINE NO_FILE b.json STDERR "${E}--light-size: has no effect without --shadows soft"
        ARGS bench ${TQ} --techniques pom,prism --light-size 4 --frames 1 --warmup 0 --json b.json)
 foreach(bad 0 -1 30.5 nan inf)
     pr_cli(light_size_${bad} EXIT 1 ONE_LINE NO_FILE o.png
