@@ -772,6 +772,12 @@ void main()
             from.z = 1.0 - from.z;
             l_tex = turned_light(l_tex);
             g_height_flip = 1.0;
+#ifndef PR_PRISM_WALK
+            // The slab's hit is its bottom cap (1 turned over: over every height): the march
+            // starts on the surface's back at that uv, or nothing ever shaded it (found by a
+            // review, thirty-fifth session).
+            from.z = height_at(from.xy, g);
+#endif
         }
 #endif
 #if PR_MARCHER == PR_MARCH_LINEAR || PR_MARCHER == PR_MARCH_RELIEF

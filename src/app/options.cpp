@@ -370,7 +370,7 @@ void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<Draw
     };
     // (Said as "pom draws no soft shadows" where --shadows soft was not given: pom draws them with
     // it; found by an exploratory session, thirty-fifth.)
-    if (given(o.light_size_flag) && parse_shadows(o.shadows, "--shadows") != Shadows::Soft)
+    if (given(o.light_size_flag) && parse_shadows(o.shadows, "--shadows") != Shadows::Soft && any(reads_shadows))
         throw Error(o.light_size_flag->get_name(), "has no effect without --shadows soft (it is the soft light's "
                                                    "size): add --shadows soft, or leave it out");
     for (const auto& u : unread)

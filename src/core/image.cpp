@@ -567,7 +567,7 @@ RgbaImage load_rgba_file(const std::string& path, const ImageLimits& limits)
     if (!data) fail_decode(path);
     check_decoded(path, w, h, limits);
     // stb encodes a Radiance HDR file's floats as an 8-bit image's (gamma 2.2, as the colour map
-    // of a PNG is read), and what lies past 1 comes out white: said, not silent (an observation
+    // of a PNG is read), and a channel past 1 is clipped to 255: said, not silent (an observation
     // of the thirty-fourth session).
     if (stbi_is_hdr_from_memory(c.data, c.len)) {
         int fw = 0, fh = 0, fn = 0;
@@ -578,8 +578,8 @@ RgbaImage load_rgba_file(const std::string& path, const ImageLimits& limits)
                 if (k % fn < 3 && !(f.get()[k] <= 1.0f)) ++over; // (NaN too)
         if (over > 0)
             warn(path + ": " + std::to_string(over) + " HDR colour value" + (over == 1 ? " is" : "s are") +
-                 " past 1 (or not a number): the colour map reads " + (over == 1 ? "it" : "them") +
-                 " as white (an 8-bit colour, gamma 2.2)");
+                 " past 1 (or not a number): the colour map clips " + (over == 1 ? "it" : "them") +
+                 " to full intensity (an 8-bit colour, gamma 2.2)");
     }
     warn_transparent_gif(path, bytes, data.get(), w, h, "black");
     apply_orientation(data, w, h, 4, jpeg_exif_orientation(bytes));

@@ -577,6 +577,7 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
         stats.level = std::max(stats.level, lv.level);
         stats.levels.push_back(lv.level);
         stats.capped = stats.capped || lv.capped;
+        stats.capped_objects.push_back(lv.capped ? 1 : 0);
         const std::size_t per_base = std::size_t(lv.level) * std::size_t(lv.level);
         const std::size_t batch = std::max<std::size_t>(1, kChunkTriangles / per_base);
         const std::size_t count = so.mesh.triangle_count();

@@ -139,6 +139,7 @@ public:
         std::size_t bytes = 0;       // GPU bytes of vertex and index data
         double build_ms = 0.0;
         bool capped = false;         // an automatic level was lowered to fit max_triangles
+        std::vector<char> capped_objects; // which objects' were (each object's, in order)
     };
     ReferenceStats prepare_reference(const Scene& scene, const Camera& camera, const ReferenceOptions& options);
 

@@ -1,5 +1,6 @@
 #include "render/scene.hpp"
 
+#include "core/builtin_maps.hpp"
 #include "core/error.hpp"
 #include "core/transform.hpp"
 
@@ -8,6 +9,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <utility>
 
@@ -44,13 +46,29 @@ Sphere sphere_around(const Box& box)
     return {centre, std::max({0.5 * glm::length(box.hi - box.lo), 1e-15 * largest, 1e-30})};
 }
 
+namespace {
+
+// A file's identity for reading it once: its path with links and "..", "." resolved as the
+// kernel resolves them (a scene's "../m.obj" and "./../m.obj" are one file; its paths are kept as
+// written since the thirty-fifth session, and each spelling was read, warned of and uploaded
+// again; found by a review). A built-in map, or a path that cannot be resolved, is its text.
+std::string file_identity(const std::string& name)
+{
+    if (name.empty() || builtin::is_builtin(name)) return name;
+    std::error_code ec;
+    std::filesystem::path p = std::filesystem::weakly_canonical(name, ec);
+    return ec ? name : p.string();
+}
+
+} // namespace
+
 Scene load_scene(const SceneSpec& spec)
 {
     if (spec.objects.empty()) throw Error("--mesh", "no mesh given");
     Scene scene;
-    std::map<std::string, PreparedMesh> meshes;  // read, and named again by a later object
+    std::map<std::string, PreparedMesh> meshes;  // read, and named again by a later object (file_identity)
     std::map<std::string, std::size_t> uses;     // objects still to come that name each file
-    for (const ObjectSpec& o : spec.objects) ++uses[o.mesh];
+    for (const ObjectSpec& o : spec.objects) ++uses[file_identity(o.mesh)];
     std::map<std::string, std::shared_ptr<const HeightField>> heights;
     std::map<std::string, std::shared_ptr<const RgbaImage>> colors;
     Box all;
@@ -69,22 +87,23 @@ Scene load_scene(const SceneSpec& spec)
         // Each file read and prepared once (a scene of 60 objects of one 1M-triangle mesh read it
         // 60 times: over two minutes; found by an exploratory session); each object its copy,
         // the last one naming it the mesh itself (one object: no copy at all).
-        auto found = meshes.find(o.mesh);
+        const std::string mesh_file = file_identity(o.mesh);
+        auto found = meshes.find(mesh_file);
         if (found == meshes.end())
-            found = meshes.emplace(o.mesh, placed(o.mesh_place, [&] { return load_mesh(o.mesh, spec.mesh_options); })).first;
-        if (--uses[o.mesh] == 0) {
+            found = meshes.emplace(mesh_file, placed(o.mesh_place, [&] { return load_mesh(o.mesh, spec.mesh_options); })).first;
+        if (--uses[mesh_file] == 0) {
             obj.mesh = std::move(found->second);
             meshes.erase(found);
         } else {
             obj.mesh = found->second;
         }
-        auto& h = heights[o.height];
+        auto& h = heights[file_identity(o.height)];
         if (!h)
             h = placed(o.height_place,
                        [&] { return std::make_shared<HeightField>(load_height(o.height, spec.image_limits)); });
         obj.height = h;
         if (!o.color.empty()) {
-            auto& c = colors[o.color];
+            auto& c = colors[file_identity(o.color)];
             if (!c)
                 c = placed(o.color_place,
                            [&] { return std::make_shared<RgbaImage>(load_color(o.color, spec.image_limits)); });

@@ -281,7 +281,7 @@ private:
 void Viewer::error(const std::string& message)
 {
     warn(message);
-    note(message);
+    note(one_line(message)); // (as the warning's observer hands it on: log_warnings skips it)
 }
 
 void Viewer::note(const std::string& message)

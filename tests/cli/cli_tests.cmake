@@ -353,9 +353,12 @@ pr_cli(render_prism EXIT 0 EXPECT_FILE p.png STDOUT "p.png: 96x64 prism"
 pr_cli(render_reference EXIT 0 EXPECT_FILE r.png STDOUT "reference: level 3, 20736 triangles.*r.png: 64x64 reference"
        ARGS render --mesh ${M}/torus.obj --technique reference --reference-level 3 --size 64x64 --out r.png)
 # Objects at their own levels: each is said (one number gave the first object's alone).
-pr_cli(render_reference_levels_per_object EXIT 0 STDOUT "reference: levels [0-9]+, [0-9]+, [0-9]+ triangles"
+pr_cli(render_reference_levels_per_object EXIT 0 STDOUT "reference: levels [0-9]+ and [0-9]+, [0-9]+ triangles"
        JSON r.json CHECKS "reference.levels.0:GREATER:1|reference.levels.1:GREATER:1|reference.levels.2:ABSENT|reference.level:GREATER:1"
        ARGS render --scene ${M}/scenes/plane_and_torus.json --technique reference --size 64x64 --out r.png --json r.json)
+# Which object's level the cap lowered (the plane's only, at 40000 triangles; it named both).
+pr_cli(render_reference_capped_per_object EXIT 0 STDOUT "reference: levels [0-9]+ and [0-9]+, .*\\(object 0 at level [0-9]+ capped by --reference-max-triangles\\)"
+       ARGS render --scene ${M}/scenes/plane_and_torus.json --technique reference --reference-max-triangles 40000 --size 64x64 --out r.png)
 pr_cli(reference_capped EXIT 0 STDOUT "reference: level 2, .*capped by --reference-max-triangles"
        ARGS render --mesh ${M}/torus.obj --technique reference --reference-max-triangles 10000 --size 64x64 --out r.png)
 pr_cli(reference_level_bad EXIT 1 ONE_LINE STDERR "${E}--reference-level: must be between 0" NO_FILE r.png

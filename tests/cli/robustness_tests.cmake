@@ -569,9 +569,9 @@ pr_cli(pnm_bitmap_is_named EXIT 1 ONE_LINE NO_FILE o.png SETUP "printf 'P4\\n8 1
 pr_cli(gif_transparent_colour_pixels_are_said EXIT 0 ONE_LINE EXPECT_FILE o.png SETUP "printf '\\107\\111\\106\\070\\071\\141\\002\\000\\002\\000\\200\\000\\000\\310\\310\\310\\377\\377\\377\\041\\371\\004\\001\\000\\000\\000\\000\\054\\000\\000\\000\\000\\002\\000\\002\\000\\000\\002\\003\\204\\035\\005\\000\\073' > t.gif"
        STDERR "^prismrelief: warning: t.gif: 4 transparent GIF pixels read as black \\(their palette colour is not kept"
        ARGS render --mesh ${M}/cube.obj --technique flat --color t.gif --size 16x16 --out o.png)
-# An HDR colour map's values past 1 come out white: said (2x1: 4.0 grey and 0.5 grey).
+# An HDR colour map's values past 1 are clipped to full intensity: said (2x1: 4.0 grey and 0.5 grey).
 pr_cli(hdr_colour_past_one_is_said EXIT 0 ONE_LINE EXPECT_FILE o.png SETUP "printf '#?RADIANCE\\nFORMAT=32-bit_rle_rgbe\\n\\n-Y 1 +X 2\\n\\200\\200\\200\\203\\200\\200\\200\\200' > c.hdr"
-       STDERR "^prismrelief: warning: c.hdr: 3 HDR colour values are past 1 \\(or not a number\\): the colour map reads them as white"
+       STDERR "^prismrelief: warning: c.hdr: 3 HDR colour values are past 1 \\(or not a number\\): the colour map clips them to full intensity"
        ARGS render --mesh ${M}/cube.obj --technique flat --color c.hdr --size 16x16 --out o.png)
 # A scene's relative paths go from its folder as the kernel goes: through a link to a folder
 # elsewhere, "../" leads up from where the link points (it was taken off the link's name, and the
@@ -590,3 +590,9 @@ pr_cli_special(prism_names_the_tiny_object EXIT 1 ONE_LINE NO_FILE o.png
                SETUP "printf '{\"objects\":[{\"mesh\":\"${M}/cube.obj\"},{\"mesh\":\"${M}/torus.obj\",\"transform\":{\"scale\":1e-10}}]}' > t.json"
                STDERR "${E}--technique: prism: object 1's displacement shell is 4.38e-10 scene units across, less than .*: scale that object up"
                ARGS render --scene t.json --technique prism --size 16x16 --out o.png)
+# One file named two ways in a scene is read once (its warning said once): paths are kept as
+# written, and the loads were keyed by their text.
+pr_cli_special(scene_one_file_two_spellings_read_once EXIT 0 ONE_LINE EXPECT_FILE o.png
+               SETUP "mkdir -p s && printf 'v 0 0 0\\nv 1 0 0\\nv 0 1 0\\nf 1 2 3\\n' > t.obj && printf '{\"objects\":[{\"mesh\":\"../t.obj\"},{\"mesh\":\"./../t.obj\",\"transform\":{\"translate\":[2,0,0]}}]}' > s/s.json"
+               STDERR "^prismrelief: warning: s/../t.obj: no texture coordinates"
+               ARGS render --scene s/s.json --size 16x16 --out o.png)
