@@ -52,6 +52,9 @@ CommandAction add_view_command(CLI::App& app)
     // Refused (the window's context draws), so not listed with a default as if it worked (found by
     // a docs audit, thirty-fifth session); the footer says so.
     cmd->get_option("--backend")->group("");
+    cmd->get_option("--cone-backend")
+        ->description("Where cone maps missing from the cache are built: cpu (threads) or gpu (compute shader in "
+                      "the window's context)");
     s->split_flag = cmd->add_option("--split", s->split,
                                     "Split-screen compare: A,B (left, right), e.g. pom,prism or pom,prism:cone")
                         ->group("View");
