@@ -187,10 +187,8 @@ struct Expect {
     // Those positions are the file's 32-bit floats, or narrower (binary PLY of floats): exact,
     // but no finer than OpenMesh's (RawMesh::float_positions).
     bool positions_from_floats = false;
-    // ASCII STL: the names after "solid" and "endsolid" (offset, length), blanked in the bytes
-    // OpenMesh parses: its reader takes any line containing "outer" for a facet's start, so
-    // `solid Router_bracket` read the next lines as vertices.
-    std::vector<std::pair<size_t, size_t>> stl_names;
+    // ASCII STL as OpenMesh parses it: its facets one keyword a line, without names (scan_stl).
+    string stl_text;
     // OFF whose counts line has no edge count ("4 2"): where to add " 0" in the bytes OpenMesh
     // parses, which otherwise takes the first vertex's x for it and shifts every later value.
     size_t off_counts_end = string_view::npos;
@@ -1169,75 +1167,99 @@ Expect scan_stl(const string& subject, string_view text, const MeshOptions& opti
         }
         fail(subject, problem);
     }
-    // The reader treats any line containing "outer" as the start of a triangle and takes the
-    // next three lines as its vertices: check exactly that, in the bytes it is given, where the
-    // solids' names are blanked (Expect::stl_names).
+    // Read word by word, as the format is (white space of any kind between words, keywords in
+    // either case), and handed to OpenMesh rewritten one keyword a line (Expect::stl_text): its
+    // reader takes any line holding "outer" for a facet's start and the next three lines for its
+    // vertices, so a blank line among them, a facet on one line or "Outer Loop" refused valid
+    // files (found by an exploratory session, thirty-fifth), and `solid Router_bracket` read the
+    // lines after the name as vertices. Names (the rest of a "solid" or "endsolid" line) are left
+    // out; words outside facets but "vertex" are skipped, as the reader skips them.
     const auto keyword = [](string_view token, string_view lower) {
         if (token.size() != lower.size()) return false;
         for (size_t i = 0; i < token.size(); ++i)
             if (std::tolower(static_cast<unsigned char>(token[i])) != lower[i]) return false;
         return true;
     };
-    LineReader lines(text);
-    string_view line;
-    string_view tok[5];
-    // After a facet's third vertex: "endloop", then "endfacet", words read across lines (a file
-    // cut inside a facet after its third vertex was read without a word, the facet and the rest
-    // of the file gone; found by an exploratory session, thirty-third). A facet without
-    // "endloop" but with its "endfacet" is taken, as OpenMesh's reader takes it.
-    const auto close_facet = [&] {
-        string_view rest; // what is left of the current line
-        const auto next_word = [&](string_view want) {
-            for (;;) {
-                string_view word[1];
-                if (tokenize(rest, word, 1) > 0) { // (the count of all the words)
-                    rest.remove_prefix(size_t(word[0].data() + word[0].size() - rest.data()));
-                    return word[0];
-                }
-                if (!lines.next(rest)) fail(subject, "file ends inside a facet (no '" + string(want) + "')");
-            }
-        };
-        string_view word = next_word("endloop");
-        if (keyword(word, "endloop")) word = next_word("endfacet");
-        if (keyword(word, "endfacet")) return;
-        if (keyword(word, "vertex"))
-            fail(subject, line_prefix(lines.line()) +
-                              "a vertex beyond the three after 'outer loop' (STL facets are triangles)");
-        const auto cut_from = [&](string_view full) {
-            return word.size() < full.size() && keyword(word, full.substr(0, word.size()));
-        };
-        fail(subject, line_prefix(lines.line()) + "expected 'endfacet', found " + shown(word) +
-                          (cut_from("endloop") || cut_from("endfacet") ? " (the file is cut short?)" : ""));
+    size_t at = 0, line = 1;
+    // The next word and the line it is on; false at the file's end.
+    const auto next_word = [&](string_view& word, size_t& word_line) {
+        while (at < text.size() && is_space(text[at])) line += text[at++] == '\n';
+        if (at >= text.size()) return false;
+        const size_t from = at;
+        while (at < text.size() && !is_space(text[at])) ++at;
+        word = text.substr(from, at - from);
+        word_line = line;
+        return true;
     };
+    const auto skip_line = [&] {
+        while (at < text.size() && text[at] != '\n') ++at;
+    };
+    string out = "solid\n";
+    out.reserve(text.size());
     bool solid_ended = false; // "endsolid" after the last facet
-    while (lines.next(line)) {
-        const size_t n = tokenize(line, tok, 5);
-        if (n >= 1 && keyword(tok[0], "endsolid")) solid_ended = true;
-        if (n >= 2 && (keyword(tok[0], "solid") || keyword(tok[0], "endsolid"))) {
-            const size_t from = size_t(tok[1].data() - text.data());
-            e.stl_names.emplace_back(from, size_t(line.data() + line.size() - text.data()) - from);
+    string_view word;
+    size_t word_line = 0;
+    string normal = "0 0 0"; // the last facet's "normal" words, passed on as they were
+    while (next_word(word, word_line)) {
+        if (keyword(word, "solid") || keyword(word, "endsolid")) {
+            solid_ended = keyword(word, "endsolid");
+            skip_line(); // (its name)
             continue;
         }
-        // A fourth vertex (or more) in a facet, or one outside a facet: the reader took the three
-        // after "outer" and dropped the rest.
-        if (n >= 1 && keyword(tok[0], "vertex"))
-            fail(subject, line_prefix(lines.line()) +
-                              "a vertex beyond the three after 'outer loop' (STL facets are triangles)");
-        if (line.find("outer") == string_view::npos && line.find("OUTER") == string_view::npos)
+        if (keyword(word, "normal")) { // (three finite numbers, or none taken: 0 0 0)
+            string_view n[3];
+            size_t l = 0;
+            const size_t mark = at, mark_line = line;
+            bool three = true;
+            for (string_view& w : n) three = three && next_word(w, l) && parse_finite_float(w);
+            if (three) normal = string(n[0]) + " " + string(n[1]) + " " + string(n[2]);
+            else at = mark, line = mark_line;
             continue;
+        }
+        // A fourth vertex (or more) in a facet, or one outside a facet.
+        if (keyword(word, "vertex"))
+            fail(subject, line_prefix(word_line) + "a vertex beyond the three after 'outer loop' (STL facets are triangles)");
+        if (!keyword(word, "outer")) continue;
+        const size_t outer_line = word_line;
+        if (!next_word(word, word_line)) fail(subject, "file ends inside a facet");
+        if (!keyword(word, "loop"))
+            fail(subject, line_prefix(word_line) + "expected 'loop' after 'outer' (line " + std::to_string(outer_line) +
+                              "), found " + shown(word));
+        out += "facet normal " + normal + "\nouter loop\n";
+        normal = "0 0 0";
         for (int k = 0; k < 3; ++k) {
-            if (!lines.next(line)) fail(subject, "file ends inside a facet");
-            const size_t n = tokenize(line, tok, 5);
-            if (n < 4 || (tok[0] != "vertex" && tok[0] != "VERTEX") ||
-                !parse_finite_float(tok[1]) || !parse_finite_float(tok[2]) ||
-                !parse_finite_float(tok[3]))
-                fail(subject,
-                     line_prefix(lines.line()) + "expected 'vertex x y z' with finite numbers");
+            string_view v[4];
+            size_t l = 0;
+            if (!next_word(v[0], l)) fail(subject, "file ends inside a facet");
+            const size_t vertex_line = l;
+            if (!keyword(v[0], "vertex")) fail(subject, line_prefix(vertex_line) + "expected 'vertex x y z' with finite numbers");
+            for (int c = 1; c < 4; ++c)
+                if (!next_word(v[c], l) || !parse_finite_float(v[c]))
+                    fail(subject, line_prefix(vertex_line) + "expected 'vertex x y z' with finite numbers");
+            out += "vertex " + string(v[1]) + " " + string(v[2]) + " " + string(v[3]) + "\n";
         }
-        close_facet();
+        // After the third vertex: "endloop", then "endfacet" (a file cut inside a facet after its
+        // third vertex was read without a word, the facet and the rest of the file gone; found by
+        // an exploratory session, thirty-third). A facet without "endloop" but with its
+        // "endfacet" is taken, as OpenMesh's reader takes it.
+        if (!next_word(word, word_line)) fail(subject, "file ends inside a facet (no 'endloop')");
+        if (keyword(word, "endloop") && !next_word(word, word_line))
+            fail(subject, "file ends inside a facet (no 'endfacet')");
+        if (!keyword(word, "endfacet")) {
+            if (keyword(word, "vertex"))
+                fail(subject, line_prefix(word_line) + "a vertex beyond the three after 'outer loop' (STL facets are triangles)");
+            const auto cut_from = [&](string_view full) {
+                return word.size() < full.size() && keyword(word, full.substr(0, word.size()));
+            };
+            fail(subject, line_prefix(word_line) + "expected 'endfacet', found " + shown(word) +
+                              (cut_from("endloop") || cut_from("endfacet") ? " (the file is cut short?)" : ""));
+        }
+        out += "endloop\nendfacet\n";
         ++e.file_faces;
         solid_ended = false;
     }
+    out += "endsolid\n";
+    e.stl_text = std::move(out);
     // A file cut between two facets reads without a fault but the facets after the cut: the
     // last solid's "endsolid" is the one sign of its end.
     if (e.file_faces > 0 && !solid_ended)
@@ -1717,7 +1739,7 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
     if (expect.file_faces == 0) fail(subject, "contains no faces");
 
     if (ext == ".obj") drop_obj_material_libraries(text); // after the scan: its line numbers
-    for (const auto& [at, length] : expect.stl_names) text.replace(at, length, length, ' ');
+    if (!expect.stl_text.empty()) text = std::move(expect.stl_text);
     if (expect.off_counts_end != string_view::npos) text.insert(expect.off_counts_end, " 0");
     if (!expect.off_binary_body.empty()) {
         text.replace(expect.off_binary_at, string::npos, expect.off_binary_body);

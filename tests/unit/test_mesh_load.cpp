@@ -2180,3 +2180,30 @@ TEST(MeshErrors, TextureCoordinatesPastSinglePrecisionAreRefused)
     EXPECT_NE(e.problem().find("generated texture coordinates reach"), std::string::npos) << e.problem();
     EXPECT_NE(e.problem().find("use a smaller --uv-scale"), std::string::npos) << e.problem();
 }
+
+// ASCII STL is words separated by any white space, keywords in either case: a blank line among a
+// facet's vertices, a facet on one line and "Outer Loop" were refused (OpenMesh's reader goes by
+// lines; the file is handed to it one keyword a line). The same octahedron in each shape.
+TEST(MeshLoad, AsciiStlIsReadWordByWord)
+{
+    TempDir dir;
+    const std::string lines = octa_stl_ascii();
+    std::string blank, one_line, mixed_case;
+    for (char c : lines) {
+        blank += c;
+        if (c == '\n') blank += "\n \r\n"; // a blank line after each line
+        one_line += c == '\n' ? ' ' : c;
+    }
+    for (std::size_t i = 0; i < lines.size(); ++i) // "Outer Loop", "Vertex", "EndFacet", …
+        mixed_case += (i == 0 || lines[i - 1] == ' ' || lines[i - 1] == '\n') ? char(std::toupper(lines[i])) : lines[i];
+    const pr::PreparedMesh base = pr::load_mesh(dir.write("lines.stl", lines));
+    for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
+             {"blank.stl", blank}, {"one_line.stl", "solid octa\n" + one_line.substr(11)}, {"mixed.stl", mixed_case}}) {
+        SCOPED_TRACE(name);
+        const pr::PreparedMesh m = pr::load_mesh(dir.write(name, text));
+        expect_sane(m);
+        EXPECT_EQ(m.triangle_count(), base.triangle_count());
+        EXPECT_EQ(m.bbox_min, base.bbox_min);
+        EXPECT_EQ(m.bbox_max, base.bbox_max);
+    }
+}
