@@ -1364,6 +1364,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         largest_uv = m;
         largest_generated = !face_uses_file_uv(tris[i / 3].face);
     }
+    out.largest_uv = largest_uv;
     if (largest_uv > kLargestUv)
         throw Error(name, std::string(largest_generated ? "generated " : "") + "texture coordinates reach " +
                               format_number(largest_uv) +

@@ -60,6 +60,25 @@ std::string file_identity(const std::string& name)
     return ec ? name : p.string();
 }
 
+// Texture coordinates far from 0 for their maps: a float there steps by more than a texel of
+// the height or colour map, and the surface comes out as noise (u offset by 1e5 on a 512² map:
+// 17 dB against the same mesh at 0; found by an exploratory session, thirty-fifth). Up to 2^20
+// they are taken (past it refused, mesh_prepare); said, with what to do.
+void warn_if_uv_too_coarse(const SceneObject& obj, const std::string& mesh)
+{
+    int texels = obj.height ? std::max(obj.height->width, obj.height->height) : 1;
+    if (obj.color) texels = std::max({texels, obj.color->width, obj.color->height});
+    const float largest = obj.mesh.largest_uv;
+    if (!(largest > 0.0f)) return;
+    const double step = double(std::nextafter(largest, INFINITY)) - double(largest); // a float's step there
+    if (step <= 1.0 / double(texels)) return;
+    char text[160];
+    std::snprintf(text, sizeof text, "texture coordinates reach %.6g, where single precision steps by %.3g of a "
+                                     "repeat, more than a texel of its %d-texel maps",
+                  double(largest), step, texels);
+    warn(mesh + ": " + text + ": the surface comes out as noise (they repeat: take whole numbers off them in the file)");
+}
+
 } // namespace
 
 Scene load_scene(const SceneSpec& spec)
@@ -110,6 +129,7 @@ Scene load_scene(const SceneSpec& spec)
             obj.color = c;
         }
         const std::string& mesh_place = o.mesh_place.empty() ? o.mesh : o.mesh_place;
+        warn_if_uv_too_coarse(obj, o.mesh);
         // (A mesh far from its file's origin is kept relative to PreparedMesh::origin.) Positions
         // past kMaxCoordinate are refused as a scene's translations are.
         obj.transform = o.transform * glm::translate(glm::dmat4(1.0), obj.mesh.origin);

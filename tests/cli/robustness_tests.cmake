@@ -596,3 +596,9 @@ pr_cli_special(scene_one_file_two_spellings_read_once EXIT 0 ONE_LINE EXPECT_FIL
                SETUP "mkdir -p s && printf 'v 0 0 0\\nv 1 0 0\\nv 0 1 0\\nf 1 2 3\\n' > t.obj && printf '{\"objects\":[{\"mesh\":\"../t.obj\"},{\"mesh\":\"./../t.obj\",\"transform\":{\"translate\":[2,0,0]}}]}' > s/s.json"
                STDERR "^prismrelief: warning: s/../t.obj: no texture coordinates"
                ARGS render --scene s/s.json --size 16x16 --out o.png)
+# Texture coordinates far from 0 for their maps (a float there steps by more than a texel): the
+# surface comes out as noise (u + 1e5 on a 512-texel map: 17 dB against u); said.
+pr_cli_special(uv_far_from_zero_is_said EXIT 0 ONE_LINE EXPECT_FILE o.png
+               SETUP "printf 'v 0 0 0\\nv 1 0 0\\nv 0 1 0\\nvt 100000 0\\nvt 100001 0\\nvt 100000 1\\nf 1/1 2/2 3/3\\n' > u.obj"
+               STDERR "^prismrelief: warning: u.obj: texture coordinates reach 100001, where single precision steps by 0.00781 of a repeat, more than a texel of its 512-texel maps"
+               ARGS render --mesh u.obj --size 16x16 --out o.png)
