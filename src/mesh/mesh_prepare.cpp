@@ -1061,7 +1061,9 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
                  " closed pieces wound inward, and inside no other piece, turned outward");
         if (pieces_left > 0)
             warn(name + ": " + std::to_string(pieces_left) + " piece" + (pieces_left == 1 ? "" : "s") +
-                 " cannot be wound one way (a Moebius strip?): kept as in the file");
+                 " cannot be wound one way (a Moebius strip?): kept as in the file; where its faces meet "
+                 "against each other the welded normals cancel and the prism's shell folds, which may "
+                 "lose surface there");
         if (nesting_unknown)
             warn(name + ": too many closed pieces to tell every cavity among them in time; those not "
                         "told were wound outward");
