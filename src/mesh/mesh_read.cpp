@@ -187,8 +187,8 @@ struct Expect {
     // Those positions are the file's 32-bit floats, or narrower (binary PLY of floats): exact,
     // but no finer than OpenMesh's (RawMesh::float_positions).
     bool positions_from_floats = false;
-    // ASCII STL as OpenMesh parses it: its facets one keyword a line, without names (scan_stl).
-    string stl_text;
+    // ASCII STL, checked word by word (scan_stl) and rewritten for OpenMesh (rewrite_ascii_stl).
+    bool stl_ascii = false;
     // OFF whose counts line has no edge count ("4 2"): where to add " 0" in the bytes OpenMesh
     // parses, which otherwise takes the first vertex's x for it and shifts every later value.
     size_t off_counts_end = string_view::npos;
@@ -1127,6 +1127,98 @@ bool starts_solid(string_view text)
     return true;
 }
 
+// An STL keyword, in either case.
+bool stl_keyword(string_view token, string_view lower)
+{
+    if (token.size() != lower.size()) return false;
+    for (size_t i = 0; i < token.size(); ++i)
+        if (std::tolower(static_cast<unsigned char>(token[i])) != lower[i]) return false;
+    return true;
+}
+
+// ASCII STL's words, with the line each is on (a line ends at LF, CR LF or a CR alone).
+class StlWords {
+public:
+    explicit StlWords(string_view text) : text_(text) {}
+    // The next word; false at the file's end.
+    bool next(string_view& word, size_t& line)
+    {
+        while (at_ < text_.size() && is_space(text_[at_])) {
+            const char c = text_[at_++];
+            line_ += c == '\n' || (c == '\r' && (at_ >= text_.size() || text_[at_] != '\n'));
+        }
+        if (at_ >= text_.size()) return false;
+        from_ = at_;
+        while (at_ < text_.size() && !is_space(text_[at_])) ++at_;
+        word = text_.substr(from_, at_ - from_);
+        line = line_;
+        return true;
+    }
+    // The next word that is not a number (a vertex's line may hold more than three).
+    bool next_after_numbers(string_view& word, size_t& line)
+    {
+        while (next(word, line))
+            if (!parse_finite_float(word)) return true;
+        return false;
+    }
+    void skip_line()
+    {
+        while (at_ < text_.size() && text_[at_] != '\n' && text_[at_] != '\r') ++at_;
+    }
+    size_t word_start() const { return from_; } // the last word's
+    size_t read() const { return at_; }         // where reading is
+
+private:
+    string_view text_;
+    size_t at_ = 0, from_ = 0, line_ = 1;
+};
+
+// ASCII STL as OpenMesh's reader takes it, in place: "solid", then each facet as "outer" and its
+// three "vertex x y z" lines (the reader wants no more: it ignores every line without "outer").
+// The facets have been checked (scan_stl). Each facet's lines are shorter than the words they come
+// from ("outer loop", "vertex", three numbers each, "endfacet": 49 bytes and the numbers at the
+// least, against 36 and the numbers), so the text written stays behind the text read.
+void rewrite_ascii_stl(string& text)
+{
+    StlWords words(text);
+    size_t w = 0;
+    const auto put = [&](string_view piece) {
+        std::memmove(text.data() + w, piece.data(), piece.size());
+        w += piece.size();
+    };
+    string facet; // one facet's lines, put once it is read whole
+    string_view word;
+    size_t line = 0;
+    bool first = true;
+    while (words.next(word, line)) {
+        if (stl_keyword(word, "solid") || stl_keyword(word, "endsolid")) {
+            words.skip_line();
+            if (first) put("solid\n"); // (the file's first word: six bytes at most past its start)
+            first = false;
+            continue;
+        }
+        first = false;
+        if (!stl_keyword(word, "outer")) continue;
+        words.next(word, line); // loop
+        facet = "outer\n";
+        for (int k = 0; k < 3; ++k) {
+            if (k == 0) words.next(word, line); // vertex
+            else words.next_after_numbers(word, line); // (past more numbers on the last vertex's line)
+            facet += "vertex";
+            for (int c = 0; c < 3; ++c) {
+                words.next(word, line);
+                facet += ' ';
+                facet += word;
+            }
+            facet += '\n';
+        }
+        words.next_after_numbers(word, line);            // endloop or endfacet
+        if (stl_keyword(word, "endloop")) words.next(word, line); // endfacet
+        put(facet);
+    }
+    text.resize(w);
+}
+
 Expect scan_stl(const string& subject, string_view text, const MeshOptions& options)
 {
     Expect e;
@@ -1168,98 +1260,62 @@ Expect scan_stl(const string& subject, string_view text, const MeshOptions& opti
         fail(subject, problem);
     }
     // Read word by word, as the format is (white space of any kind between words, keywords in
-    // either case), and handed to OpenMesh rewritten one keyword a line (Expect::stl_text): its
+    // either case), and handed to OpenMesh rewritten one keyword a line (rewrite_ascii_stl): its
     // reader takes any line holding "outer" for a facet's start and the next three lines for its
     // vertices, so a blank line among them, a facet on one line or "Outer Loop" refused valid
     // files (found by an exploratory session, thirty-fifth), and `solid Router_bracket` read the
     // lines after the name as vertices. Names (the rest of a "solid" or "endsolid" line) are left
     // out; words outside facets but "vertex" are skipped, as the reader skips them.
-    const auto keyword = [](string_view token, string_view lower) {
-        if (token.size() != lower.size()) return false;
-        for (size_t i = 0; i < token.size(); ++i)
-            if (std::tolower(static_cast<unsigned char>(token[i])) != lower[i]) return false;
-        return true;
-    };
-    size_t at = 0, line = 1;
-    // The next word and the line it is on; false at the file's end.
-    const auto next_word = [&](string_view& word, size_t& word_line) {
-        while (at < text.size() && is_space(text[at])) line += text[at++] == '\n';
-        if (at >= text.size()) return false;
-        const size_t from = at;
-        while (at < text.size() && !is_space(text[at])) ++at;
-        word = text.substr(from, at - from);
-        word_line = line;
-        return true;
-    };
-    const auto skip_line = [&] {
-        while (at < text.size() && text[at] != '\n') ++at;
-    };
-    string out = "solid\n";
-    out.reserve(text.size());
+    StlWords words(text);
     bool solid_ended = false; // "endsolid" after the last facet
     string_view word;
     size_t word_line = 0;
-    string normal = "0 0 0"; // the last facet's "normal" words, passed on as they were
-    while (next_word(word, word_line)) {
-        if (keyword(word, "solid") || keyword(word, "endsolid")) {
-            solid_ended = keyword(word, "endsolid");
-            skip_line(); // (its name)
-            continue;
-        }
-        if (keyword(word, "normal")) { // (three finite numbers, or none taken: 0 0 0)
-            string_view n[3];
-            size_t l = 0;
-            const size_t mark = at, mark_line = line;
-            bool three = true;
-            for (string_view& w : n) three = three && next_word(w, l) && parse_finite_float(w);
-            if (three) normal = string(n[0]) + " " + string(n[1]) + " " + string(n[2]);
-            else at = mark, line = mark_line;
+    while (words.next(word, word_line)) {
+        if (stl_keyword(word, "solid") || stl_keyword(word, "endsolid")) {
+            solid_ended = stl_keyword(word, "endsolid");
+            words.skip_line(); // (its name)
             continue;
         }
         // A fourth vertex (or more) in a facet, or one outside a facet.
-        if (keyword(word, "vertex"))
+        if (stl_keyword(word, "vertex"))
             fail(subject, line_prefix(word_line) + "a vertex beyond the three after 'outer loop' (STL facets are triangles)");
-        if (!keyword(word, "outer")) continue;
+        if (!stl_keyword(word, "outer")) continue;
         const size_t outer_line = word_line;
-        if (!next_word(word, word_line)) fail(subject, "file ends inside a facet");
-        if (!keyword(word, "loop"))
+        if (!words.next(word, word_line)) fail(subject, "file ends inside a facet");
+        if (!stl_keyword(word, "loop"))
             fail(subject, line_prefix(word_line) + "expected 'loop' after 'outer' (line " + std::to_string(outer_line) +
                               "), found " + shown(word));
-        out += "facet normal " + normal + "\nouter loop\n";
-        normal = "0 0 0";
         for (int k = 0; k < 3; ++k) {
-            string_view v[4];
+            string_view v;
             size_t l = 0;
-            if (!next_word(v[0], l)) fail(subject, "file ends inside a facet");
+            if (!(k == 0 ? words.next(v, l) : words.next_after_numbers(v, l))) fail(subject, "file ends inside a facet");
             const size_t vertex_line = l;
-            if (!keyword(v[0], "vertex")) fail(subject, line_prefix(vertex_line) + "expected 'vertex x y z' with finite numbers");
-            for (int c = 1; c < 4; ++c)
-                if (!next_word(v[c], l) || !parse_finite_float(v[c]))
+            if (!stl_keyword(v, "vertex")) fail(subject, line_prefix(vertex_line) + "expected 'vertex x y z' with finite numbers");
+            for (int c = 0; c < 3; ++c)
+                if (!words.next(v, l) || !parse_finite_float(v))
                     fail(subject, line_prefix(vertex_line) + "expected 'vertex x y z' with finite numbers");
-            out += "vertex " + string(v[1]) + " " + string(v[2]) + " " + string(v[3]) + "\n";
         }
-        // After the third vertex: "endloop", then "endfacet" (a file cut inside a facet after its
-        // third vertex was read without a word, the facet and the rest of the file gone; found by
-        // an exploratory session, thirty-third). A facet without "endloop" but with its
-        // "endfacet" is taken, as OpenMesh's reader takes it.
-        if (!next_word(word, word_line)) fail(subject, "file ends inside a facet (no 'endloop')");
-        if (keyword(word, "endloop") && !next_word(word, word_line))
+        // After the third vertex (and any more numbers on its line, which the reader ignored):
+        // "endloop", then "endfacet" (a file cut inside a facet after its third vertex was read
+        // without a word, the facet and the rest of the file gone; found by an exploratory
+        // session, thirty-third). A facet without "endloop" but with its "endfacet" is taken, as
+        // OpenMesh's reader takes it.
+        if (!words.next_after_numbers(word, word_line)) fail(subject, "file ends inside a facet (no 'endloop')");
+        if (stl_keyword(word, "endloop") && !words.next(word, word_line))
             fail(subject, "file ends inside a facet (no 'endfacet')");
-        if (!keyword(word, "endfacet")) {
-            if (keyword(word, "vertex"))
+        if (!stl_keyword(word, "endfacet")) {
+            if (stl_keyword(word, "vertex"))
                 fail(subject, line_prefix(word_line) + "a vertex beyond the three after 'outer loop' (STL facets are triangles)");
             const auto cut_from = [&](string_view full) {
-                return word.size() < full.size() && keyword(word, full.substr(0, word.size()));
+                return word.size() < full.size() && stl_keyword(word, full.substr(0, word.size()));
             };
             fail(subject, line_prefix(word_line) + "expected 'endfacet', found " + shown(word) +
                               (cut_from("endloop") || cut_from("endfacet") ? " (the file is cut short?)" : ""));
         }
-        out += "endloop\nendfacet\n";
-        ++e.file_faces;
+        check_triangle_budget(subject, ++e.file_faces, options); // (as they come: no more read past it)
         solid_ended = false;
     }
-    out += "endsolid\n";
-    e.stl_text = std::move(out);
+    e.stl_ascii = true;
     // A file cut between two facets reads without a fault but the facets after the cut: the
     // last solid's "endsolid" is the one sign of its end.
     if (e.file_faces > 0 && !solid_ended)
@@ -1739,7 +1795,7 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
     if (expect.file_faces == 0) fail(subject, "contains no faces");
 
     if (ext == ".obj") drop_obj_material_libraries(text); // after the scan: its line numbers
-    if (!expect.stl_text.empty()) text = std::move(expect.stl_text);
+    if (expect.stl_ascii) rewrite_ascii_stl(text);
     if (expect.off_counts_end != string_view::npos) text.insert(expect.off_counts_end, " 0");
     if (!expect.off_binary_body.empty()) {
         text.replace(expect.off_binary_at, string::npos, expect.off_binary_body);

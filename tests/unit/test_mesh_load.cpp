@@ -2188,17 +2188,24 @@ TEST(MeshLoad, AsciiStlIsReadWordByWord)
 {
     TempDir dir;
     const std::string lines = octa_stl_ascii();
-    std::string blank, one_line, mixed_case;
+    std::string blank, one_line, mixed_case, cr_only, extra_numbers;
     for (char c : lines) {
         blank += c;
         if (c == '\n') blank += "\n \r\n"; // a blank line after each line
         one_line += c == '\n' ? ' ' : c;
+        cr_only += c == '\n' ? '\r' : c; // (old Mac OS line ends)
+    }
+    for (std::size_t from = 0, at; (at = lines.find('\n', from)) != std::string::npos; from = at + 1) {
+        extra_numbers += lines.substr(from, at - from); // "vertex x y z 7": the reader ignored the 7
+        if (lines.compare(from, 12, "      vertex") == 0) extra_numbers += " 7";
+        extra_numbers += '\n';
     }
     for (std::size_t i = 0; i < lines.size(); ++i) // "Outer Loop", "Vertex", "EndFacet", …
         mixed_case += (i == 0 || lines[i - 1] == ' ' || lines[i - 1] == '\n') ? char(std::toupper(lines[i])) : lines[i];
     const pr::PreparedMesh base = pr::load_mesh(dir.write("lines.stl", lines));
     for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
-             {"blank.stl", blank}, {"one_line.stl", "solid octa\n" + one_line.substr(11)}, {"mixed.stl", mixed_case}}) {
+             {"blank.stl", blank}, {"one_line.stl", "solid octa\n" + one_line.substr(11)}, {"mixed.stl", mixed_case},
+             {"cr.stl", cr_only}, {"extra.stl", extra_numbers}}) {
         SCOPED_TRACE(name);
         const pr::PreparedMesh m = pr::load_mesh(dir.write(name, text));
         expect_sane(m);
