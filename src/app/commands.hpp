@@ -120,8 +120,8 @@ inline void warn_if_capped(const Renderer::ReferenceStats& stats, const std::str
 {
     if (!stats.capped) return;
     warn(command + ": the reference is capped at " + reference_capped_text(stats) + " (" +
-         std::to_string(stats.triangles) +
-         " triangles) by --reference-max-triangles, coarser than a texel and a pixel per edge" +
+         std::to_string(stats.triangles) + (stats.levels.size() > 1 ? " triangles in all" : " triangles") +
+         ") by --reference-max-triangles, coarser than a texel and a pixel per edge" +
          (command == "compare" ? ": the metrics are against that surface" : ""));
 }
 

@@ -1367,6 +1367,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         largest_generated = !face_uses_file_uv(tris[i / 3].face);
     }
     out.largest_uv = largest_uv;
+    out.largest_uv_generated = largest_generated;
     if (largest_uv > kLargestUv)
         throw Error(name, std::string(largest_generated ? "generated " : "") + "texture coordinates reach " +
                               format_number(largest_uv) +

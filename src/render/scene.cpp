@@ -51,12 +51,14 @@ namespace {
 // A file's identity for reading it once: its path with links and "..", "." resolved as the
 // kernel resolves them (a scene's "../m.obj" and "./../m.obj" are one file; its paths are kept as
 // written since the thirty-fifth session, and each spelling was read, warned of and uploaded
-// again; found by a review). A built-in map, or a path that cannot be resolved, is its text.
+// again; found by a review). A built-in map, or a path that does not resolve (every part must
+// exist, as for the kernel: "nodir/../m.obj" is no file, where weakly_canonical made it m.obj's),
+// is its text.
 std::string file_identity(const std::string& name)
 {
     if (name.empty() || builtin::is_builtin(name)) return name;
     std::error_code ec;
-    std::filesystem::path p = std::filesystem::weakly_canonical(name, ec);
+    std::filesystem::path p = std::filesystem::canonical(name, ec);
     return ec ? name : p.string();
 }
 
@@ -76,7 +78,9 @@ void warn_if_uv_too_coarse(const SceneObject& obj, const std::string& mesh)
     std::snprintf(text, sizeof text, "texture coordinates reach %.6g, where single precision steps by %.3g of a "
                                      "repeat, more than a texel of its %d-texel maps",
                   double(largest), step, texels);
-    warn(mesh + ": " + text + ": the surface comes out as noise (they repeat: take whole numbers off them in the file)");
+    warn(mesh + ": " + text + ": the surface comes out as noise" +
+         (obj.mesh.largest_uv_generated ? " (use a smaller --uv-scale)"
+                                        : " (they repeat: take whole numbers off them in the file)"));
 }
 
 } // namespace

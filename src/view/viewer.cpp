@@ -263,6 +263,9 @@ private:
     // compositor.frag's, cleared by its good reload (a good draw of the scene cleared it: it was
     // never shown in red; found by an exploratory session, thirty-fifth)
     std::string compositor_error_;
+    // Shaders were reloaded this frame: its draw compiles them, and it is not timed (a reload's
+    // compile, up to a second on llvmpipe, went into the frame times; found by a review).
+    bool frame_compiles_ = false;
     std::string blocked_key_;   // settings that failed to draw; retried when they or shaders change
     std::vector<std::string> pending_drops_;
     std::deque<std::string> log_; // load errors, warnings and notices (newest last)
@@ -706,6 +709,7 @@ void Viewer::reset_view()
 void Viewer::reload_shaders()
 {
     s_.renderer->reload_shaders();
+    frame_compiles_ = true; // (this frame's draw compiles them: not timed)
     // The compositor's too (compositor.frag): built once at the start, it kept its first program,
     // edits and errors alike (found by an exploratory session). A broken one keeps the last good
     // program and is reported as the renderer's are.
@@ -1123,7 +1127,8 @@ int Viewer::run()
                 }
             }
             // The frame's own work from here (draw, copy, compositor, ImGui, swap): not the wait
-            // for events, a drop's load, a shader reload or a screenshot's write, which the
+            // for events, a drop's load, a screenshot's write (nor a frame that compiles
+            // reloaded shaders: frame_compiles_), which the
             // panel's fps and --frames' median took in (a 2-frame run with --screenshot read
             // 53 ms for 22, one with a --drop 1520 for 69; found by an exploratory session,
             // thirty-fifth).
@@ -1192,13 +1197,15 @@ int Viewer::run()
             window_.swap_buffers();
 
             const double ms = work_ms + seconds_since(swap_start) * 1000.0;
-            if (frame_ > 0) {
+            const bool timed = !frame_compiles_;
+            frame_compiles_ = false;
+            if (frame_ > 0 && timed) {
                 frame_ms_.push_back(float(ms));
                 while (frame_ms_.size() > 120) frame_ms_.pop_front();
             }
             // (Not the first frame drawn with the techniques, nor the first after a build: it
             // compiles their shaders, and the frame before it waited for the build.)
-            if (o_.frames > 0 && counted && previous_counted) all_frame_ms_.push_back(ms);
+            if (o_.frames > 0 && counted && previous_counted && timed) all_frame_ms_.push_back(ms);
             previous_counted = counted;
             ++frame_;
             counted_ += counted;

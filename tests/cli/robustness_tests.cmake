@@ -602,3 +602,14 @@ pr_cli_special(uv_far_from_zero_is_said EXIT 0 ONE_LINE EXPECT_FILE o.png
                SETUP "printf 'v 0 0 0\\nv 1 0 0\\nv 0 1 0\\nvt 100000 0\\nvt 100001 0\\nvt 100000 1\\nf 1/1 2/2 3/3\\n' > u.obj"
                STDERR "^prismrelief: warning: u.obj: texture coordinates reach 100001, where single precision steps by 0.00781 of a repeat, more than a texel of its 512-texel maps"
                ARGS render --mesh u.obj --size 16x16 --out o.png)
+# …but a spelling through a folder that does not exist is no file, as for the kernel (it was taken
+# for the other object's file: weakly_canonical resolves only the part that exists).
+pr_cli_special(scene_path_through_missing_folder_refused EXIT 1 ONE_LINE NO_FILE o.png
+               SETUP "mkdir -p s && printf 'v 0 0 0\\nv 1 0 0\\nv 0 1 0\\nvt 0 0\\nvt 1 0\\nvt 0 1\\nf 1/1 2/2 3/3\\n' > s/t.obj && printf '{\"objects\":[{\"mesh\":\"t.obj\"},{\"mesh\":\"nodir/../t.obj\"}]}' > s/s.json"
+               STDERR "${E}s/s.json: objects\\[1\\].mesh: s/nodir/../t.obj: does not exist"
+               ARGS render --scene s/s.json --size 16x16 --out o.png)
+# Generated texture coordinates too far from 0: the advice is --uv-scale (the file has none).
+pr_cli_special(uv_generated_far_from_zero_is_said EXIT 0 EXPECT_FILE o.png
+               SETUP "printf 'v 0 0 0\\nv 1 0 0\\nv 0 1 0\\nf 1 2 3\\n' > g.obj"
+               STDERR "prismrelief: warning: g.obj: texture coordinates reach 300000, .*: the surface comes out as noise \\(use a smaller --uv-scale\\)"
+               ARGS render --mesh g.obj --uv-scale 300000 --size 16x16 --out o.png)
