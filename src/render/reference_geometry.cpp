@@ -71,12 +71,20 @@ std::size_t reference_bytes_per_triangle(int level)
 
 ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::dmat4& transform,
                                       const HeightField& height, float depth, float midlevel,
-                                      const Camera& camera, int height_px, std::size_t max_triangles)
+                                      const Camera& camera, int width_px, int height_px, std::size_t max_triangles)
 {
     ReferenceLevel r;
     // Pixels per world unit at distance 1 (vertical field of view over the image height).
-    const float focal_px = 0.5f * static_cast<float>(height_px) /
-                           std::tan(glm::radians(camera.fovy_deg) * 0.5f);
+    const float tan_half = std::tan(glm::radians(camera.fovy_deg) * 0.5f);
+    const float focal_px = 0.5f * static_cast<float>(height_px) / tan_half;
+    // Off the axis the picture stretches a length across the ray by 1 / cos^2 of its angle to the
+    // axis (x = f tan(angle)): measured at the axis, a wide field of view's edges got a reference
+    // far too coarse there (--fovy 178.9: level 2, the prism's IoU 0.968 against it, 0.9998
+    // against level 64; found by an exploratory session, thirty-fifth). The angle is taken no
+    // wider than the image's corner.
+    const float aspect = static_cast<float>(std::max(width_px, 1)) / static_cast<float>(std::max(height_px, 1));
+    const float cos_corner = 1.0f / std::sqrt(1.0f + tan_half * tan_half * (1.0f + aspect * aspect));
+    const glm::vec3 forward(glm::normalize(camera.target - camera.eye));
     // The steepest rise between neighbouring texels: along an edge spanning s texels the height
     // changes by at most min(1, s * step), and the displaced edge is longer by depth times that.
     float step = 0.0f;
@@ -109,10 +117,15 @@ ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::dmat4
             // rise of the height along it (deep shells: --depth as large as the object).
             const float displaced = glm::length(wq - wp) + reach * glm::length(nq - np) +
                                     depth * std::min(1.0f, texel_span * step);
-            float dist = std::min(glm::length(wp - eye), glm::length(wq - eye));
-            for (const float s : {-reach, reach})
-                dist = std::min({dist, glm::length(wp + s * np - eye), glm::length(wq + s * nq - eye)});
-            max_pixel_edge = std::max(max_pixel_edge, displaced * focal_px / std::max(dist, camera.near_plane));
+            // Pixels per unit across the ray at the nearest, most stretched of the edge's ends.
+            float per_unit = 0.0f;
+            for (const glm::vec3& end : {wp, wq, wp - reach * np, wq - reach * nq, wp + reach * np, wq + reach * nq}) {
+                const glm::vec3 to = end - eye;
+                const float dist = glm::length(to);
+                const float c = std::max(dist > 0.0f ? glm::dot(to, forward) / dist : 1.0f, cos_corner);
+                per_unit = std::max(per_unit, 1.0f / (std::max(dist, camera.near_plane) * c * c));
+            }
+            max_pixel_edge = std::max(max_pixel_edge, displaced * focal_px * per_unit);
         }
     }
     const float texels_per_edge = step > kSharpStep ? 0.5f : 1.0f;

@@ -42,10 +42,11 @@ inline constexpr float kSharpStep = 0.25f;
 // distances to the eye are taken in the object's frame, its translation taken out first). The pixel
 // criterion measures the displaced surface's edges, not the base mesh's: each base edge grown by
 // the spread of its normals over the displacement's reach and by depth times the height's rise
-// along it (bounded by the map's steepest texel step), seen from the nearest of its points.
+// along it (bounded by the map's steepest texel step), seen from the nearest of its points and
+// stretched as the picture stretches it off the axis (1 / cos^2 of its angle, up to the corner's).
 ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::dmat4& transform,
                                       const HeightField& height, float depth, float midlevel,
-                                      const Camera& camera, int height_px, std::size_t max_triangles);
+                                      const Camera& camera, int width_px, int height_px, std::size_t max_triangles);
 
 // Tessellates base triangles [first, last) at `level` and displaces them. Output vertices use the
 // MeshVertex layout (position displaced; normal, uv, tangent, bitangent interpolated) so the

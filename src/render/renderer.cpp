@@ -572,7 +572,7 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
             lv.level = options.level;
         } else {
             lv = choose_reference_level(so.mesh, so.transform, *so.height, so.depth, so.midlevel, camera,
-                                        height_, options.max_triangles);
+                                        width_, height_, options.max_triangles);
         }
         stats.level = std::max(stats.level, lv.level);
         stats.levels.push_back(lv.level);

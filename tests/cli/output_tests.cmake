@@ -115,6 +115,12 @@ foreach(light_case "above;0,1,0;30" "below;0.3,-0.4,-1;17")
            ARGS compare --mesh ${M}/plane.obj --height builtin:boxes@64 --depth 0.15 --size 64x48 --eye 0.9,-0.9,1.6
                 --target 0,0,0 --light ${light} --shadows hard --techniques prism:relief:exact,prism:linear:vertex --json c.json)
 endforeach()
+# A wide field of view: the reference's edges measured where the picture stretches them (off the
+# axis, 1 / cos^2 of the angle), not at the axis (level 1, the prism's IoU 0.945 against it).
+pr_cli(compare_reference_fine_at_wide_field EXIT 0 JSON c.json
+       CHECKS "reference.level:GREATER:8|results.0.iou:GREATER:0.995"
+       ARGS compare --mesh ${M}/torus.obj --size 64x48 --fovy 178.9 --eye 0.5,0.6,0.8 --target 0,0,0
+            --techniques prism --json c.json)
 # The reference's shadow map stretched by a far object in view: compare says so (its metrics
 # count the lost shadows against the techniques; found by an exploratory session, thirty-fourth).
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/far_torus.json "{\"objects\": [{\"mesh\": \"${M}/torus.obj\", \"depth\": 0.08},
