@@ -114,6 +114,13 @@ std::string stb_reason()
     throw Error(subject, "not a supported image (" + stb_reason() + ")");
 }
 
+// A Softimage PIC file: its magic number, and "PICT" at byte 88.
+bool is_pic(const std::vector<std::uint8_t>& b)
+{
+    return b.size() >= 92 && b[0] == 0x53 && b[1] == 0x80 && b[2] == 0xF6 && b[3] == 0x34 &&
+           std::memcmp(&b[88], "PICT", 4) == 0;
+}
+
 // Dimensions straight from the header of the formats whose size sits at a fixed offset, so the
 // limits apply even where stb's own check refuses first (its PNG header check rejects anything
 // over 2^30 bytes and then reports only "unknown image type") and so 0x0 is named as such.
@@ -153,6 +160,13 @@ std::optional<Sniffed> sniff(const std::vector<std::uint8_t>& b)
     if (starts("8BPS")) {
         if (b.size() >= 22) return Sniffed{"PSD", be32(18), be32(14)};
         return Sniffed{"PSD", {}, {}};
+    }
+    // (Named, not "unknown format" where they are listed as readable: a Radiance file in a layout
+    // stb does not read, a PIC with no pixel data; found by an exploratory session, thirty-fifth.)
+    if (starts("#?RADIANCE\n") || starts("#?RGBE\n")) return Sniffed{"HDR", {}, {}};
+    if (is_pic(b)) {
+        if (b.size() >= 96) return Sniffed{"PIC", std::int64_t(b[92] << 8 | b[93]), std::int64_t(b[94] << 8 | b[95])};
+        return Sniffed{"PIC", {}, {}};
     }
     return std::nullopt;
 }
@@ -301,9 +315,27 @@ Checked check_header(const std::string& subject, std::vector<std::uint8_t>& byte
     if (!stbi_info_from_memory(c.data, c.len, &w, &h, &comp)) {
         // stb tried every decoder and kept the last one's reason; with a known signature, the
         // useful thing to say is which format is damaged.
-        if (sniffed || jpeg_start(bytes) != 0)
-            throw Error(subject, fmt::format("not a supported image (corrupt or unsupported {})",
-                                             sniffed ? sniffed->format : std::string("JPEG")));
+        // Its own decoder's reason, where the format is known (stb's info tried every decoder
+        // and kept the last one's, so a greyscale PSD or a run-length BMP read "corrupt or
+        // unsupported PSD" without stb's why; found by an exploratory session, thirty-fifth).
+        // Asked for 4 channels: stb's PIC decoder converts a failed decode's null (req 0 crashed).
+        if (sniffed || jpeg_start(bytes) != 0) {
+            const std::string format = sniffed ? sniffed->format : std::string("JPEG");
+            stbi_image_free(stbi_load_from_memory(c.data, c.len, &w, &h, &comp, 4));
+            const char* raw = stbi_failure_reason();
+            const std::string why = raw ? raw : "";
+            const bool own = !why.empty() && why != "unknown image type" && why != "not TGA" && why != "bad png sig" &&
+                             why != "not GIF" && why != "no SOI" &&
+                             std::all_of(why.begin(), why.end(), [](char ch) { return ch >= ' ' && ch <= '~'; });
+            // stb's words for what it leaves out, said as what to do.
+            const std::string said = why == "wrong color format" ? "not in RGB colour mode (stb reads RGB PSD only): save it as RGB"
+                                     : why == "BMP RLE"          ? "run-length compressed (stb reads uncompressed BMP only)"
+                                     : why == "unsupported data layout"
+                                         ? "a pixel layout other than -Y height +X width (the only one stb reads)"
+                                         : why;
+            throw Error(subject, fmt::format("not a supported image (corrupt or unsupported {}{})", format,
+                                             own ? ": " + said : std::string()));
+        }
         fail_decode(subject);
     }
     // (stb 2.27 reports a top-down BMP's height negative, as its header stores it: "8x-8 pixels".)
@@ -322,6 +354,20 @@ template <typename T, typename Decode>
 StbiPtr<T> decode_image(const std::string& subject, const std::vector<std::uint8_t>& bytes, const Checked& c,
                         int* w, int* h, int* n, int channels, Decode decode)
 {
+    // stb 2.27's PIC decoder frees its result on a damaged file and then converts it to the
+    // channels asked for: a null pointer read where they differ from the file's (a height map asks
+    // for its own, 0: a segmentation fault; found by an exploratory session, thirty-fifth). Asked
+    // for 4, as many as it decodes to, and given back in the file's own.
+    if (channels == 0 && is_pic(bytes)) {
+        StbiPtr<T> four = decode_image<T>(subject, bytes, c, w, h, n, 4, decode);
+        if (!four || *n == 4) return four;
+        const std::size_t count = std::size_t(*w) * std::size_t(*h), k = std::size_t(std::clamp(*n, 1, 4));
+        StbiPtr<T> own(static_cast<T*>(STBI_MALLOC(count * k * sizeof(T))));
+        if (!own) throw Error(subject, "out of memory");
+        for (std::size_t i = 0; i < count; ++i)
+            for (std::size_t j = 0; j < k; ++j) own.get()[i * k + j] = four.get()[i * 4 + j];
+        return own;
+    }
     constexpr std::size_t kPadding = 64;
     if (std::optional<PngPaletteProbe> probe = png_palette_probe(bytes)) {
         // A palette PNG whose PLTE leaves some indices uncovered: decoded with the palette filled

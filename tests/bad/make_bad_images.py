@@ -169,3 +169,30 @@ ply_triangle = (b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproper
 write("binary_triangle.ply", ply_triangle + struct.pack("<4i", 3, 0, 1, 2))
 write("ply_negative_face_count.ply", ply_triangle + struct.pack("<4i", -1, 0, 1, 2))
 write("ply_huge_face_count.ply", ply_triangle + struct.pack("<4i", 1000000000, 0, 1, 2))
+
+# ---- named, where stb's info said nothing of the format (thirty-fifth session) -------------------
+# A Softimage PIC whose packet type is none of 0-2, and a valid RGB one cut short: stb 2.27 freed
+# the failed decode and converted the null pointer (a height map, which asks for the file's own
+# channels: a segmentation fault).
+def pic_header(w, h):
+    return b"\x53\x80\xF6\x34" + struct.pack(">f", 3.71) + b"\0" * 80 + b"PICT" + struct.pack(">HHfHH", w, h, 1.0, 3, 0)
+
+
+write("pic_bad_packet.pic", pic_header(4, 4) + bytes([0, 8, 7, 0xE0]) + b"\x80" * 48)
+write("pic_cut.pic", (pic_header(32, 24) + bytes([0, 8, 0, 0xE0]) + bytes((x * 8) & 255 for y in range(24) for x in range(32)
+                                                                         for c in range(3)))[:400])
+# Readable formats in forms stb does not read: a Radiance file stored bottom row first, a greyscale
+# PSD, a run-length BMP (they said "unknown format", or "corrupt or unsupported" without why).
+write("hdr_plus_y.hdr", b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n+Y 3 +X 4\n" + bytes([128, 128, 128, 128]) * 12)
+write("psd_grey.psd", b"8BPS" + struct.pack(">H6xHIIHH", 1, 1, 3, 4, 8, 1) + struct.pack(">III", 0, 0, 0) +
+      struct.pack(">H", 0) + bytes(range(12)))
+rle = bytearray()
+for y in range(3):
+    for x in range(4):
+        rle += bytes([1, x * 60 + y * 20])
+    rle += b"\0\0"
+rle[-2:] = b"\0\1"
+grey_palette = b"".join(bytes([i, i, i, 0]) for i in range(256))
+bmp_offset = 14 + 40 + len(grey_palette)
+write("bmp_rle8.bmp", b"BM" + struct.pack("<IHHI", bmp_offset + len(rle), 0, 0, bmp_offset) +
+      struct.pack("<IiiHHIIiiII", 40, 4, 3, 1, 8, 1, len(rle), 2835, 2835, 256, 0) + grey_palette + bytes(rle))

@@ -36,7 +36,7 @@ foreach(case "truncated.png|not a supported image \\(truncated PNG: it needs at 
              # Found by an exploratory session (thirtieth): a segment's length past the end, or
              # less than its own field, said "unknown format" of a JPEG.
              "segment_past_end.jpg|not a supported image \\(truncated or corrupt data: the JPEG segment FFE1 at byte 2 is 65535 bytes long, past the end of the file\\)"
-             "segment_too_short.jpg|not a supported image \\(corrupt or unsupported JPEG\\)"
+             "segment_too_short.jpg|not a supported image \\(corrupt or unsupported JPEG: bad APP len\\)"
              "huge_header.jpg|the image is 60000x60000 pixels, more than the limit of 16384 per side"
              "huge_header.png|the image is 100000x100000 pixels, more than the limit of 16384 per side"
              "huge_area.png|the image is 16000x16000 = 256000000 pixels, more than the limit of 67108864"
@@ -44,7 +44,15 @@ foreach(case "truncated.png|not a supported image \\(truncated PNG: it needs at 
              "fuzz_jpeg_huffman_overflow.jpg|not a supported image \\(corrupt JPEG: a Huffman table of [0-9]+ symbols"
              # Found by fuzzing: a scan using an AC table no DHT defines; stb_image 2.27 decoded
              # with the uninitialized table and indexed past its arrays.
-             "fuzz_jpeg_undefined_huffman_table.jpg|not a supported image \\(corrupt JPEG: a scan uses AC Huffman table 0, which no DHT segment defines\\)")
+             "fuzz_jpeg_undefined_huffman_table.jpg|not a supported image \\(corrupt JPEG: a scan uses AC Huffman table 0, which no DHT segment defines\\)"
+             # Found by an exploratory session (thirty-fifth): a damaged PIC crashed a height map
+             # (stb 2.27 converted its failed decode's null pointer), and readable formats in forms
+             # stb does not read said "unknown format", or nothing of why.
+             "pic_bad_packet.pic|not a supported image \\(corrupt or unsupported: bad format\\)"
+             "pic_cut.pic|not a supported image \\(truncated or corrupt data: bad file\\)"
+             "hdr_plus_y.hdr|not a supported image \\(corrupt or unsupported HDR: a pixel layout other than -Y height \\+X width"
+             "psd_grey.psd|not a supported image \\(corrupt or unsupported PSD: not in RGB colour mode"
+             "bmp_rle8.bmp|not a supported image \\(corrupt or unsupported BMP: run-length compressed")
     string(REPLACE "|" ";" parts "${case}")
     list(GET parts 0 file)
     list(GET parts 1 message)
@@ -613,3 +621,6 @@ pr_cli_special(uv_generated_far_from_zero_is_said EXIT 0 EXPECT_FILE o.png
                SETUP "printf 'v 0 0 0\\nv 1 0 0\\nv 0 1 0\\nf 1 2 3\\n' > g.obj"
                STDERR "prismrelief: warning: g.obj: texture coordinates reach 300000, .*: the surface comes out as noise \\(use a smaller --uv-scale\\)"
                ARGS render --mesh g.obj --uv-scale 300000 --size 16x16 --out o.png)
+# The damaged PIC through conemap's height map too (it crashed there the same way).
+pr_refuse(conemap_pic_bad_packet "pic_bad_packet.pic" "not a supported image \\(corrupt or unsupported: bad format\\)"
+          ARGS conemap --height ${BAD}/pic_bad_packet.pic --no-cache --out o.png)
