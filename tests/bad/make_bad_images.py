@@ -196,3 +196,6 @@ grey_palette = b"".join(bytes([i, i, i, 0]) for i in range(256))
 bmp_offset = 14 + 40 + len(grey_palette)
 write("bmp_rle8.bmp", b"BM" + struct.pack("<IHHI", bmp_offset + len(rle), 0, 0, bmp_offset) +
       struct.pack("<IiiHHIIiiII", 40, 4, 3, 1, 8, 1, len(rle), 2835, 2835, 256, 0) + grey_palette + bytes(rle))
+# A PIC header of 16384x4096 and no packets: stb's info fails in the packets; decoding it for a
+# reason allocated and cleared the whole image first (256 MiB for 104 bytes).
+write("pic_no_packets.pic", pic_header(16384, 4096))

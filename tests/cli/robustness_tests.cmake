@@ -50,6 +50,7 @@ foreach(case "truncated.png|not a supported image \\(truncated PNG: it needs at 
              # stb does not read said "unknown format", or nothing of why.
              "pic_bad_packet.pic|not a supported image \\(corrupt or unsupported: bad format\\)"
              "pic_cut.pic|not a supported image \\(truncated or corrupt data: bad file\\)"
+             "pic_no_packets.pic|not a supported image \\(truncated or corrupt PIC: its pixel packets are damaged or cut short\\)"
              "hdr_plus_y.hdr|not a supported image \\(corrupt or unsupported HDR: a pixel layout other than -Y height \\+X width"
              "psd_grey.psd|not a supported image \\(corrupt or unsupported PSD: not in RGB colour mode"
              "bmp_rle8.bmp|not a supported image \\(corrupt or unsupported BMP: run-length compressed")
