@@ -12,13 +12,16 @@
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
+#include <linux/fs.h>
 #include <optional>
 #include <pthread.h>
 #include <random>
 #include <string>
+#include <sys/ioctl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 #include <utility>
+#include <vector>
 
 namespace pr {
 namespace {
@@ -215,6 +218,21 @@ void check_destination(const fs::path& path, const fs::path& target)
                                  "): an output replaces its file, it does not write to the descriptor; give the file's own name");
     const fs::path dir = folder_of(target);
     std::error_code ec;
+    // Names and paths past the system's limits fail at the rename, after the work (a 256-byte
+    // name: a 40 s cone map, then "File name too long"), and a folder whose path is too long read
+    // as missing (found by an exploratory session, thirty-fifth). The temporary beside it needs
+    // ".t" and six digits more than the name (temporary_name).
+    long name_max = ::pathconf(dir.c_str(), _PC_NAME_MAX);
+    if (name_max <= 0) name_max = NAME_MAX;
+    if (target.filename().string().size() > std::size_t(name_max))
+        throw Error(subject, "cannot write: its name is " + std::to_string(target.filename().string().size()) +
+                                 " bytes, more than the " + std::to_string(name_max) + " a file name may have here");
+    // (The temporary's path: the folder's, "/", and at least "." and its ".tmpNNNNNN", its name
+    // cut short to fit: temporary_name.)
+    if (target.string().size() >= PATH_MAX || dir.string().size() + 12 >= PATH_MAX)
+        throw Error(subject, "cannot write: the path is " + std::to_string(target.string().size()) +
+                                 " bytes, past what the system takes (" + std::to_string(PATH_MAX - 1) +
+                                 ", with room for a temporary file's name beside it)");
     if (!fs::is_directory(dir, ec))
         throw Error(subject, (target == path ? "" : "links to " + target.string() + ", but ") +
                                  (fs::exists(dir, ec) ? dir.string() + " is not a folder"
@@ -223,6 +241,14 @@ void check_destination(const fs::path& path, const fs::path& target)
     // system; what else fails is reported when the file is written.)
     if (::faccessat(AT_FDCWD, dir.c_str(), W_OK, AT_EACCESS) != 0)
         throw Error(subject, "cannot write in folder " + dir.string() + ": " + std::strerror(errno));
+    // An immutable or append-only file (chattr +i, +a) cannot be replaced, root or not: the
+    // rename failed after the work, and the outputs renamed before it stayed replaced.
+    if (const int fd = ::open(target.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOFOLLOW); fd >= 0) {
+        int flags = 0;
+        const bool fixed = ::ioctl(fd, FS_IOC_GETFLAGS, &flags) == 0 && (flags & (FS_IMMUTABLE_FL | FS_APPEND_FL));
+        ::close(fd);
+        if (fixed) throw Error(subject, it + "is immutable or append-only (chattr): it cannot be replaced");
+    }
     // In a sticky folder (/tmp) only the file's owner, the folder's or root may replace a file:
     // the rename failed after the work ("Operation not permitted").
     struct stat folder;
@@ -242,6 +268,10 @@ std::string temporary_name(const fs::path& target, unsigned number)
     const std::string suffix = ".tmp" + std::to_string(number % 1000000);
     long max = ::pathconf(folder_of(target).c_str(), _PC_NAME_MAX);
     if (max <= 0) max = 255;
+    // ...and where the whole path would pass PATH_MAX (a legal 4085-byte path failed after the
+    // work; check_destination leaves room for the shortest).
+    const long room = long(PATH_MAX) - 1 - long(folder_of(target).string().size()) - 1;
+    max = std::max(2L + long(suffix.size()), std::min(max, room));
     std::string name = "."; // (appended, not "." + ...: GCC 12 warns wrongly on that, -Wrestrict)
     const std::string file = target.filename().string();
     name += file.substr(0, std::min(file.size(), std::size_t(max) - 1 - suffix.size()));
@@ -355,13 +385,49 @@ void commit_together(std::span<StagedFile* const> files)
             remove_temporaries_and_die(sig);
         if (blocked) ::pthread_sigmask(SIG_SETMASK, &old, nullptr);
     };
+    // The files replaced, kept as hard links beside them (their temporary-style names) while the
+    // renames go: (file, its backup; empty: no file was there, or none could be kept).
+    std::vector<std::pair<StagedFile*, fs::path>> renamed;
+    std::vector<fs::path> backups;
+    std::random_device rd;
+    const auto keep_old = [&](StagedFile* f) -> fs::path {
+        struct stat st;
+        if (std::count_if(files.begin(), files.end(), [](StagedFile* g) { return g != nullptr; }) < 2 ||
+            ::lstat(f->target_.c_str(), &st) != 0 || !S_ISREG(st.st_mode))
+            return {};
+        for (int attempt = 0; attempt < 10; ++attempt) {
+            const fs::path backup = folder_of(f->target_) / temporary_name(f->target_, rd());
+            if (::link(f->target_.c_str(), backup.c_str()) == 0) {
+                backups.push_back(backup);
+                return backup;
+            }
+            if (errno != EEXIST) break;
+        }
+        return {};
+    };
+    const auto drop_backups = [&] {
+        for (const fs::path& b : backups) ::unlink(b.c_str());
+    };
     try {
-        for (StagedFile* f : files)
-            if (f != nullptr) f->commit();
+        for (StagedFile* f : files) {
+            if (f == nullptr) continue;
+            fs::path backup = keep_old(f);
+            struct stat st;
+            const bool was_there = !backup.empty() || ::lstat(f->target_.c_str(), &st) == 0;
+            f->commit();
+            if (!was_there || !backup.empty()) renamed.emplace_back(f, std::move(backup));
+        }
     } catch (...) {
+        // Those renamed before the one that failed, put back as they were (or taken away).
+        for (auto it = renamed.rbegin(); it != renamed.rend(); ++it) {
+            if (it->second.empty()) ::unlink(it->first->target_.c_str());
+            else ::rename(it->second.c_str(), it->first->target_.c_str());
+        }
+        drop_backups();
         done();
         throw;
     }
+    drop_backups();
     done();
 }
 

@@ -733,7 +733,7 @@ std::vector<std::uint8_t> encode_png(const RgbaImage& image)
     std::vector<std::uint8_t> out;
     if (!stbi_write_png_to_func(append_bytes, &out, image.width, image.height, 4, last_row,
                                 -stride))
-        throw Error("PNG", "encoding failed");
+        throw Error("PNG", "out of memory while encoding it"); // (stb's encoder fails only where an allocation does)
     return out;
 }
 

@@ -391,3 +391,10 @@ pr_output_cli(render_out_is_the_cache_entries_folder_refused EXIT 1 ONE_LINE
               ENV XDG_CACHE_HOME=${PR_CLI_WORK}/render_out_is_the_cache_entries_folder_refused/xdg
               SETUP "rm -rf xdg && mkdir -p xdg/prismrelief" AFTER "test ! -e xdg/prismrelief/cone"
               ARGS render --mesh ${M}/cube.obj --technique cone --size 16x16 --out xdg/prismrelief/cone)
+
+# A name past the file system's limit on a name, or a path past the system's, is refused before
+# the work (a 256-byte name: a 40 s relaxed cone map, then "File name too long").
+string(REPEAT "a" 252 pr_long_name)
+pr_output_cli(conemap_out_name_too_long_refused_early EXIT 1 ONE_LINE TIMEOUT 5
+       STDERR "${E}${pr_long_name}.png: cannot write: its name is 256 bytes, more than the 255 a file name may have here"
+       ARGS conemap --height builtin:noise@1024 --kind relaxed --no-cache --out ${pr_long_name}.png)
