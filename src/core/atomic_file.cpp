@@ -12,12 +12,10 @@
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
-#include <linux/fs.h>
 #include <optional>
 #include <pthread.h>
 #include <random>
 #include <string>
-#include <sys/ioctl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 #include <utility>
@@ -222,14 +220,15 @@ void check_destination(const fs::path& path, const fs::path& target)
     // name: a 40 s cone map, then "File name too long"), and a folder whose path is too long read
     // as missing (found by an exploratory session, thirty-fifth). The temporary beside it needs
     // ".t" and six digits more than the name (temporary_name).
+    // (At most NAME_MAX bytes: vfat's pathconf says 1530, six bytes a character, for 255 of them.)
     long name_max = ::pathconf(dir.c_str(), _PC_NAME_MAX);
-    if (name_max <= 0) name_max = NAME_MAX;
+    if (name_max <= 0 || name_max > NAME_MAX) name_max = NAME_MAX;
     if (target.filename().string().size() > std::size_t(name_max))
         throw Error(subject, "cannot write: its name is " + std::to_string(target.filename().string().size()) +
                                  " bytes, more than the " + std::to_string(name_max) + " a file name may have here");
     // (The temporary's path: the folder's, "/", and at least "." and its ".tmpNNNNNN", its name
     // cut short to fit: temporary_name.)
-    if (target.string().size() >= PATH_MAX || dir.string().size() + 12 >= PATH_MAX)
+    if (target.string().size() >= PATH_MAX || dir.string().size() + 13 >= PATH_MAX)
         throw Error(subject, "cannot write: the path is " + std::to_string(target.string().size()) +
                                  " bytes, past what the system takes (" + std::to_string(PATH_MAX - 1) +
                                  ", with room for a temporary file's name beside it)");
@@ -241,14 +240,17 @@ void check_destination(const fs::path& path, const fs::path& target)
     // system; what else fails is reported when the file is written.)
     if (::faccessat(AT_FDCWD, dir.c_str(), W_OK, AT_EACCESS) != 0)
         throw Error(subject, "cannot write in folder " + dir.string() + ": " + std::strerror(errno));
-    // An immutable or append-only file (chattr +i, +a) cannot be replaced, root or not: the
-    // rename failed after the work, and the outputs renamed before it stayed replaced.
-    if (const int fd = ::open(target.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOFOLLOW); fd >= 0) {
-        int flags = 0;
-        const bool fixed = ::ioctl(fd, FS_IOC_GETFLAGS, &flags) == 0 && (flags & (FS_IMMUTABLE_FL | FS_APPEND_FL));
-        ::close(fd);
-        if (fixed) throw Error(subject, it + "is immutable or append-only (chattr): it cannot be replaced");
-    }
+    // An immutable or append-only file or folder (chattr +i, +a) takes no rename, root or not:
+    // it failed after the work, and the outputs renamed before it stayed replaced. (statx: no
+    // open, no read permission needed; where a file system keeps no such attributes, none.)
+    const auto fixed = [](const fs::path& p) {
+        struct statx sx {};
+        return ::statx(AT_FDCWD, p.c_str(), AT_SYMLINK_NOFOLLOW, 0, &sx) == 0 &&
+               (sx.stx_attributes & sx.stx_attributes_mask & (STATX_ATTR_IMMUTABLE | STATX_ATTR_APPEND)) != 0;
+    };
+    if (fixed(target)) throw Error(subject, it + "is immutable or append-only (chattr): it cannot be replaced");
+    if (fixed(dir))
+        throw Error(subject, "cannot write in folder " + dir.string() + ": it is immutable or append-only (chattr)");
     // In a sticky folder (/tmp) only the file's owner, the folder's or root may replace a file:
     // the rename failed after the work ("Operation not permitted").
     struct stat folder;
@@ -385,49 +387,56 @@ void commit_together(std::span<StagedFile* const> files)
             remove_temporaries_and_die(sig);
         if (blocked) ::pthread_sigmask(SIG_SETMASK, &old, nullptr);
     };
-    // The files replaced, kept as hard links beside them (their temporary-style names) while the
-    // renames go: (file, its backup; empty: no file was there, or none could be kept).
-    std::vector<std::pair<StagedFile*, fs::path>> renamed;
-    std::vector<fs::path> backups;
-    std::random_device rd;
-    const auto keep_old = [&](StagedFile* f) -> fs::path {
-        struct stat st;
-        if (std::count_if(files.begin(), files.end(), [](StagedFile* g) { return g != nullptr; }) < 2 ||
-            ::lstat(f->target_.c_str(), &st) != 0 || !S_ISREG(st.st_mode))
-            return {};
-        for (int attempt = 0; attempt < 10; ++attempt) {
-            const fs::path backup = folder_of(f->target_) / temporary_name(f->target_, rd());
-            if (::link(f->target_.c_str(), backup.c_str()) == 0) {
-                backups.push_back(backup);
-                return backup;
+    // Each file replaced is exchanged with its temporary (renameat2 RENAME_EXCHANGE), so the old
+    // one stays under the temporary's name until every output is in place, and a rename that
+    // fails after others is undone by exchanging back (a report name the system could not take
+    // replaced the PNG before it, exit 1; found by an exploratory session, thirty-fifth). Where
+    // the file system cannot exchange (EINVAL), a plain rename, which cannot be undone.
+    struct Done {
+        StagedFile* file;
+        fs::path tmp;    // where the old file is (exchanged), or empty: there was none
+        bool undoable;
+    };
+    std::vector<Done> renamed;
+    const auto undo = [&] {
+        for (auto it = renamed.rbegin(); it != renamed.rend(); ++it) {
+            if (!it->undoable) continue;
+            if (it->tmp.empty()) {
+                ::unlink(it->file->target_.c_str()); // (there was none)
+            } else if (::renameat2(AT_FDCWD, it->tmp.c_str(), AT_FDCWD, it->file->target_.c_str(), RENAME_EXCHANGE) == 0) {
+                ::unlink(it->tmp.c_str()); // (the new one, back under the temporary's name)
+                it->tmp.clear();
             }
-            if (errno != EEXIST) break;
+            // (An exchange back that fails leaves the old file under the temporary's name.)
         }
-        return {};
     };
-    const auto drop_backups = [&] {
-        for (const fs::path& b : backups) ::unlink(b.c_str());
+    const auto finish = [&] {
+        for (Done& d : renamed) {
+            if (!d.tmp.empty()) ::unlink(d.tmp.c_str()); // the old file
+            release_temporary(std::exchange(d.file->slot_, -1));
+        }
     };
+    // (While they are exchanged, a temporary's slot names the old file: the signals are held.)
     try {
         for (StagedFile* f : files) {
-            if (f == nullptr) continue;
-            fs::path backup = keep_old(f);
+            if (f == nullptr || f->tmp_.empty()) continue;
             struct stat st;
-            const bool was_there = !backup.empty() || ::lstat(f->target_.c_str(), &st) == 0;
-            f->commit();
-            if (!was_there || !backup.empty()) renamed.emplace_back(f, std::move(backup));
+            const bool old_there = ::lstat(f->target_.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+            if (old_there && ::renameat2(AT_FDCWD, f->tmp_.c_str(), AT_FDCWD, f->target_.c_str(), RENAME_EXCHANGE) == 0) {
+                renamed.push_back({f, std::exchange(f->tmp_, {}), true});
+                continue;
+            }
+            // No file there (undone by removing the new one), or one the exchange could not take.
+            f->commit(); // (releases its temporary's slot; a failure throws, its temporary removed)
+            renamed.push_back({f, {}, !old_there});
         }
     } catch (...) {
-        // Those renamed before the one that failed, put back as they were (or taken away).
-        for (auto it = renamed.rbegin(); it != renamed.rend(); ++it) {
-            if (it->second.empty()) ::unlink(it->first->target_.c_str());
-            else ::rename(it->second.c_str(), it->first->target_.c_str());
-        }
-        drop_backups();
+        undo();
+        finish();
         done();
         throw;
     }
-    drop_backups();
+    finish();
     done();
 }
 

@@ -52,10 +52,11 @@ private:
 
 // Commits each of `files` (null: none), with the signals that end a run held back until all are
 // renamed: a SIGTERM between two renames left a new grid beside an old report. Both outputs or
-// neither: the files replaced are kept as hard links beside them until every rename is done, and
-// where one fails those renamed before it are put back (a report name the system could not take
-// replaced the PNG before it, exit 1; found by an exploratory session, thirty-fifth). Where a
-// folder takes no hard link, a rename that fails after others still leaves those replaced.
+// neither: each file replaced is exchanged with its temporary (renameat2 RENAME_EXCHANGE) and
+// kept there until every output is in place, and where a rename fails those before it are put
+// back (a report name the system could not take replaced the PNG before it, exit 1; found by an
+// exploratory session, thirty-fifth). Where the file system cannot exchange, a plain rename,
+// which a later failure leaves done.
 void commit_together(std::span<StagedFile* const> files);
 inline void commit_together(std::initializer_list<StagedFile*> files)
 {

@@ -1207,13 +1207,13 @@ void rewrite_ascii_stl(string& text)
         for (int k = 0; k < 3; ++k) {
             if (k == 0) words.next(word, line); // vertex
             else words.next_after_numbers(word, line, vertex_line); // (past more numbers on the last vertex's line)
-            vertex_line = line;
             facet += "vertex";
             for (int c = 0; c < 3; ++c) {
                 words.next(word, line);
                 facet += ' ';
                 facet += word;
             }
+            vertex_line = line; // (as the scan: the last number's line)
             facet += '\n';
         }
         words.next_after_numbers(word, line, vertex_line); // endloop or endfacet
@@ -1300,6 +1300,7 @@ Expect scan_stl(const string& subject, string_view text, const MeshOptions& opti
             for (int c = 0; c < 3; ++c)
                 if (!words.next(v, l) || !parse_finite_float(v))
                     fail(subject, line_prefix(vertex_line) + "expected 'vertex x y z' with finite numbers");
+            vertex_line = l; // (its last number's: more on that line are ignored)
         }
         // After the third vertex (and any more numbers on its line, which the reader ignored):
         // "endloop", then "endfacet" (a file cut inside a facet after its third vertex was read
