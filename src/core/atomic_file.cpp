@@ -243,13 +243,13 @@ void check_destination(const fs::path& path, const fs::path& target)
     // An immutable or append-only file or folder (chattr +i, +a) takes no rename, root or not:
     // it failed after the work, and the outputs renamed before it stayed replaced. (statx: no
     // open, no read permission needed; where a file system keeps no such attributes, none.)
-    const auto fixed = [](const fs::path& p) {
+    const auto fixed = [](const fs::path& p, int flags) {
         struct statx sx {};
-        return ::statx(AT_FDCWD, p.c_str(), AT_SYMLINK_NOFOLLOW, 0, &sx) == 0 &&
+        return ::statx(AT_FDCWD, p.c_str(), flags, 0, &sx) == 0 &&
                (sx.stx_attributes & sx.stx_attributes_mask & (STATX_ATTR_IMMUTABLE | STATX_ATTR_APPEND)) != 0;
     };
-    if (fixed(target)) throw Error(subject, it + "is immutable or append-only (chattr): it cannot be replaced");
-    if (fixed(dir))
+    if (fixed(target, AT_SYMLINK_NOFOLLOW)) throw Error(subject, it + "is immutable or append-only (chattr): it cannot be replaced");
+    if (fixed(dir, 0)) // (a folder reached through a link: the folder's own)
         throw Error(subject, "cannot write in folder " + dir.string() + ": it is immutable or append-only (chattr)");
     // In a sticky folder (/tmp) only the file's owner, the folder's or root may replace a file:
     // the rename failed after the work ("Operation not permitted").
@@ -269,7 +269,7 @@ std::string temporary_name(const fs::path& target, unsigned number)
 {
     const std::string suffix = ".tmp" + std::to_string(number % 1000000);
     long max = ::pathconf(folder_of(target).c_str(), _PC_NAME_MAX);
-    if (max <= 0) max = 255;
+    if (max <= 0 || max > NAME_MAX) max = NAME_MAX; // (vfat says 1530, for 255 characters)
     // ...and where the whole path would pass PATH_MAX (a legal 4085-byte path failed after the
     // work; check_destination leaves room for the shortest).
     const long room = long(PATH_MAX) - 1 - long(folder_of(target).string().size()) - 1;
@@ -391,44 +391,71 @@ void commit_together(std::span<StagedFile* const> files)
     // one stays under the temporary's name until every output is in place, and a rename that
     // fails after others is undone by exchanging back (a report name the system could not take
     // replaced the PNG before it, exit 1; found by an exploratory session, thirty-fifth). Where
-    // the file system cannot exchange (EINVAL), a plain rename, which cannot be undone.
+    // the file system cannot exchange (NFS, FUSE: EINVAL), the old file is kept as a hard link
+    // beside it before a plain rename; where neither can be, a plain rename, which a later
+    // failure leaves done.
+    enum class Kept { Nothing, Exchanged, Linked };
     struct Done {
         StagedFile* file;
-        fs::path tmp;    // where the old file is (exchanged), or empty: there was none
-        bool undoable;
+        fs::path old;  // where the old file is kept (Exchanged: the temporary's name; Linked: a link)
+        Kept kept;
+        bool undoable; // Nothing kept: no file was there (undone by removing the new one)
     };
     std::vector<Done> renamed;
+    renamed.reserve(files.size());
+    std::random_device rd;
     const auto undo = [&] {
         for (auto it = renamed.rbegin(); it != renamed.rend(); ++it) {
             if (!it->undoable) continue;
-            if (it->tmp.empty()) {
-                ::unlink(it->file->target_.c_str()); // (there was none)
-            } else if (::renameat2(AT_FDCWD, it->tmp.c_str(), AT_FDCWD, it->file->target_.c_str(), RENAME_EXCHANGE) == 0) {
-                ::unlink(it->tmp.c_str()); // (the new one, back under the temporary's name)
-                it->tmp.clear();
+            const char* target = it->file->target_.c_str();
+            bool back = false;
+            if (it->kept == Kept::Nothing) back = ::unlink(target) == 0 || errno == ENOENT;
+            else if (it->kept == Kept::Linked) back = ::rename(it->old.c_str(), target) == 0;
+            else if (::renameat2(AT_FDCWD, it->old.c_str(), AT_FDCWD, target, RENAME_EXCHANGE) == 0) {
+                ::unlink(it->old.c_str()); // (the new one, back under the temporary's name)
+                back = true;
             }
-            // (An exchange back that fails leaves the old file under the temporary's name.)
+            if (back) {
+                it->old.clear();
+            } else if (!it->old.empty()) {
+                // The old file stays where it is kept, and is said (found by a review: it was removed).
+                warn(it->file->path_.string() + ": could not be put back as it was (" + std::strerror(errno) +
+                     "); the earlier file is kept as " + it->old.string());
+                it->kept = Kept::Nothing;
+                it->old.clear();
+            }
         }
     };
     const auto finish = [&] {
         for (Done& d : renamed) {
-            if (!d.tmp.empty()) ::unlink(d.tmp.c_str()); // the old file
+            if (!d.old.empty()) ::unlink(d.old.c_str()); // the old file, or its link
             release_temporary(std::exchange(d.file->slot_, -1));
         }
     };
-    // (While they are exchanged, a temporary's slot names the old file: the signals are held.)
     try {
         for (StagedFile* f : files) {
             if (f == nullptr || f->tmp_.empty()) continue;
             struct stat st;
             const bool old_there = ::lstat(f->target_.c_str(), &st) == 0 && S_ISREG(st.st_mode);
             if (old_there && ::renameat2(AT_FDCWD, f->tmp_.c_str(), AT_FDCWD, f->target_.c_str(), RENAME_EXCHANGE) == 0) {
-                renamed.push_back({f, std::exchange(f->tmp_, {}), true});
+                renamed.push_back({f, std::exchange(f->tmp_, {}), Kept::Exchanged, true});
                 continue;
             }
-            // No file there (undone by removing the new one), or one the exchange could not take.
-            f->commit(); // (releases its temporary's slot; a failure throws, its temporary removed)
-            renamed.push_back({f, {}, !old_there});
+            fs::path link;
+            if (old_there)
+                for (int attempt = 0; attempt < 10 && link.empty(); ++attempt) {
+                    const fs::path candidate = folder_of(f->target_) / temporary_name(f->target_, rd());
+                    if (::link(f->target_.c_str(), candidate.c_str()) == 0) link = candidate;
+                    else if (errno != EEXIST) break;
+                }
+            try {
+                f->commit(); // (releases its temporary's slot; a failure throws, its temporary removed)
+            } catch (...) {
+                if (!link.empty()) ::unlink(link.c_str());
+                throw;
+            }
+            const Kept kept = link.empty() ? Kept::Nothing : Kept::Linked;
+            renamed.push_back({f, std::move(link), kept, !old_there || kept == Kept::Linked});
         }
     } catch (...) {
         undo();

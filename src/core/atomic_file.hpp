@@ -55,8 +55,9 @@ private:
 // neither: each file replaced is exchanged with its temporary (renameat2 RENAME_EXCHANGE) and
 // kept there until every output is in place, and where a rename fails those before it are put
 // back (a report name the system could not take replaced the PNG before it, exit 1; found by an
-// exploratory session, thirty-fifth). Where the file system cannot exchange, a plain rename,
-// which a later failure leaves done.
+// exploratory session, thirty-fifth). Where the file system cannot exchange, the old file is kept
+// as a hard link beside it; where neither can be, a plain rename, which a later failure leaves
+// done. An old file that cannot be put back is left where it was kept, and said.
 void commit_together(std::span<StagedFile* const> files);
 inline void commit_together(std::initializer_list<StagedFile*> files)
 {
