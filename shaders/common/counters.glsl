@@ -25,11 +25,14 @@ layout(std430, binding = PR_SSBO_COUNTERS) buffer Counters {
 // octave, each 1/1024 to 1/2048 of its value wide, up to 2^31 (thirty-fifth session: 8,192
 // bins, the last "that many or more", and a p95 past it read 8191 where every fragment took
 // 22,530; found by an exploratory session). Renderer's sample_bin_low() gives a bin's lowest n.
+const int kExactSampleBins = 1 << PR_EXACT_SAMPLE_BITS; // 8192
+
 int sample_bin(int n)
 {
-    if (n < 8192) return max(n, 0);
+    if (n < kExactSampleBins) return max(n, 0);
     int e = findMSB(n); // 13 .. 30
-    return 8192 + (e - 13) * 1024 + ((n >> (e - 10)) & 1023);
+    return kExactSampleBins + ((e - PR_EXACT_SAMPLE_BITS) << PR_OCTAVE_SAMPLE_BITS) +
+           ((n >> (e - PR_OCTAVE_SAMPLE_BITS)) & ((1 << PR_OCTAVE_SAMPLE_BITS) - 1));
 }
 
 // Adds one to bin `bin`'s count, carrying into its high word.
@@ -52,7 +55,7 @@ void count_fragment()
 {
 #ifdef PR_COUNT_SAMPLES
     if (atomicAdd(c_fragments_low, 1u) == 0xffffffffu) atomicAdd(c_fragments_high, 1u);
-    if (g_height_samples >= 8192) { // (the bins past the exact ones: their samples summed here)
+    if (g_height_samples >= kExactSampleBins) { // (the bins past the exact ones: their samples summed here)
         uint before = atomicAdd(c_overflow_low, uint(g_height_samples));
         if (before + uint(g_height_samples) < before) atomicAdd(c_overflow_high, 1u); // the low word wrapped
     }

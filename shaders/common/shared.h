@@ -41,6 +41,10 @@ using mat4 = glm::mat4;
 // The reference's soft shadows: one shadow map per direction over the light's disc (hard: one).
 #define PR_SHADOW_LAYERS 16
 #define PR_SSBO_COUNTERS 0
+// bench's histogram of height samples per fragment (counters.glsl sample_bin, renderer.hpp
+// sample_bin_low): one bin a count below 2^13, then 2^10 bins an octave.
+#define PR_EXACT_SAMPLE_BITS 13
+#define PR_OCTAVE_SAMPLE_BITS 10
 #define PR_IMAGE_TEARS 0    // r32ui, per pixel: 1 where a walk went into the object through a tear (prism walk, torn meshes)
 #define PR_IMAGE_TEAR_TILES 1 // r32ui, the same per tile of PR_TEAR_TILE^2 pixels (the second pass's culling)
 #define PR_TEAR_TILE 16

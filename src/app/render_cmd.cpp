@@ -57,10 +57,10 @@ CommandAction add_render_command(CLI::App& app)
         Renderer::ReferenceStats stats;
         if (settings.technique == Technique::Reference) {
             stats = renderer.prepare_reference(session.scene, session.camera, ref);
-            const std::string capped = !stats.capped ? ""
-                                       : stats.levels.size() <= 1
-                                           ? " (level capped by --reference-max-triangles)"
-                                           : " (" + reference_capped_text(stats) + " capped by --reference-max-triangles)";
+            const std::string capped =
+                stats.capped ? " (" + (stats.levels.size() <= 1 ? std::string("level") : reference_capped_text(stats)) +
+                                   " capped by --reference-max-triangles)"
+                             : "";
             std::printf("reference: %s, %zu triangles, %.1f MB, built in %.0f ms%s\n", reference_levels_text(stats).c_str(),
                         stats.triangles, double(stats.bytes) / 1e6, stats.build_ms, capped.c_str());
         }

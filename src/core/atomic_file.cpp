@@ -182,6 +182,14 @@ fs::path destination_of(const fs::path& path)
 }
 
 // check_output_folder() for `path`, whose write replaces `target` (destination_of(path)).
+// The longest name a file may have in `folder`: the file system's, at most NAME_MAX bytes (vfat's
+// pathconf says 1530, six bytes a character, for 255 of them).
+long name_limit(const fs::path& folder)
+{
+    const long max = ::pathconf(folder.c_str(), _PC_NAME_MAX);
+    return max <= 0 || max > NAME_MAX ? NAME_MAX : max;
+}
+
 void check_destination(const fs::path& path, const fs::path& target)
 {
     if (path.empty()) throw Error("--out", "empty file name");
@@ -220,9 +228,7 @@ void check_destination(const fs::path& path, const fs::path& target)
     // name: a 40 s cone map, then "File name too long"), and a folder whose path is too long read
     // as missing (found by an exploratory session, thirty-fifth). The temporary beside it needs
     // ".t" and six digits more than the name (temporary_name).
-    // (At most NAME_MAX bytes: vfat's pathconf says 1530, six bytes a character, for 255 of them.)
-    long name_max = ::pathconf(dir.c_str(), _PC_NAME_MAX);
-    if (name_max <= 0 || name_max > NAME_MAX) name_max = NAME_MAX;
+    const long name_max = name_limit(dir);
     if (target.filename().string().size() > std::size_t(name_max))
         throw Error(subject, "cannot write: its name is " + std::to_string(target.filename().string().size()) +
                                  " bytes, more than the " + std::to_string(name_max) + " a file name may have here");
@@ -268,8 +274,7 @@ void check_destination(const fs::path& path, const fs::path& target)
 std::string temporary_name(const fs::path& target, unsigned number)
 {
     const std::string suffix = ".tmp" + std::to_string(number % 1000000);
-    long max = ::pathconf(folder_of(target).c_str(), _PC_NAME_MAX);
-    if (max <= 0 || max > NAME_MAX) max = NAME_MAX; // (vfat says 1530, for 255 characters)
+    long max = name_limit(folder_of(target));
     // ...and where the whole path would pass PATH_MAX (a legal 4085-byte path failed after the
     // work; check_destination leaves room for the shortest).
     const long room = long(PATH_MAX) - 1 - long(folder_of(target).string().size()) - 1;

@@ -86,6 +86,20 @@ std::vector<std::uint8_t> read_file(const std::string& path, const ImageLimits& 
 }
 
 // stb's failure reasons are terse codes ("outofdata", "bad png sig"); say what they mean.
+// Reason codes stb leaves from another format's signature test, not the file's own decoder's
+// (some decoders, a JPEG cut inside its tables, fail without one of their own).
+bool another_decoders_code(const std::string& code)
+{
+    return code == "bad png sig" || code == "not GIF" || code == "no SOI";
+}
+
+// A code that can be shown: stb names an unknown critical PNG chunk by its type, whatever its
+// bytes (four zeros made the reason empty).
+bool showable_code(const std::string& code)
+{
+    return !code.empty() && std::all_of(code.begin(), code.end(), [](char ch) { return ch >= ' ' && ch <= '~'; });
+}
+
 std::string stb_reason()
 {
     const char* raw = stbi_failure_reason();
@@ -97,15 +111,13 @@ std::string stb_reason()
         return "truncated or corrupt data: " + code;
     // Some decoders (JPEG cut inside its tables) fail without a reason of their own, leaving the
     // stale one of another format's signature test: the header was readable, the data was not.
-    if (code == "bad png sig" || code == "not GIF" || code == "no SOI")
-        return "truncated or corrupt data";
+    if (another_decoders_code(code)) return "truncated or corrupt data";
     if (code == "0-pixel image" || code == "0 width") return "the image has no pixels (0x0)";
     if (code == "too large") return "its header claims absurd dimensions";
     if (code == "outofmem") return "out of memory while decoding";
     // stb names an unknown critical PNG chunk by its type, whatever its bytes: four zeros made
     // the reason empty ("corrupt or unsupported: "). check_png leaves few such files to stb.
-    if (code.empty() || !std::all_of(code.begin(), code.end(), [](char ch) { return ch >= ' ' && ch <= '~'; }))
-        return "corrupt data";
+    if (!showable_code(code)) return "corrupt data";
     return "corrupt or unsupported: " + code;
 }
 
@@ -329,10 +341,9 @@ Checked check_header(const std::string& subject, std::vector<std::uint8_t>& byte
             stbi_image_free(stbi_load_from_memory(c.data, c.len, &w, &h, &comp, 4));
             const char* raw = stbi_failure_reason();
             const std::string why = raw ? raw : "";
-            if (why == "outofmem") throw Error(subject, "not a supported image (out of memory while decoding)");
-            const bool own = !why.empty() && why != "unknown image type" && why != "not TGA" && why != "bad png sig" &&
-                             why != "not GIF" && why != "no SOI" &&
-                             std::all_of(why.begin(), why.end(), [](char ch) { return ch >= ' ' && ch <= '~'; });
+            if (why == "outofmem") fail_decode(subject); // ("out of memory while decoding")
+            const bool own = showable_code(why) && !another_decoders_code(why) && why != "unknown image type" &&
+                             why != "not TGA";
             // stb's words for what it leaves out, said as what to do.
             const std::string said = why == "wrong color format" ? "not in RGB colour mode (stb reads RGB PSD only): save it as RGB"
                                      : why == "BMP RLE"          ? "run-length compressed (stb reads uncompressed BMP only)"

@@ -40,7 +40,7 @@ struct GpuOutOfMemory : Error {
 // Bins of the histogram of height samples per fragment (bench's p95): sample_bin() in
 // shaders/common/counters.glsl, sample_bin_low() here. (256 before the thirteenth session: every
 // p95 above 255 read 255; 8192 before the thirty-fifth, the last "that many or more".)
-constexpr int kHistogramBins = kExactSampleBins + 18 * 1024;
+constexpr int kHistogramBins = kExactSampleBins + (31 - PR_EXACT_SAMPLE_BITS) * kSampleBinsPerOctave; // up to 2^31
 constexpr int kCounterWords = 7; // before the histogram, two words a bin (shaders/common/counters.glsl)
 // The largest shell (radius of the sphere around it) the prism draws: its exit tests multiply three
 // world lengths in floats, which overflow (3.4e38): the torus drew right at a radius of 2.2e13, nothing at 6.5e13.
@@ -879,7 +879,7 @@ void Renderer::upload_object(const GpuObject& o, const DrawSettings& settings, f
     ob.u_displace = glm::vec4(o.depth, midlevel, o.height_size.x, o.height_size.y);
     ob.u_march = glm::ivec4(settings.steps, settings.refine, eye ? int(eye->prism) : -1,
                             (o.color_texture ? PR_FLAG_COLOR_TEXTURE : 0) |
-                                (o.open_shell || (o.closed && !*o.closed) ? PR_FLAG_OPEN_SHELL : 0));
+                                (o.closed && !*o.closed ? PR_FLAG_OPEN_SHELL : 0)); // (the walk's data sets it too)
     ob.u_eye_tex = eye ? glm::vec4(eye->tex, 0.0f) : glm::vec4(0.0f);
     ob.u_walk = glm::ivec4(o.walk_max_prisms, 0, 0, 0);
     ob.u_material = glm::vec4(0.12f, 0.88f, 0.18f, 48.0f);
@@ -1547,8 +1547,8 @@ std::vector<float> Renderer::read_depth() const
 
 SampleCounters Renderer::read_counters() const
 {
-    // (counters.glsl: fragments' low word, the last bin's samples' low word, the walk's prisms in
-    // two words, the most of one fragment, the last bin's samples' high word, fragments' high
+    // (counters.glsl: fragments' low word, the low word of the samples past the exact bins, the
+    // walk's prisms in two words, the most of one fragment, that sum's high word, fragments' high
     // word, the histogram in two words a bin.)
     std::vector<std::uint32_t> raw(kCounterWords + 2 * kHistogramBins);
     glGetNamedBufferSubData(counters_.id(), 0, static_cast<GLsizeiptr>(raw.size() * sizeof(std::uint32_t)),

@@ -2,6 +2,7 @@
 // The one renderer shared by render, compare, bench and the viewer: uploads a Scene, draws it
 // with a technique into an offscreen target, and reads colour, depth and counters back.
 // Needs a current GL 4.5 context (platform/context.hpp).
+#include "common/shared.h"
 #include "core/camera.hpp"
 #include "core/image.hpp"
 #include "gl/objects.hpp"
@@ -28,12 +29,14 @@ RgbaImage read_texture_rgba8(GLuint texture, int width, int height);
 // The histogram of height samples per fragment: bin n holds the fragments that took n samples
 // below kExactSampleBins; past it each octave has 1024 bins (shaders/common/counters.glsl,
 // sample_bin), up to 2^31. The fewest samples a fragment in `bin` took.
-inline constexpr int kExactSampleBins = 8192;
+inline constexpr int kExactSampleBins = 1 << PR_EXACT_SAMPLE_BITS; // (common/shared.h)
+inline constexpr int kSampleBinsPerOctave = 1 << PR_OCTAVE_SAMPLE_BITS;
 inline std::uint64_t sample_bin_low(std::size_t bin)
 {
     if (bin < std::size_t(kExactSampleBins)) return bin;
-    const std::size_t octave = (bin - kExactSampleBins) / 1024 + 13, step = (bin - kExactSampleBins) % 1024;
-    return std::uint64_t(1024 + step) << (octave - 10);
+    const std::size_t octave = (bin - kExactSampleBins) / kSampleBinsPerOctave + PR_EXACT_SAMPLE_BITS,
+                      step = (bin - kExactSampleBins) % kSampleBinsPerOctave;
+    return std::uint64_t(kSampleBinsPerOctave + step) << (octave - PR_OCTAVE_SAMPLE_BITS);
 }
 
 // Per-draw GPU counters (instrumented variants only).
