@@ -5,6 +5,10 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fcntl.h>
+#include <linux/fs.h>
+#include <sys/ioctl.h>
+#include <unistd.h>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -139,4 +143,42 @@ TEST(AtomicFile, CommitTogetherPutsBackWhatItRenamedWhenALaterRenameFails)
     for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
     EXPECT_EQ(names.size(), 2u);
     fs::remove_all(dir);
+}
+
+// Refused before the work, not at the rename after it: a path past PATH_MAX (with room for the
+// temporary beside it), and an immutable file (chattr +i; set here where the user and the file
+// system allow it, else skipped).
+TEST(AtomicFile, PathsPastTheSystemsLimitAndImmutableFilesAreRefusedEarly)
+{
+    std::string deep;
+    while (deep.size() < 5000) deep += "folder/";
+    try {
+        pr::check_output_folder(deep + "x.png");
+        FAIL() << "no error";
+    } catch (const pr::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("past what the system takes"), std::string::npos) << e.what();
+    }
+    const fs::path dir = fs::temp_directory_path() / "pr_immutable_test";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const fs::path f = dir / "fixed.json";
+    pr::write_file_atomic(f, std::string_view("kept"));
+    const int fd = ::open(f.c_str(), O_RDONLY);
+    int flags = 0;
+    const bool set = fd >= 0 && ::ioctl(fd, FS_IOC_GETFLAGS, &flags) == 0 &&
+                     (flags |= FS_IMMUTABLE_FL, ::ioctl(fd, FS_IOC_SETFLAGS, &flags) == 0);
+    std::string said;
+    if (set) {
+        try {
+            pr::check_output_folder(f);
+        } catch (const pr::Error& e) {
+            said = e.what();
+        }
+        flags &= ~FS_IMMUTABLE_FL;
+        ::ioctl(fd, FS_IOC_SETFLAGS, &flags);
+    }
+    if (fd >= 0) ::close(fd);
+    fs::remove_all(dir);
+    if (!set) GTEST_SKIP() << "cannot make a file immutable here";
+    EXPECT_NE(said.find("is immutable or append-only (chattr): it cannot be replaced"), std::string::npos) << said;
 }
