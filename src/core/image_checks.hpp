@@ -19,7 +19,8 @@ namespace pr {
 // holds (PNM, raw and run-length TGA, uncompressed BMP, PSD), when a Radiance HDR file's
 // run-length scanlines are cut short or hold a run stb's decoder would loop on, for PSD
 // run-length data of 16 bits, which stb decodes as 8 (garbage), and for a colour-mapped TGA's
-// index past its map's entries (stb takes it for entry 0) or a palette BMP's past its palette.
+// index past its map's entries (stb takes it for entry 0) or a palette BMP's past its palette,
+// and for a PIC whose packets or rows stb's decoder would refuse, after allocating the image.
 // A PNM's header is taken as checked by check_pnm_header (its maxval within 1 to 65535).
 void check_image_data(const std::string& subject, const std::vector<std::uint8_t>& bytes);
 

@@ -199,3 +199,10 @@ write("bmp_rle8.bmp", b"BM" + struct.pack("<IHHI", bmp_offset + len(rle), 0, 0, 
 # A PIC header of 16384x4096 and no packets: stb's info fails in the packets; decoding it for a
 # reason allocated and cleared the whole image first (256 MiB for 104 bytes).
 write("pic_no_packets.pic", pic_header(16384, 4096))
+# A PIC header of 16384x4096, one mixed run-length packet and no rows: decoding it allocated and
+# cleared the whole image before it found the rows missing (thirty-sixth session); and a mixed run
+# of 65 pixels in a row of 64.
+write("pic_no_rows.pic", pic_header(16384, 4096) + bytes([0, 8, 2, 0xE0]) + b"\x80")
+pic_row = bytes([128]) + struct.pack(">H", 64) + bytes([100, 100, 100])
+write("pic_overrun.pic", pic_header(64, 4) + bytes([0, 8, 2, 0xE0]) + pic_row +
+      bytes([128]) + struct.pack(">H", 65) + bytes([1, 2, 3]) + pic_row * 2)

@@ -48,9 +48,13 @@ foreach(case "truncated.png|not a supported image \\(truncated PNG: it needs at 
              # Found by an exploratory session (thirty-fifth): a damaged PIC crashed a height map
              # (stb 2.27 converted its failed decode's null pointer), and readable formats in forms
              # stb does not read said "unknown format", or nothing of why.
-             "pic_bad_packet.pic|not a supported image \\(corrupt or unsupported: bad format\\)"
-             "pic_cut.pic|not a supported image \\(truncated or corrupt data: bad file\\)"
+             "pic_bad_packet.pic|not a supported image \\(corrupt PIC: packet 1 has compression type 7; 0, 1 and 2 are read\\)"
+             "pic_cut.pic|not a supported image \\(truncated PIC: the file ends in row 4 of 24, after 400 bytes\\)"
              "pic_no_packets.pic|not a supported image \\(truncated or corrupt PIC: its pixel packets are damaged or cut short\\)"
+             # (Thirty-sixth session: its packets walked before decoding, which allocated the
+             # whole image first: 256 MiB for this 109-byte file, and a run past a row's end.)
+             "pic_no_rows.pic|not a supported image \\(truncated PIC: the file ends in row 1 of 4096, after 109 bytes\\)"
+             "pic_overrun.pic|not a supported image \\(corrupt PIC: a run of 65 pixels in row 2 of 4 overruns the row's 64\\)"
              "hdr_plus_y.hdr|not a supported image \\(corrupt or unsupported HDR: a pixel layout other than -Y height \\+X width"
              "psd_grey.psd|not a supported image \\(corrupt or unsupported PSD: not in RGB colour mode"
              "bmp_rle8.bmp|not a supported image \\(corrupt or unsupported BMP: run-length compressed")
@@ -623,5 +627,5 @@ pr_cli_special(uv_generated_far_from_zero_is_said EXIT 0 EXPECT_FILE o.png
                STDERR "prismrelief: warning: g.obj: texture coordinates reach 300000, .*: the surface comes out as noise \\(use a smaller --uv-scale\\)"
                ARGS render --mesh g.obj --uv-scale 300000 --size 16x16 --out o.png)
 # The damaged PIC through conemap's height map too (it crashed there the same way).
-pr_refuse(conemap_pic_bad_packet "pic_bad_packet.pic" "not a supported image \\(corrupt or unsupported: bad format\\)"
+pr_refuse(conemap_pic_bad_packet "pic_bad_packet.pic" "not a supported image \\(corrupt PIC: packet 1 has compression type 7"
           ARGS conemap --height ${BAD}/pic_bad_packet.pic --no-cache --out o.png)

@@ -796,3 +796,41 @@ TEST(PngChunks, EmptyIdatChunksAreDroppedAndNothingElse)
     pr::drop_empty_png_idat(none);
     EXPECT_EQ(none, without);
 }
+
+// A Softimage PIC of `w` x `h` whose one packet (channels R, G and B) has compression `type` and
+// holds `rows`, top row first.
+Bytes pic_file(int w, int h, std::uint8_t type, const Bytes& rows)
+{
+    Bytes b = {0x53, 0x80, 0xF6, 0x34};
+    b.resize(88, 0);
+    for (char c : std::string_view("PICT")) b.push_back(std::uint8_t(c));
+    for (int v : {w, h}) b.insert(b.end(), {std::uint8_t(v >> 8), std::uint8_t(v)});
+    b.insert(b.end(), {0x3F, 0x80, 0, 0, 0, 3, 0, 0}); // ratio 1.0, fields 3, pad
+    b.insert(b.end(), {0, 8, type, 0xE0});
+    b.insert(b.end(), rows.begin(), rows.end());
+    return b;
+}
+
+// The PIC check walks the rows as stb reads them (thirty-sixth session): a file it passes decodes
+// in each of the three compressions, and the same rows one byte short are refused as truncated,
+// before stb allocates the image.
+TEST_F(ImageFiles, PicRowsAreWalkedAsStbReadsThem)
+{
+    // 3 x 2, grey: top row 10 20 30, bottom row 40 40 40.
+    const Bytes raw = {10, 10, 10, 20, 20, 20, 30, 30, 30, 40, 40, 40, 40, 40, 40, 40, 40, 40};
+    const Bytes pure = {1, 10, 10, 10, 1, 20, 20, 20, 1, 30, 30, 30, 3, 40, 40, 40};
+    const Bytes mixed = {2, 10, 10, 10, 20, 20, 20, 30, 30, 30, 128, 0, 3, 40, 40, 40};
+    for (const auto& [type, rows] : {std::pair{std::uint8_t(0), raw}, std::pair{std::uint8_t(1), pure},
+                                     std::pair{std::uint8_t(2), mixed}}) {
+        SCOPED_TRACE(int(type));
+        const pr::HeightField h = pr::load_height(put("ok.pic", pic_file(3, 2, type, rows)));
+        ASSERT_EQ(h.width, 3);
+        ASSERT_EQ(h.height, 2);
+        EXPECT_FLOAT_EQ(h.at(0, 1), 10 / 255.0f);
+        EXPECT_FLOAT_EQ(h.at(2, 1), 30 / 255.0f);
+        EXPECT_FLOAT_EQ(h.at(1, 0), 40 / 255.0f);
+        const Bytes cut(rows.begin(), rows.end() - 1);
+        const pr::Error e = prtest::error_of([&] { (void)pr::load_height(put("cut.pic", pic_file(3, 2, type, cut))); });
+        EXPECT_NE(std::string(e.what()).find("truncated PIC: the file ends in row 2 of 2"), std::string::npos) << e.what();
+    }
+}
