@@ -86,14 +86,15 @@ int help_or_usage(CLI::App& app, const CLI::ParseError& e, int argc, char** argv
     return kExitUsage;
 }
 
+// The options that name a file or folder.
+constexpr const char* kFileOptions[] = {"--out",        "--json", "--scene", "--mesh",  "--height",    "--color",
+                                        "--cache-dir", "--shader-dir", "--drop", "--tiles", "--screenshot"};
+
 // A file option given an empty value (`--json ""`, a script's unset variable): CLI11 takes it as
 // not given, so the command "succeeded" without its report (compare, bench, conemap --json,
 // compare --out), drew without its scene or colour map, or used the default cache folder.
 void refuse_empty_file_names(const CLI::App& command)
 {
-    static constexpr const char* kFileOptions[] = {"--out", "--json", "--scene", "--mesh", "--height",
-                                                   "--color", "--cache-dir", "--shader-dir", "--drop",
-                                                   "--tiles", "--screenshot"};
     for (const char* name : kFileOptions) {
         const CLI::Option* option = command.get_option_no_throw(name);
         if (option == nullptr || option->count() == 0) continue;
@@ -125,6 +126,13 @@ int check_stdout()
     std::fprintf(stderr, "prismrelief: error: standard output: cannot write%s%s\n", err ? ": " : "",
                  err ? std::strerror(err) : "");
     return kExitFailure;
+}
+
+// Whether a command-line word is an option's name (`--name`, `--name=value`, `-h`), never a value:
+// negative numbers (`-0.5`, `-1,2,3`) and a lone "-" are values.
+bool looks_like_option(const std::string& word)
+{
+    return word == "-h" || (word.size() > 2 && word.starts_with("--") && std::isalpha(static_cast<unsigned char>(word[2])));
 }
 
 } // namespace
@@ -166,6 +174,19 @@ int run_cli(int argc, char** argv)
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         options_end = options_end || a == "--";
+        // An option that takes a value, followed by another option: CLI11 took the option for
+        // the value (`--json --depth-write` wrote the report to a file named "--depth-write"
+        // without depth writes, exit 0; `--techniques --size 16x16` blamed "16x16"; found by an
+        // exploratory session, thirty-sixth). A file whose name starts with "--" is given as
+        // ./--name.
+        if (i > 0 && !options_end && a.starts_with("--") && a.find('=') == std::string::npos && takes_value(a) &&
+            i + 1 < args.size() && looks_like_option(args[i + 1])) {
+            const bool file = std::find(std::begin(kFileOptions), std::end(kFileOptions), a) != std::end(kFileOptions);
+            std::fprintf(stderr, "prismrelief: usage: %s: expected a value, got the option '%s'%s (see prismrelief --help)\n",
+                         one_line(a).c_str(), one_line(args[i + 1].substr(0, args[i + 1].find('='))).c_str(),
+                         file ? one_line(" (a file of that name: ./" + args[i + 1] + ")").c_str() : "");
+            return kExitUsage;
+        }
         const std::string name = a.size() > 3 && a.back() == '=' ? a.substr(0, a.size() - 1) : std::string();
         if (i > 0 && !options_end && name.starts_with("--") && name.find('=') == std::string::npos &&
             takes_value(name)) {

@@ -157,6 +157,14 @@ inline bool drew_nothing(const RgbaImage& image)
     return true;
 }
 
+// Pixels an image covers: alpha >= 128, the contract's coverage mask.
+inline std::size_t covered_pixels(const RgbaImage& image)
+{
+    std::size_t covered = 0;
+    for (std::size_t i = 3; i < image.pixels.size(); i += 4) covered += image.pixels[i] >= 128;
+    return covered;
+}
+
 // The camera a report's images were drawn with (compare, render).
 inline nlohmann::json camera_json(const Camera& c)
 {

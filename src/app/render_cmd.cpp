@@ -84,12 +84,8 @@ CommandAction add_render_command(CLI::App& app)
         // Covered pixels (alpha >= 128), and whether any alpha at all: an empty picture is a valid
         // one (a view away from the scene), but rarely the one meant (with --msaa a sliver may
         // cover a fraction of a pixel: any alpha counts).
-        std::size_t covered = 0;
-        bool any = false;
-        for (std::size_t i = 3; i < image.pixels.size(); i += 4) {
-            covered += image.pixels[i] >= 128;
-            any = any || image.pixels[i] > 0;
-        }
+        const std::size_t covered = covered_pixels(image);
+        const bool any = !drew_nothing(image);
         const std::size_t pixels = std::size_t(image.width) * image.height;
         // Both outputs staged before either replaces a file: a failure leaves both as they were.
         StagedFile png(s->out, encode_png_for(s->out, image));

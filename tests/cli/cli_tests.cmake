@@ -39,6 +39,15 @@ pr_cli(version_after_unknown_subcommand EXIT 2 ONE_LINE STDERR "usage: unknown s
        ARGS frobnicate --version)
 pr_cli(help_after_unknown_option EXIT 2 ONE_LINE STDERR "usage: '--bogus': render has no such option"
        ARGS render --bogus --help)
+# An option that takes a value, followed by another option: usage, naming both (CLI11 took the
+# option for the value: the report written to a file named "--depth-write" without depth writes,
+# exit 0; thirty-sixth session).
+pr_cli(value_option_followed_by_option EXIT 2 ONE_LINE NO_FILE --depth-write
+       STDERR "usage: --json: expected a value, got the option '--depth-write' \\(a file of that name: ./--depth-write\\)"
+       ARGS compare --mesh ${M}/cube.obj --techniques pom --size 8x8 --json --depth-write)
+pr_cli(value_option_followed_by_option_not_a_file EXIT 2 ONE_LINE
+       STDERR "usage: --techniques: expected a value, got the option '--size' \\(see prismrelief --help\\)"
+       ARGS bench --mesh ${M}/cube.obj --techniques --size 16x16)
 pr_cli(non_numeric_steps EXIT 2 STDERR "usage: .*--steps" ARGS render --mesh ${M}/cube.obj --steps many --out x.png NO_FILE x.png)
 pr_cli(version EXIT 0 STDOUT "^prismrelief [0-9]+\\.[0-9]+\\.[0-9]+" ARGS --version)
 pr_cli(help EXIT 0 STDOUT "render" ARGS --help)
@@ -174,6 +183,18 @@ pr_cli(compare_sphere EXIT 0 EXPECT_FILE cmp.png STDOUT "pom .*relief .*referenc
        CHECKS "${R}.0.technique:STREQUAL:pom|${R}.0.iou:LESS:0.98|${R}.0.iou:GREATER:0.5|${R}.0.silhouette_wrong_px:GREATER:50|${R}.0.depth_error_mean:GREATER:0|${R}.0.depth_error_max:EXISTS|${R}.0.psnr:GREATER:5|${R}.0.ms:GREATER:0|${R}.2.technique:STREQUAL:reference|${R}.2.iou:EQUAL:1|${R}.2.silhouette_wrong_px:EQUAL:0|${R}.2.identical:STREQUAL:ON|${R}.2.psnr:TYPE:NULL|reference.level:GREATER:1"
        ARGS compare --mesh ${M}/uv_sphere.obj --height builtin:bumps@128 --depth 0.12 --size 128x128
             --techniques pom,relief,reference --out cmp.png --json cmp.json)
+# A reference of a few pixels: the metrics rest on too few, and compare says so (thirty-sixth
+# session: an object a few pixels across was reported as any other).
+pr_cli(compare_few_reference_pixels_said EXIT 0 JSON few.json
+       STDERR "warning: compare: the reference covers [0-9]+ pixels: one pixel more or less moves the IoU by about [0-9]+ %"
+       CHECKS "reference.covered_px:GREATER:0|reference.covered_px:LESS:100|reference.level:EQUAL:1"
+       ARGS compare --mesh ${M}/torus.obj --size 8x8 --techniques pom --json few.json)
+pr_cli(compare_reference_pixels_counted EXIT 0 JSON many.json CHECKS "reference.covered_px:GREATER:500"
+       ARGS compare --mesh ${M}/torus.obj --size 64x64 --techniques pom --json many.json)
+# A depth error under 0.001 keeps its digits in the table (at 5 decimals it read 0.00000, as the
+# reference's exact 0; thirty-sixth session).
+pr_cli(compare_small_depth_error_shown EXIT 0 STDOUT "pom +1\\.0000 +0 +[1-9]\\.[0-9][0-9]e-05 +[1-9]\\.[0-9][0-9]e-05"
+       ARGS compare --mesh ${M}/plane.obj --height builtin:const:0.5 --depth 0.00001 --depth-write --size 32x32 --techniques pom)
 # An IoU under 1 is never shown as 1.0000: the prism's two wrong pixels at 512² read as perfect.
 pr_cli(compare_iou_under_one_is_not_shown_as_one EXIT 0 STDOUT "prism +0\\.9999[0-9]+ +[1-9]"
        JSON iou1.json CHECKS "${R}.0.iou:LESS:1"
