@@ -272,6 +272,8 @@ private:
     std::mutex warned_mutex_;     // (warnings come from the cone maps' thread too)
     std::vector<std::string> warned_; // warnings not yet in the log
     float panel_width_ = 0.0f;    // the panel's width as the user left it (0: not drawn yet)
+    float panel_content_y_ = 0.0f; // the height of what the panel held in its last layout
+    bool panel_refit_ = false;     // what it holds changed in the last layout: lay it out again
     std::deque<float> frame_ms_; // recent frame times (plot)
     std::vector<double> all_frame_ms_;
     int screenshot_counter_ = 0;
@@ -953,6 +955,7 @@ void Viewer::draw_panel()
     // error below the controls were cut off.
     ImGui::SetNextWindowSize(ImVec2(panel_width_ > 0.0f ? panel_width_ : 330.0f * scale, 0.0f), ImGuiCond_Always);
     ImGui::SetNextWindowBgAlpha(0.85f);
+    panel_refit_ = false;
     if (!ImGui::Begin("prismrelief", &show_panel_)) {
         ImGui::End();
         return;
@@ -1095,6 +1098,12 @@ void Viewer::draw_panel()
     }
     ImGui::TextDisabled("drop a mesh or a height image on the window");
     ImGui::PopItemWidth();
+    // The height it fits is what it held in the frame before (ImGui's auto-fit): where that
+    // changed (a log line, an error, a section opened) the frame lays the panel out again
+    // (run), or its last lines were cut for a frame or two.
+    const float content = ImGui::GetCursorPosY();
+    panel_refit_ = content != panel_content_y_;
+    panel_content_y_ = content;
     ImGui::End();
 }
 
@@ -1156,6 +1165,16 @@ int Viewer::run()
             draw_build_box(); // (with the panel hidden too)
             handle_keys();    // (after the panel: a field it opened this frame takes the keys)
             ImGui::Render();
+            // The panel laid out again where what it holds changed since the frame before: its
+            // height is fitted to that frame's (a --frames 3 run's --screenshot-ui after a --drop
+            // cut the log's last line; found by an exploratory session, thirty-fifth). The input
+            // was read by the first pass: a second sees the same buttons held, not pressed.
+            for (int pass = 0; pass < 2 && show_panel_ && panel_refit_; ++pass) {
+                ImGui::NewFrame();
+                draw_panel();
+                draw_build_box();
+                ImGui::Render();
+            }
 
             drew_meanwhile_ = false;
             if (dirty_ || continuous_ || o_.frames > 0) {
