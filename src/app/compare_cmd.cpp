@@ -141,11 +141,9 @@ CommandAction add_compare_command(CLI::App& app)
         for (auto& p : bottom[0].image.pixels) p = 0; // an empty tile under the reference: legend only
         bool nothing_drawn = drew_nothing(reference.color); // by the reference and every technique
         // A reference of a few pixels: each is a large share of the IoU, and the depth error and
-        // PSNR rest on as few. At such a size the reference is the base mesh with its vertices
-        // displaced (level 1: its edges already under a pixel) and every technique samples the
-        // height map far below its texels, so the numbers compare aliasing (an object a few pixels
-        // across, in a 3x3 image or 150 units off, reported as any other; found by an exploratory
-        // session, thirty-fifth).
+        // PSNR rest on as few. At such a size every technique samples the height map far below its
+        // texels, so the numbers compare aliasing (an object a few pixels across, in a 3x3 image
+        // or 150 units off, reported as any other; found by an exploratory session, thirty-fifth).
         const std::size_t reference_px = covered_pixels(reference.color);
         if (reference_px > 0 && reference_px < kFewReferencePixels)
             warn(fmt::format("compare: the reference covers {} pixel{}: one pixel more or less moves the IoU by about "

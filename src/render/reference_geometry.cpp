@@ -71,7 +71,8 @@ std::size_t reference_bytes_per_triangle(int level)
 
 ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::dmat4& transform,
                                       const HeightField& height, float depth, float midlevel,
-                                      const Camera& camera, int width_px, int height_px, std::size_t max_triangles)
+                                      const Camera& camera, int width_px, int height_px, std::size_t max_triangles,
+                                      int floor_level)
 {
     ReferenceLevel r;
     // Pixels per world unit at distance 1 (vertical field of view over the image height).
@@ -131,13 +132,20 @@ ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::dmat4
     const float texels_per_edge = step > kSharpStep ? 0.5f : 1.0f;
     r.texel_level = std::max(1, static_cast<int>(std::ceil(max_texel_edge / texels_per_edge)));
     r.pixel_level = std::max(1, static_cast<int>(std::ceil(max_pixel_edge)));
-    r.level = std::min(r.texel_level, r.pixel_level);
+    const int wanted = std::min(r.texel_level, r.pixel_level);
+    r.level = std::max(wanted, std::min(r.texel_level, floor_level));
     const std::size_t tris = std::max<std::size_t>(mesh.triangle_count(), 1);
-    while (r.level > 1 && tris * std::size_t(r.level) * std::size_t(r.level) > max_triangles) {
-        --r.level;
-        r.capped = true;
-    }
+    while (r.level > 1 && tris * std::size_t(r.level) * std::size_t(r.level) > max_triangles) --r.level;
+    r.capped = r.level < wanted;
     return r;
+}
+
+int cheap_reference_level(std::size_t scene_triangles)
+{
+    const std::size_t tris = std::max<std::size_t>(scene_triangles, 1);
+    int level = 1;
+    while (tris * std::size_t(level + 1) * std::size_t(level + 1) <= kCheapReferenceTriangles) ++level;
+    return level;
 }
 
 void tessellate_reference(const PreparedMesh& mesh, const glm::mat4& transform, const HeightField& height,

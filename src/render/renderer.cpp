@@ -563,6 +563,9 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
     constexpr std::size_t kChunkTriangles = 1u << 20; // output triangles per upload
     std::vector<MeshVertex> vertices;
     std::vector<std::uint32_t> indices;
+    std::size_t scene_triangles = 0;
+    for (const SceneObject& so : scene.objects) scene_triangles += so.mesh.triangle_count();
+    const int floor_level = cheap_reference_level(scene_triangles);
     for (std::size_t k = 0; k < objects_.size(); ++k) {
         const SceneObject& so = scene.objects[k];
         GpuObject& o = objects_[k];
@@ -572,7 +575,7 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
             lv.level = options.level;
         } else {
             lv = choose_reference_level(so.mesh, so.transform, *so.height, so.depth, so.midlevel, camera,
-                                        width_, height_, options.max_triangles);
+                                        width_, height_, options.max_triangles, floor_level);
         }
         stats.level = std::max(stats.level, lv.level);
         stats.levels.push_back(lv.level);

@@ -187,8 +187,14 @@ pr_cli(compare_sphere EXIT 0 EXPECT_FILE cmp.png STDOUT "pom .*relief .*referenc
 # session: an object a few pixels across was reported as any other).
 pr_cli(compare_few_reference_pixels_said EXIT 0 JSON few.json
        STDERR "warning: compare: the reference covers [0-9]+ pixels: one pixel more or less moves the IoU by about [0-9]+ %"
-       CHECKS "reference.covered_px:GREATER:0|reference.covered_px:LESS:100|reference.level:EQUAL:1"
+       CHECKS "reference.covered_px:GREATER:0|reference.covered_px:LESS:100|reference.level:GREATER:8"
        ARGS compare --mesh ${M}/torus.obj --size 8x8 --techniques pom --json few.json)
+# At small sizes the automatic reference is no coarser than the scene's cheap floor (2^18
+# triangles, up to the texel level): the torus at 64x48 was level 6, where the reference's own
+# facets made most of the prism's error (34 dB; 49 at level 10; thirty-sixth session).
+pr_cli(compare_reference_floor_at_small_sizes EXIT 0 JSON floor.json
+       CHECKS "reference.level:EQUAL:10|reference.triangles:LESS:262145|results.0.psnr:GREATER:45"
+       ARGS compare --mesh ${M}/torus.obj --size 64x48 --techniques prism --json floor.json)
 pr_cli(compare_reference_pixels_counted EXIT 0 JSON many.json CHECKS "reference.covered_px:GREATER:500"
        ARGS compare --mesh ${M}/torus.obj --size 64x64 --techniques pom --json many.json)
 # A depth error under 0.001 keeps its digits in the table (at 5 decimals it read 0.00000, as the
@@ -376,7 +382,7 @@ pr_cli(render_reference EXIT 0 EXPECT_FILE r.png STDOUT "reference: level 3, 207
 # Objects at their own levels: each is said (one number gave the first object's alone).
 pr_cli(render_reference_levels_per_object EXIT 0 STDOUT "reference: levels [0-9]+ and [0-9]+, [0-9]+ triangles"
        JSON r.json CHECKS "reference.levels.0:GREATER:1|reference.levels.1:GREATER:1|reference.levels.2:ABSENT|reference.level:GREATER:1"
-       ARGS render --scene ${M}/scenes/plane_and_torus.json --technique reference --size 64x64 --out r.png --json r.json)
+       ARGS render --scene ${M}/scenes/plane_and_torus.json --technique reference --size 128x128 --out r.png --json r.json)
 # Which object's level the cap lowered (the plane's only, at 40000 triangles; it named both).
 pr_cli(render_reference_capped_per_object EXIT 0 STDOUT "reference: levels [0-9]+ and [0-9]+, .*\\(object 0 at level [0-9]+ capped by --reference-max-triangles\\)"
        ARGS render --scene ${M}/scenes/plane_and_torus.json --technique reference --reference-max-triangles 40000 --size 64x64 --out r.png)
