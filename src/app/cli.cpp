@@ -170,10 +170,11 @@ int run_cli(int argc, char** argv)
     };
     std::vector<std::string> args(argv, argv + argc);
     std::vector<std::string> split;
-    bool options_end = false;
+    bool options_end = false, help_asked = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         options_end = options_end || a == "--";
+        help_asked = help_asked || (!options_end && (a == "--help" || a == "-h"));
         // An option that takes a value, followed by another option: CLI11 took the option for
         // the value (`--json --depth-write` wrote the report to a file named "--depth-write"
         // without depth writes, exit 0; `--techniques --size 16x16` blamed "16x16"; found by an
@@ -211,6 +212,12 @@ int run_cli(int argc, char** argv)
     } catch (const CLI::CallForVersion& e) {
         return help_or_usage(app, e, argc, argv);
     } catch (const CLI::ParseError& e) {
+        // --help next to a bad value (`render --steps abc --help`): the help, as CLI11 gives it
+        // where the values are good (it converts them before it looks for --help; found by an
+        // exploratory session, thirty-sixth). An unknown option or argument stays usage.
+        if (help_asked && (dynamic_cast<const CLI::ConversionError*>(&e) || dynamic_cast<const CLI::ValidationError*>(&e) ||
+                           dynamic_cast<const CLI::ArgumentMismatch*>(&e)))
+            return app.exit(CLI::CallForHelp());
         std::fprintf(stderr, "prismrelief: usage: %s (see prismrelief --help)\n",
                      one_line(usage_message(app, e, argc, argv)).c_str());
         return kExitUsage;

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <climits>
 #include <cerrno>
 #include <cmath>
 #include <optional>
@@ -94,14 +95,36 @@ glm::dvec3 parse_dvec3(const std::string& text, const std::string& option)
     return *v;
 }
 
-// WIDTHxHEIGHT: two integers around an x, or nothing.
+// WIDTHxHEIGHT: two integers around an x (white space around each allowed), or nothing. A side
+// with more digits than a long long holds saturates, to be refused as out of range: the stream
+// it was read with failed on it, and `--size 64x99999999999999999999` read as the wrong shape
+// (usage), where every other integer flag says it is too large (found by an exploratory
+// session, thirty-sixth).
 std::optional<std::pair<long long, long long>> width_height(const std::string& text)
 {
-    long long w = 0, h = 0;
-    char x = 0, extra = 0;
-    std::istringstream in(text);
-    if (!(in >> w >> x >> h) || (x != 'x' && x != 'X') || (in >> extra)) return std::nullopt;
-    return std::pair{w, h};
+    std::size_t i = 0;
+    const auto space = [&] {
+        while (i < text.size() && std::isspace(static_cast<unsigned char>(text[i]))) ++i;
+    };
+    const auto integer = [&]() -> std::optional<long long> {
+        space();
+        const bool negative = i < text.size() && text[i] == '-';
+        if (i < text.size() && (text[i] == '-' || text[i] == '+')) ++i;
+        if (i >= text.size() || !std::isdigit(static_cast<unsigned char>(text[i]))) return std::nullopt;
+        long long v = 0;
+        for (; i < text.size() && std::isdigit(static_cast<unsigned char>(text[i])); ++i)
+            v = v > (LLONG_MAX - 9) / 10 ? LLONG_MAX : v * 10 + (text[i] - '0');
+        return negative ? -v : v;
+    };
+    const std::optional<long long> w = integer();
+    if (!w) return std::nullopt;
+    space();
+    if (i >= text.size() || (text[i] != 'x' && text[i] != 'X')) return std::nullopt;
+    ++i;
+    const std::optional<long long> h = integer();
+    space();
+    if (!h || i != text.size()) return std::nullopt;
+    return std::pair{*w, *h};
 }
 
 std::string size_shape_problem(const std::string& text)
@@ -388,19 +411,26 @@ void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<Draw
                                                      std::to_string(o.reference_level) + " is given");
 }
 
-void check_cone_backend_applies(const SceneOptions& o, const std::vector<DrawSettings>& drawn_settings,
+bool check_cone_map_flags_apply(const SceneOptions& o, const std::vector<DrawSettings>& drawn_settings,
                                 const std::string& drawn)
 {
-    if (o.cone_backend_option == nullptr || o.cone_backend_option->count() == 0) return;
-    parse_cone_backend_gpu(o.cone_backend, "--cone-backend"); // (a bad value is said as such first)
+    if (o.no_cache && !o.cache_dir.empty()) throw Error("--no-cache", "conflicts with --cache-dir"); // (as open_session)
     const bool reads = std::any_of(drawn_settings.begin(), drawn_settings.end(), [](const DrawSettings& d) {
         return d.aux_map() == AuxMap::Cone || d.aux_map() == AuxMap::Relaxed;
     });
-    // (It was accepted and ignored; found by an exploratory session, thirty-third.)
-    if (!reads)
-        throw Error("--cone-backend", "has no effect: " + drawn +
-                                          " reads no cone map (cone, relaxed-cone and the prism's cone marchers do): "
-                                          "leave it out");
+    if (o.cone_backend_option != nullptr && o.cone_backend_option->count() > 0)
+        parse_cone_backend_gpu(o.cone_backend, "--cone-backend"); // (a bad value is said as such first)
+    if (reads) return true;
+    // (--cone-backend was accepted and ignored, found by an exploratory session, thirty-third; the
+    // cache's flags too, and a --cache-dir of /dev/null passed without a word, thirty-sixth.)
+    const auto refuse = [&](const char* flag) {
+        throw Error(flag, "has no effect: " + drawn +
+                              " reads no cone map (cone, relaxed-cone and the prism's cone marchers do): leave it out");
+    };
+    if (o.cone_backend_option != nullptr && o.cone_backend_option->count() > 0) refuse("--cone-backend");
+    if (!o.cache_dir.empty()) refuse("--cache-dir");
+    if (o.no_cache) refuse("--no-cache");
+    return false;
 }
 
 ReferenceOptions make_reference_options(const TechniqueOptions& o)

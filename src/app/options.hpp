@@ -35,7 +35,10 @@ struct SceneOptions {
     std::string cone_backend = "cpu"; // where missing cone maps are built: cpu or gpu
 
     CLI::Option* size_option = nullptr;
-    const CLI::Option* cone_backend_option = nullptr; // given or not: check_cone_backend_applies
+    const CLI::Option* cone_backend_option = nullptr; // given or not: check_cone_map_flags_apply
+    // Whether the command may read a cone map (check_cone_map_flags_apply; the viewer's panel turns
+    // to any technique): where not, no output is checked against the cache's folder (open_session).
+    bool reads_cone_maps = true;
     // Given or not: --uv-scale where every mesh has UVs of its own is refused (open_session).
     const CLI::Option* uv_scale_option = nullptr;
     // The viewer: a mesh dropped on its window later is loaded with these options too, and may
@@ -176,9 +179,9 @@ void check_prism_flags_apply(const TechniqueOptions& o, bool any_prism, const st
 //   (reads_steps and the others, render/technique.hpp);
 // - --reference-level and --reference-max-triangles where the reference is not drawn (compare
 //   always draws it).
-// --cone-backend given where nothing drawn reads a cone map (render, compare, bench): refused,
-// as the quality flags are.
-void check_cone_backend_applies(const SceneOptions& o, const std::vector<DrawSettings>& drawn_settings,
+// Whether anything drawn reads a cone map (render, compare, bench); where nothing does,
+// --cone-backend, --cache-dir and --no-cache are refused, as the quality flags are.
+bool check_cone_map_flags_apply(const SceneOptions& o, const std::vector<DrawSettings>& drawn_settings,
                                 const std::string& drawn);
 void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<DrawSettings>& drawn_settings,
                                const std::string& drawn);

@@ -48,7 +48,9 @@ Session open_session(const SceneOptions& options, const std::vector<NamedPath>& 
                                      {"--color", options.color}};
     for (NamedPath& shader : shader_override_inputs()) inputs.push_back(std::move(shader));
     check_distinct_outputs(outputs, inputs);
-    if (!options.no_cache) check_outputs_outside_cache(outputs, options.cache_dir);
+    // (Only where the run may create the cache: a relief render was refused an --out in the
+    // default cache's place, "which the run creates"; found by an exploratory session, thirty-sixth.)
+    if (!options.no_cache && options.reads_cone_maps) check_outputs_outside_cache(outputs, options.cache_dir);
     s.spec = make_scene_spec(options);
     check_distinct_outputs(outputs, scene_file_inputs(options, s.spec));
     if (check_spec) check_spec(s.spec);

@@ -194,6 +194,11 @@ void check_destination(const fs::path& path, const fs::path& target)
 {
     if (path.empty()) throw Error("--out", "empty file name");
     const std::string subject = path.string();
+    // A file named "-" in the working folder, where many tools read standard output (found by an
+    // exploratory session, thirty-sixth).
+    if (subject == "-")
+        throw Error(subject, "is not standard output here: every output is a file written whole and renamed into "
+                             "place; name a file (./- for a file named so)");
     // What is said of the file replaced: "is a folder", or "links to real/t.png, which is a folder".
     const std::string it = target == path ? "" : "links to " + target.string() + ", which ";
     struct stat st;

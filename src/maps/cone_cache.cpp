@@ -238,7 +238,11 @@ void check_outputs_outside_cache(const std::vector<std::pair<std::string, std::f
     const auto resolved = [](const fs::path& p) {
         std::error_code ec;
         fs::path r = fs::weakly_canonical(fs::absolute(p, ec), ec);
-        return ec ? fs::path() : r;
+        if (ec) return fs::path();
+        // Without a trailing separator's empty last element (`--cache-dir cz/` was "a folder the
+        // cone-map cache is in" for `--out cz`; found by an exploratory session, thirty-sixth).
+        if (!r.has_filename() && r.has_relative_path()) r = r.parent_path();
+        return r;
     };
     const fs::path folder = resolved(dir);
     if (folder.empty()) return;

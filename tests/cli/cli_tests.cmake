@@ -83,6 +83,13 @@ pr_cli(unknown_technique EXIT 1 ONE_LINE STDERR "${E}--technique: .*pom" NO_FILE
 # range is bad input (1).
 pr_cli(bad_size EXIT 2 ONE_LINE STDERR "usage: --size: expected WIDTHxHEIGHT" NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --size 12 --out out.png)
+# A side past a 64-bit integer is out of range as any other (it read as the wrong shape, exit 2;
+# thirty-sixth session).
+pr_cli(size_side_past_int64 EXIT 1 ONE_LINE STDERR "${E}--size: each side must be between 1 and 16384, got '64x99999999999999999999'"
+       NO_FILE out.png ARGS render --mesh ${M}/cube.obj --size 64x99999999999999999999 --out out.png)
+# --help next to a bad value gives the help (the value's usage error, exit 2, until the
+# thirty-sixth session).
+pr_cli(help_next_to_bad_value EXIT 0 STDOUT "Usage: prismrelief render" ARGS render --steps abc --help)
 pr_cli(size_out_of_range EXIT 1 ONE_LINE STDERR "${E}--size: each side must be between 1 and 16384" NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --size 0x12 --out out.png)
 pr_cli(image_too_large EXIT 1 ONE_LINE STDERR "${E}--size: " NO_FILE out.png

@@ -371,6 +371,11 @@ pr_output_cli(conemap_out_is_the_cache_folder_refused EXIT 1 ONE_LINE
               STDERR "${E}cz: is the cone-map cache's folder \\(cz\\), which the run creates: name a file, or another --cache-dir"
               SETUP "rm -rf cz" AFTER "test ! -e cz"
               ARGS conemap --height builtin:noise@512 --kind relaxed --out cz --cache-dir cz)
+# (With a trailing slash it was "a folder the cone-map cache is in"; thirty-sixth session.)
+pr_output_cli(conemap_out_is_the_cache_folder_with_slash_refused EXIT 1 ONE_LINE
+              STDERR "${E}cz: is the cone-map cache's folder \\(cz/\\), which the run creates"
+              SETUP "rm -rf cz" AFTER "test ! -e cz"
+              ARGS conemap --height builtin:noise@64 --out cz --cache-dir cz/)
 pr_output_cli(conemap_out_above_the_cache_folder_refused EXIT 1 ONE_LINE
               STDERR "${E}cz: is a folder the cone-map cache is in \\(cz/sub\\), which the run creates"
               SETUP "rm -rf cz" AFTER "test ! -e cz"
@@ -392,6 +397,16 @@ pr_output_cli(render_out_is_the_cache_entries_folder_refused EXIT 1 ONE_LINE
               SETUP "rm -rf xdg && mkdir -p xdg/prismrelief" AFTER "test ! -e xdg/prismrelief/cone"
               ARGS render --mesh ${M}/cube.obj --technique cone --size 16x16 --out xdg/prismrelief/cone)
 
+# A run that reads no cone map never creates the cache: an output where the default cache would
+# be is a file like any other (it was refused, "which the run creates"; thirty-sixth session).
+pr_output_cli(render_out_in_the_cache_place_without_cone_maps EXIT 0 EXPECT_FILE xdg/prismrelief
+              ENV XDG_CACHE_HOME=${PR_CLI_WORK}/render_out_in_the_cache_place_without_cone_maps/xdg
+              SETUP "rm -rf xdg && mkdir -p xdg" AFTER "test -f xdg/prismrelief"
+              ARGS render --mesh ${M}/cube.obj --technique pom --size 16x16 --out xdg/prismrelief)
+# "-" is no standard output: a file named "-" was written in the working folder.
+pr_output_cli(out_dash_refused EXIT 1 ONE_LINE NO_FILE -
+              STDERR "${E}-: is not standard output here: every output is a file written whole and renamed into place"
+              ARGS render --mesh ${M}/cube.obj --size 16x16 --out -)
 # A name past the file system's limit on a name, or a path past the system's, is refused before
 # the work (a 256-byte name: a 40 s relaxed cone map, then "File name too long").
 string(REPEAT "a" 252 pr_long_name)
