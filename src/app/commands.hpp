@@ -65,11 +65,21 @@ inline nlohmann::json quality_json(const DrawSettings& s)
 inline nlohmann::json scene_json(const Scene& scene)
 {
     nlohmann::json objects = nlohmann::json::array();
-    for (const SceneObject& o : scene.objects)
-        objects.push_back({{"mesh", o.mesh_name},
-                           {"height", o.height ? o.height->name : std::string()},
-                           {"depth", float_json(o.depth)},
-                           {"midlevel", float_json(o.midlevel)}});
+    for (const SceneObject& o : scene.objects) {
+        nlohmann::json j = {{"mesh", o.mesh_name},
+                            {"height", o.height ? o.height->name : std::string()},
+                            {"depth", float_json(o.depth)},
+                            {"midlevel", float_json(o.midlevel)}};
+        // The colour map and a transform other than the identity (row by row), where there are
+        // (a report left them out: two objects of one mesh read the same; thirty-sixth session).
+        if (o.color) j["color"] = o.color_name;
+        if (o.transform != glm::dmat4(1.0)) {
+            nlohmann::json rows = nlohmann::json::array();
+            for (int r = 0; r < 4; ++r) rows.push_back({o.transform[0][r], o.transform[1][r], o.transform[2][r], o.transform[3][r]});
+            j["transform"] = rows;
+        }
+        objects.push_back(std::move(j));
+    }
     return objects;
 }
 

@@ -621,6 +621,9 @@ glm::dmat4 json_transform(const json& j, const std::string& where)
     if (j.contains("scale")) {
         const std::string w = where + ".scale";
         const json& s = j["scale"];
+        // (A number or three: "expected an array of three numbers" for [1, 2] left the first out.)
+        if (!s.is_number() && !(s.is_array() && s.size() == 3))
+            throw Error(w, "expected a number (uniform) or an array of three numbers");
         const glm::dvec3 v = s.is_number() ? glm::dvec3(json_number(s, w)) : json_dvec3(s, w);
         if (v.x == 0.0 || v.y == 0.0 || v.z == 0.0) throw Error(w, "must not be zero");
         t = glm::scale(t, v);
@@ -902,7 +905,11 @@ SceneSpec make_scene_spec(const SceneOptions& o)
         if (problem == ViewProblem::SamePoint) throw Error(eye_subject, "eye and target are the same point");
         if (problem == ViewProblem::UpAlongView) {
             if (!o.up.empty()) throw Error("--up", "up is parallel to the viewing direction");
-            if (file.up) throw Error(o.scene_file + ": camera.up", "up is parallel to the viewing direction");
+            // (Where a flag moved the eye or target, it is said: the file's up alone read as the fault.)
+            if (file.up)
+                throw Error(o.scene_file + ": camera.up",
+                            "up is parallel to the viewing direction" +
+                                (eye_subject.starts_with("--") ? " that " + eye_subject + " gives (give --up)" : std::string()));
             throw Error(eye_subject, std::string("looks straight along the default up direction 0,1,0 (give ") +
                                          (eye_subject.rfind("--", 0) == 0 ? "--up" : "camera.up or --up") + ")");
         }

@@ -131,6 +131,7 @@ Scene load_scene(const SceneSpec& spec)
                 c = placed(o.color_place,
                            [&] { return std::make_shared<RgbaImage>(load_color(o.color, spec.image_limits)); });
             obj.color = c;
+            obj.color_name = o.color;
         }
         const std::string& mesh_place = o.mesh_place.empty() ? o.mesh : o.mesh_place;
         warn_if_uv_too_coarse(obj, o.mesh);
@@ -229,9 +230,15 @@ Camera scene_camera(const SceneSpec& spec, const Scene& scene)
         switch (view_problem(glm::dvec3(camera.eye), glm::dvec3(camera.target), glm::dvec3(camera.up))) {
         case ViewProblem::SamePoint: throw Error(c.eye_place, "eye and target are the same point");
         case ViewProblem::UpAlongView: {
-            if (c.up_given) throw Error(c.up_place, "up is parallel to the viewing direction");
             // An eye from a scene file: the file's keys can mend it too.
             const bool flag_eye = c.eye_place.rfind("--", 0) == 0;
+            // (A file's up and the flag's eye: the flag is said, or the file's up alone read as the
+            // fault; thirty-sixth session.)
+            if (c.up_given)
+                throw Error(c.up_place, "up is parallel to the viewing direction" +
+                                            (flag_eye && c.up_place.rfind("--", 0) != 0
+                                                 ? " from " + c.eye_place + " to the shell's centre (give --up or --target)"
+                                                 : std::string()));
             throw Error(c.eye_place, std::string("looks straight along the default up direction 0,1,0 at the shell's "
                                                  "centre (give ") +
                                          (flag_eye ? "--up or --target)" : "camera.up or camera.target, or --up or --target)"));

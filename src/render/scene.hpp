@@ -61,6 +61,7 @@ struct SceneObject {
     PreparedMesh mesh;
     std::shared_ptr<const HeightField> height;
     std::shared_ptr<const RgbaImage> color; // may be null
+    std::string color_name;                 // its file or builtin name, where there is one
     float depth = 0.0f;
     float midlevel = 0.0f;
     glm::dmat4 transform{1.0}; // object to world (ObjectSpec::transform)

@@ -97,6 +97,15 @@ pr_cli(scene_matrix_nearly_singular EXIT 1 ONE_LINE
        STDERR "${E}.*nearly_singular.json: objects\\[0\\].transform.matrix: is nearly singular"
        NO_FILE o.png ARGS render --scene ${OS}/nearly_singular.json --out o.png)
 pr_scene_refused(scale_thin ", \"transform\": {\"scale\": [1, 1e-9, 1]}}]}" "objects\\[0\\].transform.scale: is nearly singular")
+# A scale of two numbers: what it takes, a number too (thirty-sixth session: "an array of three").
+pr_scene_refused(scale_two ", \"transform\": {\"scale\": [1, 2]}}]}"
+                 "objects\\[0\\].transform.scale: expected a number \\(uniform\\) or an array of three numbers")
+# A report names each object's colour map and transform (row by row) where it has them: two
+# objects of one mesh read the same (thirty-sixth session).
+pr_scene(moved_coloured ", \"color\": \"builtin:checker\", \"transform\": {\"scale\": 2, \"translate\": [1, 2, 3]}}]}")
+pr_cli(render_json_names_colour_and_transform EXIT 0 JSON m.json
+       CHECKS "objects.0.color:EXISTS|objects.1:ABSENT|objects.0.transform.0.0:EQUAL:2|objects.0.transform.1.3:EQUAL:2|objects.0.transform.3.3:EQUAL:1"
+       ARGS render --scene ${OS}/moved_coloured.json --size 16x16 --out m.png --json m.json)
 # The limit is on the largest stretch over the smallest (8.3e5 here), as docs/scenes.md says: it
 # was measured with Frobenius norms, up to 3 times as large, and this was refused as 1.18e6.
 pr_scene(scale_thin_within_limit ", \"transform\": {\"scale\": [1, 1.2e-6, 1]}}]}")
@@ -125,7 +134,7 @@ pr_scene_refused(eye_along_up "}], \"camera\": {\"eye\": [0, 5, 0]}}"
 pr_scene_refused(eye_along_file_up "}], \"camera\": {\"eye\": [0, 5, 0], \"up\": [0, 2, 0]}}"
                  "camera.up: up is parallel to the viewing direction")
 pr_scene(up_along_y "}], \"camera\": {\"up\": [0, 2, 0]}}")
-pr_cli(scene_file_up_flag_eye EXIT 1 ONE_LINE STDERR "${E}.*up_along_y.json: camera.up: up is parallel to the viewing direction"
+pr_cli(scene_file_up_flag_eye EXIT 1 ONE_LINE STDERR "${E}.*up_along_y.json: camera.up: up is parallel to the viewing direction from --eye to the shell's centre \\(give --up or --target\\)"
        NO_FILE o.png ARGS render --scene ${OS}/up_along_y.json --eye 0,5,0 --out o.png)
 # A flag's eye over the file's: the advice names the flags alone.
 pr_cli(scene_flag_eye_along_up EXIT 1 ONE_LINE
