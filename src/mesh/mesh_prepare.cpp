@@ -518,6 +518,10 @@ FaceNeighbours generated_face_neighbours(const std::vector<Triangle>& tris, cons
     return neighbours;
 }
 
+// The least cosine between a face's own normal and the axis of its box projection: 60 degrees,
+// the texture stretched at most 2x (against 1.73x for the dominant axis).
+constexpr double kMaxBoxTurn = 0.5;
+
 // Tidies the charts of box projection (docs/mesh-input.md, "UVs"): the dominant axis alone leaves
 // ragged chart boundaries and islands of a few faces where the surface turns near 45° to two axes,
 // and every chart boundary is a UV seam (on a closed mesh, a tear of the displaced surface). A face
@@ -528,12 +532,11 @@ FaceNeighbours generated_face_neighbours(const std::vector<Triangle>& tris, cons
 // - Then teeth: a face whose edges border another direction on more than half of its shared edges
 //   takes that direction, if it may; repeated (at most 16 rounds) until nothing changes.
 // `direction`: per face, -1 for faces that keep their file's UVs (left alone); `normal`: per face,
-// unit.
+// its own unit normal (0 for a face without area, which takes no other direction).
 void tidy_box_charts(std::vector<int>& direction, const std::vector<dvec3>& normal, const FaceNeighbours& neighbours)
 {
-    constexpr double kMaxTurn = 0.5; // cos 60°
     const size_t faces = direction.size();
-    const auto may_take = [&](size_t f, int d) { return glm::dot(normal[f], box_axis(d)) >= kMaxTurn; };
+    const auto may_take = [&](size_t f, int d) { return glm::dot(normal[f], box_axis(d)) >= kMaxBoxTurn; };
     const auto most_common = [](const std::array<size_t, 6>& count) {
         return int(std::max_element(count.begin(), count.end()) - count.begin()); // ties: the lower
     };
@@ -1295,15 +1298,23 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
                         &c = wpos[tri_weld(t, 2)];
             fcross[t.face] += glm::cross(b - a, c - a);
         }
-        std::vector<dvec3>& face_normal = fsum; // (reused)
+        // The axis is judged against the face's own normal (its plane is what the projection
+        // stretches): at a sharp edge the corners' welded normals lean far from the face, and a
+        // wedge's side took the axis in its own plane, its uvs on a line (the texture smeared to
+        // stripes, an STL's above all, which has no uvs; found by an exploratory session,
+        // thirty-sixth). Where the welded normals' axis lies more than 60 degrees from it, the
+        // face takes its own normal's; tidy_box_charts keeps to the same bound.
+        std::vector<dvec3>& face_normal = fcross; // (reused: the face's own unit normal)
         for (size_t f = 0; f < face_count; ++f) {
             if (face_uses_file_uv(uint32_t(f))) continue;
+            const double own = glm::length(fcross[f]);
+            face_normal[f] = own > 0.0 ? fcross[f] / own : dvec3(0.0);
             const dvec3 s = glm::length(fsum[f]) > 1e-9 ? fsum[f] : fcross[f];
             face_direction[f] = box_direction(s);
-            const double len = glm::length(s);
-            face_normal[f] = len > 0.0 ? s / len : dvec3(0.0);
+            if (own > 0.0 && glm::dot(face_normal[f], box_axis(face_direction[f])) < kMaxBoxTurn)
+                face_direction[f] = box_direction(face_normal[f]);
         }
-        fcross = {};
+        fsum = {};
         tidy_box_charts(face_direction, face_normal, neighbours);
     }
     const double uv_per_unit = extent > 0.0 ? double(options.uv_scale) / extent : 1.0;

@@ -386,12 +386,14 @@ TEST(MeshUv, SmallChartsJoinTheirNeighbours)
 
 // On the bundled blob (no UVs), the charts' ragged edges and islands are tidied: fewer seams
 // (470 edges by the dominant axis alone), and every triangle projected along one of the six box
-// directions no more than 60° from its corners' summed welded normals (at most 2× stretch).
+// directions no more than 60° from its own normal (at most 2× stretch). Judged by the corners'
+// summed welded normals until the thirty-sixth session: 340 seams, but at a sharp edge a face
+// took an axis in its own plane (below: GeneratedUvsOfAWedgeHaveArea).
 TEST(MeshUv, GeneratedChartsOfTheBlobAreTidy)
 {
     const pr::PreparedMesh m = pr::load_mesh(kMeshes / "blob.off");
     const pr::EdgeAdjacency adjacency = pr::edge_adjacency(m.vertices, m.indices);
-    EXPECT_LE(adjacency.seam_edges, 340u);
+    EXPECT_LE(adjacency.seam_edges, 350u);
     EXPECT_GT(adjacency.seam_edges, 0u);
     const glm::vec3 extent = m.bbox_max - m.bbox_min;
     const float s = pr::MeshOptions{}.uv_scale / std::max({extent.x, extent.y, extent.z});
@@ -406,7 +408,7 @@ TEST(MeshUv, GeneratedChartsOfTheBlobAreTidy)
     for (std::size_t t = 0; t < m.indices.size(); t += 3) {
         const pr::MeshVertex &a = m.vertices[m.indices[t]], &b = m.vertices[m.indices[t + 1]],
                              &c = m.vertices[m.indices[t + 2]];
-        const glm::vec3 n = glm::normalize(a.normal + b.normal + c.normal);
+        const glm::vec3 n = glm::normalize(glm::cross(b.position - a.position, c.position - a.position));
         int found = 0;
         for (const Box& box : boxes) {
             const auto fits = [&](const pr::MeshVertex& p, const pr::MeshVertex& q) {
@@ -668,4 +670,41 @@ TEST(MeshBundled, TorusQuadsAreTriangulated)
     EXPECT_EQ(m.weld_count, 48u * 24u);
     EXPECT_NEAR(m.bbox_max.x, 1.35f, 1e-5f);
     EXPECT_NEAR(m.bbox_max.y, 0.35f, 1e-3f);
+}
+
+// A closed wedge along x whose edge is 60 degrees sharp, without uvs: every triangle's generated
+// uvs have area. Its sides' corners' welded normals lean 55 degrees away from the sides at the
+// edge, and the axis judged by them lay in a side's own plane: that side's uvs on a line, the
+// texture smeared to stripes (the prism 26 dB against the reference, 88 with uvs by each face's
+// own normal; found by an exploratory session, thirty-sixth).
+TEST(MeshUv, GeneratedUvsOfAWedgeHaveArea)
+{
+    std::vector<glm::vec3> positions;
+    std::vector<std::vector<std::uint32_t>> faces;
+    const float t = std::tan(float(M_PI) / 6.0f); // 30 degrees either side of the edge
+    const int n = 4;
+    for (int i = 0; i <= n; ++i) {
+        const float x = -0.5f + float(i) / n;
+        positions.insert(positions.end(), {{x, 0.0f, 0.0f}, {x, 1.0f, t}, {x, 1.0f, -t}});
+    }
+    for (std::uint32_t i = 0; i < std::uint32_t(n); ++i) {
+        const std::uint32_t e0 = 3 * i, p0 = e0 + 1, m0 = e0 + 2, e1 = e0 + 3, p1 = e0 + 4, m1 = e0 + 5;
+        faces.insert(faces.end(), {{e0, e1, p1}, {e0, p1, p0}, {e0, m0, m1}, {e0, m1, e1}, {p0, p1, m1}, {p0, m1, m0}});
+    }
+    faces.push_back({0, 1, 2});
+    faces.push_back({3 * n, 3 * n + 2, 3 * n + 1});
+    const pr::PreparedMesh m = pr::prepare_mesh(soup(positions, faces), {}, "wedge");
+    for (std::size_t k = 0; k < m.indices.size(); k += 3) {
+        const glm::vec2 a = m.vertices[m.indices[k]].uv, b = m.vertices[m.indices[k + 1]].uv,
+                        c = m.vertices[m.indices[k + 2]].uv;
+        const glm::vec3 pa = m.vertices[m.indices[k]].position, pb = m.vertices[m.indices[k + 1]].position,
+                        pc = m.vertices[m.indices[k + 2]].position;
+        const float uv_area = std::abs((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
+        const float area = glm::length(glm::cross(pb - pa, pc - pa));
+        // Projected along an axis within 60 degrees of the face's normal: the uv area at least
+        // half the face's (cos 60; in uv units per scene unit, squared).
+        const float scale = pr::MeshOptions{}.uv_scale / std::max({m.bbox_max.x - m.bbox_min.x, m.bbox_max.y - m.bbox_min.y,
+                                                                   m.bbox_max.z - m.bbox_min.z});
+        EXPECT_GE(uv_area, 0.5f * area * scale * scale - 1e-6f) << "triangle " << k / 3;
+    }
 }
