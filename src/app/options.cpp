@@ -420,17 +420,14 @@ bool check_cone_map_flags_apply(const SceneOptions& o, const std::vector<DrawSet
     });
     if (o.cone_backend_option != nullptr && o.cone_backend_option->count() > 0)
         parse_cone_backend_gpu(o.cone_backend, "--cone-backend"); // (a bad value is said as such first)
-    if (reads) return true;
-    // (--cone-backend was accepted and ignored, found by an exploratory session, thirty-third; the
-    // cache's flags too, and a --cache-dir of /dev/null passed without a word, thirty-sixth.)
-    const auto refuse = [&](const char* flag) {
-        throw Error(flag, "has no effect: " + drawn +
-                              " reads no cone map (cone, relaxed-cone and the prism's cone marchers do): leave it out");
-    };
-    if (o.cone_backend_option != nullptr && o.cone_backend_option->count() > 0) refuse("--cone-backend");
-    if (!o.cache_dir.empty()) refuse("--cache-dir");
-    if (o.no_cache) refuse("--no-cache");
-    return false;
+    // (--cone-backend was accepted and ignored, found by an exploratory session, thirty-third.
+    // --cache-dir and --no-cache are taken anywhere: they say where derived data may live, not
+    // what is drawn, and a script gives them to every technique of a loop.)
+    if (!reads && o.cone_backend_option != nullptr && o.cone_backend_option->count() > 0)
+        throw Error("--cone-backend", "has no effect: " + drawn +
+                                          " reads no cone map (cone, relaxed-cone and the prism's cone marchers do): "
+                                          "leave it out");
+    return reads;
 }
 
 ReferenceOptions make_reference_options(const TechniqueOptions& o)

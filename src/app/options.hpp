@@ -180,7 +180,7 @@ void check_prism_flags_apply(const TechniqueOptions& o, bool any_prism, const st
 // - --reference-level and --reference-max-triangles where the reference is not drawn (compare
 //   always draws it).
 // Whether anything drawn reads a cone map (render, compare, bench); where nothing does,
-// --cone-backend, --cache-dir and --no-cache are refused, as the quality flags are.
+// --cone-backend is refused, as the quality flags are. --no-cache next to --cache-dir is refused.
 bool check_cone_map_flags_apply(const SceneOptions& o, const std::vector<DrawSettings>& drawn_settings,
                                 const std::string& drawn);
 void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<DrawSettings>& drawn_settings,

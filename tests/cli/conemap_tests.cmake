@@ -87,14 +87,6 @@ pr_cli(render_cone_backend_gpu EXIT 0 EXPECT_FILE g.png STDOUT "g.png: 64x48 pri
 pr_cli(cone_backend_unread EXIT 1 ONE_LINE NO_FILE o.png
        STDERR "${CM}--cone-backend: has no effect: --technique relief reads no cone map \\(cone, relaxed-cone and the prism's cone marchers do\\): leave it out"
        ARGS render --mesh ${M}/cube.obj --technique relief --cone-backend cpu --size 16x16 --out o.png)
-# The cache's flags likewise (thirty-sixth session: accepted without a word, a --cache-dir of
-# /dev/null too, where --cone-backend was refused).
-pr_cli(cache_dir_unread EXIT 1 ONE_LINE NO_FILE o.png
-       STDERR "${CM}--cache-dir: has no effect: --technique relief reads no cone map"
-       ARGS render --mesh ${M}/cube.obj --technique relief --cache-dir /dev/null --size 16x16 --out o.png)
-pr_cli(no_cache_unread EXIT 1 ONE_LINE NO_FILE o.json
-       STDERR "${CM}--no-cache: has no effect: --techniques pom,prism:max-mip reads no cone map"
-       ARGS bench --mesh ${M}/cube.obj --techniques pom,prism:max-mip --no-cache --frames 1 --warmup 0 --size 16x16 --json o.json)
 pr_cli(cone_backend_unread_compare EXIT 1 ONE_LINE NO_FILE o.png STDERR "${CM}--cone-backend: has no effect: --techniques pom,prism:max-mip"
        ARGS compare --mesh ${M}/cube.obj --techniques pom,prism:max-mip --cone-backend cpu --size 16x16 --out o.png)
 pr_cli(cone_backend_read_in_a_list EXIT 0 EXPECT_FILE o.png

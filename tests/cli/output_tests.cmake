@@ -403,6 +403,12 @@ pr_output_cli(render_out_in_the_cache_place_without_cone_maps EXIT 0 EXPECT_FILE
               ENV XDG_CACHE_HOME=${PR_CLI_WORK}/render_out_in_the_cache_place_without_cone_maps/xdg
               SETUP "rm -rf xdg && mkdir -p xdg" AFTER "test -f xdg/prismrelief"
               ARGS render --mesh ${M}/cube.obj --technique pom --size 16x16 --out xdg/prismrelief)
+# The cache's flags are taken where nothing reads a cone map (where derived data may live, not
+# what is drawn: a script gives them to every technique of a loop), and such a run creates no
+# cache.
+pr_output_cli(cache_flags_taken_without_cone_maps EXIT 0 EXPECT_FILE o.png
+              SETUP "rm -rf c" AFTER "test ! -e c"
+              ARGS render --mesh ${M}/cube.obj --technique relief --cache-dir c --size 16x16 --out o.png)
 # "-" is no standard output: a file named "-" was written in the working folder.
 pr_output_cli(out_dash_refused EXIT 1 ONE_LINE NO_FILE -
               STDERR "${E}-: is not standard output here: every output is a file written whole and renamed into place"
