@@ -245,6 +245,8 @@ private:
     bool image_meanwhile_ = false;
     std::array<bool, 2> half_meanwhile_{};
     bool screenshot_waiting_ = false; // said once that P waits
+    std::string screenshot_key_;      // the settings P waits to draw (settings_key)
+    bool screenshot_settled_ = false; // its picture drawn once, under a panel laid out after it
 
     Camera initial_camera_;
     Sphere bounds_;
@@ -696,8 +698,11 @@ void Viewer::screenshot_now()
     // run's first P replaced the first run's picture (found by an exploratory session).
     std::string path;
     std::error_code ec;
+    // (A name taken by a link too, dangling or not: `exists` follows links, and a dangling one
+    // passed for free: P wrote nothing, the next P through the link; found by an exploratory
+    // session, thirty-sixth.)
     do path = "prismrelief-view-" + std::to_string(++screenshot_counter_) + ".png";
-    while (std::filesystem::exists(path, ec) && screenshot_counter_ < 1000000);
+    while (std::filesystem::exists(std::filesystem::symlink_status(path, ec)) && screenshot_counter_ < 1000000);
     take_screenshot(path);
 }
 
@@ -935,7 +940,10 @@ void Viewer::draw_build_box()
         ImGui::PopStyleColor();
         ImGui::ProgressBar(done, ImVec2(width, 0.0f));
         ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-        ImGui::TextWrapped("relief drawn meanwhile; the map is cached for later runs");
+        // (Not with --no-cache, or where there is no cache folder: it said so there too; found by
+        // an exploratory session, thirty-sixth.)
+        ImGui::TextWrapped(s_.renderer->cache_dir().empty() ? "relief drawn meanwhile; the map is kept in memory only"
+                                                            : "relief drawn meanwhile; the map is cached for later runs");
         ImGui::PopStyleColor();
         ImGui::PopTextWrapPos();
     } else {
@@ -1011,12 +1019,15 @@ void Viewer::draw_panel()
         if (ImGui::Checkbox("split compare (S)", &split_)) dirty_ = true;
         if (split_) {
             technique_combo(1);
-            if (ImGui::SliderFloat("divider", &divider_, 0.0f, 1.0f, "%.2f")) dirty_ = true;
+            if (ImGui::SliderFloat("divider", &divider_, 0.0f, 1.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp)) dirty_ = true;
         }
         int steps = half_[0].steps, refine = half_[0].refine;
-        // The command line's ranges (--steps 1000 showed past a 1-256 slider's end).
-        bool changed = ImGui::SliderInt("steps", &steps, 1, kMaxSteps, "%d", ImGuiSliderFlags_Logarithmic);
-        changed |= ImGui::SliderInt("refine", &refine, 0, kMaxRefine);
+        // The command line's ranges (--steps 1000 showed past a 1-256 slider's end), kept to them
+        // when a value is typed (Ctrl + click): steps 200000 froze the window, 0 steps and
+        // negative depths were drawn (found by an exploratory session, thirty-sixth).
+        constexpr ImGuiSliderFlags kClamp = ImGuiSliderFlags_AlwaysClamp;
+        bool changed = ImGui::SliderInt("steps", &steps, 1, kMaxSteps, "%d", ImGuiSliderFlags_Logarithmic | kClamp);
+        changed |= ImGui::SliderInt("refine", &refine, 0, kMaxRefine, "%d", kClamp);
         static const char* qualities[] = {"gather", "central", "sobel"};
         int q = int(half_[0].normal_quality);
         changed |= ImGui::Combo("normals", &q, qualities, 3);
@@ -1026,7 +1037,7 @@ void Viewer::draw_panel()
         float light_size = half_[0].light_size;
         if (sh == int(Shadows::Soft)) {
             changed |= ImGui::SliderFloat("light size", &light_size, 0.1f, kMaxLightSize, "%.2f deg",
-                                          ImGuiSliderFlags_Logarithmic);
+                                          ImGuiSliderFlags_Logarithmic | kClamp);
             if (ImGui::IsItemHovered()) ImGui::SetTooltip("The light's angular diameter (--light-size; the sun: about 0.5)");
         }
         bool depth_write = half_[0].depth_write;
@@ -1045,12 +1056,17 @@ void Viewer::draw_panel()
     }
     if (ImGui::CollapsingHeader("Scene", ImGuiTreeNodeFlags_DefaultOpen)) {
         const float max_depth = std::max(4.0f * (base_depth_.empty() ? 0.0f : base_depth_[0]), float(0.1 * base_radius_));
+        // (The depth may be typed past the slider's end, as --depth may be any finite number
+        // from 0; not under it, nor as inf or nan.)
+        const float depth_before = depth_;
         bool disp = ImGui::SliderFloat("depth", &depth_, 0.0f, max_depth, "%.4f");
-        disp |= ImGui::SliderFloat("midlevel", &midlevel_, 0.0f, 1.0f, "%.2f");
+        if (!std::isfinite(depth_) || depth_ > 1e30f) depth_ = depth_before;
+        depth_ = std::max(depth_, 0.0f);
+        disp |= ImGui::SliderFloat("midlevel", &midlevel_, 0.0f, 1.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
         if (disp) apply_displacement();
         float az = glm::degrees(light_azimuth_), el = glm::degrees(light_elevation_);
-        bool light = ImGui::SliderFloat("light azimuth", &az, -180.0f, 180.0f, "%.0f deg");
-        light |= ImGui::SliderFloat("light elevation", &el, -89.0f, 89.0f, "%.0f deg");
+        bool light = ImGui::SliderFloat("light azimuth", &az, -180.0f, 180.0f, "%.0f deg", ImGuiSliderFlags_AlwaysClamp);
+        light |= ImGui::SliderFloat("light elevation", &el, -89.0f, 89.0f, "%.0f deg", ImGuiSliderFlags_AlwaysClamp);
         if (light) {
             light_azimuth_ = glm::radians(az);
             light_elevation_ = glm::radians(el);
@@ -1155,6 +1171,18 @@ int Viewer::run()
                 compositor_->resize(fb.width, fb.height);
                 reference_ready_ = false; // its automatic level depends on the pixel size
                 dirty_ = true;
+                // The window's shape frames what is framed from now on: a dropped mesh and R's
+                // view (they were framed for the starting --size: a cube dropped after a resize
+                // from 200x100 to 60x200 was cut off at both sides; found by an exploratory
+                // session, thirty-sixth).
+                if (fb.width != s_.spec.width || fb.height != s_.spec.height) {
+                    s_.spec.width = fb.width;
+                    s_.spec.height = fb.height;
+                    try {
+                        initial_camera_ = scene_camera(s_.spec, s_.scene);
+                    } catch (const Error&) {
+                    } // (the old framing stays)
+                }
             }
 
             ImGui_ImplOpenGL3_NewFrame();
@@ -1201,16 +1229,34 @@ int Viewer::run()
                 // The picture is relief's while the cone map builds: P saved it under the
                 // technique's screenshot without a word (found by an exploratory session,
                 // thirty-second). It waits for the technique's own picture.
-                if (!screenshot_waiting_) note("P: the screenshot waits for the cone map (relief is drawn meanwhile)");
+                if (!screenshot_waiting_) {
+                    note("P: the screenshot waits for the cone map (relief is drawn meanwhile)");
+                    screenshot_key_ = settings_key();
+                }
                 screenshot_waiting_ = true;
             } else if (screenshot_pending_ > 0 && image_meanwhile_) {
                 // Built, but the technique's draw failed (a shader error): the picture is still relief's.
                 error("P: no screenshot: the picture shown is relief's (the technique could not be drawn)");
                 screenshot_pending_ = 0;
                 screenshot_waiting_ = false;
+                screenshot_settled_ = false;
+            } else if (screenshot_pending_ > 0 && screenshot_waiting_ && screenshot_key_ != settings_key()) {
+                // Turned to another technique (or settings) while P waited: what is drawn now is
+                // not the picture P asked for (it saved flat's after a 1, without a word; found by
+                // an exploratory session, thirty-sixth).
+                note("P: no screenshot: the technique changed while it waited for its cone map");
+                screenshot_pending_ = 0;
+                screenshot_waiting_ = false;
+                screenshot_settled_ = false;
+            } else if (screenshot_pending_ > 0 && screenshot_waiting_ && !screenshot_settled_) {
+                // The technique's own picture is drawn in this frame, but the panel was laid out
+                // before it (a --screenshot-ui said "waits for its cone map"): the next frame's.
+                screenshot_settled_ = true;
+                dirty_ = true;
             } else if (screenshot_pending_ > 0) {
                 for (; screenshot_pending_ > 0; --screenshot_pending_) screenshot_now();
                 screenshot_waiting_ = false;
+                screenshot_settled_ = false;
             }
             const Clock::time_point swap_start = Clock::now();
             window_.swap_buffers();

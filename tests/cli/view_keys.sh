@@ -198,25 +198,28 @@ screenshot)
         fail "no note that P writes s.png"
     # Without --screenshot P writes prismrelief-view-N.png, N the first number whose file is not
     # there (an earlier run's file is kept), again on every P; the number key 5 turns flat to the
-    # table's fifth technique, pom, first. Esc quits too.
+    # table's fifth technique, pom, first. Esc quits too. A name held by a dangling link is taken
+    # too (it passed for free: P wrote nothing, the next P through the link; thirty-sixth session).
     printf 'an earlier picture\n' >prismrelief-view-1.png
     cp prismrelief-view-1.png earlier.keep
+    ln -s nowhere/x.png prismrelief-view-2.png
     start_view $TORUS --technique flat
     press 5
     sleep 1 # (pom's first draw compiles its shaders; P was lost during it before the key queue)
     press p
-    wait_file prismrelief-view-2.png
-    expect_png prismrelief-view-2.png render_pom.png
-    press p
     wait_file prismrelief-view-3.png
     expect_png prismrelief-view-3.png render_pom.png
+    press p
+    wait_file prismrelief-view-4.png
+    expect_png prismrelief-view-4.png render_pom.png
     press Escape
     wait_view
     [ $rc -eq 0 ] || fail "Esc: exit $rc, expected 0"
     [ -z "$err" ] || fail "unexpected stderr: $err"
     cmp -s prismrelief-view-1.png earlier.keep || fail "P replaced an earlier run's prismrelief-view-1.png"
-    [ ! -e prismrelief-view-4.png ] || fail "two P presses wrote three files"
-    no_temporaries "render_pom.png|s.png|prismrelief-view-[123].png|earlier.keep"
+    [ -L prismrelief-view-2.png ] && [ ! -e nowhere ] || fail "P wrote through a dangling link"
+    [ ! -e prismrelief-view-5.png ] || fail "two P presses wrote three files"
+    no_temporaries "render_pom.png|s.png|prismrelief-view-[1234].png|earlier.keep"
     ;;
 screenshot_refused)
     # A height image dropped on the window is an input from then on: P refuses to write the
@@ -369,6 +372,22 @@ build)
     done
     "$EXE" render $NOISE --technique relaxed-cone --out r_relaxed.png >/dev/null || fail "render failed"
     expect_png s.png r_relaxed.png
+    quit_quietly
+    # A P that waits while the technique is turned to another (1: flat) writes nothing when the
+    # map is built: it saved flat's picture under the technique's name (thirty-sixth session).
+    rm -f s.png
+    start_view --mesh $MESHES/torus.obj --height builtin:noise@640 --size 128x96 --cache-dir $WORKDIR/cache_turned \
+        --technique relaxed-cone --screenshot s.png
+    press p
+    press 1
+    i=0
+    until ls "$WORKDIR"/cache_turned/cone/* >/dev/null 2>&1; do
+        i=$((i + 1))
+        [ $i -le 500 ] || fail "the map was not built within 50 s"
+        sleep 0.1
+    done
+    sleep 2
+    [ ! -e s.png ] || fail "P saved s.png after the technique was turned to flat"
     quit_quietly
     # A P still waiting when the window closes is said, and writes nothing.
     rm -f s.png
