@@ -12,6 +12,7 @@
 #include <fstream>
 #include <string>
 #include <tuple>
+#include <unistd.h>
 
 using namespace pr;
 
@@ -119,6 +120,20 @@ Camera render_framing(const Scene& scene, float elevation_deg)
 }
 
 std::string exit_label(PrismExit e) { return e == PrismExit::Walk ? " (walk)" : " (exact)"; }
+
+// An OBJ file's text loaded as a mesh (written to a temporary file of this process, then removed).
+PreparedMesh mesh_from_obj_text(const std::string& obj, const std::string& name)
+{
+    const std::filesystem::path path = std::filesystem::temp_directory_path() /
+                                       ("prismrelief-test-" + name + "-" + std::to_string(::getpid()) + ".obj");
+    {
+        std::ofstream out(path);
+        out << obj;
+    }
+    PreparedMesh m = load_mesh(path.string());
+    std::filesystem::remove(path);
+    return m;
+}
 
 } // namespace
 
@@ -1022,13 +1037,7 @@ TEST(Prism, WalkCrossesTheSliversAlongACylinder)
                       sides + next + 1, sides + i + 3, next + 1, i + 2);
         obj += line;
     }
-    const std::filesystem::path path = std::filesystem::temp_directory_path() / "prismrelief-test-sliver-tube.obj";
-    {
-        std::ofstream out(path);
-        out << obj;
-    }
-    PreparedMesh tube = load_mesh(path.string());
-    std::filesystem::remove(path);
+    PreparedMesh tube = mesh_from_obj_text(obj, "sliver-tube");
     const float depth = 0.04f * glm::length(tube.bbox_max - tube.bbox_min);
     Scene scene = prtest::one_object(std::move(tube), bumps_map(256), depth);
     Renderer r(128, 96);
@@ -1175,14 +1184,7 @@ TEST(Prism, TrianglesWithoutUvAreaAreShadedSmoothly)
                               c, b, b);
                 obj += line;
             }
-        const std::filesystem::path path = std::filesystem::temp_directory_path() / "prismrelief-test-u-line.obj";
-        {
-            std::ofstream out(path);
-            out << obj;
-        }
-        PreparedMesh m = load_mesh(path.string());
-        std::filesystem::remove(path);
-        return m;
+        return mesh_from_obj_text(obj, "u-line");
     };
     // Stripes along v only: the same surface whatever u says.
     const auto stripes = prtest::height_from(64, [](float, float v) { return 0.5f + 0.4f * std::sin(8.0f * float(M_PI) * v); });
