@@ -170,18 +170,22 @@ int run_cli(int argc, char** argv)
     };
     std::vector<std::string> args(argv, argv + argc);
     std::vector<std::string> split;
-    bool options_end = false, help_asked = false;
+    bool options_end = false, help_asked = false, parse_ended = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         options_end = options_end || a == "--";
+        // (--help and --version end the parse where they stand: nothing after them is judged.)
         help_asked = help_asked || (!options_end && (a == "--help" || a == "-h"));
+        parse_ended = help_asked || parse_ended || (!options_end && a == "--version");
         // An option that takes a value, followed by another option: CLI11 took the option for
         // the value (`--json --depth-write` wrote the report to a file named "--depth-write"
         // without depth writes, exit 0; `--techniques --size 16x16` blamed "16x16"; found by an
         // exploratory session, thirty-sixth). A file whose name starts with "--" is given as
         // ./--name.
-        if (i > 0 && !options_end && a.starts_with("--") && a.find('=') == std::string::npos && takes_value(a) &&
-            i + 1 < args.size() && looks_like_option(args[i + 1])) {
+        const bool help_next = i + 1 < args.size() && (args[i + 1] == "--help" || args[i + 1] == "-h" ||
+                                                       args[i + 1] == "--version");
+        if (i > 0 && !options_end && !parse_ended && !help_next && a.starts_with("--") &&
+            a.find('=') == std::string::npos && takes_value(a) && i + 1 < args.size() && looks_like_option(args[i + 1])) {
             const bool file = std::find(std::begin(kFileOptions), std::end(kFileOptions), a) != std::end(kFileOptions);
             std::fprintf(stderr, "prismrelief: usage: %s: expected a value, got the option '%s'%s (see prismrelief --help)\n",
                          one_line(a).c_str(), one_line(args[i + 1].substr(0, args[i + 1].find('='))).c_str(),
@@ -217,7 +221,7 @@ int run_cli(int argc, char** argv)
         // exploratory session, thirty-sixth). An unknown option or argument stays usage.
         if (help_asked && (dynamic_cast<const CLI::ConversionError*>(&e) || dynamic_cast<const CLI::ValidationError*>(&e) ||
                            dynamic_cast<const CLI::ArgumentMismatch*>(&e)))
-            return app.exit(CLI::CallForHelp());
+            return help_or_usage(app, CLI::CallForHelp(), argc, argv); // (an unknown option stays usage)
         std::fprintf(stderr, "prismrelief: usage: %s (see prismrelief --help)\n",
                      one_line(usage_message(app, e, argc, argv)).c_str());
         return kExitUsage;

@@ -147,7 +147,7 @@ CommandAction add_compare_command(CLI::App& app)
         const std::size_t reference_px = covered_pixels(reference.color);
         if (reference_px > 0 && reference_px < kFewReferencePixels)
             warn(fmt::format("compare: the reference covers {} pixel{}: one pixel more or less moves the IoU by about "
-                             "{:.2g} %, and the other metrics rest on as few (a larger --size, or the camera closer)",
+                             "{:.3g} %, and the other metrics rest on as few (a larger --size, or the camera closer)",
                              reference_px, reference_px == 1 ? "" : "s", 100.0 / double(reference_px)));
         nlohmann::json results = nlohmann::json::array();
         // The names' column as wide as the longest ("prism:relief:exact" pushed the row out of line).

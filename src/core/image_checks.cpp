@@ -169,10 +169,11 @@ void check_tga(const std::string& subject, const Bytes& b)
 // and one value) or mixed run-length (a count under 128: that many pixels plus one, raw; 128: a
 // 16-bit count follows; above: the count less 127, of one value). Walked as stb 2.27 reads it,
 // its end-of-file tests included, without decoding: stb allocates and clears the whole image
-// before it reads a packet (256 MiB for a header of 16384 x 4096), so a file that claims a large
-// image and holds a packet header and no rows took that memory before it was refused (found by
-// an exploratory session, thirty-fifth). The walk reads each byte once or, for a run of no pixels,
-// a few: its time is the file's, never the image's.
+// before it reads a packet (256 MiB for a header of 16384 x 4096; the run's peak 320 MB), so a
+// file that claims a large image and holds a packet header and no rows took that memory before
+// it was refused (found by an exploratory session, thirty-fifth). The walk reads each byte once
+// or, for a run of no pixels, a few: its time is the file's, never the image's (a file it passes
+// then decodes to the image its rows hold).
 void check_pic(const std::string& subject, const Bytes& b)
 {
     if (b.size() < 104) return; // stb refuses it in its header (stbi_info)
@@ -191,6 +192,11 @@ void check_pic(const std::string& subject, const Bytes& b)
         if (eof() || bits != 8) return;
         packets.push_back({type, unsigned(std::popcount(mask & 0xF0u))});
     }
+    // Packets that carry no channel read no byte: every row is whole without data, and stb
+    // decodes the image it cleared (a 109-byte file of 16384 x 4096 took 580 MB; found by a
+    // review, thirty-sixth). Such a file holds no picture.
+    if (std::all_of(packets.begin(), packets.end(), [](const Packet& p) { return p.channels == 0; }))
+        throw Error(subject, "not a supported image (corrupt PIC: its packets carry no channel, so it holds no pixel)");
     const auto truncated = [&](std::uint64_t row) {
         throw Error(subject, fmt::format("not a supported image (truncated PIC: the file ends in row {} of {}, "
                                          "after {} bytes)",

@@ -198,6 +198,7 @@ private:
         return std::clamp(int(std::lround(divider_ * float(w))), 0, w);
     }
     std::string settings_key() const;
+    void request_screenshot(); // P: a screenshot of the technique's own picture, as soon as drawn
     // Each object's bounds grown as the scene's (apply_displacement), so that a far-away object
     // does not push the near plane past the near ones.
     void fit_planes()
@@ -691,6 +692,15 @@ void Viewer::take_screenshot(const std::string& path)
     }
 }
 
+void Viewer::request_screenshot()
+{
+    ++screenshot_pending_;
+    // A P pressed while an earlier one waits asks for what is set now: the wait is for that (the
+    // earlier P, asked for a technique since turned away from, was dropped with it; found by a
+    // review, thirty-sixth).
+    if (screenshot_waiting_) screenshot_key_ = settings_key();
+}
+
 void Viewer::screenshot_now()
 {
     if (!o_.screenshot.empty()) return take_screenshot(o_.screenshot);
@@ -878,7 +888,7 @@ void Viewer::handle_keys()
         if (key.key == 'D') reference_overlay_ = !reference_overlay_, dirty_ = true;
         if (key.key == 'R') reset_view();
         if (key.key == 'H' || key.key == tab) show_panel_ = !show_panel_;
-        if (key.key == 'P') ++screenshot_pending_;
+        if (key.key == 'P') request_screenshot();
         if (key.key == 'Q' || key.key == escape) window_.request_close();
     }
 }
@@ -1036,7 +1046,8 @@ void Viewer::draw_panel()
         changed |= ImGui::Combo("shadows", &sh, shadows, 3);
         float light_size = half_[0].light_size;
         if (sh == int(Shadows::Soft)) {
-            changed |= ImGui::SliderFloat("light size", &light_size, 0.1f, kMaxLightSize, "%.2f deg",
+            // (From 0.01 degrees: --light-size takes any size over 0, a typed 0.05 was made 0.1.)
+            changed |= ImGui::SliderFloat("light size", &light_size, 0.01f, kMaxLightSize, "%.2f deg",
                                           ImGuiSliderFlags_Logarithmic | kClamp);
             if (ImGui::IsItemHovered()) ImGui::SetTooltip("The light's angular diameter (--light-size; the sun: about 0.5)");
         }
@@ -1075,7 +1086,7 @@ void Viewer::draw_panel()
         }
         if (ImGui::Button("reset view (R)")) reset_view();
         ImGui::SameLine();
-        if (ImGui::Button("screenshot (P)")) ++screenshot_pending_;
+        if (ImGui::Button("screenshot (P)")) request_screenshot();
     }
     if (ImGui::CollapsingHeader("Overlays", ImGuiTreeNodeFlags_DefaultOpen)) {
         int ov = int(overlay_);
@@ -1244,7 +1255,7 @@ int Viewer::run()
                 // Turned to another technique (or settings) while P waited: what is drawn now is
                 // not the picture P asked for (it saved flat's after a 1, without a word; found by
                 // an exploratory session, thirty-sixth).
-                note("P: no screenshot: the technique changed while it waited for its cone map");
+                note("P: no screenshot: the technique or its settings changed while it waited for its cone map");
                 screenshot_pending_ = 0;
                 screenshot_waiting_ = false;
                 screenshot_settled_ = false;

@@ -54,6 +54,7 @@ foreach(case "truncated.png|not a supported image \\(truncated PNG: it needs at 
              # (Thirty-sixth session: its packets walked before decoding, which allocated the
              # whole image first: 256 MiB for this 109-byte file, and a run past a row's end.)
              "pic_no_rows.pic|not a supported image \\(truncated PIC: the file ends in row 1 of 4096, after 109 bytes\\)"
+             "pic_no_channel.pic|not a supported image \\(corrupt PIC: its packets carry no channel, so it holds no pixel\\)"
              "pic_overrun.pic|not a supported image \\(corrupt PIC: a run of 65 pixels in row 2 of 4 overruns the row's 64\\)"
              "hdr_plus_y.hdr|not a supported image \\(corrupt or unsupported HDR: a pixel layout other than -Y height \\+X width"
              "psd_grey.psd|not a supported image \\(corrupt or unsupported PSD: not in RGB colour mode"

@@ -1160,8 +1160,8 @@ TEST(Prism, TheSecondPassKeepsTheCallersScissor)
 // A triangle whose uvs have no area (all on a line: an open cylinder whose u is one number) is
 // shaded as its neighbours with proper uvs: the hit's weights come from its world point where its
 // uv gives none. With the triangle's centre instead, each was one flat facet: 33 dB against the
-// reference where the same cylinder with proper uvs gave 92, with heights along v only 30 against
-// 49 (found by an exploratory session, thirty-sixth). Both exits, each marcher's frame.
+// reference where the same cylinder with proper uvs gave 92, with heights along v only 29.6 against
+// 39.2 (found by an exploratory session, thirty-sixth). Both exits, two marchers.
 TEST(Prism, TrianglesWithoutUvAreaAreShadedSmoothly)
 {
     prtest::context();
@@ -1198,9 +1198,10 @@ TEST(Prism, TrianglesWithoutUvAreaAreShadedSmoothly)
             const FrameCapture good = capture(r, c, Technique::Prism, marcher, exit);
             r.upload(u_line);
             const CompareMetrics m = compare_frames(capture(r, c, Technique::Prism, marcher, exit), good);
-            EXPECT_GT(m.both, 5000) << exit_label(exit);
-            EXPECT_EQ(m.silhouette_wrong_px, 0u) << exit_label(exit);
+            const std::string label = std::string(marcher == Marcher::Relief ? "relief" : "max-mip") + exit_label(exit);
+            EXPECT_GT(m.both, 5000) << label;
+            EXPECT_EQ(m.silhouette_wrong_px, 0u) << label;
             EXPECT_TRUE(m.identical || (m.psnr && *m.psnr > 50.0))
-                << exit_label(exit) << ": PSNR " << (m.psnr ? *m.psnr : 0.0) << " against the proper uvs";
+                << label << ": PSNR " << (m.psnr ? *m.psnr : 0.0) << " against the proper uvs";
         }
 }

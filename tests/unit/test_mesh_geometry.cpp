@@ -387,7 +387,7 @@ TEST(MeshUv, SmallChartsJoinTheirNeighbours)
 // On the bundled blob (no UVs), the charts' ragged edges and islands are tidied: fewer seams
 // (470 edges by the dominant axis alone), and every triangle projected along one of the six box
 // directions no more than 60° from its own normal (at most 2× stretch). Judged by the corners'
-// summed welded normals until the thirty-sixth session: 340 seams, but at a sharp edge a face
+// summed welded normals until the thirty-sixth session: 331 seams, but at a sharp edge a face
 // took an axis in its own plane (below: GeneratedUvsOfAWedgeHaveArea).
 TEST(MeshUv, GeneratedChartsOfTheBlobAreTidy)
 {
