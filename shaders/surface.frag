@@ -130,7 +130,8 @@ void main()
     if (!gl_FrontFacing) n_geom = -n_geom; // seen from behind: carve into the visible side
     vec3 t_axis = v_tangent;
     vec3 b_axis = v_bitangent;
-    UvGrad g = UvGrad(dFdx(v_uv), dFdy(v_uv));
+    UvGrad g_color = UvGrad(dFdx(v_uv), dFdy(v_uv)); // the colour map's
+    UvGrad g = height_grad(g_color);                  // the heights'
     vec3 view = v_world_pos - u_eye.xyz; // eye to fragment, world units
 
     vec2 uv = v_uv;
@@ -221,7 +222,7 @@ void main()
         visibility = disc_share(light_visibility(vec3(uv, s_hit),
                                                  light_in_texture_space(t_axis, b_axis, n_geom, depth, light_dir), g));
 #endif
-    vec3 color = shade_blinn_phong(albedo_at(uv, g), n, light_dir, to_eye, visibility);
+    vec3 color = shade_blinn_phong(albedo_at(uv, g_color), n, light_dir, to_eye, visibility);
     o_color = vec4(color, 1.0);
 
 #ifdef PR_DEPTH_WRITE

@@ -66,7 +66,7 @@ TEST(TechniqueUse, ASettingADrawDoesNotReadChangesNothing)
     o.mesh = std::string(PR_SOURCE_DIR) + "/meshes/rock.obj";
     o.height = "builtin:bricks@128";
     spec.objects.push_back(o);
-    spec.width = spec.height = 64;
+    spec.width = spec.height = 96;
     const Scene scene = load_scene(spec);
     const Camera c = scene_camera(spec, scene);
     Renderer r(spec.width, spec.height);
