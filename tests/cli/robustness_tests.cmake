@@ -87,6 +87,11 @@ endforeach()
 pr_cli(image_height_colour_warns EXIT 0 EXPECT_FILE o.png
        STDERR "warning: .*alpha.png: colour image; using its first \\(red\\) channel"
        ARGS render --mesh ${M}/torus.obj --height ${BAD}/alpha.png --size 32x32 --out o.png)
+# A colour map with transparent pixels: a warning that its alpha is not read (they were drawn
+# opaque as stored, without a word; thirty-sixth session); alpha.png has 128 of 1024.
+pr_cli(image_color_alpha_warns EXIT 0 EXPECT_FILE o.png
+       STDERR "warning: .*alpha.png: 128 colour map pixels are transparent or translucent: a colour map's alpha is not read"
+       ARGS render --mesh ${M}/torus.obj --color ${BAD}/alpha.png --size 32x32 --out o.png)
 # No NaN-derived garbage in the displacement: the prism (GPU heights) against the reference (CPU
 # tessellation of the same heights) agrees on the outline and the depth is finite and small.
 foreach(file sixteen_bit.png paletted.png one_pixel.png)
