@@ -1307,7 +1307,7 @@ int Viewer::run()
                 std::snprintf(buf, sizeof buf, "%.2f ms median", median(samples));
                 return std::string(buf);
             };
-            std::printf("view: %d frames at %dx%d:", counted_, compositor_->width(), compositor_->height());
+            std::printf("view: %d frame%s at %dx%d:", counted_, counted_ == 1 ? "" : "s", compositor_->width(), compositor_->height());
             for (int k = 0; k < (split_ ? 2 : 1); ++k) {
                 const std::string name = display_name(half_[k]);
                 std::printf(" %s draw %s", name.c_str(), ms_text(stats_[k].draws).c_str());
