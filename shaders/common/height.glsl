@@ -73,8 +73,11 @@ UvGrad height_grad(UvGrad g)
     vec2 size = vec2(textureSize(s_height, 0));
     vec2 a = g.dx * size, b = g.dy * size;
     float p = dot(a, a), q = dot(b, b), r = dot(a, b);
-    float half_sum = 0.5 * (p + q), half_diff = 0.5 * (p - q);
-    float minor = sqrt(max(half_sum - sqrt(half_diff * half_diff + r * r), 0.0));
+    float half_diff = 0.5 * (p - q);
+    // The larger singular value, and the smaller as |det| over it (no cancellation where one side
+    // is many times the other); 0 where the pixel spans no texel.
+    float major = sqrt(0.5 * (p + q) + sqrt(half_diff * half_diff + r * r));
+    float minor = major > 0.0 ? abs(a.x * b.y - a.y * b.x) / major : 0.0;
     return UvGrad(vec2(minor / size.x, 0.0), vec2(0.0, minor / size.y));
 }
 
