@@ -78,6 +78,7 @@ UvGrad height_grad(UvGrad g)
     // is many times the other); 0 where the pixel spans no texel.
     float major = sqrt(0.5 * (p + q) + sqrt(half_diff * half_diff + r * r));
     float minor = major > 0.0 ? abs(a.x * b.y - a.y * b.x) / major : 0.0;
+    if (!(minor < 1e30)) return g; // (a footprint past float range: the pixel's own, as GL takes it)
     return UvGrad(vec2(minor / size.x, 0.0), vec2(0.0, minor / size.y));
 }
 

@@ -170,22 +170,31 @@ int run_cli(int argc, char** argv)
     };
     std::vector<std::string> args(argv, argv + argc);
     std::vector<std::string> split;
-    bool options_end = false, help_asked = false, parse_ended = false;
+    bool options_end = false, help_asked = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         options_end = options_end || a == "--";
-        // (--help and --version end the parse where they stand: nothing after them is judged.)
-        help_asked = help_asked || (!options_end && (a == "--help" || a == "-h"));
-        parse_ended = help_asked || parse_ended || (!options_end && a == "--version");
+        // --help and --version end the parse where they stand (as getopt's callers do): nothing
+        // after them is read, and a flag just before them that takes a value is left out (CLI11
+        // took the word for its value: `--json --help` rendered and wrote the report to a file
+        // named "--help"; found by a review, thirty-sixth).
+        if (i > 0 && !options_end && (a == "--help" || a == "-h" || a == "--version")) {
+            help_asked = a != "--version";
+            if (!split.empty() && split.back().starts_with("--") && split.back().find('=') == std::string::npos &&
+                takes_value(split.back()))
+                split.pop_back();
+            split.push_back(a);
+            break;
+        }
         // An option that takes a value, followed by another option: CLI11 took the option for
         // the value (`--json --depth-write` wrote the report to a file named "--depth-write"
         // without depth writes, exit 0; `--techniques --size 16x16` blamed "16x16"; found by an
         // exploratory session, thirty-sixth). A file whose name starts with "--" is given as
-        // ./--name.
-        const bool help_next = i + 1 < args.size() && (args[i + 1] == "--help" || args[i + 1] == "-h" ||
+        // ./--name. (Before --help or --version, above: the flag is left out.)
+        const bool ends_next = i + 1 < args.size() && (args[i + 1] == "--help" || args[i + 1] == "-h" ||
                                                        args[i + 1] == "--version");
-        if (i > 0 && !options_end && !parse_ended && !help_next && a.starts_with("--") &&
-            a.find('=') == std::string::npos && takes_value(a) && i + 1 < args.size() && looks_like_option(args[i + 1])) {
+        if (i > 0 && !options_end && !ends_next && a.starts_with("--") && a.find('=') == std::string::npos &&
+            takes_value(a) && i + 1 < args.size() && looks_like_option(args[i + 1])) {
             const bool file = std::find(std::begin(kFileOptions), std::end(kFileOptions), a) != std::end(kFileOptions);
             std::fprintf(stderr, "prismrelief: usage: %s: expected a value, got the option '%s'%s (see prismrelief --help)\n",
                          one_line(a).c_str(), one_line(args[i + 1].substr(0, args[i + 1].find('='))).c_str(),

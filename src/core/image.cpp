@@ -590,7 +590,6 @@ HeightField load_height_file(const std::string& path, const ImageLimits& limits)
 
 RgbaImage load_rgba_file(const std::string& path, const ImageLimits& limits, bool colour_map)
 {
-    std::size_t translucent = 0; // pixels whose alpha is under full (a colour map's, said)
     std::vector<std::uint8_t> bytes = read_file(path, limits);
     const Checked c = check_header(path, bytes, limits);
     int w = 0, h = 0, n = 0;
@@ -618,7 +617,6 @@ RgbaImage load_rgba_file(const std::string& path, const ImageLimits& limits, boo
             q[1] = high_byte(p[n >= 3 ? 1 : 0]);
             q[2] = high_byte(p[n >= 3 ? 2 : 0]);
             q[3] = 255;
-            translucent += (n == 2 || n == 4) && p[n - 1] < 65535;
         }
     } else {
         // Asking for 4 channels makes stb replicate grey into RGB, add opaque alpha where there
@@ -650,7 +648,11 @@ RgbaImage load_rgba_file(const std::string& path, const ImageLimits& limits, boo
     // A colour map's alpha is not read: its pixels are drawn opaque, in the colour stored (often
     // black where an editor leaves transparent pixels as 0, 0, 0, 0). Said, not silent (found by
     // an exploratory session, thirty-sixth; a GIF's are said above).
-    if (colour_map && !(bytes.size() >= 3 && std::memcmp(bytes.data(), "GIF", 3) == 0)) {
+    // (Not a TGA whose header gives no alpha bits: stb reads its fourth byte as alpha all the
+    // same, where exporters often leave 0; found by a review.)
+    const bool tga_without_alpha = is_tga(bytes) && (bytes[17] & 0x0F) == 0;
+    if (colour_map && !tga_without_alpha && !(bytes.size() >= 3 && std::memcmp(bytes.data(), "GIF", 3) == 0)) {
+        std::size_t translucent = 0;
         for (std::size_t k = 3; k < std::size_t(w) * h * 4; k += 4) translucent += data.get()[k] < 255;
         if (translucent > 0)
             warn(path + ": " + std::to_string(translucent) + " colour map pixel" + (translucent == 1 ? " is" : "s are") +

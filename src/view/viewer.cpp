@@ -694,10 +694,15 @@ void Viewer::take_screenshot(const std::string& path)
 
 void Viewer::request_screenshot()
 {
+    // A P pressed while an earlier one waits asks for what is set now: the wait is for that. An
+    // earlier one asked for settings since changed is dropped here, as it would be once drawn
+    // (the later P dropped it with itself; then, pressed in the frame of the change, both were
+    // saved, of the new settings; found by two reviews, thirty-sixth).
+    if (screenshot_waiting_ && screenshot_key_ != settings_key()) {
+        note("P: no screenshot: the technique or its settings changed while it waited for its cone map");
+        screenshot_pending_ = 0;
+    }
     ++screenshot_pending_;
-    // A P pressed while an earlier one waits asks for what is set now: the wait is for that (the
-    // earlier P, asked for a technique since turned away from, was dropped with it; found by a
-    // review, thirty-sixth).
     if (screenshot_waiting_) screenshot_key_ = settings_key();
 }
 
@@ -1047,7 +1052,7 @@ void Viewer::draw_panel()
         float light_size = half_[0].light_size;
         if (sh == int(Shadows::Soft)) {
             // (From 0.01 degrees: --light-size takes any size over 0, a typed 0.05 was made 0.1.)
-            changed |= ImGui::SliderFloat("light size", &light_size, 0.01f, kMaxLightSize, "%.2f deg",
+            changed |= ImGui::SliderFloat("light size", &light_size, 0.01f, kMaxLightSize, "%.3g deg",
                                           ImGuiSliderFlags_Logarithmic | kClamp);
             if (ImGui::IsItemHovered()) ImGui::SetTooltip("The light's angular diameter (--light-size; the sun: about 0.5)");
         }

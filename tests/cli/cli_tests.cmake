@@ -95,6 +95,11 @@ pr_cli(help_next_to_bad_value EXIT 0 STDOUT "Usage: prismrelief render" ARGS ren
 pr_cli(help_next_to_bad_value_and_unknown_option EXIT 2 ONE_LINE STDERR "usage: '--bogus': render has no such option"
        ARGS render --bogus --steps abc --help)
 pr_cli(help_before_value_flag_and_option EXIT 0 STDOUT "Usage: prismrelief render" ARGS render --help --json --depth-write)
+pr_cli(help_after_unknown_option_is_not_read EXIT 0 STDOUT "Usage: prismrelief render" ARGS render --help --bogus)
+# A flag that takes a value, just before --help: left out (CLI11 took --help for its value: the
+# render ran and wrote its report to a file named --help).
+pr_cli(help_after_value_flag EXIT 0 STDOUT "Usage: prismrelief render" NO_FILE --help
+       ARGS render --mesh ${M}/cube.obj --size 16x16 --out o.png --json --help)
 pr_cli(size_out_of_range EXIT 1 ONE_LINE STDERR "${E}--size: each side must be between 1 and 16384" NO_FILE out.png
        ARGS render --mesh ${M}/cube.obj --size 0x12 --out out.png)
 pr_cli(image_too_large EXIT 1 ONE_LINE STDERR "${E}--size: " NO_FILE out.png

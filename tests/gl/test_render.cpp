@@ -211,3 +211,42 @@ TEST(Render, LoadedSphereMatchesTheAnalyticSilhouette)
     EXPECT_EQ(wrong, 0);
     EXPECT_GT(checked, kSize * kSize - 700); // the +-1 px band is about 2 * 2 pi r = 570 px
 }
+
+// A map much wider than tall draws the same surface as the same heights stored narrower: relief
+// and pom read the level of the footprint's shorter side in texels (height_grad). With the
+// pixel's own gradients GL took the longer side, and grooves along v of a 2048 x 64 map were
+// averaged away along v where the picture magnifies them: drawn flat, 12.8 dB against the
+// reference where 32 x 64 gave 26.2 (found by an exploratory session, thirty-sixth).
+TEST(Render, AWideMapsShortSideIsNotAveragedAway)
+{
+    prtest::context();
+    Renderer r(kSize, kSize);
+    const auto grooves = [](int width) {
+        auto hf = std::make_shared<HeightField>();
+        hf->width = width;
+        hf->height = 64;
+        hf->name = "grooves" + std::to_string(width);
+        hf->texels.resize(std::size_t(width) * 64);
+        for (int y = 0; y < 64; ++y)
+            for (int x = 0; x < width; ++x)
+                hf->texels[std::size_t(y) * width + x] = 0.5f + 0.5f * std::cos(6.2831853f * 8.0f * (y + 0.5f) / 64.0f);
+        return hf;
+    };
+    Camera c = front_camera();
+    c.eye = {0.0f, -2.2f, 2.2f};
+    c.up = {0.0f, 0.0f, 1.0f};
+    for (const Technique t : {Technique::Relief, Technique::Pom}) {
+        Scene narrow = prtest::one_object(prtest::square(1.0f), grooves(32), 0.2f);
+        Scene wide = prtest::one_object(prtest::square(1.0f), grooves(2048), 0.2f);
+        narrow.objects[0].midlevel = wide.objects[0].midlevel = 1.0f;
+        r.upload(narrow);
+        const RgbaImage a = draw(r, c, t);
+        r.upload(wide);
+        const RgbaImage b = draw(r, c, t);
+        ASSERT_GT(prtest::coverage(a), 5000u);
+        std::size_t differ = 0;
+        for (std::size_t p = 0; p < std::size_t(kSize) * kSize; ++p) differ += max_channel_difference(a, b, p) > 24;
+        EXPECT_LT(differ, prtest::coverage(a) / 50) << technique_name(t) << ": " << differ << " of "
+                                                    << prtest::coverage(a) << " pixels differ by more than 24 levels";
+    }
+}
