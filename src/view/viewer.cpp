@@ -199,6 +199,8 @@ private:
     }
     std::string settings_key() const;
     void request_screenshot(); // P: a screenshot of the technique's own picture, as soon as drawn
+    bool screenshot_stale() const; // a P waits for settings changed since it was pressed
+    void drop_screenshots(const char* why, bool as_error); // the pending Ps, said in the log (and stderr)
     // Each object's bounds grown as the scene's (apply_displacement), so that a far-away object
     // does not push the near plane past the near ones.
     void fit_planes()
@@ -692,18 +694,31 @@ void Viewer::take_screenshot(const std::string& path)
     }
 }
 
+// Said where a P that waited for a cone map is dropped, its settings changed meanwhile.
+constexpr const char* kScreenshotSettingsChanged =
+    "P: no screenshot: the technique or its settings changed while it waited for its cone map";
+
 void Viewer::request_screenshot()
 {
-    // A P pressed while an earlier one waits asks for what is set now: the wait is for that. An
-    // earlier one asked for settings since changed is dropped here, as it would be once drawn
-    // (the later P dropped it with itself; then, pressed in the frame of the change, both were
-    // saved, of the new settings; found by two reviews, thirty-sixth).
-    if (screenshot_waiting_ && screenshot_key_ != settings_key()) {
-        note("P: no screenshot: the technique or its settings changed while it waited for its cone map");
-        screenshot_pending_ = 0;
-    }
+    // A P pressed while an earlier one waits for settings since changed: the earlier is dropped
+    // here, as it would be once drawn, and this one asks for what is set now (the later P dropped
+    // it with itself; then, pressed in the frame of the change, both were saved, of the new
+    // settings; found by two reviews, thirty-sixth).
+    if (screenshot_stale()) drop_screenshots(kScreenshotSettingsChanged, false);
     ++screenshot_pending_;
-    if (screenshot_waiting_) screenshot_key_ = settings_key();
+}
+
+bool Viewer::screenshot_stale() const
+{
+    return screenshot_waiting_ && screenshot_key_ != settings_key();
+}
+
+void Viewer::drop_screenshots(const char* why, bool as_error)
+{
+    as_error ? error(why) : note(why);
+    screenshot_pending_ = 0;
+    screenshot_waiting_ = false;
+    screenshot_settled_ = false;
 }
 
 void Viewer::screenshot_now()
@@ -1252,18 +1267,12 @@ int Viewer::run()
                 screenshot_waiting_ = true;
             } else if (screenshot_pending_ > 0 && image_meanwhile_) {
                 // Built, but the technique's draw failed (a shader error): the picture is still relief's.
-                error("P: no screenshot: the picture shown is relief's (the technique could not be drawn)");
-                screenshot_pending_ = 0;
-                screenshot_waiting_ = false;
-                screenshot_settled_ = false;
-            } else if (screenshot_pending_ > 0 && screenshot_waiting_ && screenshot_key_ != settings_key()) {
+                drop_screenshots("P: no screenshot: the picture shown is relief's (the technique could not be drawn)", true);
+            } else if (screenshot_pending_ > 0 && screenshot_stale()) {
                 // Turned to another technique (or settings) while P waited: what is drawn now is
                 // not the picture P asked for (it saved flat's after a 1, without a word; found by
                 // an exploratory session, thirty-sixth).
-                note("P: no screenshot: the technique or its settings changed while it waited for its cone map");
-                screenshot_pending_ = 0;
-                screenshot_waiting_ = false;
-                screenshot_settled_ = false;
+                drop_screenshots(kScreenshotSettingsChanged, false);
             } else if (screenshot_pending_ > 0 && screenshot_waiting_ && !screenshot_settled_) {
                 // The technique's own picture is drawn in this frame, but the panel was laid out
                 // before it (a --screenshot-ui said "waits for its cone map"): the next frame's.
