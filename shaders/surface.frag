@@ -218,9 +218,14 @@ void main()
     // surface at that uv, as prism:linear's, prism:relief's and the cone marchers' do.
     if (depth > 0.0 && dot(n, light_dir) > 0.0) s_hit = max(s_hit, height_at(uv, g));
 #endif
-    if (depth > 0.0 && dot(n, light_dir) > 0.0)
-        visibility = disc_share(light_visibility(vec3(uv, s_hit),
-                                                 light_in_texture_space(t_axis, b_axis, n_geom, depth, light_dir), g));
+    if (depth > 0.0 && dot(n, light_dir) > 0.0) {
+        // (Soft: a ray for each strip of the disc, shadow.glsl.)
+        visibility = 0.0;
+        for (int strip = 0; strip < PR_SOFT_STRIPS; ++strip) {
+            vec3 l_tex = light_in_texture_space(t_axis, b_axis, n_geom, depth, soft_strip_dir(light_dir, n_geom, strip));
+            visibility += strip_share(strip, light_visibility(vec3(uv, s_hit), l_tex, g));
+        }
+    }
 #endif
     vec3 color = shade_blinn_phong(albedo_at(uv, g_color), n, light_dir, to_eye, visibility);
     o_color = vec4(color, 1.0);

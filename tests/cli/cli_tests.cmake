@@ -313,12 +313,13 @@ pr_cli(bench_p95_above_255 EXIT 0 JSON b.json
        ARGS bench --mesh ${M}/plane.obj --height builtin:const:0 --size 32x24 --frames 1 --warmup 0
             --steps 1024 --refine 3 --techniques relief --json b.json)
 # Past 8191 samples a fragment: the histogram's bins grow with the count (1/1024 of it), so p95
-# is within that of the truth (every fragment takes 22,530 here; it read 8191, the last bin).
+# is within that of the truth (every fragment takes 15,704 here; it read 8191, the last bin).
+# (Hard shadows: a soft light's three rays, common/shadow.glsl, do not take the same count.)
 pr_cli(bench_p95_past_8191 EXIT 0 JSON b.json
-       CHECKS "${R}.0.samples_per_fragment_mean:EQUAL:22530|${R}.0.samples_per_fragment_p95:GREATER_EQUAL:22508|${R}.0.samples_per_fragment_p95:LESS_EQUAL:22530"
+       CHECKS "${R}.0.samples_per_fragment_mean:EQUAL:15704|${R}.0.samples_per_fragment_p95:GREATER_EQUAL:15689|${R}.0.samples_per_fragment_p95:LESS_EQUAL:15704"
        SETUP "printf 'v -1 0 1\\nv 1 0 1\\nv 1 0 -1\\nv -1 0 -1\\nvt 0 0\\nvt 1 0\\nvt 1 1\\nvt 0 1\\nf 1/1 2/2 3/3\\nf 1/1 3/3 4/4\\n' > q.obj"
        ARGS bench --mesh q.obj --height builtin:const:0 --depth 0.1 --eye 0,3,0 --target 0,0,0 --up 0,0,-1
-            --size 8x8 --frames 1 --warmup 0 --steps 1024 --shadows soft --light 1,0.03,0 --techniques steep --json b.json)
+            --size 8x8 --frames 1 --warmup 0 --steps 1024 --shadows hard --light 1,0.03,0 --techniques steep --json b.json)
 pr_cli(bench_bad_frames EXIT 1 ONE_LINE STDERR "${E}--frames: "
        ARGS bench --mesh ${M}/cube.obj --frames 0)
 
@@ -350,9 +351,11 @@ pr_same_image(depth_write_closed_mesh ARGS --mesh ${M}/cube.obj --depth 0.15 --c
 # A soft light from nearly straight under the surface (87 degrees down, 30 across) leaves no part
 # of its disc over it: the walls facing it are in the shadow the hard light casts. The raise of
 # the light's ray turned past 90 degrees, and every point was lit, as without shadows (7,485
-# pixels brighter than hard; found by a review).
+# pixels brighter than hard; found by a review). Seen from near, away from the sheet's edges: a
+# soft light's rays through the sides of its disc (shadow.glsl, strips), turned 8.6 degrees across,
+# pass under the edge of the sheet from the walls near it, and light them a little.
 pr_same_image(soft_light_from_below_the_surface ARGS --mesh ${M}/plane.obj --height builtin:boxes --depth 1.0
-              --eye 1.5,2.0,1.8 --target 0,0,0 --size 96x96 --technique prism --light 0.0453243,-0.9986295,0.0261680
+              --eye 0.6,0.8,0.72 --target 0,0,0 --size 96x96 --technique prism --light 0.0453243,-0.9986295,0.0261680
               A --shadows hard B --shadows soft --light-size 30)
 
 # The eye on a vertex's normal line inside the shell (the prisms around the vertex share it as an

@@ -709,6 +709,58 @@ TEST(Shadows, ABoxsPenumbraDarkensSteadily)
     }
 }
 
+// A box's soft shadow widens on its sides too: the edges that run along the light's horizontal
+// direction, where the ray towards the disc's centre passes over low ground beside the box. With
+// that one ray they stayed hard, a pixel wide whatever the light's size (found by an exploratory
+// session, thirty-sixth); the disc is now marched in three upright strips, a ray each
+// (common/shadow.glsl), and the sides' penumbra has the reference's width in three steps.
+TEST(Shadows, ABoxsSoftShadowWidensOnItsSides)
+{
+    prtest::context();
+    Renderer r(128, 128);
+    r.set_cache_dir(prtest::cache_dir());
+    // 50.8 pixels per unit, column and row 64 at x = y = 0: the box spans rows and columns 54..74;
+    // under a light 25 degrees up from +x its shadow reaches 0.3 / tan 25 = 0.64 units past
+    // x = -0.2. Column 41 is x = -0.45, 0.25 behind the box, where a light 30 degrees across
+    // leaves a penumbra about 2 * 0.25 * tan 15 = 0.13 units wide (7 pixels) on either side.
+    const Camera c = top_down_camera(4.0f, 35.0f);
+    const Scene scene = prtest::one_object(prtest::square(), centre_box(128), 0.3f);
+    r.upload(scene);
+    r.prepare_reference(scene, c, ReferenceOptions{});
+    const struct {
+        Technique technique;
+        Marcher marcher;
+    } cases[] = {{Technique::Reference, Marcher::Relief},
+                 {Technique::Relief, Marcher::Relief},
+                 {Technique::RelaxedCone, Marcher::Relief},
+                 {Technique::Prism, Marcher::Relief},
+                 {Technique::Prism, Marcher::RelaxedCone}};
+    for (const auto& k : cases) {
+        const std::string what =
+            technique_name(k.technique) + (k.technique == Technique::Prism ? " " + marcher_name(k.marcher) : "");
+        DrawSettings s = settings(k.technique, k.marcher);
+        s.shadows = Shadows::Soft;
+        s.light_size = 30.0f;
+        r.draw(c, light_from_x(25.0f), s);
+        const RgbaImage image = r.read_color();
+        std::vector<int> column;
+        for (int y = 0; y < 128; ++y) column.push_back(rgb_sum(image, std::size_t(y) * 128 + 41));
+        const int lit = column[30], dark = column[64];
+        ASSERT_GT(lit - dark, 150) << what << ": no shadow across column 41";
+        int penumbra = 0, rise = 0;
+        for (int y = 30; y <= 98; ++y) {
+            penumbra += column[std::size_t(y)] < lit - 6 && column[std::size_t(y)] > dark + 6;
+            // Darker towards the shadow's middle, never lighter.
+            if (y > 30 && y <= 64) rise = std::max(rise, column[std::size_t(y)] - column[std::size_t(y) - 1]);
+            if (y > 64) rise = std::max(rise, column[std::size_t(y) - 1] - column[std::size_t(y)]);
+        }
+        std::printf("%s: %d pixels of penumbra across the shadow\n", what.c_str(), penumbra);
+        // (The reference 21, every technique 16; with one ray 2.)
+        EXPECT_GE(penumbra, 10) << what;
+        EXPECT_LE(rise, 6) << what << ": lighter towards the shadow's middle";
+    }
+}
+
 // The reference's hard shadows come from a shadow map of its displaced triangles: a box in the
 // height map darkens the floor behind it from the light and nothing in front (no acne on the lit
 // floor, seen from the light at 25 degrees), and they agree with the prism's, which march the
