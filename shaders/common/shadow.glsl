@@ -96,36 +96,23 @@ float disc_share(float v)
 // edge across the disc, as a wall's top or a box's far edge does. Beside an occluder the ray
 // towards the disc's centre passes over low ground and sees nothing, and the sides of a shadow
 // (the edges that run along the light's horizontal direction) stayed hard, a pixel wide, whatever
-// the light's size. So a soft light is marched along PR_SOFT_STRIPS rays: the disc is cut into
+// the light's size. So a soft light is marched along soft_strips() rays: the disc is cut into
 // upright strips of equal area (across the plane of the light and the base normal), each lit by
 // its own ray through its centroid, with a level edge of its own, and the light is the sum of the
 // strips' shares over their edges (strip_share). A level edge gives every ray the same offset and
-// the sum is disc_share's. (Until the thirty-seventh session one ray, the centre's: a 16-texel box
-// on the plane under a light of 30 degrees, 0.33 units behind the box, had a side penumbra 1
-// pixel wide where the reference's was 11.)
-#if defined(PR_SHADOWS) && PR_SHADOWS == PR_SHADOWS_SOFT
-#define PR_SOFT_STRIPS 3
-#else
-#define PR_SOFT_STRIPS 1
-#endif
-// The strips' borders across the unit disc (-1, -b, b, 1, b with 2 (x sqrt(1 - x^2) + asin x)
-// over [0, b] a third of pi), and the side strips' centroids (2 / pi) (1 - b^2)^(3/2).
-const float PR_STRIP_BORDER = 0.2649320846;
-const float PR_STRIP_CENTROID = 0.5707844538;
-
-// The world direction of strip `strip`'s ray towards the light along `light_dir` (unit), for a
-// surface with normal `n`: turned sideways (along n x light_dir) by the strip's centroid on the
-// disc. The light alone with one strip (hard shadows).
-vec3 soft_strip_dir(vec3 light_dir, vec3 n, int strip)
+// the sum is disc_share's. Each strip draws the shadow of the light along its ray, so a shadow's
+// side comes in as many steps as there are strips (a fan of shadows behind a box); their number
+// grows with the light's size, so that neighbouring rays stay about 4 degrees apart or less: 3
+// strips below 10 degrees across, 5 below 20, 7 from 20 to 30. (Until the thirty-seventh
+// session one ray, the centre's: a 16-texel box on the plane under a light of 30 degrees, 0.33
+// units behind the box, had a side penumbra 1 pixel wide where the reference's was 11.)
+int soft_strips()
 {
-#if PR_SOFT_STRIPS == 3
-    vec3 side = cross(n, light_dir);
-    // (A light along the normal: any direction across it, the disc being round.)
-    if (!(dot(side, side) > 1e-12)) side = cross(abs(light_dir.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0), light_dir);
-    float x = float(strip - 1) * PR_STRIP_CENTROID;
-    return normalize(light_dir + (x * u_light_dir.w) * normalize(side));
+#if defined(PR_SHADOWS) && PR_SHADOWS == PR_SHADOWS_SOFT
+    float size = 2.0 * degrees(atan(u_light_dir.w));
+    return clamp(2 * int(size / 10.0 + 1e-3) + 3, 3, 7);
 #else
-    return light_dir;
+    return 1;
 #endif
 }
 
@@ -136,14 +123,57 @@ float half_disc_integral(float x)
     return 0.5 * (x * sqrt(1.0 - x * x) + asin(x));
 }
 
-// Strip `strip`'s share of the disc over an edge at soft_light's offset `v` (0: the edge at the
-// disc's top, 1: at its bottom), lit by its own ray (soft_strip_dir). The offset itself with one
-// strip.
-float strip_share(int strip, float v)
+// The strips' inner borders across the unit disc, for 3, 5 and 7 strips (from index 0, 2 and 6):
+// the x left of which lies k / strips of the disc's area, 2 (x sqrt(1 - x^2) + asin x) = pi (2 k /
+// strips - 1). (Solved in the shader, by Newton's method, they cost a fifth of relaxed-cone's frame
+// under a light of 2 degrees.)
+const float PR_STRIP_BORDERS[12] = float[](-0.2649320846, 0.2649320846, -0.4918618328, -0.1577361938, 0.1577361938,
+                                           0.4918618328, -0.5990605805, -0.3434778249, -0.1124370958, 0.1124370958,
+                                           0.3434778249, 0.5990605805);
+
+// Strip `strip` of `strips` across the unit disc: its borders (x, y) and its centroid's x (z),
+// 0 for the middle one.
+vec3 soft_strip(int strip, int strips)
 {
-#if PR_SOFT_STRIPS == 3
-    float a = strip == 0 ? -1.0 : (strip == 1 ? -PR_STRIP_BORDER : PR_STRIP_BORDER);
-    float b = strip == 0 ? -PR_STRIP_BORDER : (strip == 1 ? PR_STRIP_BORDER : 1.0);
+    if (strips < 3) return vec3(-1.0, 1.0, 0.0);
+    int first = strips == 3 ? 0 : (strips == 5 ? 2 : 6); // (the table's, for border 1)
+    float a = strip == 0 ? -1.0 : PR_STRIP_BORDERS[first + strip - 1];
+    float b = strip == strips - 1 ? 1.0 : PR_STRIP_BORDERS[first + strip];
+    float ca = max(1.0 - a * a, 0.0), cb = max(1.0 - b * b, 0.0);
+    // (2/3) ((1 - a^2)^(3/2) - (1 - b^2)^(3/2)) over the strip's area, pi / strips.
+    float x = 2 * strip + 1 == strips ? 0.0 : (2.0 / 3.0) * (ca * sqrt(ca) - cb * sqrt(cb)) * float(strips) / 3.14159265;
+    return vec3(a, b, x);
+}
+
+// The world direction of the ray through `strip` (soft_strip) towards the light along
+// `light_dir` (unit), for a surface with unit normal `n`: turned sideways (along n x light_dir)
+// by the strip's centroid on the disc. The strips stand across the plane of the light and the
+// normal, which a light within the disc's radius of the normal does not define (the disc holds
+// the normal's direction): there they close in on the centre, in proportion to the light's angle
+// from the normal over the radius, to one ray along the light at the normal, whatever the side.
+// (Turned along whatever side the tilt gave, they drew a box's side penumbra on two opposite
+// sides under a light 0.06 degrees off the normal, and on the other two with the tilt turned 90
+// degrees, up to 42 levels apart, where the reference draws all four; found by an exploratory
+// session.) The light itself with hard shadows.
+vec3 soft_strip_dir(vec3 light_dir, vec3 n, vec3 strip)
+{
+#if defined(PR_SHADOWS) && PR_SHADOWS == PR_SHADOWS_SOFT
+    vec3 side = cross(n, light_dir);
+    float w = u_light_dir.w, sine = length(side); // (the sine of the light's angle from the normal)
+    float spread = clamp(sine * sqrt(1.0 + w * w) / max(w, 1e-30), 0.0, 1.0); // over the radius's sine
+    return sine > 0.0 ? normalize(light_dir + (strip.z * w * spread / sine) * side) : light_dir;
+#else
+    return light_dir;
+#endif
+}
+
+// The share of the disc in `strip` (soft_strip) over an edge at soft_light's offset `v` (0: the
+// edge at the disc's top, 1: at its bottom), lit by its own ray (soft_strip_dir). The offset
+// itself with hard shadows.
+float strip_share(vec3 strip, float v)
+{
+#if defined(PR_SHADOWS) && PR_SHADOWS == PR_SHADOWS_SOFT
+    float a = strip.x, b = strip.y;
     float e = 1.0 - 2.0 * clamp(v, 0.0, 1.0); // the edge's height across the unit disc
     // The strip's area over y = |e| (the chord spans |x| <= w there), and over y = e: the strip
     // less its area under y = e, which is the area over y = -e.
@@ -155,6 +185,30 @@ float strip_share(int strip, float v)
 #else
     return v;
 #endif
+}
+
+// The strips in the order they are marched (k from 0): the two outer ones, the middle one, then
+// those between.
+int strip_in_order(int k, int strips)
+{
+    int half_ = strips / 2, j = k - 2;
+    return k == 0 ? 0 : (k == 1 ? strips - 1 : (k == 2 ? half_ : (j < half_ ? j : j + 1)));
+}
+
+// Adds the share of the k-th strip marched (strip_in_order; `strip` from soft_strip), whose ray
+// found the edge at offset `v`, to `lit`. Returns true where the strips left need no march: where
+// the two outer ones and the middle one found the same edge (within 2 % of the diameter), those
+// between are taken to find it too, and their shares are added here (the whole disc's over it less
+// the outer two's). Most of a picture is lit or in shadow across the whole disc, and there more
+// than three strips cost no more than three. (`outer`: the outer two's offsets, kept for it.)
+bool add_strip_share(int k, int strips, vec3 strip, float v, inout vec2 outer, inout float lit)
+{
+    v = clamp(v, 0.0, 1.0);
+    outer = k == 0 ? vec2(v, outer.y) : (k == 1 ? vec2(outer.x, v) : outer);
+    bool level = k == 2 && strips > 3 && abs(outer.x - v) < 0.02 && abs(outer.y - v) < 0.02;
+    lit += level ? disc_share(v) - strip_share(soft_strip(0, strips), v) - strip_share(soft_strip(strips - 1, strips), v)
+                 : strip_share(strip, v);
+    return level;
 }
 
 // The light along `l_tex` seen from under the surface, through the height field turned over
