@@ -780,9 +780,8 @@ void main()
         // across the disc, summed as the strips' shares in `lit`.)
         float lit = 0.0;
         int strips = soft_strips();
-        vec2 outer = vec2(0.0);
         for (int k = 0; k < strips; ++k) {
-            vec3 strip = soft_strip(strip_in_order(k, strips), strips);
+            vec3 strip = soft_strip(k, strips);
             vec3 ray_dir = soft_strip_dir(light_dir, n, strip);
             vec3 l_tex = light_in_texture_space(t_axis, b_axis, n, u_displace.x, ray_dir);
             // The back of the surface (`below`): under an open mesh's sheet is open space, lit from
@@ -867,7 +866,7 @@ void main()
             }
 #endif
 #endif
-            if (add_strip_share(k, strips, strip, visibility, outer, lit)) break;
+            lit += strip_share(strip, visibility);
         }
         visibility = lit;
     }

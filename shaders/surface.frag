@@ -222,11 +222,10 @@ void main()
         // (Soft: a ray for each strip of the disc, shadow.glsl.)
         visibility = 0.0;
         int strips = soft_strips();
-        vec2 outer = vec2(0.0);
         for (int k = 0; k < strips; ++k) {
-            vec3 strip = soft_strip(strip_in_order(k, strips), strips);
+            vec3 strip = soft_strip(k, strips);
             vec3 l_tex = light_in_texture_space(t_axis, b_axis, n_geom, depth, soft_strip_dir(light_dir, n_geom, strip));
-            if (add_strip_share(k, strips, strip, light_visibility(vec3(uv, s_hit), l_tex, g), outer, visibility)) break;
+            visibility += strip_share(strip, light_visibility(vec3(uv, s_hit), l_tex, g));
         }
     }
 #endif

@@ -13,8 +13,9 @@
 //
 // Soft shadows: a round light of angular radius u_light_dir.w (its tangent; --light-size is the
 // diameter in degrees, 2 by default) centred on the light's direction, which the nearest
-// occluder's edge cuts: the ray towards the disc's centre is marched, and the edge lies across
-// the disc as far below (or above) its centre as the smallest clearance angle seen along the
+// occluder's edge cuts: a ray towards the disc is marched (one per upright strip of it: "The disc
+// in strips" below; each strip's share is taken over its own ray's edge), and the edge lies across
+// the disc as far below (or above) the ray as the smallest clearance angle seen along the
 // way, the angle taken in the world, so that the penumbra is the same whatever the depth and the
 // texture's scale: between the ray and the point on the surface under (or over) it, seen from the
 // start, from the clearance's slope over the run in the world (clearance in height units times
@@ -110,7 +111,7 @@ int soft_strips()
 {
 #if defined(PR_SHADOWS) && PR_SHADOWS == PR_SHADOWS_SOFT
     float size = 2.0 * degrees(atan(u_light_dir.w));
-    return clamp(2 * int(size / 10.0 + 1e-3) + 3, 3, 7);
+    return clamp(2 * int(size / 10.0 + 1e-5) + 3, 3, 7); // (1e-5: 10 and 20 degrees, rounded, count as such)
 #else
     return 1;
 #endif
@@ -185,30 +186,6 @@ float strip_share(vec3 strip, float v)
 #else
     return v;
 #endif
-}
-
-// The strips in the order they are marched (k from 0): the two outer ones, the middle one, then
-// those between.
-int strip_in_order(int k, int strips)
-{
-    int half_ = strips / 2, j = k - 2;
-    return k == 0 ? 0 : (k == 1 ? strips - 1 : (k == 2 ? half_ : (j < half_ ? j : j + 1)));
-}
-
-// Adds the share of the k-th strip marched (strip_in_order; `strip` from soft_strip), whose ray
-// found the edge at offset `v`, to `lit`. Returns true where the strips left need no march: where
-// the two outer ones and the middle one found the same edge (within 2 % of the diameter), those
-// between are taken to find it too, and their shares are added here (the whole disc's over it less
-// the outer two's). Most of a picture is lit or in shadow across the whole disc, and there more
-// than three strips cost no more than three. (`outer`: the outer two's offsets, kept for it.)
-bool add_strip_share(int k, int strips, vec3 strip, float v, inout vec2 outer, inout float lit)
-{
-    v = clamp(v, 0.0, 1.0);
-    outer = k == 0 ? vec2(v, outer.y) : (k == 1 ? vec2(outer.x, v) : outer);
-    bool level = k == 2 && strips > 3 && abs(outer.x - v) < 0.02 && abs(outer.y - v) < 0.02;
-    lit += level ? disc_share(v) - strip_share(soft_strip(0, strips), v) - strip_share(soft_strip(strips - 1, strips), v)
-                 : strip_share(strip, v);
-    return level;
 }
 
 // The light along `l_tex` seen from under the surface, through the height field turned over

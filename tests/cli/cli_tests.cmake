@@ -352,8 +352,9 @@ pr_same_image(depth_write_closed_mesh ARGS --mesh ${M}/cube.obj --depth 0.15 --c
 # of its disc over it: the walls facing it are in the shadow the hard light casts. The raise of
 # the light's ray turned past 90 degrees, and every point was lit, as without shadows (7,485
 # pixels brighter than hard; found by a review). Seen from near, away from the sheet's edges: a
-# soft light's rays through the sides of its disc (shadow.glsl, strips), turned up to 11.4
-# degrees across, pass under the edge of the sheet from the walls near it, and light them a little.
+# soft light's rays through the sides of its disc (shadow.glsl, strips), turned sideways, pass
+# under the edge of the sheet from the walls near it, and light them a little (150 pixels, by up
+# to 2 levels, in the view from 1.5,2.0,1.8).
 pr_same_image(soft_light_from_below_the_surface ARGS --mesh ${M}/plane.obj --height builtin:boxes --depth 1.0
               --eye 0.6,0.8,0.72 --target 0,0,0 --size 96x96 --technique prism --light 0.0453243,-0.9986295,0.0261680
               A --shadows hard B --shadows soft --light-size 30)
