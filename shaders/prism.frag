@@ -786,11 +786,12 @@ void main()
             vec3 l_tex = light_in_texture_space(t_axis, b_axis, n, u_displace.x, ray_dir);
             // The back of the surface (`below`): under an open mesh's sheet is open space, lit from
             // that side; the light's march goes through the height field turned over (heights
-            // 1 - h, the point's height and the light's rise turned too: g_height_flip), in the hit's
-            // frame only (no walk). Under a closed mesh's surface is its body (the back is seen
-            // through a tear, or from an eye inside a bump), which the light does not reach. (Until
-            // the twenty-second session the back was never shadowed: the bundled plane seen from
-            // below, under a light from below, 17.9 dB against the reference, which shadows it.)
+            // 1 - h, the point's height and the light's rise turned too: g_height_flip), in the
+            // hit's frame only (no walk). Under a closed mesh's surface is its body (the back is
+            // seen through a tear, or from an eye inside a bump), which the light does not reach.
+            // (Until the twenty-second session the back was never shadowed: the bundled plane seen
+            // from below, under a light from below, 17.9 dB against the reference, which shadows
+            // it.)
             vec3 from = tex;
 #if defined(PR_PRISM_TEARS) || !defined(PR_PRISM_WALK)
             bool turned = below && (u_march.w & PR_FLAG_OPEN_SHELL) != 0;
@@ -810,12 +811,12 @@ void main()
             // The linear marcher's hit, interpolated between the samples on either side of the
             // surface, lies inside a steep wall: straight up from there the wall blocked a light
             // overhead (430 of 8712 pixels of builtin:boxes, on walls facing the eye). The light
-            // march starts on the surface at that uv, as the cone marchers' does (shadow.glsl).
-            // The relief marcher's, the middle of its last bracket, may lie inside one too: a soft
+            // march starts on the surface at that uv, as the cone marchers' does (shadow.glsl). The
+            // relief marcher's, the middle of its last bracket, may lie inside one too: a soft
             // light within 0.01 degrees of the normal, whose march goes on under the surface, found
             // the wall over it and darkened 500 more wall pixels of builtin:boxes than the cone
-            // marchers (twenty-third session; a lift of at most a few brackets' heights fixed a part
-            // of them only).
+            // marchers (twenty-third session; a lift of at most a few brackets' heights fixed a
+            // part of them only).
             from.z = max(from.z, height_at(from.xy, g));
 #endif
             visibility = light_visibility(from, l_tex, g);
@@ -828,28 +829,28 @@ void main()
             // says whether the mesh does (light_walk): it takes away the shadows of heights no
             // triangle shows and of bumps the curved surface holds below the ray, and adds none. On
             // its own it added false ones: its exits' texture coordinates, interpolated on the flat
-            // side triangles, lie up to 0.035 under a curved prism's surface, and a hit next to a side
-            // face was blocked by its own first sample (dashed lines along the triangles' diagonals in
-            // close-ups); past its limit of prisms a grazing light's shadows stopped short on fine
-            // meshes; folded prisms (--midlevel 1) streaked (found by an exploratory session).
-            // (Soft: never above the part of the disc over the base surface's horizon, which the
-            // march in the hit's frame counts and the walk does not; so only where that march found
-            // less light than the horizon leaves.)
-            // The walk follows the ray the march took: a soft light's raised over the horizon
-            // where its centre is under it (soft_light_ray, which sets its offset and slope again;
-            // walked along the light's own, which goes under the surface, a light a hair under the
-            // horizon brought back the shadows of the map's wrapped copy past an open mesh's edge
-            // that one a hair over it took away: 133 pixels of the plane's edge, found by a review).
-            // A light whose centre is under the base surface's horizon, which the march in the
-            // hit's frame takes for blocked (hard) or dims to the part of the disc over that horizon
-            // (soft), is walked along its own ray too: a wall or a bump that stands out of a curved
-            // surface near its terminator sees the light over the surface falling away, as the
-            // reference does (boxes on the rock, hard: PSNR 21.0 -> 24.3; on the UV sphere, 192x144,
-            // light 1,0.2,-0.3: hard 22.3 -> 27.3, soft 22.7 -> 28.5). On a flat sheet that ray goes
-            // under a bottom cap and the light stays off; past an open sheet's edge it is on, as for
-            // the reference. (Until the twenty-fourth session such walls were black.) For hard
-            // shadows that is the walk above (l_walk is l_tex, horizon 1); a soft light's walk along
-            // its own ray only adds light, and is not bounded by the flat horizon.
+            // side triangles, lie up to 0.035 under a curved prism's surface, and a hit next to a
+            // side face was blocked by its own first sample (dashed lines along the triangles'
+            // diagonals in close-ups); past its limit of prisms a grazing light's shadows stopped
+            // short on fine meshes; folded prisms (--midlevel 1) streaked (found by an exploratory
+            // session). (Soft: never above the part of the disc over the base surface's horizon,
+            // which the march in the hit's frame counts and the walk does not; so only where that
+            // march found less light than the horizon leaves.) The walk follows the ray the march
+            // took: a soft light's raised over the horizon where its centre is under it
+            // (soft_light_ray, which sets its offset and slope again; walked along the light's own,
+            // which goes under the surface, a light a hair under the horizon brought back the
+            // shadows of the map's wrapped copy past an open mesh's edge that one a hair over it
+            // took away: 133 pixels of the plane's edge, found by a review). A light whose centre
+            // is under the base surface's horizon, which the march in the hit's frame takes for
+            // blocked (hard) or dims to the part of the disc over that horizon (soft), is walked
+            // along its own ray too: a wall or a bump that stands out of a curved surface near its
+            // terminator sees the light over the surface falling away, as the reference does (boxes
+            // on the rock, hard: PSNR 21.0 -> 24.3; on the UV sphere, 192x144, light 1,0.2,-0.3:
+            // hard 22.3 -> 27.3, soft 22.7 -> 28.5). On a flat sheet that ray goes under a bottom
+            // cap and the light stays off; past an open sheet's edge it is on, as for the
+            // reference. (Until the twenty-fourth session such walls were black.) For hard shadows
+            // that is the walk above (l_walk is l_tex, horizon 1); a soft light's walk along its
+            // own ray only adds light, and is not bounded by the flat horizon.
             vec3 l_walk = soft_light_ray(l_tex);
             float horizon = soft_horizon(l_walk);
             if (!below && visibility < horizon) {

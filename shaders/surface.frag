@@ -224,7 +224,8 @@ void main()
         int strips = soft_strips();
         for (int k = 0; k < strips; ++k) {
             vec3 strip = soft_strip(k, strips);
-            vec3 l_tex = light_in_texture_space(t_axis, b_axis, n_geom, depth, soft_strip_dir(light_dir, n_geom, strip));
+            vec3 ray_dir = soft_strip_dir(light_dir, n_geom, strip);
+            vec3 l_tex = light_in_texture_space(t_axis, b_axis, n_geom, depth, ray_dir);
             visibility += strip_share(strip, light_visibility(vec3(uv, s_hit), l_tex, g));
         }
     }

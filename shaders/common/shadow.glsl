@@ -142,7 +142,8 @@ vec3 soft_strip(int strip, int strips)
     float b = strip == strips - 1 ? 1.0 : PR_STRIP_BORDERS[first + strip];
     float ca = max(1.0 - a * a, 0.0), cb = max(1.0 - b * b, 0.0);
     // (2/3) ((1 - a^2)^(3/2) - (1 - b^2)^(3/2)) over the strip's area, pi / strips.
-    float x = 2 * strip + 1 == strips ? 0.0 : (2.0 / 3.0) * (ca * sqrt(ca) - cb * sqrt(cb)) * float(strips) / 3.14159265;
+    float x = (2.0 / 3.0) * (ca * sqrt(ca) - cb * sqrt(cb)) * float(strips) / 3.14159265;
+    if (2 * strip + 1 == strips) x = 0.0;
     return vec3(a, b, x);
 }
 

@@ -39,11 +39,12 @@ Camera looking(glm::vec3 eye, glm::vec3 target, float far_plane)
 // The flat square seen at 45 degrees, so rays cross several texels on their way down.
 Camera oblique_camera() { return looking({0.0f, -1.9f, 1.9f}, {0.0f, 0.0f, 0.0f}, 6.0f); }
 
-// Straight down onto the square from `height` above it.
-Camera top_down_camera(float height, float fovy_deg)
+// Straight down onto the square from `height` above it, over the point (x, 0).
+Camera top_down_camera(float height, float fovy_deg, float x = 0.0f)
 {
     Camera c;
-    c.eye = {0.0f, 0.0f, height};
+    c.eye = {x, 0.0f, height};
+    c.target = {x, 0.0f, 0.0f};
     c.up = {0.0f, 1.0f, 0.0f};
     c.fovy_deg = fovy_deg;
     c.near_plane = 1.0f;
@@ -665,12 +666,7 @@ TEST(Shadows, ABoxsPenumbraDarkensSteadily)
     // Close over the penumbra's far end: a box 8 texels wide, half the range high, in a 64-texel
     // map, under a light 26.6 degrees up from +x; the shadow falls towards -x, its end about
     // x = -0.51 (image columns grow with x).
-    Camera c;
-    c.eye = {-0.5, 0.0, 3.0};
-    c.target = {-0.5, 0.0, 0.0};
-    c.fovy_deg = 8.0f;
-    c.near_plane = 1.0f;
-    c.far_plane = 8.0f;
+    const Camera c = top_down_camera(3.0f, 8.0f, -0.5f);
     const glm::vec3 light = glm::normalize(glm::vec3(1.0f, 0.0f, 0.5f));
     const Scene scene = prtest::one_object(prtest::square(), prtest::height_from(64, [](float u, float v) {
         return std::abs(u - 0.5f) < 0.0625f && std::abs(v - 0.5f) < 0.0625f ? 0.5f : 0.0f;
@@ -779,13 +775,7 @@ TEST(Shadows, AThinPolesSoftShadowIsWhole)
     r.set_cache_dir(prtest::cache_dir());
     // 64 / (4 tan 7.5) = 121.5 pixels per unit, column 64 at x = -0.25: column 34 is x = -0.49,
     // half a unit behind the pillar at x = 0 from the light.
-    Camera c;
-    c.eye = {-0.25f, 0.0f, 4.0f};
-    c.target = {-0.25f, 0.0f, 0.0f};
-    c.up = {0.0f, 1.0f, 0.0f};
-    c.fovy_deg = 15.0f;
-    c.near_plane = 1.0f;
-    c.far_plane = 8.0f;
+    const Camera c = top_down_camera(4.0f, 15.0f, -0.25f);
     const Scene scene = prtest::one_object(prtest::square(), prtest::height_from(128, [](float u, float v) {
         return std::abs(u - 0.5f) < 1.0f / 128.0f && std::abs(v - 0.5f) < 1.0f / 128.0f ? 1.0f : 0.0f;
     }), 0.3f);
