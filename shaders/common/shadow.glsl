@@ -110,8 +110,12 @@ float disc_share(float v)
 int soft_strips()
 {
 #if defined(PR_SHADOWS) && PR_SHADOWS == PR_SHADOWS_SOFT
-    float size = 2.0 * degrees(atan(u_light_dir.w));
-    return clamp(2 * int(size / 10.0 + 1e-5) + 3, 3, 7); // (1e-5: 10 and 20 degrees, rounded, count as such)
+    // By the radius's tangent, against those of 5 and 10 degrees, over 1e-4 of them, so that sizes
+    // of 10 and 20 degrees count as such. (The size worked back with atan: llvmpipe's is off by
+    // 1.5e-5, and 10 and 20 degrees drew with a strip each side fewer; found by an exploratory
+    // session.)
+    float w = u_light_dir.w * (1.0 + 1e-4);
+    return w >= 0.1763269807 ? 7 : (w >= 0.0874886635 ? 5 : 3);
 #else
     return 1;
 #endif

@@ -805,6 +805,29 @@ TEST(Shadows, AThinPolesSoftShadowIsWhole)
     }
 }
 
+// A light 10 degrees across is marched in 5 strips, one of 20 in 7 (common/shadow.glsl,
+// soft_strips), a ray each: more samples than just under those sizes. The size worked back from
+// the radius's tangent with atan came out a hair under them on llvmpipe, and they took 3 and 5
+// (found by an exploratory session).
+TEST(Shadows, LightsOfTenAndTwentyDegreesTakeMoreStrips)
+{
+    prtest::context();
+    Renderer r(64, 64);
+    r.set_cache_dir(prtest::cache_dir());
+    const Camera c = top_down_camera(4.0f, 35.0f);
+    r.upload(prtest::one_object(prtest::square(), centre_box(64), 0.3f));
+    DrawSettings s = settings(Technique::Relief);
+    s.shadows = Shadows::Soft;
+    const auto samples = [&](float size) {
+        s.light_size = size;
+        return counted_draw(r, c, s, 1000u, light_from_x(25.0f));
+    };
+    // (Each strip's march takes about as many samples: 5 / 3 and 7 / 5 of them, less the view's.)
+    EXPECT_GT(samples(10.0f), 1.3 * samples(9.99f));
+    EXPECT_GT(samples(20.0f), 1.2 * samples(19.99f));
+    EXPECT_LT(samples(29.99f), 1.05 * samples(20.0f));
+}
+
 // Under a soft light within its radius of the normal the strips close in on one ray along the
 // light (shadow.glsl, soft_strip_dir): which way the light leans from the normal, by a hair, does
 // not change the picture. Turned along whatever side the tilt gave, the strips drew a box's side
