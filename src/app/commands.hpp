@@ -66,16 +66,21 @@ inline nlohmann::json scene_json(const Scene& scene)
 {
     nlohmann::json objects = nlohmann::json::array();
     for (const SceneObject& o : scene.objects) {
+        // (The height as this object names it: objects naming one file share its field, whose name
+        // is the first one's; found by an exploratory session, thirty-seventh.)
+        const std::string height = !o.height_name.empty() ? o.height_name : (o.height ? o.height->name : std::string());
         nlohmann::json j = {{"mesh", o.mesh_name},
-                            {"height", o.height ? o.height->name : std::string()},
+                            {"height", height},
                             {"depth", float_json(o.depth)},
                             {"midlevel", float_json(o.midlevel)}};
         // The colour map and a transform other than the identity (row by row), where there are
         // (a report left them out: two objects of one mesh read the same; thirty-sixth session).
+        // The scene's transform, not the one drawn with, which holds the mesh's origin too: a mesh
+        // whose file lies far from 0 was reported moved by it (thirty-seventh session).
         if (o.color) j["color"] = o.color_name;
-        if (o.transform != glm::dmat4(1.0)) {
+        if (const glm::dmat4& m = o.placement; m != glm::dmat4(1.0)) {
             nlohmann::json rows = nlohmann::json::array();
-            for (int r = 0; r < 4; ++r) rows.push_back({o.transform[0][r], o.transform[1][r], o.transform[2][r], o.transform[3][r]});
+            for (int r = 0; r < 4; ++r) rows.push_back({m[0][r], m[1][r], m[2][r], m[3][r]});
             j["transform"] = rows;
         }
         objects.push_back(std::move(j));

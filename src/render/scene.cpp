@@ -125,6 +125,7 @@ Scene load_scene(const SceneSpec& spec)
             h = placed(o.height_place,
                        [&] { return std::make_shared<HeightField>(load_height(o.height, spec.image_limits)); });
         obj.height = h;
+        obj.height_name = o.height;
         if (!o.color.empty()) {
             auto& c = colors[file_identity(o.color)];
             if (!c)
@@ -138,6 +139,7 @@ Scene load_scene(const SceneSpec& spec)
         // (A mesh far from its file's origin is kept relative to PreparedMesh::origin.) Positions
         // past kMaxCoordinate are refused as a scene's translations are.
         obj.transform = o.transform * glm::translate(glm::dmat4(1.0), obj.mesh.origin);
+        obj.placement = o.transform;
         // A mirroring transform (negative determinant) turns the triangles' winding: counter-
         // clockwise seen from outside in the mesh becomes clockwise in world space, where faces
         // are judged (culling, gl_FrontFacing, the prism's faces and walk). Each triangle reversed
@@ -210,6 +212,21 @@ Scene load_scene(const SceneSpec& spec)
         all.hi = glm::max(all.hi, box.hi);
         scene.object_bounds.push_back(sphere_around(box));
         scene.objects.push_back(std::move(obj));
+    }
+    // One field for maps of the same texels under other names (builtin:noise and builtin:noise@512,
+    // an image and its copy), as for one file under one name above: the renderer keeps a field's
+    // cone maps, textures and pyramids by the field, and built or uploaded each twice (found by an
+    // exploratory session, thirty-seventh). Each object keeps its own name for the reports.
+    std::vector<std::shared_ptr<const HeightField>> distinct;
+    for (SceneObject& obj : scene.objects) {
+        const auto same = std::find_if(distinct.begin(), distinct.end(), [&](const auto& d) {
+            return d == obj.height || (d->width == obj.height->width && d->height == obj.height->height &&
+                                       d->bits == obj.height->bits && d->texels == obj.height->texels);
+        });
+        if (same == distinct.end())
+            distinct.push_back(obj.height);
+        else
+            obj.height = *same;
     }
     scene.shell_bounds = sphere_around(all);
     return scene;

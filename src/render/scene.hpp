@@ -59,12 +59,16 @@ struct SceneSpec {
 struct SceneObject {
     std::string mesh_name;
     PreparedMesh mesh;
-    std::shared_ptr<const HeightField> height;
-    std::shared_ptr<const RgbaImage> color; // may be null
-    std::string color_name;                 // its file or builtin name, where there is one
+    std::shared_ptr<const HeightField> height; // shared by the objects that name one file
+    std::string height_name;                   // the map's file or builtin name as this object gives it
+    std::shared_ptr<const RgbaImage> color;    // may be null
+    std::string color_name;                    // its file or builtin name, where there is one
     float depth = 0.0f;
     float midlevel = 0.0f;
-    glm::dmat4 transform{1.0}; // object to world (ObjectSpec::transform)
+    // Object to world: the scene's transform (`placement`, ObjectSpec::transform, as the reports
+    // give it) after the mesh's own origin (PreparedMesh::origin, an internal change of frame).
+    glm::dmat4 transform{1.0};
+    glm::dmat4 placement{1.0};
     glm::vec3 base_color{0.8f};
 };
 

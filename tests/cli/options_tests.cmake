@@ -106,6 +106,16 @@ pr_scene(moved_coloured ", \"color\": \"builtin:checker\", \"transform\": {\"sca
 pr_cli(render_json_names_colour_and_transform EXIT 0 JSON m.json
        CHECKS "objects.0.color:EXISTS|objects.1:ABSENT|objects.0.transform.0.0:EQUAL:2|objects.0.transform.1.3:EQUAL:2|objects.0.transform.3.3:EQUAL:1"
        ARGS render --scene ${OS}/moved_coloured.json --size 16x16 --out m.png --json m.json)
+# A report names each object's map as the object does, and the transform the scene gives: objects
+# naming one file two ways were reported under the first's name (they share its field), and a
+# mesh whose file lies far from 0 with the renderer's change of frame to it, as if moved (found by
+# an exploratory session, thirty-seventh).
+file(WRITE ${OS}/far.obj "v 10000000 0 0\nv 10000001 0 0\nv 10000000 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n")
+file(WRITE ${OS}/two_names.json "{\"objects\": [{\"mesh\": \"far.obj\", \"height\": \"${BAD}/alpha.png\"},
+  {\"mesh\": \"far.obj\", \"height\": \"${BAD}/../bad/alpha.png\", \"transform\": {\"translate\": [0, 0, 1]}}]}\n")
+pr_cli(render_json_names_each_objects_map_and_transform EXIT 0 JSON m.json
+       CHECKS "objects.0.height:STREQUAL:${BAD}/alpha.png|objects.1.height:STREQUAL:${BAD}/../bad/alpha.png|objects.0.transform:ABSENT|objects.1.transform.0.3:EQUAL:0|objects.1.transform.2.3:EQUAL:1"
+       ARGS render --scene ${OS}/two_names.json --size 16x16 --out m.png --json m.json)
 # The limit is on the largest stretch over the smallest (8.3e5 here), as docs/scenes.md says: it
 # was measured with Frobenius norms, up to 3 times as large, and this was refused as 1.18e6.
 pr_scene(scale_thin_within_limit ", \"transform\": {\"scale\": [1, 1.2e-6, 1]}}]}")
