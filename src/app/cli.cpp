@@ -135,6 +135,9 @@ bool looks_like_option(const std::string& word)
     return word == "-h" || (word.size() > 2 && word.starts_with("--") && std::isalpha(static_cast<unsigned char>(word[2])));
 }
 
+// Whether a command-line word ends the parse where it stands: --help, -h, --version.
+bool ends_parse(const std::string& word) { return word == "--help" || word == "-h" || word == "--version"; }
+
 } // namespace
 
 int run_cli(int argc, char** argv)
@@ -178,7 +181,7 @@ int run_cli(int argc, char** argv)
         // after them is read, and a flag just before them that takes a value is left out (CLI11
         // took the word for its value: `--json --help` rendered and wrote the report to a file
         // named "--help"; found by a review, thirty-sixth).
-        if (i > 0 && !options_end && (a == "--help" || a == "-h" || a == "--version")) {
+        if (i > 0 && !options_end && ends_parse(a)) {
             help_asked = a != "--version";
             if (!split.empty() && split.back().starts_with("--") && split.back().find('=') == std::string::npos &&
                 takes_value(split.back()))
@@ -191,8 +194,7 @@ int run_cli(int argc, char** argv)
         // without depth writes, exit 0; `--techniques --size 16x16` blamed "16x16"; found by an
         // exploratory session, thirty-sixth). A file whose name starts with "--" is given as
         // ./--name. (Before --help or --version, above: the flag is left out.)
-        const bool ends_next = i + 1 < args.size() && (args[i + 1] == "--help" || args[i + 1] == "-h" ||
-                                                       args[i + 1] == "--version");
+        const bool ends_next = i + 1 < args.size() && ends_parse(args[i + 1]);
         if (i > 0 && !options_end && !ends_next && a.starts_with("--") && a.find('=') == std::string::npos &&
             takes_value(a) && i + 1 < args.size() && looks_like_option(args[i + 1])) {
             const bool file = std::find(std::begin(kFileOptions), std::end(kFileOptions), a) != std::end(kFileOptions);

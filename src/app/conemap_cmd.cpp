@@ -74,7 +74,7 @@ CommandAction add_conemap_command(CLI::App& app)
         if (s->threads < 0 || s->threads > 1024) throw Error("--threads", "must be between 0 (all cores) and 1024");
         options.threads = s->threads;
         if (s->height.empty()) throw Error("--height", "empty file name");
-        if (s->no_cache && !s->cache_dir.empty()) throw Error("--no-cache", "conflicts with --cache-dir"); // (as render's)
+        check_cache_flags(s->no_cache, s->cache_dir);
         check_png_output(s->out);
         if (!s->json.empty()) check_output_folder(s->json);
         std::vector<NamedPath> inputs = {{"--height", s->height}};

@@ -414,16 +414,16 @@ void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<Draw
 bool check_cone_map_flags_apply(const SceneOptions& o, const std::vector<DrawSettings>& drawn_settings,
                                 const std::string& drawn)
 {
-    if (o.no_cache && !o.cache_dir.empty()) throw Error("--no-cache", "conflicts with --cache-dir"); // (as open_session)
+    check_cache_flags(o.no_cache, o.cache_dir); // (before the other checks of the run, as open_session)
     const bool reads = std::any_of(drawn_settings.begin(), drawn_settings.end(), [](const DrawSettings& d) {
         return d.aux_map() == AuxMap::Cone || d.aux_map() == AuxMap::Relaxed;
     });
-    if (o.cone_backend_option != nullptr && o.cone_backend_option->count() > 0)
-        parse_cone_backend_gpu(o.cone_backend, "--cone-backend"); // (a bad value is said as such first)
+    const bool backend_given = o.cone_backend_option != nullptr && o.cone_backend_option->count() > 0;
+    if (backend_given) parse_cone_backend_gpu(o.cone_backend, "--cone-backend"); // (a bad value is said as such first)
     // (--cone-backend was accepted and ignored, found by an exploratory session, thirty-third.
     // --cache-dir and --no-cache are taken anywhere: they say where derived data may live, not
     // what is drawn, and a script gives them to every technique of a loop.)
-    if (!reads && o.cone_backend_option != nullptr && o.cone_backend_option->count() > 0)
+    if (!reads && backend_given)
         throw Error("--cone-backend", "has no effect: " + drawn +
                                           " reads no cone map (cone, relaxed-cone and the prism's cone marchers do): "
                                           "leave it out");

@@ -37,7 +37,7 @@ std::vector<NamedPath> scene_file_inputs(const SceneOptions& options, const Scen
 Session open_session(const SceneOptions& options, const std::vector<NamedPath>& outputs,
                      const ContextFactory& make_context, const SpecCheck& check_spec)
 {
-    if (options.no_cache && !options.cache_dir.empty()) throw Error("--no-cache", "conflicts with --cache-dir");
+    check_cache_flags(options.no_cache, options.cache_dir);
     Session s;
     const bool cone_maps_on_gpu = parse_cone_backend_gpu(options.cone_backend, "--cone-backend");
     // The flags' files before the scene file is read (an output over it is refused unread), the

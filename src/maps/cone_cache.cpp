@@ -226,6 +226,11 @@ std::filesystem::path default_cache_dir(bool warn_if_none)
     return {};
 }
 
+void check_cache_flags(bool no_cache, const std::string& cache_dir_flag)
+{
+    if (no_cache && !cache_dir_flag.empty()) throw Error("--no-cache", "conflicts with --cache-dir");
+}
+
 void check_outputs_outside_cache(const std::vector<std::pair<std::string, std::filesystem::path>>& outputs,
                                  const std::filesystem::path& cache_dir_flag)
 {

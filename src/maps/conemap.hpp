@@ -210,6 +210,8 @@ std::filesystem::path default_cache_dir(bool warn_if_none = true);
 // Callers with --no-cache do not ask. Throws pr::Error naming the output.
 void check_outputs_outside_cache(const std::vector<std::pair<std::string, std::filesystem::path>>& outputs,
                                  const std::filesystem::path& cache_dir_flag);
+// Refuses --no-cache next to --cache-dir (every command that takes both). Throws pr::Error.
+void check_cache_flags(bool no_cache, const std::string& cache_dir_flag);
 struct ConeCacheResult {
     ConeMap map;
     bool from_cache = false;
