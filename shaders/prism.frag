@@ -780,10 +780,11 @@ void main()
         // across the disc, summed as the strips' shares in `lit`.)
         float lit = 0.0;
         int strips = soft_strips();
+        TextureFrame light_frame = texture_frame(t_axis, b_axis, n, u_displace.x);
         for (int k = 0; k < strips; ++k) {
             vec3 strip = soft_strip(k, strips);
             vec3 ray_dir = soft_strip_dir(light_dir, n, strip);
-            vec3 l_tex = light_in_texture_space(t_axis, b_axis, n, u_displace.x, ray_dir);
+            vec3 l_tex = light_in_texture_space(light_frame, ray_dir);
             // The back of the surface (`below`): under an open mesh's sheet is open space, lit from
             // that side; the light's march goes through the height field turned over (heights
             // 1 - h, the point's height and the light's rise turned too: g_height_flip), in the

@@ -142,12 +142,9 @@ void main()
     PR_TECHNIQUE == PR_TECH_POM || PR_TECHNIQUE == PR_TECH_RELIEF || \
     PR_TECHNIQUE == PR_TECH_CONE || PR_TECHNIQUE == PR_TECH_RELAXED_CONE
     // The view ray in texture space: solve view = d.x T + d.y B + d.z (depth N).
-    mat3 frame = mat3(t_axis, b_axis, n_geom * depth);
-    float scale = frame_scale(frame); // (the solution does not change: height.glsl)
-    frame *= scale;
-    float det = determinant(frame);
-    if (depth > 0.0 && abs(det) > 1e-30) {
-        vec3 d = inverse(frame) * (scale * view);
+    TextureFrame frame = texture_frame(t_axis, b_axis, n_geom, depth);
+    if (depth > 0.0 && frame.scale != 0.0) {
+        vec3 d = frame.inv * (frame.scale * view);
         // Descent per unit of height: at s the ray is at uv + (1 - s) * slope. A ray parallel to
         // the surface would never descend; clamp so uv stays finite at grazing angles.
         float descent = max(-d.z, 1e-6 * length(d.xy) + 1e-12);
@@ -222,10 +219,11 @@ void main()
         // (Soft: a ray for each strip of the disc, shadow.glsl.)
         visibility = 0.0;
         int strips = soft_strips();
+        TextureFrame light_frame = texture_frame(t_axis, b_axis, n_geom, depth);
         for (int k = 0; k < strips; ++k) {
             vec3 strip = soft_strip(k, strips);
             vec3 ray_dir = soft_strip_dir(light_dir, n_geom, strip);
-            vec3 l_tex = light_in_texture_space(t_axis, b_axis, n_geom, depth, ray_dir);
+            vec3 l_tex = light_in_texture_space(light_frame, ray_dir);
             visibility += strip_share(strip, light_visibility(vec3(uv, s_hit), l_tex, g));
         }
     }

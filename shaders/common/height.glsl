@@ -186,3 +186,24 @@ float frame_scale(mat3 frame)
     vec3 m = max(max(abs(frame[0]), abs(frame[1])), abs(frame[2]));
     return scale_to_unit(max(max(m.x, m.y), m.z));
 }
+
+// The texture frame (t, b, n * depth) at a point of the base surface, to solve for a direction's
+// texture-space components (the view ray's, surface.frag; the light's, light_in_texture_space,
+// once for all of a soft light's strips): its inverse, over a power of two that brings its
+// largest component to [1, 2) (frame_scale: the solution does not change). A singular frame has
+// `scale` 0.
+struct TextureFrame {
+    mat3 inv;
+    float scale;
+    vec3 t_axis, b_axis, n;
+    float depth;
+};
+
+TextureFrame texture_frame(vec3 t_axis, vec3 b_axis, vec3 n, float depth)
+{
+    mat3 frame = mat3(t_axis, b_axis, n * depth);
+    float scale = frame_scale(frame);
+    frame *= scale;
+    bool ok = abs(determinant(frame)) > 1e-30;
+    return TextureFrame(ok ? inverse(frame) : mat3(1.0), ok ? scale : 0.0, t_axis, b_axis, n, depth);
+}

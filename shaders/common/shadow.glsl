@@ -511,21 +511,18 @@ float light_visibility(vec3 tex, vec3 l_tex, UvGrad g)
 #endif
 }
 
-// The light direction in the texture space of the frame (t, b, n * depth).
-vec3 light_in_texture_space(vec3 t_axis, vec3 b_axis, vec3 n, float depth, vec3 light_dir)
+// The light direction in the texture space of the frame (texture_frame).
+vec3 light_in_texture_space(TextureFrame f, vec3 light_dir)
 {
-    mat3 frame = mat3(t_axis, b_axis, n * depth);
-    float scale = frame_scale(frame); // (the solution does not change: height.glsl)
-    frame *= scale;
-    if (!(abs(determinant(frame)) > 1e-30)) return vec3(0.0, 0.0, 1.0);
-    vec3 l_tex = inverse(frame) * (scale * light_dir);
+    if (f.scale == 0.0) return vec3(0.0, 0.0, 1.0);
+    vec3 l_tex = f.inv * (f.scale * light_dir);
     // World length of one UV unit along the light's horizontal direction (the mean of the axes'
     // for a light along the normal), for the soft penumbra's angle: a clearance of one height unit
     // is `depth` in the world.
     float uv_run = length(l_tex.xy);
-    float world_per_uv = uv_run > 1e-6 * abs(l_tex.z) ? length(l_tex.x * t_axis + l_tex.y * b_axis) / uv_run
-                                                      : 0.5 * (length(t_axis) + length(b_axis));
-    g_soft_scale = depth / max(world_per_uv, 1e-30);
+    float world_per_uv = uv_run > 1e-6 * abs(l_tex.z) ? length(l_tex.x * f.t_axis + l_tex.y * f.b_axis) / uv_run
+                                                      : 0.5 * (length(f.t_axis) + length(f.b_axis));
+    g_soft_scale = f.depth / max(world_per_uv, 1e-30);
     g_soft_light_slope = clamp(g_soft_scale * l_tex.z / max(uv_run, 1e-30), -1e6, 1e6);
     g_soft_slope = g_soft_light_slope;
     return l_tex;
