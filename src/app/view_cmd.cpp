@@ -151,6 +151,7 @@ CommandAction add_view_command(CLI::App& app)
                 throw Error("--shader-dir", s->shader_dir + " is not a folder");
             // shader_program.cpp reads the sources from here from now on.
             setenv("PRISMRELIEF_SHADER_DIR", s->shader_dir.c_str(), 1);
+            name_shader_dir("--shader-dir");
         }
         if (const char* dir = std::getenv("PRISMRELIEF_SHADER_DIR"); dir && *dir) o.shader_dir = dir;
 

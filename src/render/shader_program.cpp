@@ -12,14 +12,33 @@
 
 namespace pr {
 
+namespace {
+
+std::string& shader_dir_name()
+{
+    static std::string name = "PRISMRELIEF_SHADER_DIR";
+    return name;
+}
+
+} // namespace
+
+void name_shader_dir(const std::string& name)
+{
+    shader_dir_name() = name;
+}
+
 std::string shader_file(const std::string& path)
 {
     if (const char* dir = std::getenv("PRISMRELIEF_SHADER_DIR"); dir && *dir) {
         const std::string file = std::string(dir) + "/" + path;
         std::error_code ec;
+        // Named by what gave the folder: the headless commands have no --shader-dir (the message
+        // offered it, and named shaders/<path>, a file the user had not given; found by a docs
+        // audit, thirty-eighth session).
+        if (!std::filesystem::is_directory(dir, ec)) throw Error(shader_dir_name(), std::string(dir) + " is not a folder");
         if (!std::filesystem::exists(file, ec))
-            throw Error("shaders/" + path, "not found in the shader folder " + std::string(dir) +
-                                               " (--shader-dir or PRISMRELIEF_SHADER_DIR)");
+            throw Error(shader_dir_name(), std::string(dir) + " has no " + path +
+                                               " (the folder stands in for the source's shaders/)");
         // (The input reader: a FIFO there without a writer is refused after 1 s, not waited on.)
         return read_input_text(file, InputLimit{16u << 20, "a shader", "not a shader"});
     }

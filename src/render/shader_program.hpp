@@ -21,8 +21,13 @@ using ShaderDefines = std::vector<std::pair<std::string, std::string>>; // name,
 
 // The text of shaders/<path>: embedded at build time, or read from the folder named by the
 // environment variable PRISMRELIEF_SHADER_DIR when it is set (development override for hot
-// reload). Throws pr::Error("shaders/<path>", …) when there is no such file.
+// reload). Throws pr::Error("shaders/<path>", …) when there is no such embedded file, and one
+// named by the override (name_shader_dir) when its folder or the file in it is missing.
 std::string shader_file(const std::string& path);
+
+// What the errors call the override folder: "PRISMRELIEF_SHADER_DIR", or the flag that set it
+// (the viewer's --shader-dir).
+void name_shader_dir(const std::string& name);
 
 // The full source handed to the compiler for one stage, and the files it was made of (the
 // index is the source-string number used in #line directives).

@@ -322,9 +322,15 @@ if(EGL_INCLUDE_DIR)
            NO_FILE o.png ENV PRISMRELIEF_EGL_PLATFORM=gpu
            ARGS render --mesh ${M}/cube.obj --backend egl --size 32x32 --out o.png)
 endif()
-pr_cli(shader_dir_missing EXIT 1 ONE_LINE STDERR "${E}shaders/.*: not found in the shader folder /nonexistent \\(--shader-dir or PRISMRELIEF_SHADER_DIR\\)"
+# Named by the variable (it offered --shader-dir, which render does not have, and named
+# shaders/surface.vert, a file the user had not given).
+pr_cli(shader_dir_missing EXIT 1 ONE_LINE STDERR "${E}PRISMRELIEF_SHADER_DIR: /nonexistent is not a folder"
        NO_FILE o.png ENV PRISMRELIEF_SHADER_DIR=/nonexistent
        ARGS render --mesh ${M}/cube.obj --size 32x32 --out o.png)
+pr_cli_special(shader_dir_without_a_shader EXIT 1 ONE_LINE
+               STDERR "${E}PRISMRELIEF_SHADER_DIR: sd has no surface.frag \\(the folder stands in for the source's shaders/\\)"
+               NO_FILE o.png SETUP "rm -rf sd && cp -r '${PROJECT_SOURCE_DIR}/shaders' sd && rm sd/surface.frag && export PRISMRELIEF_SHADER_DIR=sd"
+               ARGS render --mesh ${M}/cube.obj --size 32x32 --out o.png)
 
 # A shader that does not compile: a copy of shaders/ (made at test time, in the test's own work
 # folder) with a syntax error on line 2 of common/lighting.glsl. The error names the program's
