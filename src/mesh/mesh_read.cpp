@@ -802,6 +802,15 @@ string_view ply_count_type_as_read(string_view type)
     return type;
 }
 
+// Whether OpenMesh's PLY reader reads `element`'s property `name` as a colour (normalize_ply_header).
+bool is_ply_colour(string_view element, string_view name)
+{
+    static const string_view kVertex[] = {"red",         "green",         "blue", "alpha",
+                                          "diffuse_red", "diffuse_green", "diffuse_blue"};
+    if (element == "vertex") return std::find(std::begin(kVertex), std::end(kVertex), name) != std::end(kVertex);
+    return element == "face" && (name == "red" || name == "green" || name == "blue" || name == "alpha");
+}
+
 // A PLY header as OpenMesh's reader takes it, rewritten after the scan has checked it (whose
 // messages count the file's own lines): white space at a header line's end is dropped (after
 // `end_header` it put a binary body a byte off, and after a list property the reader failed
@@ -812,7 +821,12 @@ string_view ply_count_type_as_read(string_view type)
 // end_header, where a comment it reads to the line's end, or a blank line, put the body a byte
 // or more off ("face 0 has fewer than 3 vertices"): both were refused until the thirty-fourth
 // session, and a review found them refusing files the reader would have read right (an
-// obj_info line last; a comment last in a CR LF header).
+// obj_info line last; a comment last in a CR LF header). Colours, which nothing here uses, are
+// renamed so that the reader skips them as it skips any property it does not know (by their
+// size, or a word of ASCII): it read them itself, a binary double as an integer it could not
+// convert, with a line on stderr for every value and the rest of the file misread ("face 0 has
+// fewer than 3 vertices"), and an ASCII one into an integer, which "255.0" or "0.5" misaligned
+// (found by an exploratory session, thirty-eighth).
 void normalize_ply_header(string& text)
 {
     const size_t header_end = [&] {
@@ -832,6 +846,7 @@ void normalize_ply_header(string& text)
     LineReader lines(string_view(text).substr(0, header_end));
     string_view line;
     bool previous_cr = false;
+    string_view element; // the element whose properties these are
     while (lines.next(line)) {
         const bool cr = !line.empty() && line.back() == '\r';
         string_view body = cr ? line.substr(0, line.size() - 1) : line;
@@ -840,8 +855,11 @@ void normalize_ply_header(string& text)
         string fixed(body);
         const size_t words = tokenize(body, tok, 6);
         if (words == 0 || tok[0] == "comment" || tok[0] == "obj_info") continue;
+        if (words == 3 && tok[0] == "element") element = tok[1];
         if (words == 5 && tok[0] == "property" && tok[1] == "list" && ply_count_type_as_read(tok[2]) != tok[2])
             fixed = "property list " + string(ply_count_type_as_read(tok[2])) + " " + string(tok[3]) + " " + string(tok[4]);
+        if (words == 3 && tok[0] == "property" && is_ply_colour(element, tok[2]))
+            fixed = "property " + string(tok[1]) + " unread_" + string(tok[2]);
         const bool last = words == 1 && tok[0] == "end_header";
         if (last) fixed = "end_header";
         out += fixed;
@@ -988,6 +1006,13 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
             fail(subject, "PLY face property '" + p.name +
                               "' comes before vertex_indices, which the reader cannot take (put it after)");
         if (p.count_size > 0 && indices) has_indices = true;
+        // The binary reader converts only integers to indices: float ones printed "unsupported
+        // conversion type to integral" for every index and misread the rest ("face 1 has fewer
+        // than 3 vertices"; found by an exploratory session, thirty-eighth).
+        if (!ascii && p.count_size > 0 && indices &&
+            (p.type == "float" || p.type == "float32" || p.type == "double" || p.type == "float64"))
+            fail(subject, "binary PLY face list '" + p.name + "' holds " + p.type +
+                              " values, which the reader cannot take as vertex indices (an integer type)");
         // OpenMesh's reader takes a face's other lists for more indices and fails, saying a face
         // "has fewer than 3 vertices": name the list instead (MeshLab writes per-face UVs so).
         if (p.count_size > 0 && !indices)
