@@ -27,6 +27,18 @@ void name_shader_dir(const std::string& name)
     shader_dir_name() = name;
 }
 
+std::string shader_path_shown(const std::string& path)
+{
+    if (const char* dir = std::getenv("PRISMRELIEF_SHADER_DIR"); dir && *dir)
+        return (std::filesystem::path(dir) / path).string();
+    return "shaders/" + path;
+}
+
+bool is_shader_error(const std::string& what)
+{
+    return what.rfind(shader_path_shown(""), 0) == 0 || what.rfind(shader_dir_name() + ": ", 0) == 0;
+}
+
 std::string shader_file(const std::string& path)
 {
     if (const char* dir = std::getenv("PRISMRELIEF_SHADER_DIR"); dir && *dir) {
@@ -44,7 +56,7 @@ std::string shader_file(const std::string& path)
     }
     for (const EmbeddedShader& e : embedded_shaders())
         if (path == e.path) return e.source;
-    throw Error("shaders/" + path, "no such embedded shader");
+    throw Error(shader_path_shown(path), "no such embedded shader");
 }
 
 std::vector<std::string> shader_file_list()
@@ -68,7 +80,7 @@ namespace {
 void append_file(const std::string& path, PreprocessedShader& out, std::set<std::string>& seen,
                  int depth)
 {
-    if (depth > 16) throw Error("shaders/" + path, "#include nested too deeply");
+    if (depth > 16) throw Error(shader_path_shown(path), "#include nested too deeply");
     if (!seen.insert(path).second) return; // every file is included once (like #pragma once)
     const int id = static_cast<int>(out.files.size());
     out.files.push_back(path);
@@ -104,7 +116,7 @@ std::string map_log(const std::string& log, const std::vector<std::string>& file
         std::smatch m;
         const auto name = [&](const std::string& id) {
             const auto i = static_cast<std::size_t>(std::stoul(id));
-            return i < files.size() ? "shaders/" + files[i] : "source " + id;
+            return i < files.size() ? shader_path_shown(files[i]) : "source " + id;
         };
         if (std::regex_search(line, m, mesa) && m.position(0) == 0)
             line = name(m[1]) + ":" + m[2].str() + ":" + m[3].str() + m.suffix().str();
@@ -147,7 +159,9 @@ gl::Program build_program(const std::vector<ShaderStage>& stages, const ShaderDe
             glGetShaderInfoLog(shader.id(), len, nullptr, log.data());
             std::string variant;
             for (const auto& [name, value] : defines) variant += " " + name + "=" + value;
-            throw Error("shaders/" + s.file, "compile error (variant:" + variant + ")",
+            // (Named where the file was read: the folder of --shader-dir or PRISMRELIEF_SHADER_DIR
+            // was said as shaders/; and no "(variant:)" for a program without defines.)
+            throw Error(shader_path_shown(s.file), "compile error" + (variant.empty() ? "" : " (variant:" + variant + ")"),
                         map_log(log.c_str(), pre.files));
         }
         glAttachShader(program.id(), shader.id());
@@ -162,7 +176,7 @@ gl::Program build_program(const std::vector<ShaderStage>& stages, const ShaderDe
         glGetProgramiv(program.id(), GL_INFO_LOG_LENGTH, &len);
         std::string log(static_cast<std::size_t>(std::max(len, 1)), '\0');
         glGetProgramInfoLog(program.id(), len, nullptr, log.data());
-        throw Error("shaders/" + stages.front().file, "link error", std::string(log.c_str()));
+        throw Error(shader_path_shown(stages.front().file), "link error", std::string(log.c_str()));
     }
     return program;
 }

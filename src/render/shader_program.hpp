@@ -29,6 +29,13 @@ std::string shader_file(const std::string& path);
 // (the viewer's --shader-dir).
 void name_shader_dir(const std::string& name);
 
+// How messages name shaders/<path>: so, or the file in the override folder where one is set.
+std::string shader_path_shown(const std::string& path);
+
+// Whether an error's text (pr::Error::what, "subject: problem") is about a shader: its subject is
+// one (shader_path_shown) or the override folder.
+bool is_shader_error(const std::string& what);
+
 // The full source handed to the compiler for one stage, and the files it was made of (the
 // index is the source-string number used in #line directives).
 struct PreprocessedShader {

@@ -8,6 +8,7 @@
 #include "core/stats.hpp"
 #include "gl/gl.hpp"
 #include "maps/conemap.hpp"
+#include "render/shader_program.hpp"
 #include "view/compositor.hpp"
 #include "view/glfw_window.hpp"
 #include "view/orbit.hpp"
@@ -388,7 +389,12 @@ void Viewer::reload_scene(SceneSpec spec, bool reset_camera, bool keep_first_hei
     }
     // The counts were the old scene's: the next frame counts again (samples are counted every
     // tenth frame, and a short --frames run after a drop reported the old scene's figure).
-    for (HalfStats& st : stats_) st.samples_per_fragment = -1.0, st.prisms_per_fragment = -1.0, st.fragments = 0;
+    // (And the --frames summary's draws: they were the old scene's, found by an exploratory session,
+    // thirty-eighth.)
+    for (HalfStats& st : stats_) {
+        st.samples_per_fragment = -1.0, st.prisms_per_fragment = -1.0, st.fragments = 0;
+        st.draws.clear();
+    }
     rendered_ = 0;
     dirty_ = true;
 }
@@ -415,10 +421,18 @@ void Viewer::handle_drop(const std::string& path)
                                         ".gif", ".psd", ".pic"};
                    std::find(images.begin(), images.end(), ext) != images.end()) {
             // (A dropped map that cannot be read was said under --height or the scene's place;
-            // found by an exploratory session, thirty-third.)
-            for (ObjectSpec& obj : spec.objects) {
+            // found by an exploratory session, thirty-third.) The depth and midlevel stay as the
+            // panel has them: the scene was loaded again with the command line's (found by an
+            // exploratory session, thirty-eighth).
+            const bool same = spec.objects.size() == s_.scene.objects.size();
+            for (std::size_t i = 0; i < spec.objects.size(); ++i) {
+                ObjectSpec& obj = spec.objects[i];
                 obj.height = path;
                 obj.height_place.clear();
+                if (same) {
+                    obj.depth = s_.scene.objects[i].depth;
+                    obj.midlevel = s_.scene.objects[i].midlevel;
+                }
             }
             reload_scene(std::move(spec), false);
         } else {
@@ -610,6 +624,10 @@ void Viewer::render_scene()
             // technique's figures under the new name while the map was built; a second one).
             HalfStats& st = stats_[k];
             if (fresh) {
+                // (The --frames summary's draws too: it printed the median of the technique before
+                // and this one's under this one's name; found by an exploratory session,
+                // thirty-eighth.)
+                st.draws.clear();
                 st.draw_ms = 0.0;
                 st.samples_per_fragment = -1.0;
                 st.prisms_per_fragment = -1.0;
@@ -665,7 +683,7 @@ void Viewer::render_scene()
         // --frames (tests, docs figures): a frame that cannot be drawn fails the run (exit 1, no
         // screenshot) rather than saving a blank image; interactively the viewer goes on.
         if (o_.frames > 0) throw;
-        if (what.find("shaders/") != std::string::npos) shader_error_ = what;
+        if (is_shader_error(what)) shader_error_ = what;
         error(what);
         blocked_key_ = settings_key();
     }
@@ -745,6 +763,9 @@ void Viewer::reset_view()
 
 void Viewer::reload_shaders()
 {
+    // (Said first: a compositor that does not compile says so after it, not before "shaders
+    // reloaded", which read as if the reload had mended it; found by an exploratory session.)
+    note("shaders reloaded");
     s_.renderer->reload_shaders();
     frame_compiles_ = true; // (this frame's draw compiles them: not timed)
     // The compositor's too (compositor.frag): built once at the start, it kept its first program,
@@ -1000,6 +1021,11 @@ void Viewer::draw_panel()
     }
     panel_width_ = ImGui::GetWindowWidth();
     ImGui::PushItemWidth(ImGui::GetWindowWidth() * 0.55f);
+    // No field takes the focus by Tab, the key that shows and hides the panel: ImGui took the Tab
+    // that showed it to focus the first slider's text field, which then held every key (Q did not
+    // quit; digits went into `steps`) until a click or Enter (found by an exploratory session,
+    // thirty-eighth).
+    ImGui::PushAllowKeyboardFocus(false);
     ImGui::TextDisabled("%s", s_.context->description().c_str());
 
     // Frame time and counters.
@@ -1144,6 +1170,7 @@ void Viewer::draw_panel()
         for (const std::string& line : log_) ImGui::TextWrapped("%s", line.c_str());
     }
     ImGui::TextDisabled("drop a mesh or a height image on the window");
+    ImGui::PopAllowKeyboardFocus();
     ImGui::PopItemWidth();
     // The height it fits is what it held in the frame before (ImGui's auto-fit): where that
     // changed (a log line, an error, a section opened) the frame lays the panel out again
@@ -1179,7 +1206,6 @@ int Viewer::run()
                 last_watch_ = Clock::now();
                 if (watch_->changed()) {
                     reload_shaders();
-                    note("shaders reloaded");
                 }
             }
             // The frame's own work from here (draw, copy, compositor, ImGui, swap): not the wait

@@ -348,7 +348,7 @@ add_test(NAME cli.broken_shader_setup
                  -P ${BREAK_SCRIPT})
 set_tests_properties(cli.broken_shader_setup PROPERTIES LABELS "cli" FIXTURES_SETUP broken_shaders)
 pr_cli(broken_shader EXIT 1 NO_FILE o.png ENV PRISMRELIEF_SHADER_DIR=${BROKEN_SHADERS}
-       STDERR "${E}shaders/surface.frag: compile error.*\nshaders/common/lighting.glsl:2:[0-9]+: error"
+       STDERR "${E}[^\n]+/broken_shader/shaders/surface.frag: compile error.*\n[^\n]+/broken_shader/shaders/common/lighting.glsl:2:[0-9]+: error"
        ARGS render --mesh ${M}/cube.obj --technique relief --size 32x32 --out o.png)
 set_tests_properties(cli.broken_shader PROPERTIES FIXTURES_REQUIRED broken_shaders)
 

@@ -430,6 +430,39 @@ orbit)
     expect_png k_reset.png r_pom.png
     quit_quietly
     ;;
+tab)
+    # Tab shows and hides the panel, and never takes the keys: ImGui took the Tab that showed the
+    # panel to focus its first slider's text field, which then held every key, Q too, until a
+    # click (found by an exploratory session, thirty-eighth). From no panel, and twice from one.
+    start_view $TORUS --no-panel
+    press Tab
+    sleep 0.5
+    quit_quietly
+    start_view $TORUS
+    press Tab
+    press Tab
+    sleep 0.5
+    quit_quietly
+    ;;
+summary)
+    # The --frames summary gives the draws of the technique it names: after 6 (relief) it gave the
+    # median of flat's draws and relief's under relief's name (found by an exploratory session,
+    # thirty-eighth). Relief's draws take several times flat's.
+    start_view $TORUS --technique flat --frames 100000
+    sleep 2
+    quit_quietly
+    flat_ms=$(sed -n 's/.* flat draw \([0-9.]*\) ms median.*/\1/p' view.out)
+    start_view $TORUS --technique flat --frames 100000
+    sleep 2
+    press 6
+    sleep 1
+    quit_quietly
+    relief_ms=$(sed -n 's/.* relief draw \([0-9.]*\) ms median.*/\1/p' view.out)
+    [ -n "$relief_ms" ] && [ -n "$flat_ms" ] || fail "no summary: $(cat view.out)"
+    awk -v f="$flat_ms" -v r="$relief_ms" 'BEGIN { exit !(r > 2 * f) }' ||
+        fail "relief's median ($relief_ms ms) is not over twice flat's ($flat_ms ms): flat's draws were counted"
+    echo "flat $flat_ms ms, relief $relief_ms ms"
+    ;;
 divider)
     # Keys act on the half under the cursor: the divider at 0.4 of 201 columns (80.4) draws the
     # right half from column 80, and ] there turns the right half's pom to relief. The left half
