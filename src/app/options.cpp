@@ -349,7 +349,7 @@ void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_techn
         ->group("Technique")
         ->capture_default_str();
     o.reference_max_triangles_flag = app.add_option("--reference-max-triangles", o.reference_max_triangles,
-                   "reference: lower an automatic level to stay within this many triangles")
+                   "reference: lower automatic levels to stay within this many triangles (the scene's, all objects')")
         ->transform(saturating<std::size_t>())
         ->group("Technique")
         ->capture_default_str();

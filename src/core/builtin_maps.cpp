@@ -7,12 +7,16 @@
 #include "core/error.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <functional>
 #include <numbers>
 #include <optional>
+#include <system_error>
+#include <thread>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -314,11 +318,29 @@ float quantize16(double x)
 std::uint8_t to_byte(double x) { return std::uint8_t(std::lround(std::clamp(x, 0.0, 255.0))); }
 
 // Samples f at texel centres, bottom row first; doubles so normalization sees full precision.
+// Rows are handed out to the cores (the patterns are pure functions: the same values whatever
+// the order): builtin:noise@8192, five octaves of gradient noise, took 27 s on one thread
+// without a word (found by an exploratory session, thirty-eighth).
 std::vector<double> sample_grid(int w, int h, const std::function<double(double, double)>& f)
 {
     std::vector<double> out(std::size_t(w) * h);
-    for (int j = 0; j < h; ++j)
-        for (int i = 0; i < w; ++i) out[std::size_t(j) * w + i] = f((i + 0.5) / w, (j + 0.5) / h);
+    std::atomic<int> next_row{0};
+    const auto work = [&] {
+        for (int j = next_row++; j < h; j = next_row++)
+            for (int i = 0; i < w; ++i) out[std::size_t(j) * w + i] = f((i + 0.5) / w, (j + 0.5) / h);
+    };
+    const std::size_t texels = std::size_t(w) * std::size_t(h);
+    const unsigned cores = std::max(1u, std::min(std::thread::hardware_concurrency(), 16u));
+    const unsigned helpers = texels < (std::size_t(1) << 16) ? 0u : std::min<unsigned>(cores - 1, unsigned(h) - 1);
+    std::vector<std::thread> threads;
+    threads.reserve(helpers);
+    try {
+        for (unsigned t = 0; t < helpers; ++t) threads.emplace_back(work);
+    } catch (const std::system_error&) {
+        // (No thread to be had: the ones started and this one do the rows.)
+    }
+    work();
+    for (std::thread& t : threads) t.join();
     return out;
 }
 

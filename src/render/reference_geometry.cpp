@@ -69,8 +69,19 @@ std::size_t reference_bytes_per_triangle(int level)
     return (l + 1) * (l + 2) / 2 * sizeof(MeshVertex) + l * l * 3 * sizeof(std::uint32_t);
 }
 
+float steepest_texel_step(const HeightField& height)
+{
+    float step = 0.0f;
+    for (int y = 0; y < height.height; ++y)
+        for (int x = 0; x < height.width; ++x) {
+            const float h = height.at(x, y);
+            step = std::max({step, std::abs(height.at(x + 1, y) - h), std::abs(height.at(x, y + 1) - h)});
+        }
+    return step;
+}
+
 ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::dmat4& transform,
-                                      const HeightField& height, float depth, float midlevel,
+                                      const HeightField& height, float step, float depth, float midlevel,
                                       const Camera& camera, int width_px, int height_px, std::size_t max_triangles,
                                       int floor_level)
 {
@@ -86,14 +97,8 @@ ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::dmat4
     const float aspect = static_cast<float>(std::max(width_px, 1)) / static_cast<float>(std::max(height_px, 1));
     const float cos_corner = 1.0f / std::sqrt(1.0f + tan_half * tan_half * (1.0f + aspect * aspect));
     const glm::vec3 forward(glm::normalize(camera.target - camera.eye));
-    // The steepest rise between neighbouring texels: along an edge spanning s texels the height
-    // changes by at most min(1, s * step), and the displaced edge is longer by depth times that.
-    float step = 0.0f;
-    for (int y = 0; y < height.height; ++y)
-        for (int x = 0; x < height.width; ++x) {
-            const float h = height.at(x, y);
-            step = std::max({step, std::abs(height.at(x + 1, y) - h), std::abs(height.at(x, y + 1) - h)});
-        }
+    // `step`, the steepest rise between neighbouring texels: along an edge spanning s texels the
+    // height changes by at most min(1, s * step), and the displaced edge is longer by depth times that.
     // The ends of the displacement range along the normal: depth * (h - midlevel), h in [0, 1].
     const float reach = displacement_reach(depth, midlevel);
     // In the object's frame (its translation taken out, in double), as the renderer draws it.
@@ -138,6 +143,28 @@ ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::dmat4
     while (r.level > 1 && tris * std::size_t(r.level) * std::size_t(r.level) > max_triangles) --r.level;
     r.capped = r.level < wanted;
     return r;
+}
+
+std::size_t cap_reference_levels(std::vector<ReferenceLevel>& levels, const std::vector<std::size_t>& triangles,
+                                 std::size_t max_triangles)
+{
+    int top = 1;
+    for (const ReferenceLevel& l : levels) top = std::max(top, l.level);
+    const auto total = [&](int cap) {
+        std::size_t sum = 0;
+        for (std::size_t k = 0; k < levels.size(); ++k) {
+            const auto l = std::size_t(std::min(levels[k].level, cap));
+            sum += std::max<std::size_t>(triangles[k], 1) * l * l;
+        }
+        return sum;
+    };
+    int cap = top;
+    while (cap > 1 && total(cap) > max_triangles) --cap;
+    for (ReferenceLevel& l : levels) {
+        l.level = std::min(l.level, cap);
+        l.capped = l.level < std::min(l.texel_level, l.pixel_level);
+    }
+    return total(cap);
 }
 
 int cheap_reference_level(std::size_t scene_triangles)

@@ -36,9 +36,13 @@ inline float displacement_reach(float depth, float midlevel)
 // its feet and draw it at half its height.
 inline constexpr float kSharpStep = 0.25f;
 
+// The largest rise between neighbouring texels (wrapped) of a height field, for
+// choose_reference_level: one pass over its texels, taken once per field that objects share.
+float steepest_texel_step(const HeightField& height);
+
 // Chooses the uniform level: the coarser of the texel and pixel criteria (so edges are at most
 // about one texel — half a texel on sharp maps — or one pixel, whichever is larger), then lowered until
-// triangle_count * level^2 <= max_triangles. `transform` maps object to world (in double: the
+// triangle_count * level^2 <= max_triangles (a scene's objects: cap_reference_levels). `transform` maps object to world (in double: the
 // distances to the eye are taken in the object's frame, its translation taken out first). The pixel
 // criterion measures the displaced surface's edges, not the base mesh's: each base edge grown by
 // the spread of its normals over the displacement's reach and by depth times the height's rise
@@ -50,10 +54,18 @@ inline constexpr float kSharpStep = 0.25f;
 // criterion asked for so coarse a reference that it, not the technique, made most of the error
 // (the torus at 64x48: level 6, the prism 34 dB against it, 49 dB against level 10, 55 against
 // 16; found by an exploratory session, thirty-sixth).
+// `step`: steepest_texel_step(height).
 ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::dmat4& transform,
-                                      const HeightField& height, float depth, float midlevel,
+                                      const HeightField& height, float step, float depth, float midlevel,
                                       const Camera& camera, int width_px, int height_px, std::size_t max_triangles,
                                       int floor_level = 1);
+
+// A scene's levels (choose_reference_level's, each object's alone) lowered so that all its
+// objects' triangles together, sum of triangles[k] * level[k]^2, stay within max_triangles: the
+// finest levels first, to one cap that the objects above it share (those below keep theirs), and
+// `capped` where an object's level fell under both its criteria. Returns the triangles then.
+std::size_t cap_reference_levels(std::vector<ReferenceLevel>& levels, const std::vector<std::size_t>& triangles,
+                                 std::size_t max_triangles);
 
 // Triangles a reference may hold whatever the view, being cheap to build and draw (about 30 ms
 // each on llvmpipe, 2 cores): the level below which no automatic level goes (where its map has

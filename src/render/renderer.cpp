@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <string>
 #include <utility>
@@ -155,10 +156,10 @@ gl::Texture make_max_pyramid_texture(const HeightField& hf)
 // walk reads three vec4 per corner instead of a vertex and two matrix products.
 std::vector<glm::vec4> make_shell_corners(const std::vector<MeshVertex>& vertices,
                                           const std::vector<std::uint32_t>& indices, const HeightField& height,
-                                          const glm::mat4& transform, float depth, float midlevel)
+                                          float height_max, const glm::mat4& transform, float depth, float midlevel)
 {
     const glm::mat3 normals = normal_matrix(transform);
-    const std::vector<float> top = shell_top_heights(vertices, indices, height, TopSlope{transform, depth});
+    const std::vector<float> top = shell_top_heights(vertices, indices, height, height_max, TopSlope{transform, depth});
     std::vector<glm::vec4> corners;
     corners.reserve(vertices.size() * 3);
     for (std::size_t i = 0; i < vertices.size(); ++i) {
@@ -472,6 +473,10 @@ void Renderer::upload(const Scene& scene)
                                       [&](const SceneObject& so) { return so.height == it->second.field; });
         it = kept ? std::next(it) : cone_maps_.erase(it);
     }
+    // Each height field's range, found once for the objects that share it (each object scanned
+    // every texel: 200 cubes under builtin:bumps@4096 took 10-16 s to upload; found by an
+    // exploratory session, thirty-eighth).
+    std::map<const HeightField*, std::pair<float, float>> ranges;
     for (std::size_t k = 0; k < scene.objects.size(); ++k) {
         const SceneObject& so = scene.objects[k];
         GpuObject o;
@@ -493,8 +498,10 @@ void Renderer::upload(const Scene& scene)
         o.height_texture = h.id();
         o.height_size = {so.height->width, so.height->height};
         o.height_field = so.height;
-        o.height_low = so.height->min_value();
-        o.height_high = so.height->max_value();
+        const auto [range, fresh] = ranges.try_emplace(so.height.get());
+        if (fresh) range->second = {so.height->min_value(), so.height->max_value()};
+        o.height_low = range->second.first;
+        o.height_high = range->second.second;
         if (so.color) {
             auto& c = texture_cache_[so.color.get()];
             if (!c) c = make_color_texture(*so.color);
@@ -541,8 +548,8 @@ gl::VertexArray Renderer::make_vertex_array(GLuint vertices, GLuint indices)
 
 namespace {
 
-// Memory (the CPU's or the GPU's) ran out for the reference's triangles: named by the option
-// that sets their number.
+// Memory (the CPU's or the GPU's) ran out for the reference's triangles (the scene's, all
+// objects'): named by the option that sets their number.
 Error reference_out_of_memory(const ReferenceOptions& options, std::size_t triangles, int level)
 {
     const std::string option = options.level > 0 ? "--reference-level" : "--reference-max-triangles";
@@ -566,17 +573,36 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
     std::size_t scene_triangles = 0;
     for (const SceneObject& so : scene.objects) scene_triangles += so.mesh.triangle_count();
     const int floor_level = cheap_reference_level(scene_triangles);
+    // Each object's level, then the cap on all of them together: applied to each object alone,
+    // it let N objects build N times its triangles (2,000 cubes, 131 M triangles for a 64 x 64
+    // compare, out of memory naming one object's 65,712; found by an exploratory session,
+    // thirty-eighth). A map that objects share is scanned once (each object scanned it: 200
+    // cubes under builtin:bumps@4096 took a minute).
+    std::vector<ReferenceLevel> levels(objects_.size());
+    std::vector<std::size_t> base_triangles(objects_.size());
+    std::map<const HeightField*, float> steps;
+    for (std::size_t k = 0; k < objects_.size(); ++k) {
+        const SceneObject& so = scene.objects[k];
+        base_triangles[k] = so.mesh.triangle_count();
+        if (options.level > 0) {
+            levels[k].level = options.level;
+            continue;
+        }
+        const auto [at, fresh] = steps.try_emplace(so.height.get(), 0.0f);
+        if (fresh) at->second = steepest_texel_step(*so.height);
+        levels[k] = choose_reference_level(so.mesh, so.transform, *so.height, at->second, so.depth, so.midlevel, camera,
+                                           width_, height_, std::numeric_limits<std::size_t>::max(), floor_level);
+    }
+    const std::size_t scene_total = options.level > 0 ? cap_reference_levels(levels, base_triangles,
+                                                                              std::numeric_limits<std::size_t>::max())
+                                                      : cap_reference_levels(levels, base_triangles, options.max_triangles);
+    int finest = 1;
+    for (const ReferenceLevel& lv : levels) finest = std::max(finest, lv.level);
     for (std::size_t k = 0; k < objects_.size(); ++k) {
         const SceneObject& so = scene.objects[k];
         GpuObject& o = objects_[k];
         o.reference.clear();
-        ReferenceLevel lv;
-        if (options.level > 0) {
-            lv.level = options.level;
-        } else {
-            lv = choose_reference_level(so.mesh, so.transform, *so.height, so.depth, so.midlevel, camera,
-                                        width_, height_, options.max_triangles, floor_level);
-        }
+        const ReferenceLevel& lv = levels[k];
         stats.level = std::max(stats.level, lv.level);
         stats.levels.push_back(lv.level);
         stats.capped = stats.capped || lv.capped;
@@ -590,7 +616,7 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
         // prepare_reference() again.
         const auto out_of_memory = [&] {
             for (GpuObject& each : objects_) each.reference.clear();
-            return reference_out_of_memory(options, count * per_base, lv.level);
+            return reference_out_of_memory(options, scene_total, finest);
         };
         try {
             for (std::size_t first = 0; first < count; first += batch) {
@@ -809,7 +835,7 @@ void Renderer::ensure_walk_data()
         o.tears = !o.open_shell && adjacency.seam_edges > 0;
         o.seamless = adjacency.seam_edges == 0;
         std::vector<glm::vec4> corners =
-            make_shell_corners(vertices, indices, *o.height_field, o.local, o.depth, o.midlevel); // the object's frame
+            make_shell_corners(vertices, indices, *o.height_field, o.height_high, o.local, o.depth, o.midlevel); // the object's frame
         o.corners = gl::immutable_buffer(corners);
         const WalkTriangles triangles = walk_triangles(vertices, indices, corners, adjacency.neighbours, o.local, o.depth);
         o.prisms = gl::immutable_buffer(triangles.prisms);

@@ -83,9 +83,9 @@ void limit_top_slopes(std::vector<float>& weld_top, const std::vector<MeshVertex
 
 std::vector<float> shell_top_heights(const std::vector<MeshVertex>& vertices,
                                      const std::vector<std::uint32_t>& indices, const HeightField& height,
-                                     const TopSlope& slope)
+                                     float height_max, const TopSlope& slope)
 {
-    const float global_max = std::clamp(height.max_value(), 0.0f, 1.0f);
+    const float global_max = std::clamp(height_max, 0.0f, 1.0f);
     std::vector<float> weld_top(welded_position_count(vertices), 0.0f);
     for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
         const glm::vec2 a = vertices[indices[t]].uv, b = vertices[indices[t + 1]].uv, c = vertices[indices[t + 2]].uv;
