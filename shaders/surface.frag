@@ -138,11 +138,12 @@ void main()
     float t_hit = 0.0; // along `view`: the hit is v_world_pos + t_hit * view
 
     float s_hit = 1.0; // texture-space height of the point shown (1: the polygon)
+    // The texture frame, for the view ray and the light's (each soft strip's) directions.
+    TextureFrame frame = texture_frame(t_axis, b_axis, n_geom, depth);
 #if PR_TECHNIQUE == PR_TECH_OFFSET || PR_TECHNIQUE == PR_TECH_STEEP || \
     PR_TECHNIQUE == PR_TECH_POM || PR_TECHNIQUE == PR_TECH_RELIEF || \
     PR_TECHNIQUE == PR_TECH_CONE || PR_TECHNIQUE == PR_TECH_RELAXED_CONE
     // The view ray in texture space: solve view = d.x T + d.y B + d.z (depth N).
-    TextureFrame frame = texture_frame(t_axis, b_axis, n_geom, depth);
     if (depth > 0.0 && frame.scale != 0.0) {
         vec3 d = frame.inv * (frame.scale * view);
         // Descent per unit of height: at s the ray is at uv + (1 - s) * slope. A ray parallel to
@@ -219,11 +220,10 @@ void main()
         // (Soft: a ray for each strip of the disc, shadow.glsl.)
         visibility = 0.0;
         int strips = soft_strips();
-        TextureFrame light_frame = texture_frame(t_axis, b_axis, n_geom, depth);
         for (int k = 0; k < strips; ++k) {
             vec3 strip = soft_strip(k, strips);
             vec3 ray_dir = soft_strip_dir(light_dir, n_geom, strip);
-            vec3 l_tex = light_in_texture_space(light_frame, ray_dir);
+            vec3 l_tex = light_in_texture_space(frame, ray_dir);
             visibility += strip_share(strip, light_visibility(vec3(uv, s_hit), l_tex, g));
         }
     }

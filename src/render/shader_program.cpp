@@ -34,29 +34,30 @@ std::string shader_path_shown(const std::string& path)
     return "shaders/" + path;
 }
 
-bool is_shader_error(const std::string& what)
-{
-    return what.rfind(shader_path_shown(""), 0) == 0 || what.rfind(shader_dir_name() + ": ", 0) == 0;
-}
-
 std::string shader_file(const std::string& path)
 {
     if (const char* dir = std::getenv("PRISMRELIEF_SHADER_DIR"); dir && *dir) {
-        const std::string file = std::string(dir) + "/" + path;
+        const std::string file = shader_path_shown(path); // (as messages name it: "sd/" gave "sd//x")
         std::error_code ec;
         // Named by what gave the folder: the headless commands have no --shader-dir (the message
         // offered it, and named shaders/<path>, a file the user had not given; found by a docs
         // audit, thirty-eighth session).
-        if (!std::filesystem::is_directory(dir, ec)) throw Error(shader_dir_name(), std::string(dir) + " is not a folder");
+        if (!std::filesystem::is_directory(dir, ec)) throw ShaderError(shader_dir_name(), std::string(dir) + " is not a folder");
         if (!std::filesystem::exists(file, ec))
-            throw Error(shader_dir_name(), std::string(dir) + " has no " + path +
-                                               " (the folder stands in for the source's shaders/)");
+            throw ShaderError(shader_dir_name(), std::string(dir) + " has no " + path +
+                                                     " (the folder stands in for the source's shaders/)");
         // (The input reader: a FIFO there without a writer is refused after 1 s, not waited on.)
-        return read_input_text(file, InputLimit{16u << 20, "a shader", "not a shader"});
+        try {
+            return read_input_text(file, InputLimit{16u << 20, "a shader", "not a shader"});
+        } catch (const ShaderError&) {
+            throw;
+        } catch (const Error& e) {
+            throw ShaderError(e.subject(), e.problem(), e.detail());
+        }
     }
     for (const EmbeddedShader& e : embedded_shaders())
         if (path == e.path) return e.source;
-    throw Error(shader_path_shown(path), "no such embedded shader");
+    throw ShaderError(shader_path_shown(path), "no such embedded shader");
 }
 
 std::vector<std::string> shader_file_list()
@@ -80,7 +81,7 @@ namespace {
 void append_file(const std::string& path, PreprocessedShader& out, std::set<std::string>& seen,
                  int depth)
 {
-    if (depth > 16) throw Error(shader_path_shown(path), "#include nested too deeply");
+    if (depth > 16) throw ShaderError(shader_path_shown(path), "#include nested too deeply");
     if (!seen.insert(path).second) return; // every file is included once (like #pragma once)
     const int id = static_cast<int>(out.files.size());
     out.files.push_back(path);
@@ -161,7 +162,7 @@ gl::Program build_program(const std::vector<ShaderStage>& stages, const ShaderDe
             for (const auto& [name, value] : defines) variant += " " + name + "=" + value;
             // (Named where the file was read: the folder of --shader-dir or PRISMRELIEF_SHADER_DIR
             // was said as shaders/; and no "(variant:)" for a program without defines.)
-            throw Error(shader_path_shown(s.file), "compile error" + (variant.empty() ? "" : " (variant:" + variant + ")"),
+            throw ShaderError(shader_path_shown(s.file), "compile error" + (variant.empty() ? "" : " (variant:" + variant + ")"),
                         map_log(log.c_str(), pre.files));
         }
         glAttachShader(program.id(), shader.id());
@@ -176,7 +177,7 @@ gl::Program build_program(const std::vector<ShaderStage>& stages, const ShaderDe
         glGetProgramiv(program.id(), GL_INFO_LOG_LENGTH, &len);
         std::string log(static_cast<std::size_t>(std::max(len, 1)), '\0');
         glGetProgramInfoLog(program.id(), len, nullptr, log.data());
-        throw Error(shader_path_shown(stages.front().file), "link error", std::string(log.c_str()));
+        throw ShaderError(shader_path_shown(stages.front().file), "link error", std::string(log.c_str()));
     }
     return program;
 }

@@ -3,6 +3,7 @@
 // after `#version` (never by editing shader text); `#include "path"` (relative to shaders/) is
 // resolved once per file with `#line` directives, so compile errors name the real file and line.
 #include "core/atomic_file.hpp"
+#include "core/error.hpp"
 #include "gl/objects.hpp"
 
 #include <filesystem>
@@ -21,8 +22,9 @@ using ShaderDefines = std::vector<std::pair<std::string, std::string>>; // name,
 
 // The text of shaders/<path>: embedded at build time, or read from the folder named by the
 // environment variable PRISMRELIEF_SHADER_DIR when it is set (development override for hot
-// reload). Throws pr::Error("shaders/<path>", …) when there is no such embedded file, and one
-// named by the override (name_shader_dir) when its folder or the file in it is missing.
+// reload). Throws ShaderError("shaders/<path>", …) when there is no such embedded file, and one
+// named by the override (name_shader_dir) when its folder or the file in it is missing or
+// cannot be read.
 std::string shader_file(const std::string& path);
 
 // What the errors call the override folder: "PRISMRELIEF_SHADER_DIR", or the flag that set it
@@ -32,9 +34,13 @@ void name_shader_dir(const std::string& name);
 // How messages name shaders/<path>: so, or the file in the override folder where one is set.
 std::string shader_path_shown(const std::string& path);
 
-// Whether an error's text (pr::Error::what, "subject: problem") is about a shader: its subject is
-// one (shader_path_shown) or the override folder.
-bool is_shader_error(const std::string& what);
+// What shader_file, preprocess_shader and build_program throw: a shader that cannot be read or
+// built (the viewer shows these in its panel; it told them by "shaders/" in the text, which a
+// folder named otherwise lacks and another input's path may hold).
+class ShaderError : public Error {
+public:
+    using Error::Error;
+};
 
 // The full source handed to the compiler for one stage, and the files it was made of (the
 // index is the source-string number used in #line directives).
@@ -44,7 +50,7 @@ struct PreprocessedShader {
 };
 PreprocessedShader preprocess_shader(const std::string& file, const ShaderDefines& defines);
 
-// Compiles and links. Throws pr::Error("shaders/<file>", "<log with file:line>") on failure.
+// Compiles and links. Throws ShaderError(shader_path_shown(file), "<log with file:line>") on failure.
 gl::Program build_program(const std::vector<ShaderStage>& stages, const ShaderDefines& defines);
 
 // Every shader file the program table knows, for the test that compiles every variant.

@@ -395,6 +395,7 @@ void Viewer::reload_scene(SceneSpec spec, bool reset_camera, bool keep_first_hei
         st.samples_per_fragment = -1.0, st.prisms_per_fragment = -1.0, st.fragments = 0;
         st.draws.clear();
     }
+    all_frame_ms_.clear();
     rendered_ = 0;
     dirty_ = true;
 }
@@ -421,20 +422,23 @@ void Viewer::handle_drop(const std::string& path)
                                         ".gif", ".psd", ".pic"};
                    std::find(images.begin(), images.end(), ext) != images.end()) {
             // (A dropped map that cannot be read was said under --height or the scene's place;
-            // found by an exploratory session, thirty-third.) The depth and midlevel stay as the
-            // panel has them: the scene was loaded again with the command line's (found by an
-            // exploratory session, thirty-eighth).
-            const bool same = spec.objects.size() == s_.scene.objects.size();
-            for (std::size_t i = 0; i < spec.objects.size(); ++i) {
-                ObjectSpec& obj = spec.objects[i];
+            // found by an exploratory session, thirty-third.)
+            for (ObjectSpec& obj : spec.objects) {
                 obj.height = path;
                 obj.height_place.clear();
-                if (same) {
-                    obj.depth = s_.scene.objects[i].depth;
-                    obj.midlevel = s_.scene.objects[i].midlevel;
-                }
             }
+            // The panel's depth and midlevel stay, over the loaded ones as before the drop (the
+            // scene came back at the command line's: found by an exploratory session,
+            // thirty-eighth); the loaded ones stay the bases the other objects follow the panel
+            // from (an image changes neither the objects nor their depths).
+            const std::vector<float> base_depth = base_depth_, base_midlevel = base_midlevel_;
+            const float depth = depth_, midlevel = midlevel_;
             reload_scene(std::move(spec), false);
+            if (base_depth_ == base_depth && base_midlevel_ == base_midlevel && (depth != depth_ || midlevel != midlevel_)) {
+                depth_ = depth;
+                midlevel_ = midlevel;
+                apply_displacement();
+            }
         } else {
             throw Error(path, "cannot load this file type (drop a mesh: OBJ, OFF, PLY, STL; or a height "
                               "image: PNG, JPEG, BMP, TGA, binary PNM, HDR, GIF, PSD, PIC)");
@@ -624,10 +628,11 @@ void Viewer::render_scene()
             // technique's figures under the new name while the map was built; a second one).
             HalfStats& st = stats_[k];
             if (fresh) {
-                // (The --frames summary's draws too: it printed the median of the technique before
-                // and this one's under this one's name; found by an exploratory session,
-                // thirty-eighth.)
+                // (The --frames summary's draws and whole frames too: it printed the median of the
+                // technique before and this one's under this one's name; found by an exploratory
+                // session, thirty-eighth. Its count of frames is the run's.)
                 st.draws.clear();
+                all_frame_ms_.clear();
                 st.draw_ms = 0.0;
                 st.samples_per_fragment = -1.0;
                 st.prisms_per_fragment = -1.0;
@@ -683,7 +688,7 @@ void Viewer::render_scene()
         // --frames (tests, docs figures): a frame that cannot be drawn fails the run (exit 1, no
         // screenshot) rather than saving a blank image; interactively the viewer goes on.
         if (o_.frames > 0) throw;
-        if (is_shader_error(what)) shader_error_ = what;
+        if (dynamic_cast<const ShaderError*>(&e)) shader_error_ = what;
         error(what);
         blocked_key_ = settings_key();
     }

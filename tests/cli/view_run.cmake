@@ -35,7 +35,10 @@ function(run_view)
     execute_process(COMMAND ${XVFB_RUN} -a -s "-screen 0 1024x768x24" ${launch} view ${ARGN}
                     WORKING_DIRECTORY ${WORKDIR}
                     RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 240)
-    if(err MATCHES "xvfb-run: error|Xvfb failed to start|cannot open display")
+    # (Not xvfb-run's cleanup error after the viewer ran, which turned a failure into a skip:
+    # found by a review, thirty-eighth session.)
+    string(REPLACE "xvfb-run: error: problem while cleaning up temporary directory" "" start_err "${err}")
+    if(start_err MATCHES "xvfb-run: error|Xvfb failed to start|cannot open display")
         message("VIEW_TEST_SKIPPED: no X server could be started under xvfb-run:\n${err}")
         set(view_skipped TRUE PARENT_SCOPE)
         return()
