@@ -120,6 +120,25 @@ double near_depth(const Camera& camera, const Sphere& b, double r)
 
 } // namespace
 
+bool sphere_in_view(const Camera& camera, double aspect, const Sphere& bounds)
+{
+    const glm::dvec3 to = bounds.center - camera.eye;
+    const glm::dvec3 view = camera.target - camera.eye;
+    if (!(glm::length(view) > 0.0) || glm::length(to) <= bounds.radius) return true; // (the eye inside)
+    const glm::dvec3 f = glm::normalize(view);
+    const glm::dvec3 side = glm::cross(f, glm::dvec3(camera.up));
+    if (!(glm::length(side) > 0.0)) return true;
+    const glm::dvec3 r = glm::normalize(side), u = glm::cross(r, f);
+    const double x = glm::dot(to, r), y = glm::dot(to, u), z = glm::dot(to, f);
+    if (z < -bounds.radius) return false;
+    const double ty = std::tan(glm::radians(double(camera.fovy_deg)) * 0.5), tx = ty * aspect;
+    // Each side's plane through the eye, its outward unit normal (x or y, -z tan) over its length.
+    const auto outside = [&](double along, double tan_half) {
+        return (along - z * tan_half) / std::sqrt(1.0 + tan_half * tan_half) > bounds.radius;
+    };
+    return !(outside(x, tx) || outside(-x, tx) || outside(y, ty) || outside(-y, ty));
+}
+
 void fit_clip_planes(Camera& camera, const Sphere& bounds)
 {
     const double d = glm::length(camera.eye - bounds.center);

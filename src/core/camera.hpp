@@ -72,6 +72,11 @@ inline constexpr float kNearFraction = 1e-6f;
 // Near and far planes that enclose `bounds` as seen from the camera (near never below
 // kNearFraction of far).
 void fit_clip_planes(Camera& camera, const Sphere& bounds);
+
+// Whether any of `bounds` may show in a picture of `aspect` (width over height) from `camera`:
+// false where the sphere lies wholly behind the eye or outside one of the field of view's four
+// sides (the far plane encloses every object: fit_clip_planes).
+bool sphere_in_view(const Camera& camera, double aspect, const Sphere& bounds);
 // The same for several objects' bounds: far encloses them all, near comes from the nearest
 // (each object's near is kept from a small fraction of its own far side, not the scene's, so
 // that a far-away object does not push the near plane past the near ones). `all` encloses them

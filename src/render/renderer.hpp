@@ -141,7 +141,9 @@ public:
         std::size_t triangles = 0;   // all objects
         std::size_t bytes = 0;       // GPU bytes of vertex and index data
         double build_ms = 0.0;
-        bool capped = false;         // an automatic level was lowered to fit max_triangles
+        bool capped = false;         // an automatic level was lowered to fit max_triangles below
+                                     // its texel and pixel criteria (not below the cheap floor
+                                     // alone, nor for being out of view)
         std::vector<char> capped_objects; // which objects' were (each object's, in order)
     };
     ReferenceStats prepare_reference(const Scene& scene, const Camera& camera, const ReferenceOptions& options);

@@ -424,6 +424,17 @@ pr_cli(render_reference_capped_near_not_far EXIT 0 JSON r.json
        CHECKS "reference.triangles:LESS:350001|reference.levels.0:EQUAL:10|reference.levels.1:EQUAL:7"
        ARGS render --scene ${CMAKE_CURRENT_BINARY_DIR}/near_far_torus.json --technique reference
             --reference-max-triangles 350000 --size 128x96 --out r.png --json r.json)
+# Objects out of view take no more than the scene's cheap level, and leave the cap to those in
+# view: two rocks behind the eye lowered the torus from level 32 to 25 under a cap of 3 M and were
+# built at 9 (found by an exploratory session, thirty-eighth).
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/torus_rocks_behind.json "{\"objects\": [{\"mesh\": \"${M}/torus.obj\"},
+    {\"mesh\": \"${M}/rock.obj\", \"transform\": {\"translate\": [-1, 1, 7]}},
+    {\"mesh\": \"${M}/rock.obj\", \"transform\": {\"translate\": [1, 1, 7]}}],
+  \"camera\": {\"eye\": [0, 1, 4], \"target\": [0, 0, 0]}}")
+pr_cli(render_reference_out_of_view_objects_cheap EXIT 0 JSON r.json STDOUT "reference: levels 32, 3 and 3, 2528640 triangles"
+       CHECKS "reference.levels.0:EQUAL:32|reference.capped:STREQUAL:OFF"
+       ARGS render --scene ${CMAKE_CURRENT_BINARY_DIR}/torus_rocks_behind.json --technique reference
+            --reference-max-triangles 3000000 --size 256x192 --out r.png --json r.json)
 pr_cli(reference_capped EXIT 0 STDOUT "reference: level 2, .*capped by --reference-max-triangles"
        ARGS render --mesh ${M}/torus.obj --technique reference --reference-max-triangles 10000 --size 64x64 --out r.png)
 pr_cli(reference_level_bad EXIT 1 ONE_LINE STDERR "${E}--reference-level: must be between 0" NO_FILE r.png

@@ -93,3 +93,25 @@ TEST(Camera, AutoFramingDoesNotTurnTheImageNearThePoles)
             }
         }
 }
+
+// Whether a sphere may show: the reference builds objects out of view only coarsely (a torus's
+// level fell from 32 to 25 for two rocks behind the eye; thirty-eighth session).
+TEST(Camera, SpheresBehindOrBesideTheViewAreOutOfIt)
+{
+    pr::Camera c;
+    c.eye = {0.0, 0.0, 5.0};
+    c.target = {0.0, 0.0, 0.0};
+    c.fovy_deg = 40.0f;
+    const auto in = [&](glm::dvec3 centre, double radius, double aspect = 1.0) {
+        return pr::sphere_in_view(c, aspect, pr::Sphere{centre, radius});
+    };
+    EXPECT_TRUE(in({0.0, 0.0, 0.0}, 1.0));
+    EXPECT_FALSE(in({0.0, 0.0, 8.0}, 1.0));  // behind the eye
+    EXPECT_TRUE(in({0.0, 0.0, 5.5}, 1.0));   // around the eye
+    EXPECT_TRUE(in({0.0, 0.0, 6.5}, 2.0));   // behind, reaching past it
+    // tan 20 degrees * 5 = 1.82 at the target's distance: the top side's plane.
+    EXPECT_TRUE(in({0.0, 2.5, 0.0}, 1.0));
+    EXPECT_FALSE(in({0.0, 4.0, 0.0}, 1.0));
+    EXPECT_FALSE(in({4.0, 0.0, 0.0}, 1.0));
+    EXPECT_TRUE(in({4.0, 0.0, 0.0}, 1.0, 2.5)); // a wide picture's sides are further out
+}
