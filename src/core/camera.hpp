@@ -73,15 +73,16 @@ inline constexpr float kNearFraction = 1e-6f;
 // kNearFraction of far).
 void fit_clip_planes(Camera& camera, const Sphere& bounds);
 
-// Whether any of `bounds` may show in a picture of `aspect` (width over height) from `camera`:
-// false where the sphere lies wholly behind the eye or outside one of the field of view's four
-// sides (the far plane encloses every object: fit_clip_planes).
-bool sphere_in_view(const Camera& camera, double aspect, const Sphere& bounds);
 // The same for several objects' bounds: far encloses them all, near comes from the nearest
 // (each object's near is kept from a small fraction of its own far side, not the scene's, so
 // that a far-away object does not push the near plane past the near ones). `all` encloses them
 // (the result is fit_clip_planes(camera, all) for one object).
 void fit_clip_planes(Camera& camera, const std::vector<Sphere>& objects, const Sphere& all);
+
+// Whether any of `bounds` may show in a picture of `aspect` (width over height) from `camera`:
+// false where the sphere lies wholly behind the eye or outside one of the field of view's four
+// sides (the far plane encloses every object: fit_clip_planes).
+bool sphere_in_view(const Camera& camera, double aspect, const Sphere& bounds);
 
 // Distance from the eye along the pixel's ray for a window-space depth value (1 at the near plane,
 // 0 at the far one: Camera::projection) at pixel

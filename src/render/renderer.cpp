@@ -601,9 +601,9 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
                     !sphere_in_view(camera, double(width_) / double(std::max(height_, 1)), scene.object_bounds[k]);
         if (hidden[k]) levels[k].level = std::min(levels[k].level, floor_level);
     }
-    const std::size_t scene_total = options.level > 0 ? cap_reference_levels(levels, base_triangles,
-                                                                              std::numeric_limits<std::size_t>::max())
-                                                      : cap_reference_levels(levels, base_triangles, options.max_triangles);
+    // (An explicit level is not capped: the sum is the scene's triangles.)
+    const std::size_t scene_total = cap_reference_levels(
+        levels, base_triangles, options.level > 0 ? std::numeric_limits<std::size_t>::max() : options.max_triangles);
     for (std::size_t k = 0; k < levels.size(); ++k)
         if (hidden[k]) levels[k].capped = false; // (lowered for being out of view, not by the cap)
     int finest = 1;

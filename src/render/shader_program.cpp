@@ -20,6 +20,13 @@ std::string& shader_dir_name()
     return name;
 }
 
+// The override folder (PRISMRELIEF_SHADER_DIR), or null where none is set.
+const char* shader_dir()
+{
+    const char* dir = std::getenv("PRISMRELIEF_SHADER_DIR");
+    return dir && *dir ? dir : nullptr;
+}
+
 } // namespace
 
 void name_shader_dir(const std::string& name)
@@ -29,14 +36,13 @@ void name_shader_dir(const std::string& name)
 
 std::string shader_path_shown(const std::string& path)
 {
-    if (const char* dir = std::getenv("PRISMRELIEF_SHADER_DIR"); dir && *dir)
-        return (std::filesystem::path(dir) / path).string();
+    if (const char* dir = shader_dir()) return (std::filesystem::path(dir) / path).string();
     return "shaders/" + path;
 }
 
 std::string shader_file(const std::string& path)
 {
-    if (const char* dir = std::getenv("PRISMRELIEF_SHADER_DIR"); dir && *dir) {
+    if (const char* dir = shader_dir()) {
         const std::string file = shader_path_shown(path); // (as messages name it: "sd/" gave "sd//x")
         std::error_code ec;
         // Named by what gave the folder: the headless commands have no --shader-dir (the message
@@ -70,7 +76,7 @@ std::vector<std::string> shader_file_list()
 std::vector<NamedPath> shader_override_inputs()
 {
     std::vector<NamedPath> out;
-    if (const char* dir = std::getenv("PRISMRELIEF_SHADER_DIR"); dir && *dir)
+    if (const char* dir = shader_dir())
         for (const EmbeddedShader& e : embedded_shaders())
             out.emplace_back("PRISMRELIEF_SHADER_DIR", std::filesystem::path(dir) / e.path);
     return out;

@@ -28,12 +28,6 @@ struct TopSlope {
 std::vector<float> shell_top_heights(const std::vector<MeshVertex>& vertices,
                                      const std::vector<std::uint32_t>& indices, const HeightField& height,
                                      float height_max, const TopSlope& slope = {});
-inline std::vector<float> shell_top_heights(const std::vector<MeshVertex>& vertices,
-                                            const std::vector<std::uint32_t>& indices, const HeightField& height,
-                                            const TopSlope& slope = {})
-{
-    return shell_top_heights(vertices, indices, height, height.max_value(), slope);
-}
 
 // One vertex of the walk's shell corners, three vec4 per vertex as the renderer builds them
 // (renderer.cpp, make_shell_corners; PR_TEX_CORNERS in shared.h): the bottom corner (world) and

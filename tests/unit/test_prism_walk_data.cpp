@@ -136,7 +136,7 @@ TEST(ShellBounds, TopStaysAboveTheFieldAndAgreesAcrossSeams)
     const pr::HeightField h = pr::load_height("builtin:bumps@64");
     for (const char* name : {"uv_sphere.obj", "rock.obj", "plane.obj"}) {
         const pr::PreparedMesh m = pr::load_mesh(std::filesystem::path(PR_SOURCE_DIR) / "meshes" / name);
-        const std::vector<float> top = pr::shell_top_heights(m.vertices, m.indices, h);
+        const std::vector<float> top = pr::shell_top_heights(m.vertices, m.indices, h, h.max_value());
         ASSERT_EQ(top.size(), m.vertices.size());
         double sum = 0.0;
         for (std::size_t t = 0; t < m.indices.size(); t += 3) {
@@ -171,8 +171,8 @@ TEST(ShellBounds, SlopeLimitRaisesTopsUntilNoEdgeIsSteep)
     const pr::PreparedMesh m = pr::load_mesh(std::filesystem::path(PR_SOURCE_DIR) / "meshes" / "uv_sphere.obj");
     const glm::mat4 transform = glm::scale(glm::mat4(1.0f), glm::vec3(2.0f));
     const float depth = 0.5f;
-    const std::vector<float> plain = pr::shell_top_heights(m.vertices, m.indices, h);
-    const std::vector<float> limited = pr::shell_top_heights(m.vertices, m.indices, h, pr::TopSlope{transform, depth});
+    const std::vector<float> plain = pr::shell_top_heights(m.vertices, m.indices, h, h.max_value());
+    const std::vector<float> limited = pr::shell_top_heights(m.vertices, m.indices, h, h.max_value(), pr::TopSlope{transform, depth});
     ASSERT_EQ(limited.size(), plain.size());
     std::size_t raised = 0;
     for (std::size_t i = 0; i < plain.size(); ++i) {
@@ -218,8 +218,8 @@ TEST(ShellBounds, SlopeLimitReachesAlongALongStrip)
         const std::uint32_t a = std::uint32_t(2 * i), b = a + 1, c = a + 2, d = a + 3;
         s.indices.insert(s.indices.end(), {a, c, d, a, d, b});
     }
-    const std::vector<float> plain = pr::shell_top_heights(s.vertices, s.indices, h);
-    const std::vector<float> top = pr::shell_top_heights(s.vertices, s.indices, h, pr::TopSlope{glm::mat4(1.0f), 1.0f});
+    const std::vector<float> plain = pr::shell_top_heights(s.vertices, s.indices, h, h.max_value());
+    const std::vector<float> top = pr::shell_top_heights(s.vertices, s.indices, h, h.max_value(), pr::TopSlope{glm::mat4(1.0f), 1.0f});
     ASSERT_EQ(top.size(), s.vertices.size());
     const float rounding = plain[0]; // the flat field's top: 0 plus one step of 8-bit rounding
     ASSERT_LT(rounding, 0.01f);
