@@ -488,7 +488,8 @@ float hit_color_lod(vec3 hit, vec3 t_axis, vec3 b_axis)
 
 void main()
 {
-    uint prim = uint(gl_PrimitiveID);
+    // (With PR_PRISM_SEAM_WALL_ID on a folded prism's wall on a UV seam: prism.geom.)
+    uint prim = uint(gl_PrimitiveID) & ~uint(PR_PRISM_SEAM_WALL_ID);
     bool from_a[3];
     // The hit's triangle: uv, world normals, object-space tangents dP/du and dP/dv per vertex.
     vec2 frame_uv[3];
@@ -631,6 +632,12 @@ void main()
         // under the surface goes on under it (the sheet has no body there), decided by the
         // first sample, as at a seam.
         bool decide = pending && (entry_edge >= 0 || k == 0) && !moved;
+#elif defined(PR_PRISM_TEARS)
+        // And from a folded prism's wall on a seam (prism.geom): the ray comes in from the far
+        // side of the tear, and may be in its crack, under this side's surface. Taken to be over
+        // it, it hit at once: a tight shell's slivers at a cylinder's rim drew the cap there, where
+        // the reference shows the crack (docs/prism.md, item 9).
+        bool decide = pending && (entry_edge >= 0 || (k == 0 && (uint(gl_PrimitiveID) & uint(PR_PRISM_SEAM_WALL_ID)) != 0u)) && !moved;
 #else
         bool decide = pending && entry_edge >= 0 && !moved;
 #endif

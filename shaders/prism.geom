@@ -118,7 +118,7 @@ void main()
 {
 #ifdef PR_PRISM_LISTED
     uint entry = texelFetch(t_prism_list, g_list_index[0]).r;
-    prism_id = int(entry & 0x7fffffffu);
+    prism_id = int(entry & 0x3fffffffu);
     load_walk_prism(uint(prism_id), prism_from_a);
 #ifdef PR_PRISM_INSIDE
     // The second pass over a torn mesh (prism.frag): the bottom the eye sees from inside the
@@ -135,8 +135,15 @@ void main()
     bool folded = (entry & 0x80000000u) != 0u;
     if (folded && (u_march.w & PR_FLAG_OPEN_SHELL) == 0) triangle(0, 2, 1);
     uvec3 across = prism_across;
+    // A folded prism's walls on UV seams carry PR_PRISM_SEAM_WALL_ID: a ray that comes in there may
+    // be under the torn surface's far side (its crack), and the walk from there decides it (prism.frag).
+    uint seams = texelFetch(t_prisms, 8 * prism_id + 7).w / uint(PR_PRISM_SEAM_EDGE_BIT);
+    int id = prism_id;
+    prism_id = id | ((seams & 1u) != 0u ? PR_PRISM_SEAM_WALL_ID : 0);
     if (folded || across.x == 0xffffffffu) side(0);
+    prism_id = id | ((seams & 2u) != 0u ? PR_PRISM_SEAM_WALL_ID : 0);
     if (folded || across.y == 0xffffffffu) side(1);
+    prism_id = id | ((seams & 4u) != 0u ? PR_PRISM_SEAM_WALL_ID : 0);
     if (folded || across.z == 0xffffffffu) side(2);
 #endif
 #else
