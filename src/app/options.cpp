@@ -432,8 +432,11 @@ bool check_cone_map_flags_apply(const SceneOptions& o, const std::vector<DrawSet
 
 ReferenceOptions make_reference_options(const TechniqueOptions& o)
 {
-    if (o.reference_level < 0 || o.reference_level > 256)
-        throw Error("--reference-level", "must be between 0 (automatic) and 256");
+    // (An automatic level may be finer than 256 on large triangles: a two-triangle floor under a
+    // map repeated many times took 362, which the flag could not ask for. 4096 keeps one base
+    // triangle's vertices, 8.4 million, well within 32-bit indices.)
+    if (o.reference_level < 0 || o.reference_level > 4096)
+        throw Error("--reference-level", "must be between 0 (automatic) and 4096");
     if (o.reference_max_triangles < 1) throw Error("--reference-max-triangles", "must be at least 1");
     ReferenceOptions r;
     r.level = o.reference_level;

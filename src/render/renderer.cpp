@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "core/fnv.hpp"
+#include "core/memory.hpp"
 #include "core/transform.hpp"
 #include "maps/conemap.hpp"
 #include "mesh/adjacency.hpp"
@@ -429,8 +430,8 @@ Renderer::Renderer(int width, int height) : width_(width), height_(height)
                          GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
     const auto* name = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     const std::string renderer = name ? name : "";
-    const bool software = renderer.find("llvmpipe") != std::string::npos || renderer.find("softpipe") != std::string::npos;
-    tear_pass_ = software ? TearPass::Tiles : TearPass::Whole;
+    software_ = renderer.find("llvmpipe") != std::string::npos || renderer.find("softpipe") != std::string::npos;
+    tear_pass_ = software_ ? TearPass::Tiles : TearPass::Whole;
 }
 
 Renderer::~Renderer() = default;
@@ -552,13 +553,34 @@ gl::VertexArray Renderer::make_vertex_array(GLuint vertices, GLuint indices)
 
 namespace {
 
+// The option that sets the number of the reference's triangles.
+std::string reference_size_option(const ReferenceOptions& options)
+{
+    return options.level > 0 ? "--reference-level" : "--reference-max-triangles";
+}
+
 // Memory (the CPU's or the GPU's) ran out for the reference's triangles (the scene's, all
 // objects'): named by the option that sets their number.
 Error reference_out_of_memory(const ReferenceOptions& options, std::size_t triangles, int level)
 {
-    const std::string option = options.level > 0 ? "--reference-level" : "--reference-max-triangles";
+    const std::string option = reference_size_option(options);
     return Error(option, "out of memory for the reference's " + std::to_string(triangles) + " triangles (level " +
                              std::to_string(level) + "): give a lower " + option);
+}
+
+// The reference needs `bytes`, more than the `available` memory (renderer on the CPU).
+Error reference_too_large(const ReferenceOptions& options, std::size_t triangles, int level, std::uint64_t bytes,
+                          std::uint64_t available)
+{
+    const auto gb = [](std::uint64_t b) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.1f GB", double(b) / 1e9);
+        return std::string(text);
+    };
+    const std::string option = reference_size_option(options);
+    return Error(option, "the reference's " + std::to_string(triangles) + " triangles (level " + std::to_string(level) +
+                             ") need " + gb(bytes) + ", more than the " + gb(available) +
+                             " of memory available: give a lower " + option);
 }
 
 } // namespace
@@ -612,6 +634,18 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
         if (hidden[k]) levels[k].capped = false; // (lowered for being out of view, not by the cap)
     int finest = 1;
     for (const ReferenceLevel& lv : levels) finest = std::max(finest, lv.level);
+    // A software renderer's buffers are this process's memory: a reference larger than what the
+    // system has available is refused before it is built. (An explicit --reference-level 256 on
+    // the rock asks for 27 GB, more than the 23 GB machine has: it was built chunk by chunk until
+    // memory ran out, and where the system overcommits memory the kernel kills such a process,
+    // with no message, rather than failing an allocation.)
+    if (software_) {
+        std::uint64_t bytes = 0;
+        for (std::size_t k = 0; k < levels.size(); ++k)
+            bytes += std::uint64_t(base_triangles[k]) * reference_bytes_per_triangle(levels[k].level);
+        const std::optional<std::uint64_t> available = available_memory_bytes();
+        if (available && bytes > *available) throw reference_too_large(options, scene_total, finest, bytes, *available);
+    }
     for (std::size_t k = 0; k < objects_.size(); ++k) {
         const SceneObject& so = scene.objects[k];
         GpuObject& o = objects_[k];

@@ -293,6 +293,7 @@ private:
     gl::Texture tear_mask_;  // r32ui, the walk's pixels that went into an object (made on first need)
     gl::Texture tear_tiles_; // r32ui, the same per tile of PR_TEAR_TILE^2 pixels
     TearPass tear_pass_ = TearPass::Tiles;
+    bool software_ = false; // llvmpipe or softpipe: GL buffers live in this process's memory
     gl::Buffer pass_list_;          // the second pass's prisms (r32ui), rewritten per draw
     gl::Texture pass_list_texels_;  // its buffer texture (PR_TEX_PRISM_LIST)
     // The reference's shadow maps (ensure_shadow_map): depth from the light across the points the

@@ -437,8 +437,18 @@ pr_cli(render_reference_out_of_view_objects_cheap EXIT 0 JSON r.json STDOUT "ref
             --reference-max-triangles 3000000 --size 256x192 --out r.png --json r.json)
 pr_cli(reference_capped EXIT 0 STDOUT "reference: level 2, .*capped by --reference-max-triangles"
        ARGS render --mesh ${M}/torus.obj --technique reference --reference-max-triangles 10000 --size 64x64 --out r.png)
-pr_cli(reference_level_bad EXIT 1 ONE_LINE STDERR "${E}--reference-level: must be between 0" NO_FILE r.png
-       ARGS render --mesh ${M}/torus.obj --technique reference --reference-level 999 --out r.png)
+pr_cli(reference_level_bad EXIT 1 ONE_LINE STDERR "${E}--reference-level: must be between 0 .automatic. and 4096" NO_FILE r.png
+       ARGS render --mesh ${M}/torus.obj --technique reference --reference-level 4097 --out r.png)
+# Levels past 256 may be asked for (an automatic level may be finer: a two-triangle floor under a
+# map repeated many times took 362, which the flag refused; found by an exploratory session).
+pr_cli(reference_level_fine EXIT 0 EXPECT_FILE r.png STDOUT "reference: level 300, 1080000 triangles"
+       ARGS render --mesh ${M}/cube.obj --technique reference --reference-level 300 --size 64x64 --out r.png)
+# A reference larger than the memory available is refused before it is built, on llvmpipe whose
+# buffers are the process's memory: the rock at level 256 asks for 27 GB, and was built until
+# memory ran out (9408 triangles at level 4096: 6.9 TB).
+pr_cli(reference_larger_than_memory EXIT 1 ONE_LINE NO_FILE r.png
+       STDERR "${E}--reference-level: the reference's 157840048128 triangles .level 4096. need 6948.7 GB, more than the [0-9.]+ GB of memory available: give a lower --reference-level"
+       ARGS render --mesh ${M}/rock.obj --technique reference --reference-level 4096 --size 64x64 --out r.png)
 
 # Hostile meshes (tests/bad/): one clear line and nothing written, or a correct render with a
 # warning for what is only odd.
