@@ -3,11 +3,71 @@
 #include "core/transform.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
+#include <optional>
 
 namespace pr {
 
 namespace {
+
+// The view's frustum in the frame the eye is the origin of: `forward`, `right`, `up` its axes,
+// `tan_x`, `tan_y` the tangents of its half angles (a little wider than the image), `near` the
+// near plane's distance.
+struct Frustum {
+    glm::vec3 forward, right, up;
+    float tan_x, tan_y, near;
+};
+
+// The nearest point to the eye (the origin) of triangle (a, b, c) that lies in the frustum, or
+// nothing where none does: the triangle clipped by the frustum's five planes
+// (Sutherland-Hodgman), then the nearest point of that convex polygon.
+std::optional<glm::vec3> nearest_in_view(glm::vec3 a, glm::vec3 b, glm::vec3 c, const Frustum& f)
+{
+    // (Each plane adds at most one corner to a convex polygon: 3 + 5.)
+    std::array<glm::vec3, 8> poly{a, b, c}, next{};
+    int n = 3;
+    const auto clip = [&](auto inside) {
+        int m = 0;
+        for (int i = 0; i < n; ++i) {
+            const glm::vec3 p = poly[std::size_t(i)], q = poly[std::size_t((i + 1) % n)];
+            const float dp = inside(p), dq = inside(q);
+            if (dp >= 0.0f && m < 8) next[std::size_t(m++)] = p;
+            if ((dp >= 0.0f) != (dq >= 0.0f) && m < 8) next[std::size_t(m++)] = p + (q - p) * (dp / (dp - dq));
+        }
+        poly = next;
+        n = m;
+    };
+    const auto z = [&](glm::vec3 p) { return glm::dot(p, f.forward); };
+    clip([&](glm::vec3 p) { return z(p) - f.near; });
+    clip([&](glm::vec3 p) { return z(p) * f.tan_x - glm::dot(p, f.right); });
+    clip([&](glm::vec3 p) { return z(p) * f.tan_x + glm::dot(p, f.right); });
+    clip([&](glm::vec3 p) { return z(p) * f.tan_y - glm::dot(p, f.up); });
+    clip([&](glm::vec3 p) { return z(p) * f.tan_y + glm::dot(p, f.up); });
+    if (n == 0) return std::nullopt;
+    // The nearest point: the eye's foot on the plane where it lies inside the polygon, else the
+    // nearest of its edges' points.
+    const glm::vec3 normal = glm::cross(b - a, c - a);
+    const float area2 = glm::dot(normal, normal);
+    if (area2 > 0.0f) {
+        const glm::vec3 foot = normal * (glm::dot(a, normal) / area2);
+        bool inside = true;
+        for (int i = 0; i < n && inside; ++i) {
+            const glm::vec3 p = poly[std::size_t(i)], q = poly[std::size_t((i + 1) % n)];
+            inside = glm::dot(glm::cross(q - p, foot - p), normal) >= 0.0f;
+        }
+        if (inside) return foot;
+    }
+    glm::vec3 nearest = poly[0];
+    for (int i = 0; i < n; ++i) {
+        const glm::vec3 p = poly[std::size_t(i)], q = poly[std::size_t((i + 1) % n)], d = q - p;
+        const float len2 = glm::dot(d, d);
+        const float t = len2 > 0.0f ? std::clamp(-glm::dot(p, d) / len2, 0.0f, 1.0f) : 0.0f;
+        if (glm::dot(p + t * d, p + t * d) < glm::dot(nearest, nearest)) nearest = p + t * d;
+    }
+    return nearest;
+}
 
 // A base triangle's corner: its vertex, its index and its displacement direction (object space).
 struct Corner {
@@ -105,9 +165,27 @@ ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::dmat4
     const glm::mat4 local = linear_part(transform);
     const glm::vec3 eye(camera.eye - glm::dvec3(transform[3]));
     const glm::mat3 normals = normal_matrix(local);
+    // Pixels per unit across the ray at `to` from the eye: the nearer, and the further off the
+    // axis, the more.
+    const auto pixels_per_unit = [&](glm::vec3 to, float closer) {
+        const float dist = glm::length(to);
+        const float c = std::max(dist > 0.0f ? glm::dot(to, forward) / dist : 1.0f, cos_corner);
+        return 1.0f / (std::max(dist - closer, camera.near_plane) * c * c);
+    };
+    // A large triangle's nearest point in view may lie far from its corners (a two-triangle floor
+    // seen from just above it: the corners 14 times as far as the floor under the view, and the
+    // reference there 15 dB from the prism): its nearest point in the frustum, the displacement's
+    // reach nearer still, counts too.
+    const glm::vec3 view_right = glm::normalize(glm::cross(forward, glm::vec3(camera.up)));
+    const Frustum frustum{forward, view_right, glm::cross(view_right, forward), 1.02f * tan_half * aspect,
+                          1.02f * tan_half, camera.near_plane};
     float max_texel_edge = 0.0f, max_pixel_edge = 0.0f;
     const auto& v = mesh.vertices;
     for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+        float triangle_unit = 0.0f;
+        const auto at = [&](int e) { return glm::vec3(local * glm::vec4(v[mesh.indices[t + std::size_t(e)]].position, 1.0f)) - eye; };
+        if (const std::optional<glm::vec3> nearest = nearest_in_view(at(0), at(1), at(2), frustum))
+            triangle_unit = pixels_per_unit(*nearest, reach);
         for (int e = 0; e < 3; ++e) {
             const MeshVertex& p = v[mesh.indices[t + e]];
             const MeshVertex& q = v[mesh.indices[t + (e + 1) % 3]];
@@ -124,13 +202,9 @@ ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::dmat4
             const float displaced = glm::length(wq - wp) + reach * glm::length(nq - np) +
                                     depth * std::min(1.0f, texel_span * step);
             // Pixels per unit across the ray at the nearest, most stretched of the edge's ends.
-            float per_unit = 0.0f;
-            for (const glm::vec3& end : {wp, wq, wp - reach * np, wq - reach * nq, wp + reach * np, wq + reach * nq}) {
-                const glm::vec3 to = end - eye;
-                const float dist = glm::length(to);
-                const float c = std::max(dist > 0.0f ? glm::dot(to, forward) / dist : 1.0f, cos_corner);
-                per_unit = std::max(per_unit, 1.0f / (std::max(dist, camera.near_plane) * c * c));
-            }
+            float per_unit = triangle_unit;
+            for (const glm::vec3& end : {wp, wq, wp - reach * np, wq - reach * nq, wp + reach * np, wq + reach * nq})
+                per_unit = std::max(per_unit, pixels_per_unit(end - eye, 0.0f));
             max_pixel_edge = std::max(max_pixel_edge, displaced * focal_px * per_unit);
         }
     }

@@ -122,6 +122,14 @@ pr_cli(compare_reference_fine_at_wide_field EXIT 0 JSON c.json
        CHECKS "reference.level:GREATER:8|results.0.iou:GREATER:0.995"
        ARGS compare --mesh ${M}/torus.obj --size 64x48 --fovy 178.9 --eye 0.5,0.6,0.8 --target 0,0,0
             --techniques prism --json c.json)
+# A large triangle's nearest point in view counts, not its corners alone: a two-triangle floor
+# 8 units wide seen from 0.4 above it was built at level 362 (its corners 14 times as far as the
+# floor at the bottom of the view), and the prism measured 14.2 dB against it; now at the cap, 21.8.
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/floor2.obj "v -4 0 4\nv 4 0 4\nv 4 0 -4\nv -4 0 -4\nvt 0 0\nvt 20 0\nvt 20 20\nvt 0 20\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n")
+pr_cli(compare_reference_fine_near_a_large_triangle EXIT 0 JSON c.json
+       CHECKS "reference.level:GREATER:1000|results.0.psnr:GREATER:19"
+       ARGS compare --mesh ${CMAKE_CURRENT_BINARY_DIR}/floor2.obj --height builtin:bricks --depth 0.05 --eye 0,0.4,0
+            --target 1.5,0,1.5 --size 128x96 --techniques prism --json c.json)
 # The reference's shadow map stretched by a far object in view: compare says so (its metrics
 # count the lost shadows against the techniques; found by an exploratory session, thirty-fourth).
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/far_torus.json "{\"objects\": [{\"mesh\": \"${M}/torus.obj\", \"depth\": 0.08},
