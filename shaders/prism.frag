@@ -488,8 +488,8 @@ float hit_color_lod(vec3 hit, vec3 t_axis, vec3 b_axis)
 
 void main()
 {
-    // (With PR_PRISM_SEAM_WALL_ID on a folded prism's wall on a UV seam: prism.geom.)
-    uint prim = uint(gl_PrimitiveID) & ~uint(PR_PRISM_SEAM_WALL_ID);
+    // (With PR_PRISM_FOLDED_WALL_ID on a folded prism's wall: prism.geom.)
+    uint prim = uint(gl_PrimitiveID) & ~uint(PR_PRISM_FOLDED_WALL_ID);
     bool from_a[3];
     // The hit's triangle: uv, world normals, object-space tangents dP/du and dP/dv per vertex.
     vec2 frame_uv[3];
@@ -633,11 +633,11 @@ void main()
         // first sample, as at a seam.
         bool decide = pending && (entry_edge >= 0 || k == 0) && !moved;
 #elif defined(PR_PRISM_TEARS)
-        // And from a folded prism's wall on a seam (prism.geom): the ray comes in from the far
-        // side of the tear, and may be in its crack, under this side's surface. Taken to be over
-        // it, it hit at once: a tight shell's slivers at a cylinder's rim drew the cap there, where
-        // the reference shows the crack (docs/prism.md, item 9).
-        bool decide = pending && (entry_edge >= 0 || (k == 0 && (uint(gl_PrimitiveID) & uint(PR_PRISM_SEAM_WALL_ID)) != 0u)) && !moved;
+        // And from a folded prism's wall (prism.geom): the ray may come out of a tear's crack,
+        // under this side's surface. Taken to be over it, it hit at once: a tight shell's folded
+        // slivers at a cylinder's rim drew the cap there, where the reference sees into the crack
+        // (docs/prism.md, item 9).
+        bool decide = pending && (entry_edge >= 0 || (k == 0 && (uint(gl_PrimitiveID) & uint(PR_PRISM_FOLDED_WALL_ID)) != 0u)) && !moved;
 #else
         bool decide = pending && entry_edge >= 0 && !moved;
 #endif

@@ -135,15 +135,12 @@ void main()
     bool folded = (entry & 0x80000000u) != 0u;
     if (folded && (u_march.w & PR_FLAG_OPEN_SHELL) == 0) triangle(0, 2, 1);
     uvec3 across = prism_across;
-    // A folded prism's walls on UV seams carry PR_PRISM_SEAM_WALL_ID: a ray that comes in there may
-    // be under the torn surface's far side (its crack), and the walk from there decides it (prism.frag).
-    uint seams = texelFetch(t_prisms, 8 * prism_id + 7).w / uint(PR_PRISM_SEAM_EDGE_BIT);
-    int id = prism_id;
-    prism_id = id | ((seams & 1u) != 0u ? PR_PRISM_SEAM_WALL_ID : 0);
+    // A folded prism's walls carry PR_PRISM_FOLDED_WALL_ID: on a torn mesh a ray that comes in
+    // there may be under the surface, come out of a tear's crack, and the walk from there decides
+    // it (prism.frag). (Not its bottom: rays come in there from the object's body.)
+    if (folded) prism_id |= PR_PRISM_FOLDED_WALL_ID;
     if (folded || across.x == 0xffffffffu) side(0);
-    prism_id = id | ((seams & 2u) != 0u ? PR_PRISM_SEAM_WALL_ID : 0);
     if (folded || across.y == 0xffffffffu) side(1);
-    prism_id = id | ((seams & 4u) != 0u ? PR_PRISM_SEAM_WALL_ID : 0);
     if (folded || across.z == 0xffffffffu) side(2);
 #endif
 #else

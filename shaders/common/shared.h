@@ -48,12 +48,10 @@ using mat4 = glm::mat4;
 #define PR_IMAGE_TEARS 0    // r32ui, per pixel: 1 where a walk went into the object through a tear (prism walk, torn meshes)
 #define PR_IMAGE_TEAR_TILES 1 // r32ui, the same per tile of PR_TEAR_TILE^2 pixels (the second pass's culling)
 #define PR_TEAR_TILE 16
-// The prism walk's per-prism flags (renderer.cpp, walk_triangles): this bit shifted by e where edge
-// e is a UV seam. A folded prism's wall on a seam is emitted (prism.geom) with
-// PR_PRISM_SEAM_WALL_ID set in its gl_PrimitiveID: a walk from there decides which side of the
-// torn surface it starts on (prism.frag). Prism numbers stay below 2^30 (adjacency.hpp).
-#define PR_PRISM_SEAM_EDGE_BIT 16
-#define PR_PRISM_SEAM_WALL_ID 0x40000000
+// A folded prism's walls are emitted (prism.geom) with this bit set in their gl_PrimitiveID: on a
+// torn mesh a walk from there decides which side of the surface it starts on (prism.frag).
+// Prism numbers stay below 2^30 (adjacency.hpp).
+#define PR_PRISM_FOLDED_WALL_ID 0x40000000
 // The prism's hit tolerance: a sample at most this far above the surface (texture-space height,
 // 0..1) counts as a hit, so that rays grazing a constant cap still hit despite rounding
 // (march/linear.glsl). The walk from an eye starts at least twice as far from the surface

@@ -223,8 +223,7 @@ int walk_prism_limit(const std::vector<MeshVertex>& vertices, const std::vector<
 //   corner and u; unit normal and v), then their tight tops, then edge_adjacency()'s three
 //   neighbours and the flags: bit 0 the prism's winding, as shell.glsl's walk_orientation reads
 //   it (set where the base triangle, world space, winds clockwise about the sum of its vertices'
-//   normals), bits 1..3 the diagonals of its sides (diagonal_from_a of edge e's welded ids),
-//   bits 4..6 its edges that are UV seams (PR_PRISM_SEAM_EDGE_BIT: prism.geom);
+//   normals), bits 1..3 the diagonals of its sides (diagonal_from_a of edge e's welded ids);
 // - `listed` (PR_TEX_PRISM_LIST, prism.geom's PR_PRISM_LISTED), with the tight tops in `corners`
 //   and with full ones: the prisms whose faces other than the caps the walk draws, in ascending
 //   order — those whose shell folds (a cap turned more than 60 degrees from its base triangle),
@@ -236,10 +235,9 @@ struct WalkTriangles {
 };
 
 WalkTriangles walk_triangles(const std::vector<MeshVertex>& vertices, const std::vector<std::uint32_t>& indices,
-                             const std::vector<glm::vec4>& corners, const EdgeAdjacency& adjacency,
+                             const std::vector<glm::vec4>& corners, const std::vector<std::uint32_t>& neighbours,
                              const glm::mat4& transform, float depth)
 {
-    const std::vector<std::uint32_t>& neighbours = adjacency.neighbours;
     WalkTriangles w;
     w.prisms.reserve(indices.size() / 3 * 32);
     const auto normal = [](glm::vec3 a, glm::vec3 b, glm::vec3 c) { return glm::cross(b - a, c - a); };
@@ -276,8 +274,6 @@ WalkTriangles walk_triangles(const std::vector<MeshVertex>& vertices, const std:
         std::uint32_t flags = glm::dot(n_base, up) < 0.0f ? 1u : 0u;
         for (int e = 0; e < 3; ++e)
             if (weld[e] < weld[(e + 1) % 3]) flags |= 2u << e; // shell.glsl, diagonal_from_a
-        for (int e = 0; e < 3; ++e)
-            if (adjacency.seam[t + std::size_t(e)] != 0) flags |= std::uint32_t(PR_PRISM_SEAM_EDGE_BIT) << e;
         w.prisms.insert(w.prisms.end(), {neighbours[t], neighbours[t + 1], neighbours[t + 2], flags});
         const bool open = std::any_of(neighbours.begin() + std::ptrdiff_t(t), neighbours.begin() + std::ptrdiff_t(t + 3),
                                       [](std::uint32_t n) { return n == kNoNeighbour; });
@@ -885,7 +881,7 @@ void Renderer::ensure_walk_data()
         std::vector<glm::vec4> corners =
             make_shell_corners(vertices, indices, *o.height_field, o.height_high, o.local, o.depth, o.midlevel); // the object's frame
         o.corners = gl::immutable_buffer(corners);
-        const WalkTriangles triangles = walk_triangles(vertices, indices, corners, adjacency, o.local, o.depth);
+        const WalkTriangles triangles = walk_triangles(vertices, indices, corners, adjacency.neighbours, o.local, o.depth);
         o.prisms = gl::immutable_buffer(triangles.prisms);
         for (int full = 0; full < 2; ++full) {
             o.listed[full] = gl::immutable_buffer(triangles.listed[full]);
