@@ -788,6 +788,10 @@ void main()
         float lit = 0.0;
         int strips = soft_strips();
         TextureFrame light_frame = texture_frame(t_axis, b_axis, n, u_displace.x);
+#ifdef PR_PRISM_WALK
+        // (The hit prism's flags: shell.glsl's load_walk_prism reads the same texel.)
+        bool frame_differs = (texelFetch(t_prisms, int(8u * prim) + 7).w & PR_PRISM_FRAME_DIFFERS) != 0u;
+#endif
         for (int k = 0; k < strips; ++k) {
             vec3 strip = soft_strip(k, strips);
             vec3 ray_dir = soft_strip_dir(light_dir, n, strip);
@@ -841,7 +845,15 @@ void main()
             // side face was blocked by its own first sample (dashed lines along the triangles'
             // diagonals in close-ups); past its limit of prisms a grazing light's shadows stopped
             // short on fine meshes; folded prisms (--midlevel 1) streaked (found by an exploratory
-            // session). (Soft: never above the part of the disc over the base surface's horizon,
+            // session). Where a neighbour's texture frame differs from the hit prism's (a crease, a
+            // change of UV scale, a seam: frame_differs, set on the CPU), the texture plane is no
+            // guide to the mesh, and the walk's answer stands, shadow or light: the UV sphere's
+            // bumps above 60 degrees of latitude, where u narrows row by row, lost the tops of
+            // their shadows (seen from over the pole, 26.4 -> 34.9 dB against the reference),
+            // the cube's by its edges (25.3 -> 32.3; thirty-ninth session, found by an
+            // exploratory session). The torus and the plane have no such prisms; on the rock and
+            // the sphere 10-16 % of the frame with shadows.
+            // (Soft: never above the part of the disc over the base surface's horizon,
             // which the march in the hit's frame counts and the walk does not; so only where that
             // march found less light than the horizon leaves.) The walk follows the ray the march
             // took: a soft light's raised over the horizon where its centre is under it
@@ -861,12 +873,12 @@ void main()
             // own ray only adds light, and is not bounded by the flat horizon.
             vec3 l_walk = soft_light_ray(l_tex);
             float horizon = soft_horizon(l_walk);
-            if (!below && visibility < horizon) {
+            if (!below && (frame_differs || visibility < horizon)) {
                 vec3 walk_dir = l_walk == l_tex
                                     ? ray_dir
                                     : normalize(t_axis * l_walk.x + b_axis * l_walk.y + n * (u_displace.x * l_walk.z));
                 float walked = light_walk(prim, from, hit, walk_dir);
-                if (walked >= 0.0) visibility = max(visibility, min(walked, horizon));
+                if (walked >= 0.0) visibility = frame_differs ? min(walked, horizon) : max(visibility, min(walked, horizon));
             }
 #if PR_SHADOWS == PR_SHADOWS_SOFT
             if (!below && !light_above_horizon(l_tex)) {

@@ -52,6 +52,11 @@ using mat4 = glm::mat4;
 // torn mesh a walk from there decides which side of the surface it starts on (prism.frag).
 // Prism numbers stay below 2^30 (adjacency.hpp).
 #define PR_PRISM_FOLDED_WALL_ID 0x40000000
+// The walk's per-prism flags (renderer.cpp, walk_triangles): bit 0 the winding, bits 1..3 the
+// sides' diagonals, and this one where a neighbour's texture frame differs from the prism's (a
+// crease, a change of UV scale, a seam): the light's march in the hit's texture plane is no
+// guide to the mesh there, and the walk answers (prism.frag).
+#define PR_PRISM_FRAME_DIFFERS 16u
 // The prism's hit tolerance: a sample at most this far above the surface (texture-space height,
 // 0..1) counts as a hit, so that rays grazing a constant cap still hit despite rounding
 // (march/linear.glsl). The walk from an eye starts at least twice as far from the surface
