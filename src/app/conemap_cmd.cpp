@@ -165,6 +165,7 @@ CommandAction add_conemap_command(CLI::App& app)
         std::printf("%s: %dx%d %s %s, %s in %.0f ms, ratio min %.4f mean %.4f max %.4f\n", one_line(s->out).c_str(), m.width,
                     m.height, cone_kind_name(kind).c_str(), cone_format_name(options.format).c_str(), how.c_str(), ms,
                     lo, mean, hi);
+        if (!s->json.empty()) std::printf("wrote %s\n", one_line(s->json).c_str()); // (as render's and compare's)
         return kExitOk;
     };
 }

@@ -1,7 +1,7 @@
 # prismrelief conemap: success paths, the cache, one-line errors with nothing written.
 # (Included by tests/CMakeLists.txt after cli_tests.cmake, which defines pr_cli, E and BAD.)
 set(CM "^prismrelief: error: ")
-pr_cli(conemap_cone EXIT 0 EXPECT_FILE c.png STDOUT "c.png: 64x64 cone rg16, built \\(cpu.*ratio min [0-9.]+ mean"
+pr_cli(conemap_cone EXIT 0 EXPECT_FILE c.png STDOUT "c.png: 64x64 cone rg16, built \\(cpu.*ratio min [0-9.]+ mean.*\nwrote c.json"
        JSON c.json CHECKS "width:EQUAL:64|kind:STREQUAL:cone|format:STREQUAL:rg16|from_cache:STREQUAL:OFF|ratio_min:GREATER:0|ratio_max:LESS_EQUAL:1|cache_entry:TYPE:NULL|search_ms:TYPE:NULL|search_cpu_ms:TYPE:NULL|searches_resumed:TYPE:NULL|texels_restarted:TYPE:NULL"
        ARGS conemap --height builtin:bumps@64 --out c.png --no-cache --json c.json)
 pr_cli(conemap_relaxed_rg8 EXIT 0 EXPECT_FILE r.png STDOUT "r.png: 48x48 relaxed rg8"
