@@ -76,8 +76,9 @@ struct DrawSettings {
     float light_size = kDefaultLightSize; // soft shadows: the light's angular diameter, degrees
     bool depth_write = false; // base-surface techniques: write the depth of what they show
     bool count_samples = false; // instrumented variant (bench)
-    // The image shifted by this much (pixels, x right, y up): one pass of multisampling
-    // (render --msaa, render/multisample.hpp). (0, 0) samples pixel centres.
+    // Where each pixel samples the scene, from its centre (pixels, x right, y up): one pass of
+    // multisampling (render --msaa, render/multisample.hpp). (0, 0) samples pixel centres; the
+    // image moves by the opposite offset.
     glm::vec2 pixel_offset{0.0f};
 
     AuxMap aux_map() const;
