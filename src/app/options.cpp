@@ -673,8 +673,17 @@ private:
         if (!levels_.empty() && levels_.back().array) ++levels_.back().elements;
     }
 
+    // A scene nests four levels at most (objects[k].transform.translate); a file of nothing but
+    // brackets nested millions deep took about 270 bytes a level here and in the parser, gigabytes
+    // for a file under the size limit, and ran out of memory naming no file (found by an
+    // exploratory session).
+    static constexpr std::size_t kMaxDepth = 64;
+
     void enter(bool array)
     {
+        if (levels_.size() >= kMaxDepth) // (named by its top-level key: the whole path is 64 names long)
+            throw Error(file_ + (levels_.size() > 1 ? ": " + levels_[1].name : std::string()),
+                        "nested deeper than " + std::to_string(kMaxDepth) + " levels (a scene nests 4 at most)");
         Level level;
         level.array = array;
         if (!levels_.empty()) {

@@ -244,11 +244,13 @@ Camera scene_camera(const SceneSpec& spec, const Scene& scene)
         camera.fovy_deg = c.fovy_deg;
         // (The options check a camera whose target is given, naming the flag or the scene key;
         // without one the target is the shell's centre, known only now.)
+        // An eye from a scene file: the file's keys can mend it too.
+        const bool flag_eye = c.eye_place.rfind("--", 0) == 0;
         switch (view_problem(glm::dvec3(camera.eye), glm::dvec3(camera.target), glm::dvec3(camera.up))) {
-        case ViewProblem::SamePoint: throw Error(c.eye_place, "eye and target are the same point");
+        case ViewProblem::SamePoint: // (no target was given: it said "eye and target are the same point")
+            throw Error(c.eye_place, std::string("is the shell's centre, the default target (give ") +
+                                         (flag_eye ? "--target)" : "camera.target, or --target)"));
         case ViewProblem::UpAlongView: {
-            // An eye from a scene file: the file's keys can mend it too.
-            const bool flag_eye = c.eye_place.rfind("--", 0) == 0;
             // (A file's up and the flag's eye: the flag is said, or the file's up alone read as the
             // fault; thirty-sixth session.)
             if (c.up_given)

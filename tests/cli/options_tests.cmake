@@ -74,13 +74,18 @@ pr_scene_refused(eye_is_target "}], \"camera\": {\"eye\": [1, 2, 3], \"target\":
 pr_scene_refused(eye_and_elevation "}], \"camera\": {\"eye\": [3, 2, 3], \"elevation\": 30}}"
                  "camera.elevation: has no effect with camera.eye \\(it places the auto-framed camera")
 pr_scene_refused(azimuth_and_eye "}], \"camera\": {\"azimuth\": 20, \"eye\": [3, 2, 3]}}" "camera.azimuth: has no effect with camera.eye")
-pr_scene_refused(eye_is_centre "}], \"camera\": {\"eye\": [0, 0, 0]}}" "camera: eye and target are the same point")
+# An eye at the shell's centre without a target: the default target is named (it said "eye and
+# target are the same point", of a target never given; found by an exploratory session).
+pr_scene_refused(eye_is_centre "}], \"camera\": {\"eye\": [0, 0, 0]}}"
+                 "camera: is the shell's centre, the default target \\(give camera.target, or --target\\)")
 pr_scene_refused(size_zero "}], \"size\": \"0x10\"}" "size: each side must be between 1 and 16384")
 pr_scene(plain "}]}")
 pr_cli(scene_depth_flag EXIT 1 ONE_LINE STDERR "${E}--depth: must be a finite number >= 0" NO_FILE o.png
        ARGS render --scene ${OS}/plain.json --depth -1 --out o.png)
 pr_cli(eye_is_target EXIT 1 ONE_LINE STDERR "${E}--eye: eye and target are the same point" NO_FILE o.png
        ARGS render ${T} --eye 1,2,3 --target 1,2,3 --out o.png)
+pr_cli(eye_is_centre EXIT 1 ONE_LINE STDERR "${E}--eye: is the shell's centre, the default target \\(give --target\\)"
+       NO_FILE o.png ARGS render ${T} --eye 0,0,0 --out o.png)
 
 # 4. A folder or an unreadable file as the scene.
 pr_cli(scene_is_folder EXIT 1 ONE_LINE STDERR "${E}.*options_scenes: is a folder, not a scene file" NO_FILE o.png
@@ -135,6 +140,11 @@ pr_cli(scene_mirror_scale_accepted EXIT 0 EXPECT_FILE o.png ARGS render --scene 
 pr_scene_refused(duplicate_mesh ", \"mesh\": \"${M}/cube.obj\"}]}" "objects\\[0\\]: \"mesh\" is given twice")
 pr_scene_refused(duplicate_top "}], \"size\": \"48x48\", \"size\": \"64x64\"}" "\"size\" is given twice")
 pr_scene_refused(duplicate_nested ", \"transform\": {\"rotate\": [0, 0, 0]}}, {\"mesh\": \"${M}/cube.obj\", \"transform\": {\"scale\": 1, \"scale\": 2}}]}" "objects\\[1\\].transform: \"scale\" is given twice")
+# Nesting is bounded (a file of brackets nested millions deep took gigabytes, and ran out of memory
+# naming no file; found by an exploratory session): 100 levels under a key of its own.
+string(REPEAT "[" 100 open_brackets)
+string(REPEAT "]" 100 close_brackets)
+pr_scene_refused(nested_deep "}], \"x\": ${open_brackets}${close_brackets}}" "x: nested deeper than 64 levels \\(a scene nests 4 at most\\)")
 pr_scene(base_color_range ", \"base_color\": [2, -1, 0.5]}]}")
 # A scene's eye over the shell's centre along the default up: the advice names the scene's keys too.
 pr_scene_refused(eye_along_up "}], \"camera\": {\"eye\": [0, 5, 0]}}"
