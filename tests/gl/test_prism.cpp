@@ -1218,6 +1218,10 @@ PreparedMesh blender_cylinder(int sides, SideUv side_uv, CapUv cap_uv)
         std::snprintf(line, sizeof line, format, a, b, c);
         obj += line;
     };
+    const auto add_uv = [&](glm::vec2 uv) {
+        std::snprintf(line, sizeof line, "vt %.9g %.9g\n", double(uv.x), double(uv.y));
+        obj += line;
+    };
     for (int row = 0; row < 2; ++row)
         for (int i = 0; i < sides; ++i) {
             const double a = 2.0 * M_PI * i / sides;
@@ -1225,14 +1229,12 @@ PreparedMesh blender_cylinder(int sides, SideUv side_uv, CapUv cap_uv)
         }
     for (int row = 0; row < 2; ++row) // vt 1 .. 2 (sides + 1): the side, a column more (the seam)
         for (int i = 0; i <= sides; ++i) {
-            const glm::vec2 uv = side_uv(double(i) / sides, double(row));
-            add("vt %.9g %.9g%.0s\n", uv.x, uv.y, 0.0);
+            add_uv(side_uv(double(i) / sides, double(row)));
         }
     for (int cap = 0; cap < 2; ++cap) // then the bottom cap's, then the top's
         for (int i = 0; i < sides; ++i) {
             const double a = 2.0 * M_PI * i / sides;
-            const glm::vec2 uv = cap_uv(cap, 0.5 + 0.5 * std::cos(a), 0.5 + 0.5 * std::sin(a));
-            add("vt %.9g %.9g%.0s\n", uv.x, uv.y, 0.0);
+            add_uv(cap_uv(cap, 0.5 + 0.5 * std::cos(a), 0.5 + 0.5 * std::sin(a)));
         }
     for (int i = 0; i < sides; ++i) {
         const double a = 2.0 * M_PI * i / sides;
