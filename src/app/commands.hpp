@@ -180,13 +180,15 @@ inline std::size_t covered_pixels(const RgbaImage& image)
     return covered;
 }
 
-// The camera a report's images were drawn with (compare, render).
+// The camera a report's images were drawn with (compare, render); its floats as the shortest
+// decimals that read back as them (--fovy 178.9 was reported as 178.89999389648438, the float's
+// exact value; found by an exploratory session).
 inline nlohmann::json camera_json(const Camera& c)
 {
     return {{"eye", {c.eye.x, c.eye.y, c.eye.z}},
             {"target", {c.target.x, c.target.y, c.target.z}},
-            {"up", {c.up.x, c.up.y, c.up.z}},
-            {"fovy", c.fovy_deg}};
+            {"up", {shortest_decimal(c.up.x), shortest_decimal(c.up.y), shortest_decimal(c.up.z)}},
+            {"fovy", shortest_decimal(c.fovy_deg)}};
 }
 
 // How the reference geometry was built (compare, render --technique reference).

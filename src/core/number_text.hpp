@@ -1,8 +1,10 @@
 #pragma once
 // Numbers printed for people, where a rounded value would say something false.
+#include <charconv>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <system_error>
 
 namespace pr {
 
@@ -18,6 +20,17 @@ inline std::string bounded_text(double value, int digits, double low, double hig
         const double shown = std::strtod(text, nullptr);
         if (shown != low && shown != high) return text;
     }
+}
+
+// A float as the double of the shortest decimal that reads back as it (178.9, not the float's
+// exact 178.89999389648438), for reports a person reads and a script feeds back.
+inline double shortest_decimal(float f)
+{
+    char text[32];
+    const auto [end, error] = std::to_chars(text, text + sizeof text - 1, f);
+    if (error != std::errc()) return double(f);
+    *end = '\0';
+    return std::strtod(text, nullptr);
 }
 
 } // namespace pr

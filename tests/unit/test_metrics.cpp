@@ -313,3 +313,14 @@ TEST(Metrics, IouTextNeverRoundsUpToOne)
     EXPECT_EQ(pr::bounded_text(100.0, 1, 0.0, 100.0), "100.0");
     EXPECT_EQ(pr::bounded_text(42.04, 1, 0.0, 100.0), "42.0");
 }
+
+// Reports give a float as the shortest decimal that reads back as it (render --json's camera:
+// --fovy 178.9 read 178.89999389648438).
+TEST(Metrics, FloatsAreReportedAsTheirShortestDecimal)
+{
+    EXPECT_EQ(pr::shortest_decimal(178.9f), 178.9);
+    EXPECT_EQ(pr::shortest_decimal(40.0f), 40.0);
+    EXPECT_EQ(pr::shortest_decimal(0.1f), 0.1);
+    EXPECT_EQ(float(pr::shortest_decimal(1.0f / 3.0f)), 1.0f / 3.0f); // reads back as the same float
+    EXPECT_EQ(pr::shortest_decimal(-2.5e-30f), -2.5e-30);
+}
