@@ -176,6 +176,9 @@ CommandAction add_bench_command(CLI::App& app)
             const nlohmann::json report = {{"results", results},
                                            {"size", {session.spec.width, session.spec.height}},
                                            {"objects", scene_json(session.scene)},
+                                           // (Times depend on the view: the camera makes a run
+                                           // repeatable, as render's and compare's reports do.)
+                                           {"camera", camera_json(session.camera)},
                                            {"renderer", session.context->description()},
                                            {"steps", s->quality.steps},
                                            {"refine", s->quality.refine}};
