@@ -6,6 +6,7 @@
 #include "core/transform.hpp"
 #include "core/image.hpp"
 #include "maps/conemap.hpp"
+#include "render/reference_geometry.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -433,10 +434,9 @@ bool check_cone_map_flags_apply(const SceneOptions& o, const std::vector<DrawSet
 ReferenceOptions make_reference_options(const TechniqueOptions& o)
 {
     // (An automatic level may be finer than 256 on large triangles: a two-triangle floor under a
-    // map repeated many times took 362, which the flag could not ask for. 4096 keeps one base
-    // triangle's vertices, 8.4 million, well within 32-bit indices.)
-    if (o.reference_level < 0 || o.reference_level > 4096)
-        throw Error("--reference-level", "must be between 0 (automatic) and 4096");
+    // map repeated many times took 362, which the flag could not ask for.)
+    if (o.reference_level < 0 || o.reference_level > kMaxReferenceLevel)
+        throw Error("--reference-level", "must be between 0 (automatic) and " + std::to_string(kMaxReferenceLevel));
     if (o.reference_max_triangles < 1) throw Error("--reference-max-triangles", "must be at least 1");
     ReferenceOptions r;
     r.level = o.reference_level;
@@ -673,7 +673,7 @@ private:
         if (!levels_.empty() && levels_.back().array) ++levels_.back().elements;
     }
 
-    // A scene nests four levels at most (objects[k].transform.translate); a file of nothing but
+    // A scene nests five levels at most, its own object counted (objects[k].transform.translate); a file of nothing but
     // brackets nested millions deep took about 270 bytes a level here and in the parser, gigabytes
     // for a file under the size limit, and ran out of memory naming no file (found by an
     // exploratory session).
@@ -683,7 +683,7 @@ private:
     {
         if (levels_.size() >= kMaxDepth) // (named by its top-level key: the whole path is 64 names long)
             throw Error(file_ + (levels_.size() > 1 ? ": " + levels_[1].name : std::string()),
-                        "nested deeper than " + std::to_string(kMaxDepth) + " levels (a scene nests 4 at most)");
+                        "nested deeper than " + std::to_string(kMaxDepth) + " levels (a scene needs 5)");
         Level level;
         level.array = array;
         if (!levels_.empty()) {

@@ -1,6 +1,7 @@
 #pragma once
-// Multisampling for `render --msaa N`: N passes of the whole frame, each with the image shifted by
-// one of the standard N-sample positions within the pixel, resolved into one image whose alpha is
+// Multisampling for `render --msaa N`: N passes of the whole frame, each sampling every pixel at
+// one of the standard N-sample positions within it (the image shifted the opposite way: Renderer,
+// DrawSettings::pixel_offset), resolved into one image whose alpha is
 // the fraction of samples covered. Passes rather than a multisampled framebuffer: the prism's
 // silhouette is where its fragments discard, which a multisampled target resolves only with
 // per-sample shading (the same N shadings a pixel), and the walk's per-pixel marks (the tears'

@@ -209,8 +209,16 @@ ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::dmat4
         }
     }
     const float texels_per_edge = step > kSharpStep ? 0.5f : 1.0f;
-    r.texel_level = std::max(1, static_cast<int>(std::ceil(max_texel_edge / texels_per_edge)));
-    r.pixel_level = std::max(1, static_cast<int>(std::ceil(max_pixel_edge)));
+    // Bounded before the conversion to int: an eye inside the shell, within the displacement's
+    // reach of a triangle it sees, measures it from the near plane, and a narrow field of view
+    // took the product past 2^31 (the cast gave INT_MIN, the level fell to the cheap one without
+    // a word; found by a review). Not a number counts as the finest.
+    const auto bounded_level = [](float edges) {
+        const double v = std::ceil(double(edges));
+        return v < 1.0 ? 1 : (v <= double(kMaxReferenceLevel) ? int(v) : kMaxReferenceLevel);
+    };
+    r.texel_level = bounded_level(max_texel_edge / texels_per_edge);
+    r.pixel_level = bounded_level(max_pixel_edge);
     const int wanted = std::min(r.texel_level, r.pixel_level);
     r.level = std::max(wanted, std::min(r.texel_level, floor_level));
     const std::size_t tris = std::max<std::size_t>(mesh.triangle_count(), 1);

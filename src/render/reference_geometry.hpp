@@ -36,6 +36,10 @@ inline float displacement_reach(float depth, float midlevel)
 // its feet and draw it at half its height.
 inline constexpr float kSharpStep = 0.25f;
 
+// The finest level, automatic or given (--reference-level): one base triangle's vertices,
+// (L + 1)(L + 2) / 2, stay well within 32-bit indices (8.4 million).
+inline constexpr int kMaxReferenceLevel = 4096;
+
 // The largest rise between neighbouring texels (wrapped) of a height field, for
 // choose_reference_level: one pass over its texels, taken once per field that objects share.
 float steepest_texel_step(const HeightField& height);

@@ -682,6 +682,9 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
     // memory ran out, and where the system overcommits memory the kernel kills such a process,
     // with no message, rather than failing an allocation.)
     if (software_) {
+        // (The reference held now is given back first: rebuilt, it is replaced, and a rebuild that
+        // fits once it is gone, the viewer's, was refused while it was counted; found by a review.)
+        for (GpuObject& each : objects_) each.reference.clear();
         std::uint64_t bytes = 0;
         for (std::size_t k = 0; k < levels.size(); ++k)
             bytes += std::uint64_t(base_triangles[k]) * reference_bytes_per_triangle(levels[k].level);

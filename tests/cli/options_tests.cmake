@@ -144,7 +144,7 @@ pr_scene_refused(duplicate_nested ", \"transform\": {\"rotate\": [0, 0, 0]}}, {\
 # naming no file; found by an exploratory session): 100 levels under a key of its own.
 string(REPEAT "[" 100 open_brackets)
 string(REPEAT "]" 100 close_brackets)
-pr_scene_refused(nested_deep "}], \"x\": ${open_brackets}${close_brackets}}" "x: nested deeper than 64 levels \\(a scene nests 4 at most\\)")
+pr_scene_refused(nested_deep "}], \"x\": ${open_brackets}${close_brackets}}" "x: nested deeper than 64 levels \\(a scene needs 5\\)")
 pr_scene(base_color_range ", \"base_color\": [2, -1, 0.5]}]}")
 # A scene's eye over the shell's centre along the default up: the advice names the scene's keys too.
 pr_scene_refused(eye_along_up "}], \"camera\": {\"eye\": [0, 5, 0]}}"

@@ -130,6 +130,13 @@ pr_cli(compare_reference_fine_near_a_large_triangle EXIT 0 JSON c.json
        CHECKS "reference.level:GREATER:1000|results.0.psnr:GREATER:19"
        ARGS compare --mesh ${CMAKE_CURRENT_BINARY_DIR}/floor2.obj --height builtin:bricks --depth 0.05 --eye 0,0.4,0
             --target 1.5,0,1.5 --size 128x96 --techniques prism --json c.json)
+# The criteria bounded before they become levels: from inside the shell with a narrow field of
+# view the pixel criterion passed 2^31, the conversion gave INT_MIN, and the level fell to the
+# cheap one (362 here) without a word; the texel criterion's 512 now (found by a review).
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/floor_wide.obj "v -5000 0 5000\nv 5000 0 5000\nv 5000 0 -5000\nv -5000 0 -5000\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n")
+pr_cli(reference_level_bounded_in_a_narrow_view EXIT 0 STDOUT "reference: level 512,"
+       ARGS render --mesh ${CMAKE_CURRENT_BINARY_DIR}/floor_wide.obj --depth 0.5 --eye 0,0.2,0 --target 0.05,0,0.02
+            --fovy 1 --technique reference --size 64x48 --out r.png)
 # The reference's shadow map stretched by a far object in view: compare says so (its metrics
 # count the lost shadows against the techniques; found by an exploratory session, thirty-fourth).
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/far_torus.json "{\"objects\": [{\"mesh\": \"${M}/torus.obj\", \"depth\": 0.08},

@@ -1,4 +1,4 @@
-// render --msaa: passes with the image shifted by the standard sample positions, resolved into
+// render --msaa: passes sampling each pixel at the standard sample positions, resolved into
 // alpha = the fraction of samples covered (render/multisample.hpp).
 #include "gl_fixture.hpp"
 
