@@ -237,9 +237,10 @@ struct WalkTriangles {
 
 // How much a neighbour's texture frame (dP/du, dP/dv) may differ from a triangle's, as a fraction
 // of the frame's size, before the light's march in the triangle's texture plane gives way to the
-// walk (prism.frag): a fifth is a turn of about 11 degrees of both axes. Of the bundled meshes'
-// prisms none of the torus's and the plane's is flagged, 12 % of the rock's, 21 % of the blob's,
-// 40 % of the UV sphere's (its rows nearest the poles) and every one of the cube's.
+// walk (prism.frag): a fifth is a turn of about 11 degrees of both axes. Flagged, with the
+// triangles around the ends of such edges: none of the torus's and the plane's prisms, 26 % of
+// the rock's, 39 % of the blob's, 60 % of the UV sphere's (its rows nearest the poles) and every
+// one of the cube's.
 constexpr float kFrameChange = 0.2f;
 
 WalkTriangles walk_triangles(const std::vector<MeshVertex>& vertices, const std::vector<std::uint32_t>& indices,
@@ -276,21 +277,35 @@ WalkTriangles walk_triangles(const std::vector<MeshVertex>& vertices, const std:
         no_frame[t] = !(std::abs(det) > 0.0f);
         if (!no_frame[t]) frames[t] = {(e1 * d2.y - e2 * d1.y) / det, (e2 * d1.x - e1 * d2.x) / det};
     }
+    // Edge e of triangle t: whether the frames differ across it.
+    const auto edge_differs = [&](std::size_t t, int e) {
+        const std::uint32_t across = neighbours[3 * t + std::size_t(e)];
+        if (across == kNoNeighbour) return false;
+        const std::size_t n = across >> 2, ne = across & 3u;
+        if (no_frame[t] || no_frame[n]) return true;
+        // A UV seam (the shared edge's ends at other texture coordinates, beyond whole repeats).
+        const glm::vec2 a = vertices[indices[3 * t + std::size_t(e)]].uv - vertices[indices[3 * n + (ne + 1) % 3]].uv;
+        const glm::vec2 b = vertices[indices[3 * t + std::size_t(e + 1) % 3]].uv - vertices[indices[3 * n + ne]].uv;
+        if (glm::length(a - glm::round(a)) > 1e-5f || glm::length(b - a) > 1e-5f) return true;
+        const float size = glm::length(frames[t][0]) + glm::length(frames[t][1]);
+        const float change = glm::length(frames[n][0] - frames[t][0]) + glm::length(frames[n][1] - frames[t][1]);
+        return !(change <= kFrameChange * size);
+    };
+    // The welded positions at the ends of such edges: the triangles around them are flagged too,
+    // whose shell bends with the welded normal there though their own edges' frames agree (a sheet
+    // folded along a hinge cut its shadows along the diagonals of the triangles that touch the
+    // hinge at a corner; found by an exploratory session).
+    std::vector<char> bent(vertices.size() ? welded_position_count(vertices) : 0, 0);
+    for (std::size_t t = 0; t < count; ++t)
+        for (int e = 0; e < 3; ++e)
+            if (no_frame[t] || edge_differs(t, e)) {
+                bent[vertices[indices[3 * t + std::size_t(e)]].weld_id] = 1;
+                bent[vertices[indices[3 * t + std::size_t(e + 1) % 3]].weld_id] = 1;
+            }
     const auto frame_differs = [&](std::size_t t) {
         if (no_frame[t]) return true;
-        const float size = glm::length(frames[t][0]) + glm::length(frames[t][1]);
-        for (int e = 0; e < 3; ++e) {
-            const std::uint32_t across = neighbours[3 * t + std::size_t(e)];
-            if (across == kNoNeighbour) continue;
-            const std::size_t n = across >> 2, ne = across & 3u;
-            if (no_frame[n]) return true;
-            // A UV seam (the shared edge's ends at other texture coordinates, beyond whole repeats).
-            const glm::vec2 a = vertices[indices[3 * t + std::size_t(e)]].uv - vertices[indices[3 * n + (ne + 1) % 3]].uv;
-            const glm::vec2 b = vertices[indices[3 * t + std::size_t(e + 1) % 3]].uv - vertices[indices[3 * n + ne]].uv;
-            if (glm::length(a - glm::round(a)) > 1e-5f || glm::length(b - a) > 1e-5f) return true;
-            const float change = glm::length(frames[n][0] - frames[t][0]) + glm::length(frames[n][1] - frames[t][1]);
-            if (!(change <= kFrameChange * size)) return true;
-        }
+        for (int i = 0; i < 3; ++i)
+            if (bent[vertices[indices[3 * t + std::size_t(i)]].weld_id]) return true;
         return false;
     };
     for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
