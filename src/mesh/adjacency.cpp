@@ -15,6 +15,7 @@ EdgeAdjacency edge_adjacency(const std::vector<MeshVertex>& vertices, const std:
         throw Error("mesh", "too many triangles for the prism walk's adjacency (2^30 or more)");
     EdgeAdjacency out;
     out.neighbours.assign(triangles * 3, kNoNeighbour);
+    out.seam.assign(triangles * 3, 0);
 
     // Bucket every edge by the smaller weld id of its ends (counting sort: two passes over the
     // edges, 4 bytes per edge and per welded position), then pair edges within a bucket.
@@ -57,7 +58,10 @@ EdgeAdjacency edge_adjacency(const std::vector<MeshVertex>& vertices, const std:
                 out.neighbours[y] = (x / 3) << 2 | (x % 3);
                 // Corner e of x is corner e + 1 of y and the other way round.
                 const std::size_t tx = 3 * (x / 3), ty = 3 * (y / 3);
-                if (!same_uv(tx + x % 3, ty + (y % 3 + 1) % 3, tx + (x % 3 + 1) % 3, ty + y % 3)) ++out.seam_edges;
+                if (!same_uv(tx + x % 3, ty + (y % 3 + 1) % 3, tx + (x % 3 + 1) % 3, ty + y % 3)) {
+                    out.seam[x] = out.seam[y] = 1;
+                    ++out.seam_edges;
+                }
             }
             it = same;
         }

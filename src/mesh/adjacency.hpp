@@ -22,6 +22,8 @@ struct EdgeAdjacency {
     // Paired edges whose two triangles give an end different texture coordinates (other than by
     // whole repeats of the texture): UV seams, where the displaced surface may tear.
     std::size_t seam_edges = 0;
+    // Per entry, as `neighbours`: 1 on a paired edge that is such a seam (both sides' entries).
+    std::vector<std::uint8_t> seam;
 };
 
 // Throws pr::Error when the mesh has 2^30 triangles or more (the packing's limit).

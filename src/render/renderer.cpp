@@ -244,9 +244,10 @@ struct WalkTriangles {
 constexpr float kFrameChange = 0.2f;
 
 WalkTriangles walk_triangles(const std::vector<MeshVertex>& vertices, const std::vector<std::uint32_t>& indices,
-                             const std::vector<glm::vec4>& corners, const std::vector<std::uint32_t>& neighbours,
+                             const std::vector<glm::vec4>& corners, const EdgeAdjacency& adjacency,
                              const glm::mat4& transform, float depth)
 {
+    const std::vector<std::uint32_t>& neighbours = adjacency.neighbours;
     WalkTriangles w;
     w.prisms.reserve(indices.size() / 3 * 32);
     const auto normal = [](glm::vec3 a, glm::vec3 b, glm::vec3 c) { return glm::cross(b - a, c - a); };
@@ -281,12 +282,8 @@ WalkTriangles walk_triangles(const std::vector<MeshVertex>& vertices, const std:
     const auto edge_differs = [&](std::size_t t, int e) {
         const std::uint32_t across = neighbours[3 * t + std::size_t(e)];
         if (across == kNoNeighbour) return false;
-        const std::size_t n = across >> 2, ne = across & 3u;
-        if (no_frame[t] || no_frame[n]) return true;
-        // A UV seam (the shared edge's ends at other texture coordinates, beyond whole repeats).
-        const glm::vec2 a = vertices[indices[3 * t + std::size_t(e)]].uv - vertices[indices[3 * n + (ne + 1) % 3]].uv;
-        const glm::vec2 b = vertices[indices[3 * t + std::size_t(e + 1) % 3]].uv - vertices[indices[3 * n + ne]].uv;
-        if (glm::length(a - glm::round(a)) > 1e-5f || glm::length(b - a) > 1e-5f) return true;
+        const std::size_t n = across >> 2;
+        if (no_frame[t] || no_frame[n] || adjacency.seam[3 * t + std::size_t(e)] != 0) return true; // (a UV seam)
         const float size = glm::length(frames[t][0]) + glm::length(frames[t][1]);
         const float change = glm::length(frames[n][0] - frames[t][0]) + glm::length(frames[n][1] - frames[t][1]);
         return !(change <= kFrameChange * size);
@@ -691,15 +688,16 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
         if (hidden[k]) levels[k].capped = false; // (lowered for being out of view, not by the cap)
     int finest = 1;
     for (const ReferenceLevel& lv : levels) finest = std::max(finest, lv.level);
+    // The reference held now is given back first: rebuilt, it is replaced (and on llvmpipe a
+    // rebuild that fits once it is gone, the viewer's, was refused while it was counted below;
+    // found by a review).
+    for (GpuObject& o : objects_) o.reference.clear();
     // A software renderer's buffers are this process's memory: a reference larger than what the
     // system has available is refused before it is built. (An explicit --reference-level 256 on
     // the rock asks for 27 GB, more than the 23 GB machine has: it was built chunk by chunk until
     // memory ran out, and where the system overcommits memory the kernel kills such a process,
     // with no message, rather than failing an allocation.)
     if (software_) {
-        // (The reference held now is given back first: rebuilt, it is replaced, and a rebuild that
-        // fits once it is gone, the viewer's, was refused while it was counted; found by a review.)
-        for (GpuObject& each : objects_) each.reference.clear();
         std::uint64_t bytes = 0;
         for (std::size_t k = 0; k < levels.size(); ++k)
             bytes += std::uint64_t(base_triangles[k]) * reference_bytes_per_triangle(levels[k].level);
@@ -709,7 +707,6 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
     for (std::size_t k = 0; k < objects_.size(); ++k) {
         const SceneObject& so = scene.objects[k];
         GpuObject& o = objects_[k];
-        o.reference.clear();
         const ReferenceLevel& lv = levels[k];
         stats.level = std::max(stats.level, lv.level);
         stats.levels.push_back(lv.level);
@@ -945,7 +942,7 @@ void Renderer::ensure_walk_data()
         std::vector<glm::vec4> corners =
             make_shell_corners(vertices, indices, *o.height_field, o.height_high, o.local, o.depth, o.midlevel); // the object's frame
         o.corners = gl::immutable_buffer(corners);
-        const WalkTriangles triangles = walk_triangles(vertices, indices, corners, adjacency.neighbours, o.local, o.depth);
+        const WalkTriangles triangles = walk_triangles(vertices, indices, corners, adjacency, o.local, o.depth);
         o.prisms = gl::immutable_buffer(triangles.prisms);
         for (int full = 0; full < 2; ++full) {
             o.listed[full] = gl::immutable_buffer(triangles.listed[full]);

@@ -96,7 +96,10 @@ TEST(Adjacency, SeamEdgesAreThoseWhoseUvsDifferBeyondWholeRepeats)
     s.vertices[5].uv = uv[2] + glm::vec2(1.0f, -1.0f); // both ends whole repeats, by different shifts:
     EXPECT_EQ(pr::edge_adjacency(s.vertices, s.indices).seam_edges, 1u); // the points between are not
     s.vertices[5].uv = uv[2] + glm::vec2(2.5f, -1.0f); // one end elsewhere in the texture
-    EXPECT_EQ(pr::edge_adjacency(s.vertices, s.indices).seam_edges, 1u);
+    const pr::EdgeAdjacency a = pr::edge_adjacency(s.vertices, s.indices);
+    EXPECT_EQ(a.seam_edges, 1u);
+    // Both sides' entries of the seam are flagged (edge 2-0 of the first, 4-5 of the second), no other.
+    EXPECT_EQ(a.seam, (std::vector<std::uint8_t>{0, 0, 1, 1, 0, 0}));
 
     const auto seams = [](const char* name) {
         const pr::PreparedMesh m = pr::load_mesh(std::filesystem::path(PR_SOURCE_DIR) / "meshes" / name);
