@@ -161,17 +161,16 @@ void main()
 #else
         MarchRay ray = MarchRay(vec3(uv, 1.0), vec3(slope, -1.0), 1.0, max(u_march.x, 1), vec3(0.0));
 #if PR_TECHNIQUE == PR_TECH_CONE || PR_TECHNIQUE == PR_TECH_RELAXED_CONE
-        Bracket b = march_cone(ray);
+        float s_t = 1.0;
+        march_cone_patches(ray, s_t);
 #else
         Bracket b = march_linear(ray, g);
-#endif
         float s_t = b.hit ? b.t_below : 1.0;
 #if PR_TECHNIQUE == PR_TECH_POM
         if (b.hit) s_t = interpolate_bracket(b);
 #elif PR_TECHNIQUE == PR_TECH_RELIEF
         if (b.hit) s_t = refine_binary(ray, b, u_march.y, g);
-#elif PR_TECHNIQUE == PR_TECH_CONE || PR_TECHNIQUE == PR_TECH_RELAXED_CONE
-        if (b.hit) s_t = refine_cone(ray, b, g);
+#endif
 #endif
         uv += s_t * slope;
         t_hit = s_t / descent;

@@ -7,7 +7,8 @@
 // (a rising ray whose slope is steeper than the cone's never leaves it: it goes to the end).
 // With a conservative map the cone is empty, so the ray never passes the surface; with a relaxed
 // map it crosses the surface at most once inside the cone, so the first sample below the
-// surface brackets the first crossing. Either way refine_cone() finishes.
+// surface brackets the first crossing. Either way refine_cone() finishes (the prism's marchers;
+// the base-surface techniques march each sample's bilinear patch exactly instead, below).
 //
 // Every step is at least the linear step t_end / steps (contract: equal --steps means equal
 // step length), so cone stepping never does more work than the linear search and converges
@@ -16,6 +17,7 @@
 // (maps::ratios_for_bilinear), so the filtered ratio between texel centres is no wider than the
 // narrowest of the four around it (unnarrowed, rays jumped over the corners of boxes).
 #include "march/relief.glsl"
+#include "march/patch.glsl"
 
 #ifdef PR_HEIGHT_FROM_CONE // (common/height.glsl declares s_cone then)
 
@@ -92,13 +94,6 @@ Bracket march_cone_from(MarchRay r, vec3 hc0, bool pending, bool decide, inout b
     return Bracket(false, t, t, d, 0.0);
 }
 
-Bracket march_cone(MarchRay r)
-{
-    vec3 hc_end;
-    bool below = false;
-    return march_cone_from(r, cone_at(r.origin.xy), false, false, below, hc_end);
-}
-
 // The hit inside a cone march's bracket (a cone step may leave one several linear steps long).
 // False position with the Illinois modification (an end kept twice running has its distance
 // halved, so neither end sticks), and a bisection after any step that kept more than half the
@@ -159,4 +154,133 @@ float refine_cone(MarchRay r, Bracket b, UvGrad g)
     }
     return done ? hit : mix(ta, tb, fa / max(fa - fb, 1e-30));
 }
+
+#ifdef PR_CONE_PATCHES
+// The base-surface techniques (`cone`, `relaxed-cone`) read the map from another texture
+// (src/render/renderer.cpp, make_patch_texture): each R32F texel holds a height and the map's
+// ratio, and one textureGather reads the four around a bilinear patch, so a sample gives the
+// patch it lies in, whole: its heights, and as its ratio the narrowest of its corners (the bound
+// ratios_for_bilinear keeps the filtered ratio under). The march meets the ray's stretch over
+// that patch exactly (march/patch.glsl): wherever the first crossing lies in the patch of a
+// sample, that sample finds it, with no refinement after it. A cone step that stops just above a
+// brick's flat top ends the march there (the march before took a sample under the top and
+// refined: 0.43 of relief's samples on builtin:bricks, now 0.31; docs/cone-maps.md).
+layout(binding = PR_TEX_PATCH) uniform sampler2D s_patch;
+
+// The ray in patch coordinates (patch (i, j) spans [i, i + 1) x [j, j + 1)), from the origin less
+// its whole repeats of the map, so UVs far from 0 keep their precision.
+struct PatchRay {
+    vec2 x0;
+    vec2 dx;
+    vec2 inv;   // 1 / dx; huge where dx is 0
+    vec2 enter; // the side of a patch where the ray enters it: 0 (its low side) or 1
+    vec2 texel; // 1 / the texture's size
+    float z0;
+    float dz;
+};
+
+struct Patch {
+    vec4 h;   // heights (h00, h10, h01, h11)
+    vec2 lo;  // the patch's corner in the ray's coordinates
+    float c;  // the cone's ratio (a relaxed map's own: base-surface rays descend)
+};
+
+PatchRay patch_ray(MarchRay r)
+{
+    vec2 size = vec2(textureSize(s_patch, 0));
+    vec2 dx = r.dir.xy * size;
+    vec2 inv = vec2(abs(dx.x) > 1e-30 ? 1.0 / dx.x : 1e30, abs(dx.y) > 1e-30 ? 1.0 / dx.y : 1e30);
+    return PatchRay((r.origin.xy - floor(r.origin.xy)) * size - 0.5, dx, inv, vec2(lessThan(dx, vec2(0.0))),
+                    1.0 / size, r.origin.z, r.dir.z);
+}
+
+// One fetch: the patch the ray's point at t lies in. Counted as a height sample.
+Patch patch_at(PatchRay pr, float t)
+{
+    ++g_height_samples;
+    vec2 lo = floor(pr.x0 + t * pr.dx);
+    // The 2x2 texels around the patch's middle corner, wrapped by the sampler; x = (i0, j1),
+    // y = (i1, j1), z = (i1, j0), w = (i0, j0) (renderer.cpp, make_patch_texture).
+    vec4 v = textureGather(s_patch, (lo + 1.0) * pr.texel, 0).wzxy * 16777216.0;
+    vec4 k = floor(v * (1.0 / 256.0));
+    vec4 bytes = v - 256.0 * k;
+    float root = min(min(bytes.x, bytes.y), min(bytes.z, bytes.w)) * (1.0 / 255.0);
+    return Patch(k * (1.0 / 65535.0), lo, root * root);
+}
+
+// The parameters where the ray enters and leaves the patch at lo.
+vec2 patch_span(PatchRay pr, vec2 lo)
+{
+    vec2 a = (lo + pr.enter - pr.x0) * pr.inv, b = (lo + 1.0 - pr.enter - pr.x0) * pr.inv;
+    return vec2(max(a.x, a.y), min(b.x, b.y));
+}
+
+// The march: true and the hit's t, or false (the ray ends above the surface). One loop, with one
+// fetch and one exact test per iteration (llvmpipe runs a loop's whole body for a group of
+// fragments as long as any of them is in it: a second loop for the search after the bracket,
+// inside this one, cost more than the march). Each iteration takes the ray's stretch over the
+// patch last fetched (within the bracket): if the ray meets it there, that is the hit; if the ray
+// enters it under the surface, the crossing lies before, and the bracket ends there; else the ray
+// is above the surface up to the stretch's end. Until a bracket is known the next sample is a
+// cone step from there (at least the linear step from the last sample, and past the patch);
+// after, each sample searches the bracket (the first by false position, then bisection), and
+// settles the crossing in its patch or takes its patch off the bracket.
+bool march_cone_patches(MarchRay r, out float t_hit)
+{
+    PatchRay pr = patch_ray(r);
+    float min_dt = linear_step(r);
+    float run = length(r.dir.xy);
+    // Past a patch's border by a ten-thousandth of a patch, and a few float steps of the ray's
+    // largest coordinate (as march/maxmip.glsl).
+    float reach = max(max(abs(pr.x0.x), abs(pr.x0.y)),
+                      max(abs(pr.x0.x + r.t_end * pr.dx.x), abs(pr.x0.y + r.t_end * pr.dx.y)));
+    float per_patch = 1.0 / max(max(abs(pr.dx.x), abs(pr.dx.y)), 1e-6);
+    float nudge = max(1e-4 * min(per_patch, r.t_end), 4.0 * reach / 8388608.0 * per_patch);
+    float ta = 0.0, fa = 0.0;     // the ray is above the surface up to ta, fa over it there
+    float tb = r.t_end, fb = 0.0; // searching: at or under it at tb
+    float t_s = 0.0;              // the last sample
+    bool searching = false;
+    int searched = 0;
+    Patch p = patch_at(pr, 0.0);
+    // The cone steps advance at least min_dt (at most `steps` of them); each search sample takes
+    // at least a patch off the bracket, which halves after the first.
+    for (int i = 0; i <= r.steps + 24; ++i) {
+        vec2 span = patch_span(pr, p.lo);
+        float t0 = clamp(span.x, ta, tb);
+        float t1 = clamp(span.y, t0, tb);
+        vec3 g = patch_gap_poly(p.h, clamp(pr.x0 + t0 * pr.dx - p.lo, 0.0, 1.0), pr.dx, pr.z0 + t0 * pr.dz, pr.dz);
+        if (g.x <= PR_HIT_EPSILON) {
+            // Under where the ray comes over p: the crossing lies before (at ta: only by rounding).
+            if (t0 <= ta) {
+                t_hit = ta;
+                return true;
+            }
+            tb = t0;
+            fb = g.x;
+            searching = true;
+        } else {
+            float s = gap_first_root(g, t1 - t0);
+            if (s >= 0.0) {
+                t_hit = t0 + s;
+                return true;
+            }
+            ta = t1;
+            fa = g.x + (g.y + g.z * (t1 - t0)) * (t1 - t0);
+            if (ta >= tb) break;
+        }
+        if (searching) {
+            t_s = searched == 0 ? mix(ta, tb, fa / max(fa - fb, 1e-30)) : 0.5 * (ta + tb);
+            ++searched;
+        } else {
+            float denom = run - p.c * r.dir.z;
+            float dt = denom > 1e-12 ? p.c * fa / denom : (p.c > 0.0 ? r.t_end : 0.0);
+            t_s = min(max(t_s + min_dt, ta + max(dt, nudge)), r.t_end);
+        }
+        p = patch_at(pr, t_s);
+    }
+    // (Only by rounding: the secant of what is left.)
+    t_hit = searching ? mix(ta, tb, fa / max(fa - fb, 1e-30)) : r.t_end;
+    return searching;
+}
+#endif // PR_CONE_PATCHES
 #endif // PR_HEIGHT_FROM_CONE

@@ -7,6 +7,7 @@
 // into a cell it may touch, and at level 0 solves the quadratic z(t) = h(t) of the patch, so the
 // hit needs no refinement. Coordinates: X = uv * size - 0.5 puts patch i at [i, i + 1).
 #include "march/relief.glsl"
+#include "march/patch.glsl"
 
 #if defined(PR_MARCHER) && PR_MARCHER == PR_MARCH_MAX_MIP
 layout(binding = PR_TEX_CONE) uniform sampler2D s_maxmip;
@@ -14,33 +15,6 @@ layout(binding = PR_TEX_CONE) uniform sampler2D s_maxmip;
 #ifndef PR_MAXMIP_MAX_ITERATIONS
 #define PR_MAXMIP_MAX_ITERATIONS 1024
 #endif
-
-// First t in [0, t_len] where z0 + t dz <= the bilinear patch with corner heights
-// h = (h00, h10, h01, h11) along f0 + t df (patch coordinates in [0,1]^2); -1 when none.
-float patch_hit(vec4 h, vec2 f0, vec2 df, float z0, float dz, float t_len)
-{
-    float b = h.y - h.x, c = h.z - h.x, d = h.w - h.y - h.z + h.x;
-    // g(t) = z(t) - h(t) = c0 + c1 t + c2 t^2
-    float c0 = z0 - (h.x + b * f0.x + c * f0.y + d * f0.x * f0.y);
-    if (c0 <= PR_HIT_EPSILON) return 0.0;
-    float c1 = dz - (b * df.x + c * df.y + d * (f0.x * df.y + f0.y * df.x));
-    float c2 = -d * df.x * df.y;
-    float root = -1.0;
-    if (abs(c2) <= 1e-7 * (abs(c1) + abs(c0))) {
-        if (c1 < 0.0) root = -c0 / c1;
-    } else {
-        float disc = c1 * c1 - 4.0 * c2 * c0;
-        if (disc >= 0.0) {
-            float q = -0.5 * (c1 + (c1 >= 0.0 ? 1.0 : -1.0) * sqrt(disc));
-            float r1 = q / c2, r2 = q != 0.0 ? c0 / q : -1.0;
-            float lo = min(r1, r2), hi = max(r1, r2);
-            root = lo >= 0.0 ? lo : hi;
-        }
-    }
-    if (root >= 0.0 && root <= t_len) return root;
-    // Rays that end on the surface (a cap at height 0 or 1) hit at the end despite rounding.
-    return c0 + (c1 + c2 * t_len) * t_len <= PR_HIT_EPSILON ? t_len : -1.0;
-}
 
 Bracket march_max_mip(MarchRay r)
 {

@@ -383,8 +383,8 @@ void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<Draw
          "takes no linear steps (flat and reference never do; normal, offset and the prism's max-mip with the "
          "exact or vertex exit only with --shadows)"},
         {o.refine_flag, reads_refine,
-         "refines no hit (only relief, cone and relaxed-cone do, as techniques or as the prism's marcher, and the "
-         "prism's walk with max-mip)"},
+         "refines no hit (only relief does, and relief, cone and relaxed-cone as the prism's marcher, and the "
+         "prism's walk with max-mip; the cone and relaxed-cone techniques meet the surface exactly)"},
         {o.normal_quality_flag, reads_normal_quality, "takes no normal from the heights (flat shades with the mesh's)"},
         {o.light_size_flag, reads_light_size,
          "draws no shadows (flat never does)"},

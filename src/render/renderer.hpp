@@ -268,6 +268,7 @@ private:
         std::shared_ptr<const HeightField> height_field; // for cone maps, built on demand
         float height_low = 0.0f, height_high = 1.0f;      // its lowest and highest texel
         GLuint aux_texture[3] = {0, 0, 0}; // cone, relaxed cone, max pyramid; owned by aux_cache_
+        GLuint patch_texture[2] = {0, 0};  // the cone and relaxed maps' patches (make_patch_texture); the same
         glm::ivec2 height_size{0};
         // Copied from the SceneObject, so the Scene need not outlive the upload.
         float depth = 0.0f;
@@ -325,7 +326,9 @@ private:
     std::vector<GpuObject> objects_;
     std::map<std::string, gl::Program> programs_;
     std::map<const void*, gl::Texture> texture_cache_; // heights/colours shared by objects
-    std::map<std::pair<const void*, int>, gl::Texture> aux_cache_; // (height field, AuxMap - 1)
+    std::map<std::pair<const void*, int>, gl::Texture> aux_cache_; // (height field, AuxMap - 1), and
+    // (height field, AuxMap - 1 + kPatchTextureKey) for the cone maps' patch textures
+    static constexpr int kPatchTextureKey = 8;
     // Cone maps in memory, by height field and kind: built by a draw or handed over; kept across
     // uploads for the height fields still drawn (the viewer's depth slider uploads again).
     struct HeldConeMap {

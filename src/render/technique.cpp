@@ -13,8 +13,8 @@ const std::vector<TechniqueInfo>& technique_table()
         {Technique::Steep, "steep", "steep parallax: linear search, first sample below the surface"},
         {Technique::Pom, "pom", "parallax occlusion mapping: linear search + linear interpolation"},
         {Technique::Relief, "relief", "relief mapping: linear search + binary refinement"},
-        {Technique::Cone, "cone", "cone step mapping (conservative cone map) + binary refinement"},
-        {Technique::RelaxedCone, "relaxed-cone", "relaxed cone stepping (relaxed cone map) + binary refinement"},
+        {Technique::Cone, "cone", "cone step mapping (conservative cone map), each sample's bilinear patch met exactly"},
+        {Technique::RelaxedCone, "relaxed-cone", "relaxed cone stepping (relaxed cone map), each sample's bilinear patch met exactly"},
         {Technique::Reference, "reference", "true displaced geometry, finely tessellated: the ground truth"},
         {Technique::Prism, "prism", "shell prisms from a geometry shader, marched ray: true silhouettes and depth"},
     };
@@ -190,7 +190,8 @@ bool reads_refine(const DrawSettings& s)
     if (s.technique == Technique::Prism)
         return s.marcher == Marcher::Relief || s.marcher == Marcher::Cone || s.marcher == Marcher::RelaxedCone ||
                (s.marcher == Marcher::MaxMip && s.prism_walk());
-    return s.technique == Technique::Relief || s.technique == Technique::Cone || s.technique == Technique::RelaxedCone;
+    // (The base-surface cone and relaxed-cone meet each sample's bilinear patch exactly: march/cone.glsl.)
+    return s.technique == Technique::Relief;
 }
 
 bool reads_normal_quality(const DrawSettings& s)

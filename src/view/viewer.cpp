@@ -96,8 +96,8 @@ struct HalfStats {
     std::uint64_t fragments = 0;
 };
 
-// The technique drawn while the cone maps of `d` are built: relief, the marcher the cone
-// marchers refine like and the default inside the prism.
+// The technique drawn while the cone maps of `d` are built: relief, the linear search the cone
+// marchers skip through, and the default inside the prism.
 DrawSettings while_cone_maps_build(DrawSettings d)
 {
     if (d.technique == Technique::Cone || d.technique == Technique::RelaxedCone) d.technique = Technique::Relief;

@@ -260,7 +260,7 @@ pr_cli(steps_with_offset_and_shadows EXIT 0 EXPECT_FILE o.png
        ARGS render ${TQ} --technique offset --steps 8 --shadows hard --out o.png)
 pr_cli(steps_with_max_mip_walk EXIT 0 EXPECT_FILE o.png ARGS render ${TQ} --technique prism:max-mip --steps 8 --out o.png)
 pr_cli(refine_with_pom EXIT 1 ONE_LINE NO_FILE o.png
-       STDERR "${E}--refine: has no effect: --technique pom refines no hit \\(only relief, cone and relaxed-cone do, as techniques or as the prism's marcher, and the prism's walk with max-mip\\)"
+       STDERR "${E}--refine: has no effect: --technique pom refines no hit \\(only relief does, and relief, cone and relaxed-cone as the prism's marcher, and the prism's walk with max-mip; the cone and relaxed-cone techniques meet the surface exactly\\)"
        ARGS render ${TQ} --technique pom --refine 0 --out o.png)
 pr_cli(refine_with_prism_linear EXIT 1 ONE_LINE NO_FILE c.json
        STDERR "${E}--refine: has no effect: --techniques steep,prism:linear refines no hit"

@@ -141,7 +141,10 @@ TEST(TechniqueUse, WhatEachTechniqueReads)
 
     EXPECT_FALSE(reads_refine(technique(Technique::Pom)));
     EXPECT_FALSE(reads_refine(technique(Technique::Steep)));
-    EXPECT_TRUE(reads_refine(technique(Technique::RelaxedCone)));
+    EXPECT_FALSE(reads_refine(technique(Technique::RelaxedCone))); // exact in each sample's patch
+    EXPECT_FALSE(reads_refine(technique(Technique::Cone)));
+    EXPECT_TRUE(reads_refine(technique(Technique::Relief)));
+    EXPECT_TRUE(reads_refine(prism(Marcher::RelaxedCone, PrismExit::Walk)));
     EXPECT_FALSE(reads_refine(prism(Marcher::Linear, PrismExit::Walk)));
     EXPECT_TRUE(reads_refine(prism(Marcher::MaxMip, PrismExit::Walk)));
     EXPECT_FALSE(reads_refine(prism(Marcher::MaxMip, PrismExit::Exact)));
