@@ -268,7 +268,7 @@ private:
         std::shared_ptr<const HeightField> height_field; // for cone maps, built on demand
         float height_low = 0.0f, height_high = 1.0f;      // its lowest and highest texel
         GLuint aux_texture[3] = {0, 0, 0}; // cone, relaxed cone, max pyramid; owned by aux_cache_
-        GLuint patch_texture[2] = {0, 0};  // the cone and relaxed maps' patches (make_patch_texture); the same
+        GLuint patch_texture[2] = {0, 0};  // the cone and relaxed maps' patches (make_patch_texture); owned by aux_cache_
         glm::ivec2 height_size{0};
         // Copied from the SceneObject, so the Scene need not outlive the upload.
         float depth = 0.0f;
@@ -352,8 +352,9 @@ private:
     std::filesystem::path cache_dir_;
     bool no_cache_ = false;
     GLint64 texture_buffer_limit_ = 0;
-    // Builds (or reads from the cache) and uploads the derived map each object needs.
-    void ensure_aux_textures(AuxMap map);
+    // Builds (or reads from the cache) and uploads the derived map each object needs, and with
+    // `patches` the base-surface cone marchers' patch texture of a cone or relaxed map.
+    void ensure_aux_textures(AuxMap map, bool patches);
     // Depth as Camera::projection makes it: clip z from 0 to w, nearer is greater (depth test
     // GL_GREATER, cleared to 0). Set before every draw: the viewer's panel shares the context.
     static void use_reversed_depth();

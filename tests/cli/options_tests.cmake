@@ -262,6 +262,12 @@ pr_cli(steps_with_max_mip_walk EXIT 0 EXPECT_FILE o.png ARGS render ${TQ} --tech
 pr_cli(refine_with_pom EXIT 1 ONE_LINE NO_FILE o.png
        STDERR "${E}--refine: has no effect: --technique pom refines no hit \\(only relief does, and relief, cone and relaxed-cone as the prism's marcher, and the prism's walk with max-mip; the cone and relaxed-cone techniques meet the surface exactly\\)"
        ARGS render ${TQ} --technique pom --refine 0 --out o.png)
+# The base-surface cone and relaxed-cone meet each sample's patch exactly: --refine is not theirs.
+pr_cli(refine_with_cone EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}--refine: has no effect: --technique cone refines no hit"
+       ARGS render ${TQ} --technique cone --refine 2 --out o.png)
+pr_cli(refine_with_relaxed_cone_and_relief EXIT 0 EXPECT_FILE c.json
+       ARGS compare ${TQ} --techniques relaxed-cone,relief --refine 2 --json c.json)
 pr_cli(refine_with_prism_linear EXIT 1 ONE_LINE NO_FILE c.json
        STDERR "${E}--refine: has no effect: --techniques steep,prism:linear refines no hit"
        ARGS compare ${TQ} --techniques steep,prism:linear --refine 2 --json c.json)
