@@ -349,6 +349,43 @@ TEST(ConeMarch, RefinesAStraightSlopeWithOneSample)
     }
 }
 
+namespace {
+
+// The base-surface cone and relaxed-cone draw from `c` the hits of a dense linear search (relief,
+// 1024 steps, 8 halvings) to within `tolerance` (scene units) in more than `within` of the pixels.
+void expect_base_cone_hits_as_dense(Renderer& r, const Camera& c, float tolerance, double within)
+{
+    DrawSettings dense = settings(Technique::Relief);
+    dense.steps = 1024;
+    dense.refine = 8;
+    r.draw(c, kLight, dense);
+    const std::vector<float> truth = distances(r, c);
+    for (Technique t : {Technique::Cone, Technique::RelaxedCone}) {
+        r.draw(c, kLight, settings(t, t == Technique::Cone ? Marcher::Cone : Marcher::RelaxedCone));
+        const Agreement g = agree(distances(r, c), truth, tolerance);
+        EXPECT_GT(g.both, 5000u) << technique_name(t);
+        EXPECT_GT(g.within, within) << technique_name(t);
+    }
+}
+
+// meshes/`mesh` under `height`, loaded and framed from `elevation_deg` as the command line does
+// at `r`'s size, and uploaded to `r` (GL tests' cache).
+prtest::FramedObject uploaded_framed(Renderer& r, const std::string& mesh, const std::string& height, float elevation_deg)
+{
+    pr::SceneSpec spec;
+    spec.objects.push_back(prtest::bundled_object(mesh));
+    spec.objects[0].height = height;
+    spec.width = r.width();
+    spec.height = r.height();
+    spec.camera.elevation_deg = elevation_deg;
+    prtest::FramedObject f = prtest::framed(spec);
+    r.set_cache_dir(prtest::cache_dir());
+    r.upload(f.scene);
+    return f;
+}
+
+} // namespace
+
 // Sheer heights (terraces, slots two texels wide, a box): the base-surface cone marchers meet the
 // bilinear surface exactly in the patch of the sample that finds it, so their hits agree with a
 // dense linear search (1024 steps, 8 halvings) to an eighth of a texel (99.98 % of the pixels
@@ -369,19 +406,8 @@ TEST(ConeMarch, BaseSurfaceHitsOnSheerHeightsAreExact)
     r.set_cache_dir(prtest::cache_dir());
     r.upload(prtest::one_object(prtest::square(), h, 0.2f));
     const float texel = 2.0f / kTexels;
-    for (const Camera& c : {oblique_camera(), looking({1.2f, -1.6f, 1.0f}, {0.0f, 0.0f, 0.0f}, 6.0f)}) {
-        DrawSettings dense = settings(Technique::Relief);
-        dense.steps = 1024;
-        dense.refine = 8;
-        r.draw(c, kLight, dense);
-        const std::vector<float> truth = distances(r, c);
-        for (Technique t : {Technique::Cone, Technique::RelaxedCone}) {
-            r.draw(c, kLight, settings(t, t == Technique::Cone ? Marcher::Cone : Marcher::RelaxedCone));
-            const Agreement g = agree(distances(r, c), truth, texel / 8.0f);
-            EXPECT_GT(g.both, 5000u) << technique_name(t);
-            EXPECT_GT(g.within, 0.997) << technique_name(t);
-        }
-    }
+    for (const Camera& c : {oblique_camera(), looking({1.2f, -1.6f, 1.0f}, {0.0f, 0.0f, 0.0f}, 6.0f)})
+        expect_base_cone_hits_as_dense(r, c, texel / 8.0f, 0.997);
 }
 
 // A map narrower than tall, repeating three times across UVs near 1000, with walls on its edges
@@ -409,19 +435,8 @@ TEST(ConeMarch, BaseSurfacePatchesWrapAndKeepUvsFarFromTheOrigin)
     Renderer r(160, 120);
     r.set_cache_dir(prtest::cache_dir());
     r.upload(prtest::one_object(std::move(mesh), h, 0.2f));
-    const Camera c = oblique_camera();
-    DrawSettings dense = settings(Technique::Relief);
-    dense.steps = 1024;
-    dense.refine = 8;
-    r.draw(c, kLight, dense);
-    const std::vector<float> truth = distances(r, c);
     const float texel = 2.0f / (3.0f * kWidth);
-    for (Technique t : {Technique::Cone, Technique::RelaxedCone}) {
-        r.draw(c, kLight, settings(t, t == Technique::Cone ? Marcher::Cone : Marcher::RelaxedCone));
-        const Agreement g = agree(distances(r, c), truth, texel / 8.0f);
-        EXPECT_GT(g.both, 5000u) << technique_name(t);
-        EXPECT_GT(g.within, 0.995) << technique_name(t);
-    }
+    expect_base_cone_hits_as_dense(r, oblique_camera(), texel / 8.0f, 0.995);
 }
 
 // A bracket a few float steps wide: its middle rounded to an end, whose patch was off the bracket
@@ -431,16 +446,8 @@ TEST(ConeMarch, BaseSurfacePatchesWrapAndKeepUvsFarFromTheOrigin)
 TEST(ConeMarch, BaseSurfaceSearchStopsWhereTheBracketNoLongerNarrows)
 {
     prtest::context();
-    pr::SceneSpec spec;
-    spec.objects.push_back(prtest::bundled_object("cube.obj"));
-    spec.objects[0].height = "builtin:boxes";
-    spec.width = 256;
-    spec.height = 192;
-    spec.camera.elevation_deg = 8.0f;
-    const prtest::FramedObject f = prtest::framed(spec);
-    Renderer r(spec.width, spec.height);
-    r.set_cache_dir(prtest::cache_dir());
-    r.upload(f.scene);
+    Renderer r(256, 192);
+    const prtest::FramedObject f = uploaded_framed(r, "cube.obj", "builtin:boxes", 8.0f);
     for (Technique t : {Technique::Cone, Technique::RelaxedCone}) {
         DrawSettings s = settings(t, t == Technique::Cone ? Marcher::Cone : Marcher::RelaxedCone);
         s.steps = 1024;
@@ -456,16 +463,8 @@ TEST(ConeMarch, BaseSurfaceSearchStopsWhereTheBracketNoLongerNarrows)
 TEST(ConeMarch, RelaxedConeTakesAThirdOfReliefsSamplesOnBricks)
 {
     prtest::context();
-    pr::SceneSpec spec;
-    spec.objects.push_back(prtest::bundled_object("torus.obj"));
-    spec.objects[0].height = "builtin:bricks";
-    spec.width = 320;
-    spec.height = 180;
-    const prtest::FramedObject f = prtest::framed(spec);
-    const Camera& c = f.camera;
-    Renderer r(spec.width, spec.height);
-    r.set_cache_dir(prtest::cache_dir());
-    r.upload(f.scene);
+    Renderer r(320, 180);
+    const Camera c = uploaded_framed(r, "torus.obj", "builtin:bricks", pr::CameraSpec{}.elevation_deg).camera;
     const double relief = counted_draw(r, c, settings(Technique::Relief), 3000u);
     const double relaxed = counted_draw(r, c, settings(Technique::RelaxedCone, Marcher::RelaxedCone), 3000u);
     std::printf("bricks, torus: relief %.2f, relaxed-cone %.2f samples per fragment (%.3f)\n", relief, relaxed,
