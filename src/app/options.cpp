@@ -853,15 +853,24 @@ SceneSpec make_scene_spec(const SceneOptions& o)
     if (o.depth) check_depth(*o.depth, "--depth");
     if (o.midlevel) check_midlevel(*o.midlevel, "--midlevel");
     // Object flags apply to every object of the scene (for one object: override it).
+    struct Replaced {
+        std::string spec, place;
+        bool color;
+    };
+    std::vector<Replaced> replaced;
     for (ObjectSpec& obj : spec.objects) {
         // A map that cannot be read is said under its flag's name, as a scene's under its place:
         // `--height q.png --color q.png` said "q.png: …" of either (found by an exploratory
         // session, thirty-third).
+        // A scene file's built-in map that a flag replaces is still checked (below): the file
+        // is wrong without the flag ("color": "builtin:nah" under --color was taken).
         if (o.height) {
+            if (!obj.height_place.empty()) replaced.push_back({obj.height, obj.height_place, false});
             obj.height = *o.height;
             obj.height_place = "--height";
         }
         if (!o.color.empty()) {
+            if (!obj.color_place.empty()) replaced.push_back({obj.color, obj.color_place, true});
             obj.color = o.color;
             obj.color_place = "--color";
         }
@@ -930,6 +939,13 @@ SceneSpec make_scene_spec(const SceneOptions& o)
             throw Error("--max-image-size", "must be between 1 and 16384 pixels per side");
         spec.image_limits.max_dimension = *o.max_image_size;
         spec.image_limits.max_pixels = std::int64_t(*o.max_image_size) * *o.max_image_size;
+    }
+    for (const Replaced& r : replaced) {
+        try {
+            check_builtin_name(r.spec, r.color, spec.image_limits);
+        } catch (const Error& e) {
+            throw e.under(r.place);
+        }
     }
     // A double, checked before it becomes a float: 1e300 was infinity, which said "must be > 0".
     const float uv_scale = finite(o.uv_scale, "--uv-scale");

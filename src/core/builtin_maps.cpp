@@ -437,6 +437,18 @@ RgbaImage make_color(const std::string& spec, const ImageLimits& limits)
 
 } // namespace builtin
 
+void check_builtin_name(const std::string& spec, bool color, const ImageLimits& limits)
+{
+    if (!builtin::is_builtin(spec)) return;
+    const builtin::Parsed p = builtin::parse(spec, limits);
+    if (builtin::parse_const(spec, p.name)) return;
+    const auto named = [&](const auto& entries) {
+        return std::any_of(std::begin(entries), std::end(entries), [&](const auto& e) { return p.name == e.name; });
+    };
+    if (named(builtin::kHeights) || (color && named(builtin::kColors))) return;
+    builtin::unknown(spec, p.name, color ? builtin_color_names() : builtin_height_names());
+}
+
 std::vector<std::string> builtin_height_names()
 {
     std::vector<std::string> names;

@@ -66,6 +66,10 @@ RgbaImage load_color(const std::string& spec, const ImageLimits& limits = {});
 // Names accepted after "builtin:" (e.g. "bumps", "bricks", "noise", ...), each tileable.
 std::vector<std::string> builtin_height_names();
 std::vector<std::string> builtin_color_names();
+// For a "builtin:NAME[@N|@WxH]" map: its name and size checked as load_height (`color` false) or
+// load_color would check them, without making the map (a scene file's map that a flag
+// replaces); throws pr::Error naming `spec`. Nothing for a file name.
+void check_builtin_name(const std::string& spec, bool color, const ImageLimits& limits);
 
 // Whether stb can encode a width x height RGBA PNG: it filters the rows into one buffer whose size,
 // (4 width + 1) height bytes, it keeps in an int (past 2 GiB it wrapped, and the buffer it

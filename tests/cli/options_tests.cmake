@@ -74,6 +74,21 @@ pr_scene_refused(eye_is_target "}], \"camera\": {\"eye\": [1, 2, 3], \"target\":
 pr_scene_refused(eye_and_elevation "}], \"camera\": {\"eye\": [3, 2, 3], \"elevation\": 30}}"
                  "camera.elevation: has no effect with camera.eye \\(it places the auto-framed camera")
 pr_scene_refused(azimuth_and_eye "}], \"camera\": {\"azimuth\": 20, \"eye\": [3, 2, 3]}}" "camera.azimuth: has no effect with camera.eye")
+# A scene file's built-in map that a flag replaces is checked all the same (the file is wrong
+# without the flag; "color": "builtin:nah" under --color was taken). A file name is not: a flag may
+# stand for a map that is missing.
+pr_scene(color_unknown_replaced ", \"color\": \"builtin:nah\"}]}")
+pr_cli(scene_color_unknown_replaced EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}.*color_unknown_replaced.json: objects\\[0\\].color: builtin:nah: unknown built-in map 'nah'"
+       ARGS render --scene ${OS}/color_unknown_replaced.json --color builtin:checker --size 32x32 --out o.png)
+pr_scene(height_too_large_replaced ", \"height\": \"builtin:bumps@64\"}]}")
+pr_cli(scene_height_too_large_replaced EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}.*height_too_large_replaced.json: objects\\[0\\].height: builtin:bumps@64: size after '@'"
+       ARGS render --scene ${OS}/height_too_large_replaced.json --height builtin:bumps@16 --max-image-size 32
+            --size 32x32 --out o.png)
+pr_scene(height_missing_replaced ", \"height\": \"missing.png\"}]}")
+pr_cli(scene_height_missing_replaced EXIT 0 EXPECT_FILE o.png
+       ARGS render --scene ${OS}/height_missing_replaced.json --height builtin:bumps --size 32x32 --out o.png)
 # An eye at the shell's centre without a target: the default target is named (it said "eye and
 # target are the same point", of a target never given; found by an exploratory session).
 pr_scene_refused(eye_is_centre "}], \"camera\": {\"eye\": [0, 0, 0]}}"
