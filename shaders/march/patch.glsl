@@ -1,7 +1,8 @@
 // A ray against one bilinear patch of a height map, exactly: the patch between four texel centres,
 // h(f) = mix(mix(h00, h10, f.x), mix(h01, h11, f.x), f.y) for f in [0,1]^2, is what a bilinear
 // fetch reads there, and along a straight ray its height is a quadratic in t. The max-mip
-// marcher's finest level (march/maxmip.glsl) and the cone marchers' patches (march/cone.glsl).
+// marcher's finest level (march/maxmip.glsl) and the base-surface cone marchers' patches
+// (march/cone.glsl).
 
 // The ray's height over the patch h = (h00, h10, h01, h11) along z0 + t dz, f0 + t df (patch
 // coordinates), as g(t) = c0 + c1 t + c2 t^2: returns (c0, c1, c2).
