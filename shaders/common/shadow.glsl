@@ -252,9 +252,10 @@ float soft_horizon(vec3 l_tex)
 // The cone map at `uv` for the light's march: under the surface (g_height_flip: the prism's light
 // march from the back of an open sheet, in the height field turned over) the turned heights and
 // no cone, so the march steps as the linear one does (the cones stand on the upper side only).
-vec3 light_cone_at(vec2 uv)
+// `rising`: with the conservative ratio (the light's steps; the height alone: false).
+vec3 light_cone_at(vec2 uv, bool rising)
 {
-    vec3 hc = cone_at(uv);
+    vec3 hc = cone_at(uv, rising);
 #if defined(PR_PRISM_TEARS) || defined(PR_HEIGHT_FLIP)
     if (g_height_flip > 0.0) hc = vec3(1.0 - hc.x, 0.0, 0.0);
 #endif
@@ -274,7 +275,7 @@ vec2 light_sample(vec3 origin, vec3 dir, float t, UvGrad g)
     const float bias = 2e-3;
     vec3 p = origin + t * dir;
 #ifdef PR_HEIGHT_FROM_CONE
-    vec3 hc = light_cone_at(p.xy);
+    vec3 hc = light_cone_at(p.xy, true);
     return vec2(p.z + bias - hc.x, hc.z);
 #else
     return vec2(p.z + bias - height_at(p.xy, g), 0.0);
@@ -458,7 +459,7 @@ void soft_past_top(vec3 top, vec3 dir, float run_before, inout float visibility,
         float total = run_before + float(i) * dt * run;
         if (total > run_limit || soft_light(p.z - 1.0 + bias, total) >= visibility - 1.0 / 128.0) break;
 #ifdef PR_HEIGHT_FROM_CONE
-        float h = light_cone_at(p.xy).x;
+        float h = light_cone_at(p.xy, false).x;
 #else
         float h = height_at(p.xy, g);
 #endif
@@ -482,7 +483,7 @@ bool light_above_horizon(vec3 l_tex)
 vec3 light_start(vec3 tex)
 {
 #ifdef PR_HEIGHT_FROM_CONE
-    tex.z = max(tex.z, light_cone_at(tex.xy).x);
+    tex.z = max(tex.z, light_cone_at(tex.xy, false).x);
 #endif
     return tex;
 }

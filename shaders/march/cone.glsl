@@ -23,24 +23,36 @@
 
 // A relaxed cone only promises that a ray coming down through it crosses the surface at most
 // once; a rising ray (dir.z >= 0: inside a prism, entering through a side wall) may pass through a
-// bump and out again within one relaxed step. Such rays step with the conservative cone, which the
-// renderer stores in the relaxed texture's blue channel (src/render/renderer.cpp).
+// bump and out again within one relaxed step. Such rays step with the conservative cone: the
+// renderer binds the cone map's texture beside the relaxed map's (src/render/renderer.cpp).
 #if (defined(PR_MARCHER) && PR_MARCHER == PR_MARCH_RELAXED_CONE) || \
     (defined(PR_TECHNIQUE) && PR_TECHNIQUE == PR_TECH_RELAXED_CONE)
 #define PR_CONE_IS_RELAXED 1
+layout(binding = PR_TEX_CONE_RISING) uniform sampler2D s_cone_rising;
 #else
 #define PR_CONE_IS_RELAXED 0
 #endif
 
-// One fetch of the cone map at level 0: (height, c, conservative c). Counted as a height sample.
-vec3 cone_at(vec2 uv)
+// One fetch of the cone map at level 0, counted as a height sample: (height, c, conservative c)
+// for a ray that descends (`rising` false) or rises. A relaxed march reads its own map for a
+// descending ray, (height, relaxed c, 0: no conservative c), and the cone map for a rising one,
+// (height, conservative c, conservative c), which holds for either. (The two ratios in one RGB16
+// texture cost llvmpipe a third more a fetch than RG16; where no fragment of a group rises it
+// takes one fetch here, not both.)
+vec3 cone_at(vec2 uv, bool rising)
 {
     ++g_height_samples;
-    vec3 rgb = textureLod(s_cone, uv, 0.0).rgb;
 #if PR_CONE_IS_RELAXED == 1
-    return vec3(rgb.r, rgb.g * rgb.g, rgb.b * rgb.b);
+    vec2 rg;
+    if (rising)
+        rg = textureLod(s_cone_rising, uv, 0.0).rg;
+    else
+        rg = textureLod(s_cone, uv, 0.0).rg;
+    float c = rg.g * rg.g;
+    return vec3(rg.r, c, rising ? c : 0.0);
 #else
-    return vec3(rgb.r, rgb.g * rgb.g, rgb.g * rgb.g);
+    vec2 rg = textureLod(s_cone, uv, 0.0).rg;
+    return vec3(rg.r, rg.g * rg.g, rg.g * rg.g);
 #endif
 }
 
@@ -75,7 +87,7 @@ Bracket march_cone_from(MarchRay r, vec3 hc0, bool pending, bool decide, inout b
         float dt = denom > 1e-12 ? c * d / denom : (c > 0.0 ? r.t_end : 0.0); // c = 0: no cone
         float t_next = pending ? 0.0 : min(t + max(dt, min_dt), r.t_end);
         vec3 p = march_point(r, t_next);
-        vec3 hc_next = cone_at(p.xy);
+        vec3 hc_next = cone_at(p.xy, rising);
         hc_end = hc_next;
 #ifdef PR_PRISM_TEARS
         if (decide && pending) {

@@ -84,29 +84,26 @@ gl::Texture make_color_texture(const RgbaImage& img)
     return make_texture(GL_RGBA8, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, img.pixels.data());
 }
 
-// Cone map: R = height, G = sqrt(cone ratio), level 0 only (cone ratios of a coarser level would
-// mean nothing), bilinear, repeat. RG16 keeps the 16-bit heights and the rounded-down ratios exact.
-// R = height, G = the map's ratio, and for a relaxed map B = the conservative cone's ratio of the
-// same heights (shaders/march/cone.glsl steps rising rays with it). The ratios are narrowed for
-// bilinear filtering (ratios_for_bilinear: each the smallest of its 3x3 neighbourhood).
-gl::Texture make_cone_texture(const ConeMap& map, const ConeMap* conservative = nullptr)
+// Cone map: R = height, G = sqrt(cone ratio) (a relaxed map's own), level 0 only (cone ratios of a
+// coarser level would mean nothing), bilinear, repeat. RG16 keeps the 16-bit heights and the
+// rounded-down ratios exact. The ratios are narrowed for bilinear filtering (ratios_for_bilinear:
+// each the smallest of its 3x3 neighbourhood). A relaxed march reads the cone map's texture
+// beside its own for rising rays (shaders/march/cone.glsl): the conservative ratios as a third
+// channel of the relaxed texture (RGB16) made every fetch dearer on llvmpipe, and the prism's
+// relaxed marcher was 7 % slower than its cone marcher on the blob.
+gl::Texture make_cone_texture(const ConeMap& map)
 {
     const std::size_t n = map.heights.size();
-    const std::size_t channels = conservative ? 3 : 2;
     const std::vector<float> ratios = ratios_for_bilinear(map.ratios, map.width, map.height);
-    const std::vector<float> narrow =
-        conservative ? ratios_for_bilinear(conservative->ratios, map.width, map.height) : std::vector<float>{};
-    std::vector<float> texels(n * channels);
+    std::vector<float> texels(n * 2);
     for (std::size_t i = 0; i < n; ++i) {
-        texels[channels * i] = map.heights[i];
-        texels[channels * i + 1] = ratios[i];
-        if (conservative) texels[channels * i + 2] = narrow[i];
+        texels[2 * i] = map.heights[i];
+        texels[2 * i + 1] = ratios[i];
     }
     gl::Texture t = gl::Texture::create(GL_TEXTURE_2D);
-    glTextureStorage2D(t.id(), 1, conservative ? GL_RGB16 : GL_RG16, map.width, map.height);
+    glTextureStorage2D(t.id(), 1, GL_RG16, map.width, map.height);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage2D(t.id(), 0, 0, 0, map.width, map.height, conservative ? GL_RGB : GL_RG, GL_FLOAT,
-                        texels.data());
+    glTextureSubImage2D(t.id(), 0, 0, 0, map.width, map.height, GL_RG, GL_FLOAT, texels.data());
     glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
@@ -876,6 +873,8 @@ const ConeMap& Renderer::cone_map(const std::shared_ptr<const HeightField>& fiel
 void Renderer::ensure_aux_textures(AuxMap map, bool patches)
 {
     if (map == AuxMap::None) return;
+    // Rising rays step a relaxed map's march with the cone map's ratios (shaders/march/cone.glsl).
+    if (map == AuxMap::Relaxed) ensure_aux_textures(AuxMap::Cone, false);
     const int k = static_cast<int>(map) - 1;
     for (GpuObject& o : objects_) {
         if (!o.aux_texture[k]) {
@@ -885,8 +884,7 @@ void Renderer::ensure_aux_textures(AuxMap map, bool patches)
                     t = make_max_pyramid_texture(*o.height_field);
                 } else {
                     const ConeMap& cone = cone_map(o.height_field, ConeKind::Cone);
-                    t = map == AuxMap::Cone ? make_cone_texture(cone)
-                                            : make_cone_texture(cone_map(o.height_field, ConeKind::Relaxed), &cone);
+                    t = make_cone_texture(map == AuxMap::Cone ? cone : cone_map(o.height_field, ConeKind::Relaxed));
                 }
             }
             o.aux_texture[k] = t.id();
@@ -1466,6 +1464,8 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         // Likewise the derived-map unit: the map this draw needs, else any texture.
         const GLuint aux = aux_map == AuxMap::None ? 0 : o.aux_texture[static_cast<int>(aux_map) - 1];
         glBindTextureUnit(PR_TEX_CONE, aux ? aux : o.height_texture);
+        // Beside a relaxed map the cone map, for rising rays; unsampled by the other draws.
+        if (aux_map == AuxMap::Relaxed) glBindTextureUnit(PR_TEX_CONE_RISING, o.aux_texture[static_cast<int>(AuxMap::Cone) - 1]);
         // The base-surface cone marchers' patches (make_patch_texture), unsampled by the other draws.
         if (settings.technique == Technique::Cone || settings.technique == Technique::RelaxedCone)
             glBindTextureUnit(PR_TEX_PATCH, o.patch_texture[static_cast<int>(aux_map) - 1]);
