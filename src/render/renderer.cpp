@@ -84,6 +84,21 @@ gl::Texture make_color_texture(const RgbaImage& img)
     return make_texture(GL_RGBA8, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, img.pixels.data());
 }
 
+// A map of floats as a texture of level 0 alone (`format`'s channels per texel, row-major),
+// sampled with `filter`, repeating.
+gl::Texture map_texture(GLenum internal_format, int width, int height, GLenum format, const float* texels, GLint filter)
+{
+    gl::Texture t = gl::Texture::create(GL_TEXTURE_2D);
+    glTextureStorage2D(t.id(), 1, internal_format, width, height);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(t.id(), 0, 0, 0, width, height, format, GL_FLOAT, texels);
+    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, filter);
+    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, filter);
+    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+    return t;
+}
+
 // Cone map: R = height, G = sqrt(cone ratio) (a relaxed map's own), level 0 only (cone ratios of a
 // coarser level would mean nothing), bilinear, repeat. RG16 keeps the 16-bit heights and the
 // rounded-down ratios exact. The ratios are narrowed for bilinear filtering (ratios_for_bilinear:
@@ -100,15 +115,7 @@ gl::Texture make_cone_texture(const ConeMap& map)
         texels[2 * i] = map.heights[i];
         texels[2 * i + 1] = ratios[i];
     }
-    gl::Texture t = gl::Texture::create(GL_TEXTURE_2D);
-    glTextureStorage2D(t.id(), 1, GL_RG16, map.width, map.height);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage2D(t.id(), 0, 0, 0, map.width, map.height, GL_RG, GL_FLOAT, texels.data());
-    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
-    return t;
+    return map_texture(GL_RG16, map.width, map.height, GL_RG, texels.data(), GL_LINEAR);
 }
 
 // The base-surface cone marchers' heights and ratios in one R32F texel each, read four at a time
@@ -126,15 +133,7 @@ gl::Texture make_patch_texture(const ConeMap& map)
         const auto ratio = std::uint32_t(std::clamp(std::floor(double(map.ratios[i]) * 255.0 + 1e-6), 0.0, 255.0));
         texels[i] = float(height << 8 | ratio) / 16777216.0f;
     }
-    gl::Texture t = gl::Texture::create(GL_TEXTURE_2D);
-    glTextureStorage2D(t.id(), 1, GL_R32F, map.width, map.height);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTextureSubImage2D(t.id(), 0, 0, 0, map.width, map.height, GL_RED, GL_FLOAT, texels.data());
-    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
-    return t;
+    return map_texture(GL_R32F, map.width, map.height, GL_RED, texels.data(), GL_NEAREST);
 }
 
 // Max pyramid for the max-mip marcher (R32F, texelFetch only). Level 0 cell (i, j) is the
