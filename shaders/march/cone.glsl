@@ -253,8 +253,7 @@ bool march_cone_patches(MarchRay r, out float t_hit)
     float tb = r.t_end, fb = 0.0; // searching: at or under it at tb
     float t_s = 0.0;              // the last sample
     bool searching = false;
-    int searched = 0;
-    vec2 searched_in = vec2(-1.0); // the bracket at the last search sample
+    vec2 searched_in = vec2(-1.0); // the bracket at the last search sample (none yet: -1)
     Patch p = patch_at(pr, 0.0);
     // The cone steps advance at least min_dt (at most `steps` of them); each search sample takes
     // at least a patch off the bracket, which halves after the first.
@@ -288,9 +287,8 @@ bool march_cone_patches(MarchRay r, out float t_hit)
             // loop to its bound: 1,455 fragments of the cube under boxes, seen low at --steps
             // 1024, and 3.4 times the frame of the march before; found by an exploratory session).
             if (vec2(ta, tb) == searched_in) break;
+            t_s = searched_in.x < 0.0 ? mix(ta, tb, fa / max(fa - fb, 1e-30)) : 0.5 * (ta + tb);
             searched_in = vec2(ta, tb);
-            t_s = searched == 0 ? mix(ta, tb, fa / max(fa - fb, 1e-30)) : 0.5 * (ta + tb);
-            ++searched;
         } else {
             float denom = run - p.c * r.dir.z;
             float dt = denom > 1e-12 ? p.c * fa / denom : (p.c > 0.0 ? r.t_end : 0.0);

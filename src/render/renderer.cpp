@@ -487,7 +487,7 @@ ShaderDefines defines_for(const DrawSettings& s)
     if (s.depth_write && reads_depth_write(s)) d.emplace_back("PR_DEPTH_WRITE", "1");
     if (drawn_shadows(s) != Shadows::None) d.emplace_back("PR_SHADOWS", shadows[static_cast<int>(s.shadows)]);
     if (s.aux_map() == AuxMap::Cone || s.aux_map() == AuxMap::Relaxed) d.emplace_back("PR_HEIGHT_FROM_CONE", "1");
-    if (s.technique == Technique::Cone || s.technique == Technique::RelaxedCone) d.emplace_back("PR_CONE_PATCHES", "1");
+    if (marches_patches(s)) d.emplace_back("PR_CONE_PATCHES", "1");
     if (s.count_samples) d.emplace_back("PR_COUNT_SAMPLES", "1");
     return d;
 }
@@ -1377,7 +1377,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     const bool walk = settings.prism_walk();
     const GLuint program = walk ? 0 : program_for(settings); // the walk's: draw_walk_shell
     const AuxMap aux_map = settings.aux_map();
-    ensure_aux_textures(aux_map, settings.technique == Technique::Cone || settings.technique == Technique::RelaxedCone);
+    ensure_aux_textures(aux_map, marches_patches(settings));
     check_drawable(settings);
     if (settings.technique == Technique::Prism) ensure_prism_data(walk);
     // The exact and vertex exits shade an open sheet's bottoms as its back (prism.frag): whether
@@ -1466,8 +1466,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         // Beside a relaxed map the cone map, for rising rays; unsampled by the other draws.
         if (aux_map == AuxMap::Relaxed) glBindTextureUnit(PR_TEX_CONE_RISING, o.aux_texture[static_cast<int>(AuxMap::Cone) - 1]);
         // The base-surface cone marchers' patches (make_patch_texture), unsampled by the other draws.
-        if (settings.technique == Technique::Cone || settings.technique == Technique::RelaxedCone)
-            glBindTextureUnit(PR_TEX_PATCH, o.patch_texture[static_cast<int>(aux_map) - 1]);
+        if (marches_patches(settings)) glBindTextureUnit(PR_TEX_PATCH, o.patch_texture[static_cast<int>(aux_map) - 1]);
     };
     // Torn meshes (GpuObject::tears): the walk marks the pixels whose rays went into the object
     // through a tear; a second pass from the far side's bottoms shades those (prism.frag).

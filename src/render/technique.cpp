@@ -190,8 +190,12 @@ bool reads_refine(const DrawSettings& s)
     if (s.technique == Technique::Prism)
         return s.marcher == Marcher::Relief || s.marcher == Marcher::Cone || s.marcher == Marcher::RelaxedCone ||
                (s.marcher == Marcher::MaxMip && s.prism_walk());
-    // (The base-surface cone and relaxed-cone meet each sample's bilinear patch exactly: march/cone.glsl.)
-    return s.technique == Technique::Relief;
+    return s.technique == Technique::Relief; // (not marches_patches: exact in each sample's patch)
+}
+
+bool marches_patches(const DrawSettings& s)
+{
+    return s.technique == Technique::Cone || s.technique == Technique::RelaxedCone;
 }
 
 bool reads_normal_quality(const DrawSettings& s)

@@ -105,10 +105,14 @@ std::string configuration_name(const DrawSettings& s);
 // Max-mip traverses its pyramid without steps, but the walk marches linearly under a torn or
 // open surface.
 bool reads_steps(const DrawSettings& s);
-// Binary refinement: relief and the cone marchers, as techniques or as the prism's marcher, and
-// the walk's linear march under a torn surface with max-mip. Not pom or the linear marcher
-// (interpolation), steep, nor max-mip's exact patch intersection.
+// Binary refinement: relief, as a technique or as the prism's marcher, the prism's cone
+// marchers, and the walk's linear march under a torn surface with max-mip. Not pom or the linear
+// marcher (interpolation), steep, max-mip's exact patch intersection, nor the base-surface cone
+// and relaxed-cone, which meet each sample's patch exactly (marches_patches).
 bool reads_refine(const DrawSettings& s);
+// The base-surface cone and relaxed-cone: they march the cone map's patch texture
+// (Renderer, make_patch_texture; shaders/march/cone.glsl, PR_CONE_PATCHES).
+bool marches_patches(const DrawSettings& s);
 // The normal from the heights: every technique but flat (the mesh's normal).
 bool reads_normal_quality(const DrawSettings& s);
 // Self-shadowing: every technique but flat (the reference's from shadow maps of its geometry:
