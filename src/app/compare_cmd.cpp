@@ -226,6 +226,14 @@ CommandAction add_compare_command(CLI::App& app)
         // Every metric then compares two empty images: IoU 1 (the contract's, for an empty union)
         // and "same" are true, and mean nothing.
         if (nothing_drawn) warn_nothing_drawn("compare");
+        // No reference at all, but a technique drew (the eye between the base surface and the
+        // displaced one, or inside the shell): every pixel a technique covers counts as wrong,
+        // and neither depth error nor PSNR has a value (forty-first session: said nothing, the
+        // few-pixels warning above starts at one; found by an audit).
+        else if (reference_px == 0)
+            warn("compare: the reference covers no pixel, the techniques do: each pixel they cover counts as "
+                 "wrong, and depth error and PSNR have no value (the camera may be inside the shell or under the "
+                 "displaced surface)");
         if (!s->out.empty()) std::printf("wrote %s\n", one_line(s->out).c_str());
         if (!s->json.empty()) std::printf("wrote %s\n", one_line(s->json).c_str());
         if (!tile_files.empty()) std::printf("wrote %zu tile%s in %s\n", tile_files.size(), tile_files.size() == 1 ? "" : "s",

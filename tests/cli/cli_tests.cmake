@@ -212,6 +212,13 @@ pr_cli(compare_few_reference_pixels_said EXIT 0 JSON few.json
 pr_cli(compare_reference_floor_at_small_sizes EXIT 0 JSON floor.json
        CHECKS "reference.level:EQUAL:10|reference.triangles:LESS:262145|results.0.psnr:GREATER:45"
        ARGS compare --mesh ${M}/torus.obj --size 64x48 --techniques prism --json floor.json)
+# No reference pixel, but techniques cover the frame (the eye between the plane and its displaced
+# copy, looking down; found by an audit, forty-first session: no warning).
+pr_cli(compare_no_reference_pixel_said EXIT 0 JSON none.json
+       STDERR "warning: compare: the reference covers no pixel, the techniques do"
+       CHECKS "reference.covered_px:EQUAL:0|results.0.silhouette_wrong_px:GREATER:1000"
+       ARGS compare --mesh ${M}/plane.obj --height builtin:const:1 --depth 0.2 --eye 0,0.1,0 --target 0.3,-1,0.2
+            --techniques flat,pom --size 64x48 --json none.json)
 pr_cli(compare_reference_pixels_counted EXIT 0 JSON many.json CHECKS "reference.covered_px:GREATER:500"
        ARGS compare --mesh ${M}/torus.obj --size 64x64 --techniques pom --json many.json)
 # A depth error under 0.001 keeps its digits in the table (at 5 decimals it read 0.00000, as the
