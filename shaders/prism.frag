@@ -876,7 +876,7 @@ void main()
             if (!below && (frame_differs || visibility < horizon)) {
                 vec3 walk_dir = l_walk == l_tex
                                     ? ray_dir
-                                    : normalize(t_axis * l_walk.x + b_axis * l_walk.y + n * (u_displace.x * l_walk.z));
+                                    : unit_vector(t_axis * l_walk.x + b_axis * l_walk.y + n * (u_displace.x * l_walk.z));
                 float walked = light_walk(prim, from, hit, walk_dir);
                 if (walked >= 0.0) visibility = frame_differs ? min(walked, horizon) : max(visibility, min(walked, horizon));
             }
@@ -898,7 +898,7 @@ void main()
         // (textureLod with that level: llvmpipe's textureGrad with the gradients cost more.)
         albedo = textureLod(s_color, tex.xy, hit_color_lod(hit, lod_du, lod_dv)).rgb;
     }
-    o_color = vec4(shade_blinn_phong(albedo, shading_n, light_dir, -normalize(dir), visibility), 1.0);
+    o_color = vec4(shade_blinn_phong(albedo, shading_n, light_dir, -unit_vector(dir), visibility), 1.0);
     vec4 clip = u_view_proj * vec4(hit, 1.0);
 #ifdef PR_PRISM_FROM_EYE
     if (clip.z > clip.w) discard; // between the eye and the near plane (or behind the eye): clipped, as geometry is

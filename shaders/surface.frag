@@ -123,6 +123,18 @@ float reference_visibility(vec3 world, vec3 face, vec3 light_dir)
 #endif
 
 
+// The rasterized triangle's normal (not of unit length) from the position's derivatives, taken
+// at a power of two that brings them to a largest component in [1, 2) (scale_to_unit): their
+// cross product, the pixel's footprint squared, vanished for objects 1e-20 across (forty-first
+// session). Call in uniform control flow.
+vec3 face_normal()
+{
+    vec3 fx = dFdx(v_world_pos), fy = dFdy(v_world_pos);
+    vec3 a = max(abs(fx), abs(fy));
+    float k = scale_to_unit(max(max(a.x, a.y), a.z));
+    return cross(k * fx, k * fy);
+}
+
 void main()
 {
     float depth = u_displace.x;
@@ -154,7 +166,7 @@ void main()
         // Offset limiting (Welsh 2004): the parallax offset (1 - h) * slope scaled by cos(theta),
         // which bounds it by (1 - h) * depth in world units at grazing angles.
         float h = height_at(uv, g);
-        float cos_theta = max(-dot(normalize(view), n_geom), 0.0);
+        float cos_theta = max(-dot(unit_vector(view), n_geom), 0.0);
         uv += (1.0 - h) * slope * cos_theta;
         t_hit = 0.0;
         s_hit = h;
@@ -191,11 +203,11 @@ void main()
 #else
     vec3 n = height_normal(uv, t_axis, b_axis, n_geom, depth);
 #endif
-    vec3 to_eye = -normalize(view);
+    vec3 to_eye = -unit_vector(view);
     vec3 light_dir = normalize(u_light_dir.xyz);
     float visibility = 1.0;
 #if defined(PR_SHADOWS) && PR_TECHNIQUE == PR_TECH_REFERENCE
-    vec3 face = cross(dFdx(v_world_pos), dFdy(v_world_pos));
+    vec3 face = face_normal();
     if (dot(n, light_dir) > 0.0) visibility = reference_visibility(v_world_pos, face, light_dir);
 #elif defined(PR_SHADOWS) && PR_TECHNIQUE != PR_TECH_FLAT
 #if PR_TECHNIQUE == PR_TECH_NORMAL || PR_TECHNIQUE == PR_TECH_OFFSET || PR_TECHNIQUE == PR_TECH_STEEP
@@ -239,7 +251,7 @@ void main()
     // the frame's plane carved far behind the object, and with --midlevel 1 a wall 0.3 behind a
     // cube showed through 391 pixels along its outline (found by an exploratory session,
     // twenty-ninth; cli.depth_write_stays_within_the_shell).
-    vec3 face = cross(dFdx(v_world_pos), dFdy(v_world_pos));
+    vec3 face = face_normal();
     float into = abs(dot(view, face)) * inversesqrt(max(dot(face, face), 1e-37)); // |view . face normal|
     float t_shown = into > 0.0 ? min(t_hit, depth / into) : t_hit;
     vec4 clip = u_view_proj * vec4(v_world_pos + t_shown * view, 1.0);

@@ -1,3 +1,14 @@
+// v / |v| for a v of any size in float range: brought first to a largest component in [1, 2)
+// by a power of two (scale_to_unit, height.glsl). normalize's squared length vanishes for
+// vectors under about 1e-19 (an object 1e-20 across lost its highlights: the view vector's
+// length was 0; found by an exploratory session, forty-first) and overflows past 1e19. The
+// zero vector gives NaN, as normalize's does.
+vec3 unit_vector(vec3 v)
+{
+    vec3 a = abs(v);
+    return normalize(v * scale_to_unit(max(max(a.x, a.y), a.z)));
+}
+
 // Blinn-Phong with one directional light (energy-normalized specular lobe).
 // n: unit shading normal, l: unit direction towards the light, v: unit direction towards the
 // eye, all world space. Returns linear RGB.
