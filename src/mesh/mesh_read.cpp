@@ -811,6 +811,43 @@ bool is_ply_colour(string_view element, string_view name)
     return element == "face" && (name == "red" || name == "green" || name == "blue" || name == "alpha");
 }
 
+// The texture coordinates a PLY vertex element's scalar properties `names` give the reader.
+// OpenMesh's reads u and s as the first coordinate and v and t as the second, a name later in the
+// header over one before it, and one without the other as a pair whose other half is 0: a file
+// with u v and s t was read with whichever pair came last, and one with u alone as (u, 0), without
+// a word (found by an exploratory session, forty-first). So a whole pair is read, u v before s t
+// (or one first and one second coordinate, u t or s v), and the other names of the four are not
+// (renamed unread_, normalize_ply_header); half a pair is not read at all, and UVs are generated.
+struct PlyUvNames {
+    std::vector<string> unread; // of u, v, s and t, those the reader is not given
+    string why;                 // what the scan warns, or empty
+};
+
+PlyUvNames ply_uv_names(const std::vector<string_view>& names)
+{
+    const auto has = [&](string_view n) { return std::find(names.begin(), names.end(), n) != names.end(); };
+    const bool u = has("u"), v = has("v"), s = has("s"), t = has("t");
+    PlyUvNames out;
+    const auto leave_out = [&](std::initializer_list<string_view> which) {
+        for (const string_view n : which)
+            if (has(n)) out.unread.emplace_back(n);
+    };
+    if (u && v && (s || t)) {
+        leave_out({"s", "t"});
+        out.why = string("vertex properties u v and ") + (s && t ? "s t" : (s ? "s" : "t")) +
+                  ": u v are read as texture coordinates";
+    } else if (s && t && (u || v)) {
+        leave_out({"u", "v"});
+        out.why = string("vertex properties s t and ") + (u ? "u" : "v") + ": s t are read as texture coordinates";
+    } else if ((u || s) != (v || t)) {
+        leave_out({"u", "v", "s", "t"});
+        const string present = u && s ? "u and s" : (u ? "u" : (s ? "s" : (v && t ? "v and t" : (v ? "v" : "t"))));
+        out.why = "vertex propert" + string(present.size() > 1 ? "ies " : "y ") + present + " without " +
+                  (u || s ? "v or t" : "u or s") + ": not read as texture coordinates";
+    }
+    return out;
+}
+
 // A PLY header as OpenMesh's reader takes it, rewritten after the scan has checked it (whose
 // messages count the file's own lines): white space at a header line's end is dropped (after
 // `end_header` it put a binary body a byte off, and after a list property the reader failed
@@ -837,6 +874,22 @@ void normalize_ply_header(string& text)
         return string::npos;
     }();
     if (header_end == string::npos) return; // (the scan says so)
+    // The vertex element's scalar properties first: which texture coordinates are read.
+    std::vector<string> vertex_names;
+    {
+        LineReader lines(string_view(text).substr(0, header_end));
+        string_view line, tok[4];
+        string_view element;
+        while (lines.next(line)) {
+            const size_t words = tokenize(line, tok, 4);
+            if (words == 3 && tok[0] == "element") element = tok[1];
+            if (words == 3 && tok[0] == "property" && element == "vertex") vertex_names.emplace_back(tok[2]);
+        }
+    }
+    const PlyUvNames uv = ply_uv_names(std::vector<string_view>(vertex_names.begin(), vertex_names.end()));
+    const auto unread_uv = [&](string_view element, string_view name) {
+        return element == "vertex" && std::find(uv.unread.begin(), uv.unread.end(), name) != uv.unread.end();
+    };
     // OpenMesh's binary reader finds the body 12 bytes past the end of the header's last word
     // before end_header ("\nend_header\n"; 14 where the first of them is CR LF): so end_header is
     // written from the line's start, with the line end of the line before it (an indented one, or
@@ -858,7 +911,7 @@ void normalize_ply_header(string& text)
         if (words == 3 && tok[0] == "element") element = tok[1];
         if (words == 5 && tok[0] == "property" && tok[1] == "list" && ply_count_type_as_read(tok[2]) != tok[2])
             fixed = "property list " + string(ply_count_type_as_read(tok[2])) + " " + string(tok[3]) + " " + string(tok[4]);
-        if (words == 3 && tok[0] == "property" && is_ply_colour(element, tok[2]))
+        if (words == 3 && tok[0] == "property" && (is_ply_colour(element, tok[2]) || unread_uv(element, tok[2])))
             fixed = "property " + string(tok[1]) + " unread_" + string(tok[2]);
         const bool last = words == 1 && tok[0] == "end_header";
         if (last) fixed = "end_header";
@@ -1025,8 +1078,14 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
     // than only that the file has none (UVs are then generated).
     std::string ignored_uv;
     bool has_uv = false;
+    std::vector<string_view> scalars;
+    for (const PlyProperty& p : vertex->properties)
+        if (p.count_size == 0) scalars.emplace_back(p.name);
+    const PlyUvNames uv = ply_uv_names(scalars);
+    if (!uv.why.empty()) warn(subject + ": " + uv.why);
     for (const PlyProperty& p : vertex->properties) {
-        if (p.name == "u" || p.name == "v" || p.name == "s" || p.name == "t") has_uv = true;
+        if (p.name == "u" || p.name == "v" || p.name == "s" || p.name == "t")
+            has_uv = has_uv || std::find(uv.unread.begin(), uv.unread.end(), p.name) == uv.unread.end();
         else if (p.name.find("tex") != std::string::npos)
             ignored_uv += (ignored_uv.empty() ? "" : ", ") + p.name;
     }
