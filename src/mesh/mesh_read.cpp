@@ -1142,6 +1142,14 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
                         if (k > 0 && (!parse_int(line.substr(start, pos - start), index) || index < 0))
                             fail(subject, line_prefix(lines.line()) + "face index " +
                                               shown(line.substr(start, pos - start)) + " is not a whole number from 0");
+                        // Past the vertices, with its line and as written (the reader's 32 bits
+                        // wrapped 4294967296 to a face of "out-of-range vertex index -1"; found by
+                        // an exploratory session, forty-first).
+                        if (k > 0 && static_cast<unsigned long long>(index) >= vertex->count)
+                            fail(subject, line_prefix(lines.line()) + "face " + std::to_string(i) +
+                                              " has an out-of-range vertex index " +
+                                              string(line.substr(start, pos - start)) + " (the file has " +
+                                              std::to_string(vertex->count) + " vertices)");
                     }
                     continue;
                 }

@@ -1252,7 +1252,13 @@ TEST(MeshErrors, PlyFaceIndexOutOfRange)
         "r.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                  "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
                  "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n");
-    EXPECT_ERROR_MENTIONS(load_error(p), p, "face 0 has an out-of-range vertex index 5");
+    EXPECT_ERROR_MENTIONS(load_error(p), p, "line 13: face 0 has an out-of-range vertex index 5 (the file has 3 vertices)");
+    // As written, not as the reader's 32 bits wrapped it ("-1"; forty-first session).
+    const fs::path wrap = dir.write(
+        "w.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                 "property float z\nelement face 1\nproperty list uchar uint vertex_indices\n"
+                 "end_header\n0 0 0\n1 0 0\n0 1 0\n3 4294967296 1 2\n");
+    EXPECT_ERROR_MENTIONS(load_error(wrap), wrap, "line 13: face 0 has an out-of-range vertex index 4294967296");
 }
 
 TEST(MeshErrors, AbsurdHeadersFailFast)
