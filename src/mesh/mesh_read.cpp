@@ -1156,10 +1156,21 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
                 if (&el != vertex) continue;
                 // One value per property: the reader reads values, not lines, so a missing one
                 // took the next line's first.
-                if (values != vertex->properties.size())
+                if (values != vertex->properties.size()) {
+                    // A face's line where a vertex was due (its count, that many indices and the
+                    // face's other values): the header counts more vertices than the file holds
+                    // (it said only that the line's values were wrong; found by an exploratory
+                    // session, forty-first).
+                    long long corners = -1;
+                    const bool face_like = face && parse_int(tok[0], corners) && corners >= 3 &&
+                                           values == 1 + static_cast<size_t>(corners) + (face->properties.size() - 1);
                     fail(subject, line_prefix(lines.line()) + "vertex line has " + std::to_string(values) +
                                       " values; its " + std::to_string(vertex->properties.size()) +
-                                      " properties call for " + std::to_string(vertex->properties.size()));
+                                      " properties call for " + std::to_string(vertex->properties.size()) +
+                                      (face_like ? " (a face's line, in a vertex's place: the header counts " +
+                                                       std::to_string(vertex->count) + " vertices, too many?)"
+                                                 : string()));
+                }
                 size_t pos = 0;
                 glm::dvec3 p(0.0);
                 for (size_t k = 0; pos < line.size(); ++k) {

@@ -1259,6 +1259,15 @@ TEST(MeshErrors, PlyFaceIndexOutOfRange)
                  "property float z\nelement face 1\nproperty list uchar uint vertex_indices\n"
                  "end_header\n0 0 0\n1 0 0\n0 1 0\n3 4294967296 1 2\n");
     EXPECT_ERROR_MENTIONS(load_error(wrap), wrap, "line 13: face 0 has an out-of-range vertex index 4294967296");
+    // A header counting a vertex more than the file holds: the face's line where the last is due
+    // (forty-first session: said only that its values were wrong).
+    const fs::path more = dir.write(
+        "m.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                 "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                 "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    EXPECT_ERROR_MENTIONS(load_error(more), more,
+                          "line 13: vertex line has 4 values; its 3 properties call for 3 (a face's line, in a "
+                          "vertex's place: the header counts 4 vertices, too many?)");
 }
 
 TEST(MeshErrors, AbsurdHeadersFailFast)
