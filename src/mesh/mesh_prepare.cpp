@@ -159,8 +159,15 @@ double hull_area2(const std::vector<dvec2>& q, const std::vector<uint32_t>& r)
 // ear test skips points that coincide with an ear's corners (so that the two sides of a keyhole
 // bridge, whose loops are an outline and a hole of negative area, clip right), which let it clip
 // across the touching point; what was left became a fan outside the outline.
-bool triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uint32_t, 3>>& out,
-                         size_t& work_left)
+// What became of a polygon (triangulate_polygon).
+enum class PolygonCut {
+    Inside,           // triangles within its outline
+    FannedPastLimits, // concave past the ear clipping's limits: a fan
+    CrossesItself,    // its outline crosses itself (a bow tie): no inside to keep to
+};
+
+PolygonCut triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uint32_t, 3>>& out,
+                               size_t& work_left)
 {
     const size_t n = p.size();
     out.clear();
@@ -171,7 +178,7 @@ bool triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
     for (size_t i = 0; i < n; ++i) whole[i] = uint32_t(i);
     if (n == 3) {
         fan(whole);
-        return true;
+        return PolygonCut::Inside;
     }
     dvec3 normal(0.0);
     double magnitude = 0.0; // the largest coordinate: what float rounding is relative to
@@ -185,8 +192,13 @@ bool triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
     const dvec3 an = glm::abs(normal);
     const int k = an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2);
     if (an[k] == 0.0) {
+        // No area in any plane: on a line (its triangles have none, and are dropped), or lobes
+        // of opposite windings that cancel (a bow tie 1 2 4 3 on a square: its fan covers three
+        // quarters of the square).
         fan(whole);
-        return true;
+        for (const auto& t : out)
+            if (glm::length(glm::cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]])) > 0.0) return PolygonCut::CrossesItself;
+        return PolygonCut::Inside;
     }
     // Axes (k+1, k+2) keep the orientation when normal[k] > 0; flip the second otherwise, so
     // the polygon is counter-clockwise in 2D.
@@ -329,8 +341,23 @@ bool triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
 
     if (strictly_convex(whole)) {
         triangulate_ring(std::move(whole));
-        return true;
+        return PolygonCut::Inside;
     }
+    // Within the limits, ear clipping gives triangles of the outline's winding that add up to its
+    // area, unless the outline crosses itself: then it has no inside, and some triangles lie
+    // outside what each lobe encloses (found by an exploratory session, forty-first: a bow tie
+    // drew without a word).
+    const double area2 = ring_area2(q, whole); // (whole is moved from below)
+    const auto outcome = [&] {
+        if (!within_budget || fanned_concave) return PolygonCut::FannedPastLimits;
+        double sum = 0.0, size = 0.0;
+        for (const auto& t : out) {
+            const double a = cross2(q[t[1]] - q[t[0]], q[t[2]] - q[t[0]]);
+            sum += std::abs(a);
+            size += std::abs(a) + glm::length(q[t[1]] - q[t[0]]) * 2.0 * magnitude * std::ldexp(1.0, -24);
+        }
+        return sum > area2 + 1e-6 * size ? PolygonCut::CrossesItself : PolygonCut::Inside;
+    };
 
     // Points the outline passes more than once: equal positions get one id (by sorting).
     std::vector<uint32_t> order(whole), id(n);
@@ -345,7 +372,7 @@ bool triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
     }
     if (!repeats) {
         triangulate_ring(std::move(whole));
-        return within_budget && !fanned_concave;
+        return outcome();
     }
     // Cut into loops in one walk along the outline, on a stack of the corners of what is left:
     // where a point comes again, the corners since its earlier visit (on the stack) close a
@@ -387,7 +414,7 @@ bool triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uin
     }
     loops.push_back(std::move(stack));
     for (std::vector<uint32_t>& loop : loops) triangulate_ring(std::move(loop));
-    return within_budget && !fanned_concave;
+    return outcome();
 }
 
 // Interior angle at corner `a` of triangle (a, b, c); atan2 stays accurate for thin corners.
@@ -632,7 +659,9 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     std::vector<dvec3> poly;
     std::vector<std::array<uint32_t, 3>> local;
     size_t clip_work_left = options.ear_clip_work;
-    size_t fanned = 0; // concave polygons past the ear clipping's limits
+    size_t fanned = 0;  // concave polygons past the ear clipping's limits
+    size_t crossed = 0; // polygons whose outlines cross themselves
+    size_t first_crossed = 0;
     size_t repeated_in_faces = 0, faces_repeating_triangles = 0;
     std::vector<std::pair<std::array<uint32_t, 3>, uint32_t>> in_face; // a polygon's triangles by their sorted welds
     std::vector<uint8_t> in_face_drop;
@@ -648,7 +677,9 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         if (n == 3) {
             local.assign(1, {0, 1, 2}); // the common case, without the polygon machinery
         } else {
-            if (!triangulate_polygon(poly, local, clip_work_left)) ++fanned;
+            const PolygonCut cut = triangulate_polygon(poly, local, clip_work_left);
+            if (cut == PolygonCut::FannedPastLimits) ++fanned;
+            if (cut == PolygonCut::CrossesItself && crossed++ == 0) first_crossed = f;
         }
         const size_t first_triangle = tris.size();
         for (const auto& t : local) {
@@ -704,6 +735,11 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
              " too large to clip (more than " + std::to_string(kEarClipCorners) +
              " corners, or past the time budget) triangulated as " + (fanned == 1 ? "a fan" : "fans") +
              ", which may cover area outside " + (fanned == 1 ? "its outline" : "their outlines"));
+    if (crossed > 0)
+        warn(name + ": " + std::to_string(crossed) + " polygon" + (crossed == 1 ? "'s outline crosses" : "s' outlines cross") +
+             " itself (face " + std::to_string(first_crossed) + (crossed == 1 ? "" : " the first") +
+             "; a bow tie?): triangulated as " + (crossed == 1 ? "it was" : "they were") +
+             " given, which may cover area outside " + (crossed == 1 ? "its lobes" : "their lobes"));
     out.dropped_triangles = degenerate;
     if (tris.empty())
         throw Error(name,
