@@ -1859,6 +1859,10 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
 {
     const string subject = path.string();
     const string ext = lower(path.extension().string());
+    // A folder is said as such whatever its name (one without an extension was "unknown mesh
+    // format (no extension)"; found by an exploratory session, forty-first).
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) fail(subject, "is a folder, not a mesh file");
     if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl")
         fail(subject, "unknown mesh format " +
                           (ext.empty() ? string("(no extension)") : shown(ext)) +
