@@ -18,6 +18,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/file_kind.hpp"
 #include "core/fnv.hpp"
 #include "core/input_file.hpp"
 
@@ -410,6 +411,11 @@ ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const s
         // directory; rebuilding it", a warning meant for entries that are wrong; found by an
         // exploratory session, thirty-second.)
         if (!r.gone) warn("cone-map cache entry " + result.entry.string() + ": " + r.why + "; rebuilding it");
+    } else if (const std::string why = not_a_file_reason(result.entry.c_str()); !why.empty()) {
+        // A folder, a FIFO or a link to a device where the entry goes: replaced below, and said as
+        // any entry that is wrong is (it went without a word; found by an exploratory session,
+        // forty-first).
+        warn("cone-map cache entry " + result.entry.string() + ": " + why + "; rebuilding it");
     }
     result.map = build(field, kind, options);
     try {
