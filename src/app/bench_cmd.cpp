@@ -117,8 +117,8 @@ CommandAction add_bench_command(CLI::App& app)
         bar.clear();
 
         nlohmann::json results = nlohmann::json::array();
-        std::printf("%s, %dx%d, %d frames per technique (interleaved)\n", session.context->description().c_str(),
-                    session.spec.width, session.spec.height, s->frames);
+        std::printf("%s, %dx%d, %d frame%s per technique (interleaved)\n", session.context->description().c_str(),
+                    session.spec.width, session.spec.height, s->frames, s->frames == 1 ? "" : "s");
         int name_width = 14; // as wide as the longest name
         for (const BenchRow& row : rows) name_width = std::max(name_width, int(row.label.size()));
         // `ratio`: the median over the first row's, the figure to compare (the JSON's

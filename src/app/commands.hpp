@@ -80,7 +80,8 @@ inline nlohmann::json scene_json(const Scene& scene)
         if (o.color) j["color"] = o.color_name;
         if (const glm::dmat4& m = o.placement; m != glm::dmat4(1.0)) {
             nlohmann::json rows = nlohmann::json::array();
-            for (int r = 0; r < 4; ++r) rows.push_back({m[0][r], m[1][r], m[2][r], m[3][r]});
+            // (+ 0.0: a mirror's zeros were -0.0; found by an exploratory session, forty-first.)
+            for (int r = 0; r < 4; ++r) rows.push_back({m[0][r] + 0.0, m[1][r] + 0.0, m[2][r] + 0.0, m[3][r] + 0.0});
             j["transform"] = rows;
         }
         objects.push_back(std::move(j));
