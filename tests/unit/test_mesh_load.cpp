@@ -1274,23 +1274,21 @@ TEST(MeshErrors, OffFaceIndexOutOfRange)
 TEST(MeshErrors, PlyFaceIndexOutOfRange)
 {
     TempDir dir;
-    const fs::path p = dir.write(
-        "r.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                 "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
-                 "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n");
+    // An ASCII PLY of `vertices` (as the header counts them) with `index` its face list's type and
+    // `body` the lines after its header.
+    const auto ply = [&](const std::string& name, int vertices, const std::string& index, const std::string& body) {
+        return dir.write(name, "ply\nformat ascii 1.0\nelement vertex " + std::to_string(vertices) +
+                                   "\nproperty float x\nproperty float y\nproperty float z\nelement face 1\n"
+                                   "property list uchar " + index + " vertex_indices\nend_header\n" + body);
+    };
+    const fs::path p = ply("r.ply", 3, "int", "0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n");
     EXPECT_ERROR_MENTIONS(load_error(p), p, "line 13: face 0 has an out-of-range vertex index 5 (the file has 3 vertices)");
     // As written, not as the reader's 32 bits wrapped it ("-1"; forty-first session).
-    const fs::path wrap = dir.write(
-        "w.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                 "property float z\nelement face 1\nproperty list uchar uint vertex_indices\n"
-                 "end_header\n0 0 0\n1 0 0\n0 1 0\n3 4294967296 1 2\n");
+    const fs::path wrap = ply("w.ply", 3, "uint", "0 0 0\n1 0 0\n0 1 0\n3 4294967296 1 2\n");
     EXPECT_ERROR_MENTIONS(load_error(wrap), wrap, "line 13: face 0 has an out-of-range vertex index 4294967296");
     // A header counting a vertex more than the file holds: the face's line where the last is due
     // (forty-first session: said only that its values were wrong).
-    const fs::path more = dir.write(
-        "m.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
-                 "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
-                 "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    const fs::path more = ply("m.ply", 4, "int", "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
     EXPECT_ERROR_MENTIONS(load_error(more), more,
                           "line 13: vertex line has 4 values; its 3 properties call for 3 (a face's line, in a "
                           "vertex's place: the header counts 4 vertices, too many?)");
