@@ -372,6 +372,9 @@ bool at_seam(vec3 tex_in, vec3 tex_out)
 // there: bump tops along a tetrahedron's edges, each face a UV island of its own, were black where
 // the reference, lit through the tear's crack, is lit: 26.5 dB against 39.6 without shadows;
 // found by an exploratory session.)
+#ifndef PR_LIGHT_SEAM_MARGIN
+#define PR_LIGHT_SEAM_MARGIN 1e-2
+#endif
 float light_walk(uint prim, vec3 tex, vec3 hit, vec3 light_dir, bool under)
 {
     UvGrad g = UvGrad(vec2(0.0), vec2(0.0));
@@ -417,24 +420,29 @@ float light_walk(uint prim, vec3 tex, vec3 hit, vec3 light_dir, bool under)
         // Across a seam the far side's height at the ray's true place says which side of its
         // surface the ray is on (with the light march's bias: under by less, its samples would
         // pass; at the planar place, a curved prism's side put rays under surfaces they pass over).
-        if (seam) below = m_in.z + 2e-3 < height_at(m_in.xy, g);
+        if (seam) below = m_in.z + PR_LIGHT_SEAM_MARGIN < height_at(m_in.xy, g);
         // Under the surface: the march through the heights turned over (as the back of an open
-        // sheet's, main), the soft light's slope turned with them. (One march for both: llvmpipe
+        // sheet's, main), the soft light's slope turned with them, and back after it (the slope
+        // marched may be raised over the light's: soft_light_ray). (One march for both: llvmpipe
         // runs each arm of a branch for all its lanes where they differ.)
+        float soft_slope = g_soft_slope, soft_light_slope = g_soft_light_slope;
         if (below) turned_light(d);
         g_height_flip = below ? 1.0 : 0.0;
         blocked = march_light(below ? vec3(m_in.xy, 1.0 - m_in.z) : m_in, below ? vec3(d.xy, -d.z) : d, 1.0, abs(d.z),
                               run, visibility, g) == PR_LIGHT_BLOCKED;
         g_height_flip = 0.0;
-        if (below) turned_light(d);
+        g_soft_slope = soft_slope;
+        g_soft_light_slope = soft_light_slope;
 #else
         blocked = march_light(m_in, d, 1.0, abs(d.z), run, visibility, g) == PR_LIGHT_BLOCKED;
 #endif
         // Out through a top, at 1: above every height (from under the surface it went through
         // it, where its march missed that: a box's top at 1). Under the base surface: the
-        // object's body, or the sheet, is in the way.
-        blocked = blocked || ex.face == 1 || (below && ex.face == 0);
-        ended = blocked || ex.face == 0;
+        // object's body, or the sheet, is in the way; but from under an open mesh's sheet (through
+        // a tear) it goes on into the open space under it.
+        bool open_below = below && (u_march.w & PR_FLAG_OPEN_SHELL) != 0;
+        blocked = blocked || (ex.face == 1 && !open_below) || (below && ex.face == 0);
+        ended = blocked || ex.face <= 1;
         // Out through a top: soft light goes on past it, in this prism's frame.
         if (ex.face == 0 && !blocked && !below) soft_past_top(m_out, d, run, visibility, g);
         if (ended) break;
@@ -840,8 +848,12 @@ void main()
             // from below, under a light from below, 17.9 dB against the reference, which shadows
             // it.)
             vec3 from = tex;
+            // The back of a closed mesh's surface (seen through a tear, or from an eye inside a
+            // bump): its body is under it, and the texture plane's march does not light it.
+            bool dark_back = false;
 #if defined(PR_PRISM_TEARS) || !defined(PR_PRISM_WALK)
             bool turned = below && (u_march.w & PR_FLAG_OPEN_SHELL) != 0;
+            dark_back = below && !turned;
             if (turned) {
                 from.z = 1.0 - from.z;
                 l_tex = turned_light(l_tex);
@@ -866,10 +878,10 @@ void main()
             // part of them only).
             from.z = max(from.z, height_at(from.xy, g));
 #endif
-            visibility = light_visibility(from, l_tex, g);
+            // (Not for the back of a closed mesh: below.)
+            visibility = dark_back ? 0.0 : light_visibility(from, l_tex, g);
 #if defined(PR_PRISM_TEARS) || !defined(PR_PRISM_WALK)
             g_height_flip = 0.0;
-            if (below && !turned) visibility = 0.0;
 #endif
 #ifdef PR_PRISM_WALK
             // Where the texture plane around the hit shades it, the walk through the mesh's prisms
@@ -917,7 +929,7 @@ void main()
             // session. The same call as the front's below: a second copy of the walk cost about a
             // tenth of a shadowed frame on the blob on llvmpipe.)
 #ifdef PR_PRISM_TEARS
-            bool back = below && !turned;
+            bool back = dark_back;
 #else
             bool back = false;
 #endif
