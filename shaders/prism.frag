@@ -372,9 +372,10 @@ bool at_seam(vec3 tex_in, vec3 tex_out)
 // there: bump tops along a tetrahedron's edges, each face a UV island of its own, were black where
 // the reference, lit through the tear's crack, is lit: 26.5 dB against 39.6 without shadows;
 // found by an exploratory session.)
-#ifndef PR_LIGHT_SEAM_MARGIN
-#define PR_LIGHT_SEAM_MARGIN 1e-2
-#endif
+// How far under the far side's surface, in its height range, the light's ray must be at a seam
+// to go on under it (light_walk): the ray's true place there, one Newton step from the planar
+// one, errs by more than the march's bias (2e-3) in the sheared prisms at a cube's corners.
+const float kLightSeamMargin = 1e-2;
 float light_walk(uint prim, vec3 tex, vec3 hit, vec3 light_dir, bool under)
 {
     UvGrad g = UvGrad(vec2(0.0), vec2(0.0));
@@ -418,9 +419,9 @@ float light_walk(uint prim, vec3 tex, vec3 hit, vec3 light_dir, bool under)
         vec3 d = m_out - m_in;
 #ifdef PR_PRISM_TEARS
         // Across a seam the far side's height at the ray's true place says which side of its
-        // surface the ray is on (with the light march's bias: under by less, its samples would
-        // pass; at the planar place, a curved prism's side put rays under surfaces they pass over).
-        if (seam) below = m_in.z + PR_LIGHT_SEAM_MARGIN < height_at(m_in.xy, g);
+        // surface the ray is on (by a margin, kLightSeamMargin; at the planar place, a curved
+        // prism's side put rays under surfaces they pass over).
+        if (seam) below = m_in.z + kLightSeamMargin < height_at(m_in.xy, g);
         // Under the surface: the march through the heights turned over (as the back of an open
         // sheet's, main), the soft light's slope turned with them, and back after it (the slope
         // marched may be raised over the light's: soft_light_ray). (One march for both: llvmpipe
