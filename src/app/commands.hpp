@@ -158,10 +158,13 @@ inline void warn_if_shadow_map_coarse(const Renderer::ShadowFit& fit, const std:
 // meant, said on stderr by render (its --out), compare and bench (the command's name). Until the
 // thirtieth session compare reported such a view as a perfect match (IoU 1, PSNR "same") and bench
 // as 0 fragments, without a word (found by an exploratory session).
+// (--depth too, since the forty-first session: auto-framing fits the displaced shell, and with a
+// depth a million times the mesh's size the mesh covered no pixel of the view framed on it; found
+// by an exploratory session.)
 inline void warn_nothing_drawn(const std::string& subject)
 {
     warn(subject + ": nothing was drawn: the scene is out of view or covers no pixel centre "
-                   "(check the camera, --fovy and --size)");
+                   "(check the camera, --fovy and --size, and --depth, whose shell auto-framing fits)");
 }
 
 // Whether an image has no alpha at all (with --msaa a sliver may cover a fraction of a pixel:
