@@ -5,7 +5,10 @@
 // the prism's planes in texture space, interpolated (the seed's draft; prism.geom). A ray that leaves without meeting the height field is
 // discarded: that is what makes the outline true. A hit writes its real depth.
 #include "common/shared.h"
-#define PR_HIT_EPSILON PR_PRISM_HIT_EPSILON
+// The hit tolerance, in the height range (main sets it per fragment): PR_PRISM_HIT_EPSILON, or a
+// quarter of the pixel's footprint where that is finer.
+float g_hit_epsilon = PR_PRISM_HIT_EPSILON;
+#define PR_HIT_EPSILON g_hit_epsilon
 #if !defined(PR_PRISM_WALK) && defined(PR_SHADOWS)
 #define PR_HEIGHT_FLIP 1 // (the light's march from the slab's bottom, main)
 #endif
@@ -532,6 +535,19 @@ float hit_color_lod(vec3 hit, vec3 t_axis, vec3 b_axis)
 
 void main()
 {
+    // A sample within the hit tolerance over the surface is a hit (the caps at constant heights
+    // 0 and 1, which rays graze within rounding); a ray that passes over a wall's top within it
+    // hits the wall, a band along it PR_PRISM_HIT_EPSILON of the height range wide. Where that is
+    // wider than a quarter of a pixel at this fragment (a --depth far larger than the relief the
+    // map uses, or a close-up), the tolerance is that quarter, down to 1e-6 of the range, above the
+    // rounding of the ray's height (a map using 448/65535 of its range under --depth 150 drew a
+    // band of 251 pixels along a plane's open edge, IoU 0.954; found by an exploratory session,
+    // forty-first).
+    {
+        float view_depth = max(-(u_view * vec4(v_world, 1.0)).z, 0.0);
+        float pixel = 2.0 * view_depth * u_viewport.w / max(u_proj[1][1], 1e-30); // world, at the entry
+        g_hit_epsilon = clamp(0.25 * pixel / max(u_displace.x, 1e-30), 1e-6, PR_PRISM_HIT_EPSILON);
+    }
     // (With PR_PRISM_FOLDED_WALL_ID on a folded prism's wall: prism.geom.)
     uint prim = uint(gl_PrimitiveID) & ~uint(PR_PRISM_FOLDED_WALL_ID);
     bool from_a[3];

@@ -53,6 +53,11 @@ valid_grey = png(N, N, 8, 0, grey8)
 write("one_pixel.png", png(1, 1, 8, 0, [bytes([200])]))
 write("sixteen_bit.png", png(N, N, 16, 0, [b"".join(struct.pack(">H", int(round(65535 * bumps(x, y, N))))
                                                        for x in range(N)) for y in range(N)]))
+# Eight steps along u that use a sliver of the 16-bit range (64/65535 each; max 448): under a
+# large --depth the steps are as tall as the full-range map's under a small one (cli.compare_
+# prism_hit_tolerance_low_range_map, the hit tolerance against the pixel; forty-first session).
+write("low_range_steps16.png", png(64, 64, 16, 0, [b"".join(struct.pack(">H", (x * 8 // 64) * 64) for x in range(64))
+                                                  for y in range(64)]))
 palette = [(i * 16, i * 16, i * 16) for i in range(16)]  # grey ramp, 16 entries
 write("paletted.png", png(N, N, 8, 3, [bytes(int(round(15 * bumps(x, y, N))) for x in range(N))
                                        for y in range(N)], palette))

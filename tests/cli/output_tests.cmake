@@ -87,6 +87,15 @@ pr_cli(compare_sheet_from_below_soft_shadows EXIT 0 JSON c.json CHECKS "results.
 pr_cli(compare_back_through_a_tear_in_shadow EXIT 0 JSON c.json CHECKS "results.0.psnr:GREATER:21.6"
        ARGS compare --mesh ${M}/rock.obj --height builtin:boxes --size 128x96 --light 1,0.5,0.3 --techniques prism
             --shadows hard --json c.json)
+# The prism's hit tolerance is below a quarter of a pixel whatever the depth: a map whose eight
+# steps use a sliver of its range (448/65535) under --depth 150, each step 0.15 units, the plane
+# seen from 3 units. At 1e-4 of the depth (0.015 units, most of a pixel) a band ran along every
+# step's top: 202 outline pixels wrong against a reference of level 64, IoU 0.963 (the same steps
+# in the map's full range at depth 1.5: 2); now 30 (found by an exploratory session, forty-first).
+pr_cli(compare_prism_hit_tolerance_low_range_map EXIT 0 JSON c.json
+       CHECKS "results.0.iou:GREATER:0.99|results.0.silhouette_wrong_px:LESS:60|results.1.iou:GREATER:0.99"
+       ARGS compare --mesh ${M}/plane.obj --height ${BAD}/low_range_steps16.png --depth 150 --eye 0,1.5,3 --target 0,0,0
+            --size 128x128 --reference-level 64 --techniques prism,prism:relaxed-cone --json c.json)
 # The prism's colour is filtered as the reference's is, at the level its pixel's footprint asks
 # for on the displaced surface: read at level 0 it aliased in minified views (24.3 dB on the
 # torus, 27.2 on the plane seen from 8 degrees up; now 29.7 and 35.4; twenty-first session).
