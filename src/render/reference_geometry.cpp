@@ -129,19 +129,23 @@ std::size_t reference_bytes_per_triangle(int level)
     return (l + 1) * (l + 2) / 2 * sizeof(MeshVertex) + l * l * 3 * sizeof(std::uint32_t);
 }
 
-float steepest_texel_step(const HeightField& height)
+TexelSteps texel_steps(const HeightField& height)
 {
-    float step = 0.0f;
+    TexelSteps s;
+    float lowest = 0.0f, highest = 0.0f;
     for (int y = 0; y < height.height; ++y)
         for (int x = 0; x < height.width; ++x) {
             const float h = height.at(x, y);
-            step = std::max({step, std::abs(height.at(x + 1, y) - h), std::abs(height.at(x, y + 1) - h)});
+            s.steepest = std::max({s.steepest, std::abs(height.at(x + 1, y) - h), std::abs(height.at(x, y + 1) - h)});
+            lowest = x == 0 && y == 0 ? h : std::min(lowest, h);
+            highest = x == 0 && y == 0 ? h : std::max(highest, h);
         }
-    return step;
+    s.span = highest - lowest;
+    return s;
 }
 
 ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::dmat4& transform,
-                                      const HeightField& height, float step, float depth, float midlevel,
+                                      const HeightField& height, const TexelSteps& steps, float depth, float midlevel,
                                       const Camera& camera, int width_px, int height_px, std::size_t max_triangles,
                                       int floor_level)
 {
@@ -157,8 +161,9 @@ ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::dmat4
     const float aspect = static_cast<float>(std::max(width_px, 1)) / static_cast<float>(std::max(height_px, 1));
     const float cos_corner = 1.0f / std::sqrt(1.0f + tan_half * tan_half * (1.0f + aspect * aspect));
     const glm::vec3 forward(glm::normalize(camera.target - camera.eye));
-    // `step`, the steepest rise between neighbouring texels: along an edge spanning s texels the
-    // height changes by at most min(1, s * step), and the displaced edge is longer by depth times that.
+    // `steps.steepest`, the steepest rise between neighbouring texels: along an edge spanning s
+    // texels the height changes by at most min(1, s * steepest), and the displaced edge is longer
+    // by depth times that.
     // The ends of the displacement range along the normal: depth * (h - midlevel), h in [0, 1].
     const float reach = displacement_reach(depth, midlevel);
     // In the object's frame (its translation taken out, in double), as the renderer draws it.
@@ -200,7 +205,7 @@ ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::dmat4
             // normals over the reach (a curved mesh's shell is wider at its outer end), plus the
             // rise of the height along it (deep shells: --depth as large as the object).
             const float displaced = glm::length(wq - wp) + reach * glm::length(nq - np) +
-                                    depth * std::min(1.0f, texel_span * step);
+                                    depth * std::min(1.0f, texel_span * steps.steepest);
             // Pixels per unit across the ray at the nearest, most stretched of the edge's ends.
             float per_unit = triangle_unit;
             for (const glm::vec3& end : {wp, wq, wp - reach * np, wq - reach * nq, wp + reach * np, wq + reach * nq})
@@ -208,7 +213,7 @@ ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::dmat4
             max_pixel_edge = std::max(max_pixel_edge, displaced * focal_px * per_unit);
         }
     }
-    const float texels_per_edge = step > kSharpStep ? 0.5f : 1.0f;
+    const float texels_per_edge = steps.steepest > kSharpStep * steps.span ? 0.5f : 1.0f;
     // Bounded before the conversion to int: an eye inside the shell, within the displacement's
     // reach of a triangle it sees, measures it from the near plane, and a narrow field of view
     // took the product past 2^31 (the cast gave INT_MIN, the level fell to the cheap one without

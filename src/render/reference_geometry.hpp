@@ -30,19 +30,29 @@ inline float displacement_reach(float depth, float midlevel)
     return depth * std::max(std::abs(midlevel), std::abs(1.0f - midlevel));
 }
 
-// A rise between neighbouring texels above this fraction of the height range makes a map sharp
-// (builtin:boxes: 0.8; bricks 0.19, bumps 0.06 at 512²): the texel criterion then asks for
-// edges of half a texel, since edges of one texel may sample a one-texel wall or spike only at
-// its feet and draw it at half its height.
+// A rise between neighbouring texels above this fraction of the heights the map spans (its
+// highest less its lowest) makes a map sharp (builtin:boxes: 0.8; bricks 0.19, bumps 0.06 at
+// 512²): the texel criterion then asks for edges of half a texel, since edges of one texel may
+// sample a one-texel wall or spike only at its feet and draw it at half its height. (Of the
+// whole height range until the forty-first session: steps that used a sliver of a 16-bit map's
+// range under a large --depth, walls a world unit tall, did not count.)
 inline constexpr float kSharpStep = 0.25f;
+
+// What choose_reference_level reads of a height field (texel_steps): the largest rise between
+// neighbouring texels (wrapped), and the heights it spans.
+struct TexelSteps {
+    float steepest = 0.0f;
+    float span = 0.0f; // highest less lowest texel
+};
 
 // The finest level, automatic or given (--reference-level): one base triangle's vertices,
 // (L + 1)(L + 2) / 2, stay well within 32-bit indices (8.4 million).
 inline constexpr int kMaxReferenceLevel = 4096;
 
-// The largest rise between neighbouring texels (wrapped) of a height field, for
-// choose_reference_level: one pass over its texels, taken once per field that objects share.
-float steepest_texel_step(const HeightField& height);
+// The largest rise between neighbouring texels (wrapped) of a height field and the heights it
+// spans, for choose_reference_level: one pass over its texels, taken once per field that objects
+// share.
+TexelSteps texel_steps(const HeightField& height);
 
 // Chooses the uniform level: the coarser of the texel and pixel criteria (so edges are at most
 // about one texel — half a texel on sharp maps — or one pixel, whichever is larger), then lowered until
@@ -58,9 +68,9 @@ float steepest_texel_step(const HeightField& height);
 // criterion asked for so coarse a reference that it, not the technique, made most of the error
 // (the torus at 64x48: level 6, the prism 34 dB against it, 49 dB against level 10, 55 against
 // 16; found by an exploratory session, thirty-sixth).
-// `step`: steepest_texel_step(height).
+// `steps`: texel_steps(height).
 ReferenceLevel choose_reference_level(const PreparedMesh& mesh, const glm::dmat4& transform,
-                                      const HeightField& height, float step, float depth, float midlevel,
+                                      const HeightField& height, const TexelSteps& steps, float depth, float midlevel,
                                       const Camera& camera, int width_px, int height_px, std::size_t max_triangles,
                                       int floor_level = 1);
 

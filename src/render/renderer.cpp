@@ -688,7 +688,7 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
     std::vector<ReferenceLevel> levels(objects_.size());
     std::vector<std::size_t> base_triangles(objects_.size());
     std::vector<char> hidden(objects_.size(), 0);
-    std::map<const HeightField*, float> steps;
+    std::map<const HeightField*, TexelSteps> steps;
     for (std::size_t k = 0; k < objects_.size(); ++k) {
         const SceneObject& so = scene.objects[k];
         base_triangles[k] = so.mesh.triangle_count();
@@ -696,8 +696,8 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
             levels[k].level = options.level;
             continue;
         }
-        const auto [at, fresh] = steps.try_emplace(so.height.get(), 0.0f);
-        if (fresh) at->second = steepest_texel_step(*so.height);
+        const auto [at, fresh] = steps.try_emplace(so.height.get());
+        if (fresh) at->second = texel_steps(*so.height);
         levels[k] = choose_reference_level(so.mesh, so.transform, *so.height, at->second, so.depth, so.midlevel, camera,
                                            width_, height_, std::numeric_limits<std::size_t>::max(), floor_level);
         hidden[k] = k < scene.object_bounds.size() &&

@@ -96,6 +96,13 @@ pr_cli(compare_prism_hit_tolerance_low_range_map EXIT 0 JSON c.json
        CHECKS "results.0.iou:GREATER:0.99|results.0.silhouette_wrong_px:LESS:60|results.1.iou:GREATER:0.99"
        ARGS compare --mesh ${M}/plane.obj --height ${BAD}/low_range_steps16.png --depth 150 --eye 0,1.5,3 --target 0,0,0
             --size 128x128 --reference-level 64 --techniques prism,prism:relaxed-cone --json c.json)
+# The automatic reference counts those steps as sharp (a rise of a quarter of the heights the
+# map spans, not of the whole range): level 8, edges of half a texel; it was level 4, whose edges
+# cut the steps' corners, and the prism scored IoU 0.981 against it (forty-first session).
+pr_cli(compare_reference_sharp_steps_of_a_low_range_map EXIT 0 JSON c.json
+       CHECKS "reference.level:EQUAL:8|results.0.iou:GREATER:0.99|results.0.silhouette_wrong_px:LESS:60"
+       ARGS compare --mesh ${M}/plane.obj --height ${BAD}/low_range_steps16.png --depth 150 --eye 0,1.5,3 --target 0,0,0
+            --size 128x128 --techniques prism --json c.json)
 # The prism's colour is filtered as the reference's is, at the level its pixel's footprint asks
 # for on the displaced surface: read at level 0 it aliased in minified views (24.3 dB on the
 # torus, 27.2 on the plane seen from 8 degrees up; now 29.7 and 35.4; twenty-first session).
