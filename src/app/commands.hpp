@@ -164,7 +164,8 @@ inline void warn_if_shadow_map_coarse(const Renderer::ShadowFit& fit, const std:
 inline void warn_nothing_drawn(const std::string& subject)
 {
     warn(subject + ": nothing was drawn: the scene is out of view or covers no pixel centre "
-                   "(check the camera, --fovy and --size, and --depth, whose shell auto-framing fits)");
+                   "(check the camera, --fovy and --size; auto-framing fits the displaced shell, which a large "
+                   "--depth makes far larger than the mesh)");
 }
 
 // Whether an image has no alpha at all (with --msaa a sliver may cover a fraction of a pixel:

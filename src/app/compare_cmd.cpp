@@ -140,6 +140,7 @@ CommandAction add_compare_command(CLI::App& app)
         bottom[0].image = reference.color;
         for (auto& p : bottom[0].image.pixels) p = 0; // an empty tile under the reference: legend only
         bool nothing_drawn = drew_nothing(reference.color); // by the reference and every technique
+        bool technique_covers = false; // a technique covers a pixel (alpha of one half or more, as the metrics count)
         // A reference of a few pixels: each is a large share of the IoU, and the depth error and
         // PSNR rest on as few. At such a size every technique samples the height map far below its
         // texels, so the numbers compare aliasing (an object a few pixels across, in a 3x3 image
@@ -162,6 +163,7 @@ CommandAction add_compare_command(CLI::App& app)
                                            : capture(session, run.settings, ms);
             const CompareMetrics m = compare_frames(frame, reference);
             nothing_drawn = nothing_drawn && drew_nothing(frame.color);
+            technique_covers = technique_covers || covered_pixels(frame.color) > 0;
             nlohmann::json row = {{"technique", run.label},
                                   {"iou", m.iou},
                                   {"silhouette_wrong_px", m.silhouette_wrong_px},
@@ -230,7 +232,9 @@ CommandAction add_compare_command(CLI::App& app)
         // displaced one, or inside the shell): every pixel a technique covers counts as wrong,
         // and neither depth error nor PSNR has a value (forty-first session: said nothing, the
         // few-pixels warning above starts at one; found by an audit).
-        else if (reference_px == 0)
+        // (Covered as the metrics count it: with --msaa a reference of slivers alone drew
+        // something and covered nothing.)
+        else if (reference_px == 0 && technique_covers)
             warn("compare: the reference covers no pixel, the techniques do: each pixel they cover counts as "
                  "wrong, and depth error and PSNR have no value (the camera may be inside the shell or under the "
                  "displaced surface)");

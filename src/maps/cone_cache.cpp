@@ -411,10 +411,11 @@ ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const s
         // directory; rebuilding it", a warning meant for entries that are wrong; found by an
         // exploratory session, thirty-second.)
         if (!r.gone) warn("cone-map cache entry " + result.entry.string() + ": " + r.why + "; rebuilding it");
-    } else if (const std::string why = not_a_file_reason(result.entry.c_str()); !why.empty()) {
-        // A folder, a FIFO or a link to a device where the entry goes: replaced below, and said as
-        // any entry that is wrong is (it went without a word; found by an exploratory session,
-        // forty-first).
+    } else if (const std::string why = not_a_file_reason(result.entry.c_str());
+               !why.empty() && !(std::filesystem::is_directory(result.entry, ec) && !std::filesystem::is_empty(result.entry, ec))) {
+        // An empty folder, a FIFO or a link to a device where the entry goes: replaced below, and
+        // said as any entry that is wrong is (it went without a word; found by an exploratory
+        // session, forty-first). (A folder with anything in it stays, and the write below says so.)
         warn("cone-map cache entry " + result.entry.string() + ": " + why + "; rebuilding it");
     }
     result.map = build(field, kind, options);

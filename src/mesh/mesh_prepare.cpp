@@ -147,18 +147,6 @@ double hull_area2(const std::vector<dvec2>& q, const std::vector<uint32_t>& r)
     return a;
 }
 
-// Triangulates polygon `face` (n >= 3 corners, positions in `p`) into local corner triples.
-// Ear clipping in the plane of the Newell normal, so concave polygons come out right; a convex
-// polygon gives the fan from its first corner (from kEarRoundCorners corners on, rounds of ears). Self-intersecting polygons, and concave ones past
-// the limits above (`work_left` is what is left of the budget), fall back to a fan: returns
-// false for those past the limits.
-//
-// A polygon whose outline passes twice through one point (a corner repeated, `1 2 3 4 1`, or two
-// loops touching at a vertex, `1 2 3 4 5 3`) is first cut there into the loops it is made of,
-// where both have positive area; a loop of fewer than three corners has none and is dropped. The
-// ear test skips points that coincide with an ear's corners (so that the two sides of a keyhole
-// bridge, whose loops are an outline and a hole of negative area, clip right), which let it clip
-// across the touching point; what was left became a fan outside the outline.
 // What became of a polygon (triangulate_polygon).
 enum class PolygonCut {
     Inside,           // triangles within its outline
@@ -166,6 +154,19 @@ enum class PolygonCut {
     CrossesItself,    // its outline crosses itself (a bow tie): no inside to keep to
 };
 
+// Triangulates polygon `face` (n >= 3 corners, positions in `p`) into local corner triples.
+// Ear clipping in the plane of the Newell normal, so concave polygons come out right; a convex
+// polygon gives the fan from its first corner (from kEarRoundCorners corners on, rounds of ears).
+// Concave ones past the limits above (`work_left` is what is left of the budget) fall back to a
+// fan (FannedPastLimits); self-intersecting ones, which have no inside, come out as ear clipping
+// or the fan leaves them (CrossesItself).
+//
+// A polygon whose outline passes twice through one point (a corner repeated, `1 2 3 4 1`, or two
+// loops touching at a vertex, `1 2 3 4 5 3`) is first cut there into the loops it is made of,
+// where both have positive area; a loop of fewer than three corners has none and is dropped. The
+// ear test skips points that coincide with an ear's corners (so that the two sides of a keyhole
+// bridge, whose loops are an outline and a hole of negative area, clip right), which let it clip
+// across the touching point; what was left became a fan outside the outline.
 PolygonCut triangulate_polygon(const std::vector<dvec3>& p, std::vector<std::array<uint32_t, 3>>& out,
                                size_t& work_left)
 {
@@ -661,7 +662,6 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     size_t clip_work_left = options.ear_clip_work;
     size_t fanned = 0;  // concave polygons past the ear clipping's limits
     size_t crossed = 0; // polygons whose outlines cross themselves
-    size_t first_crossed = 0;
     size_t repeated_in_faces = 0, faces_repeating_triangles = 0;
     std::vector<std::pair<std::array<uint32_t, 3>, uint32_t>> in_face; // a polygon's triangles by their sorted welds
     std::vector<uint8_t> in_face_drop;
@@ -679,7 +679,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         } else {
             const PolygonCut cut = triangulate_polygon(poly, local, clip_work_left);
             if (cut == PolygonCut::FannedPastLimits) ++fanned;
-            if (cut == PolygonCut::CrossesItself && crossed++ == 0) first_crossed = f;
+            if (cut == PolygonCut::CrossesItself) ++crossed;
         }
         const size_t first_triangle = tris.size();
         for (const auto& t : local) {
@@ -735,10 +735,12 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
              " too large to clip (more than " + std::to_string(kEarClipCorners) +
              " corners, or past the time budget) triangulated as " + (fanned == 1 ? "a fan" : "fans") +
              ", which may cover area outside " + (fanned == 1 ? "its outline" : "their outlines"));
+    // (No face number: the reader has dropped faces of fewer than three corners by then, so the
+    // polygon's place in the file is not known here.)
     if (crossed > 0)
-        warn(name + ": " + std::to_string(crossed) + " polygon" + (crossed == 1 ? "'s outline crosses" : "s' outlines cross") +
-             " itself (face " + std::to_string(first_crossed) + (crossed == 1 ? "" : " the first") +
-             "; a bow tie?): triangulated as " + (crossed == 1 ? "it was" : "they were") +
+        warn(name + ": " + std::to_string(crossed) +
+             (crossed == 1 ? " polygon's outline crosses itself" : " polygons' outlines cross themselves") +
+             " (a bow tie?): triangulated as " + (crossed == 1 ? "it was" : "they were") +
              " given, which may cover area outside " + (crossed == 1 ? "its lobes" : "their lobes"));
     out.dropped_triangles = degenerate;
     if (tris.empty())

@@ -834,11 +834,12 @@ PlyUvNames ply_uv_names(const std::vector<string_view>& names)
     };
     if (u && v && (s || t)) {
         leave_out({"s", "t"});
-        out.why = string("vertex properties u v and ") + (s && t ? "s t" : (s ? "s" : "t")) +
-                  ": u v are read as texture coordinates";
+        const string other = s && t ? "s t" : (s ? "s" : "t");
+        out.why = "vertex properties u v and " + other + ": u v are read as texture coordinates, " + other + " not";
     } else if (s && t && (u || v)) {
         leave_out({"u", "v"});
-        out.why = string("vertex properties s t and ") + (u ? "u" : "v") + ": s t are read as texture coordinates";
+        const string other = u ? "u" : "v";
+        out.why = "vertex properties s t and " + other + ": s t are read as texture coordinates, " + other + " not";
     } else if ((u || s) != (v || t)) {
         leave_out({"u", "v", "s", "t"});
         const string present = u && s ? "u and s" : (u ? "u" : (s ? "s" : (v && t ? "v and t" : (v ? "v" : "t"))));

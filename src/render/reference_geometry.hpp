@@ -34,8 +34,9 @@ inline float displacement_reach(float depth, float midlevel)
 // highest less its lowest) makes a map sharp (builtin:boxes: 0.8; bricks 0.19, bumps 0.06 at
 // 512²): the texel criterion then asks for edges of half a texel, since edges of one texel may
 // sample a one-texel wall or spike only at its feet and draw it at half its height. (Of the
-// whole height range until the forty-first session: steps that used a sliver of a 16-bit map's
-// range under a large --depth, walls a world unit tall, did not count.)
+// whole height range until the forty-first session: a staircase in a sliver of a 16-bit map's
+// range under a large --depth, walls a world unit tall, did not count. A map of a few levels,
+// nearly flat, now does.)
 inline constexpr float kSharpStep = 0.25f;
 
 // What choose_reference_level reads of a height field (texel_steps): the largest rise between

@@ -96,9 +96,11 @@ pr_cli(compare_prism_hit_tolerance_low_range_map EXIT 0 JSON c.json
        CHECKS "results.0.iou:GREATER:0.99|results.0.silhouette_wrong_px:LESS:60|results.1.iou:GREATER:0.99"
        ARGS compare --mesh ${M}/plane.obj --height ${BAD}/low_range_steps16.png --depth 150 --eye 0,1.5,3 --target 0,0,0
             --size 128x128 --reference-level 64 --techniques prism,prism:relaxed-cone --json c.json)
-# The automatic reference counts those steps as sharp (a rise of a quarter of the heights the
-# map spans, not of the whole range): level 8, edges of half a texel; it was level 4, whose edges
-# cut the steps' corners, and the prism scored IoU 0.981 against it (forty-first session).
+# The automatic reference counts that map as sharp (a rise of a quarter of the heights the map
+# spans, not of the whole range: here its drop where it wraps, 448 to 0, as the full-range
+# staircase's 0.68 of the range made that one sharp): level 8, edges of half a texel; it was level
+# 4, whose edges cut the steps' corners, and the prism scored IoU 0.981 against it (forty-first
+# session).
 pr_cli(compare_reference_sharp_steps_of_a_low_range_map EXIT 0 JSON c.json
        CHECKS "reference.level:EQUAL:8|results.0.iou:GREATER:0.99|results.0.silhouette_wrong_px:LESS:60"
        ARGS compare --mesh ${M}/plane.obj --height ${BAD}/low_range_steps16.png --depth 150 --eye 0,1.5,3 --target 0,0,0

@@ -539,12 +539,12 @@ pr_refuse(conemap_pnm_huge_width "pnm_huge_width.pgm" "the image is 2147483648x1
 # match (IoU 1, PSNR "same") and bench counted 0 fragments, without a word; render warned. Each
 # warns now, once, and succeeds (the contract's IoU of 1 for an empty union stays).
 pr_cli(compare_nothing_drawn_warns EXIT 0 ONE_LINE EXPECT_FILE g.png
-       STDERR "^prismrelief: warning: compare: nothing was drawn: the scene is out of view or covers no pixel centre \\(check the camera, --fovy and --size, and --depth, whose shell auto-framing fits\\)"
+       STDERR "^prismrelief: warning: compare: nothing was drawn: the scene is out of view or covers no pixel centre \\(check the camera, --fovy and --size; auto-framing fits the displaced shell, which a large --depth makes far larger than the mesh\\)"
        JSON c.json CHECKS "results.0.iou:EQUAL:1|results.1.iou:EQUAL:1"
        ARGS compare --mesh ${M}/torus.obj --eye 0,0,5 --target 0,0,10 --techniques prism,relief --size 24x24
             --json c.json --out g.png)
 pr_cli(bench_nothing_drawn_warns EXIT 0 ONE_LINE
-       STDERR "^prismrelief: warning: bench: nothing was drawn: the scene is out of view or covers no pixel centre \\(check the camera, --fovy and --size, and --depth, whose shell auto-framing fits\\)"
+       STDERR "^prismrelief: warning: bench: nothing was drawn: the scene is out of view or covers no pixel centre \\(check the camera, --fovy and --size; auto-framing fits the displaced shell, which a large --depth makes far larger than the mesh\\)"
        JSON b.json CHECKS "results.0.fragments:EQUAL:0"
        ARGS bench --mesh ${M}/torus.obj --eye 0,0,5 --target 0,0,10 --techniques flat,relief --size 24x24
             --frames 1 --warmup 0 --json b.json)
@@ -552,13 +552,13 @@ pr_cli(bench_nothing_drawn_warns EXIT 0 ONE_LINE
 # covers no pixel centre; the warning names --depth too (forty-first session: only the camera,
 # --fovy and --size; found by an exploratory session).
 pr_cli(render_nothing_drawn_names_depth EXIT 0 ONE_LINE EXPECT_FILE o.png
-       STDERR "^prismrelief: warning: o.png: nothing was drawn: .*and --depth, whose shell auto-framing fits\\)"
+       STDERR "^prismrelief: warning: o.png: nothing was drawn: .*which a large --depth makes far larger than the mesh\\)"
        ARGS render --mesh ${M}/torus.obj --technique relief --depth 1e6 --size 64x48 --out o.png)
 # The prism seen from inside its shell, looking out past the torus: every fragment is discarded,
 # so the counters had fragments (3072, 23.8 samples each) while nothing was drawn, and bench did
 # not warn (render did). It judges by the coverage now (found by an exploratory session).
 pr_cli(bench_nothing_drawn_warns_for_discarded_fragments EXIT 0 ONE_LINE
-       STDERR "^prismrelief: warning: bench: nothing was drawn: the scene is out of view or covers no pixel centre \\(check the camera, --fovy and --size, and --depth, whose shell auto-framing fits\\)"
+       STDERR "^prismrelief: warning: bench: nothing was drawn: the scene is out of view or covers no pixel centre \\(check the camera, --fovy and --size; auto-framing fits the displaced shell, which a large --depth makes far larger than the mesh\\)"
        JSON b.json CHECKS "results.0.fragments:GREATER:1000"
        ARGS bench --mesh ${M}/torus.obj --eye 1.36,0,0 --target 2,0,0 --techniques prism,prism:relaxed-cone --size 64x48
             --frames 1 --warmup 0 --json b.json)

@@ -306,6 +306,11 @@ TEST(Reference, ObjectsDrawTheSameAtAnyScale)
         if (t == Technique::Reference) r.prepare_reference(scene, c, ReferenceOptions{});
         DrawSettings s;
         s.technique = t;
+        // The reference with shadows and relief with its depth written, whose shaders read the
+        // triangle's normal from the position's derivatives (scaled before their cross product
+        // since the forty-first session, which vanished at 1e-20; these views do not show it).
+        if (t == Technique::Reference) s.shadows = Shadows::Hard;
+        if (t == Technique::Relief) s.depth_write = true;
         r.draw(c, glm::normalize(glm::vec3(0.3f, 1.0f, 0.4f)), s);
         return FrameCapture{r.read_color(), r.read_depth(), c};
     };
@@ -316,7 +321,9 @@ TEST(Reference, ObjectsDrawTheSameAtAnyScale)
         for (const float scale : {1e-20f, 1e-8f, 3e9f, 1e12f, 1e17f}) {
             // (The prism refuses shells under 2e-9 and over 2e13 across: Prism tests.)
             if (t == Technique::Prism && (scale < 1e-8f || scale > 1e12f)) continue;
-            SCOPED_TRACE(technique_name(t) + " at scale " + std::to_string(scale));
+            char at_scale[64];
+            std::snprintf(at_scale, sizeof at_scale, " at scale %g", double(scale));
+            SCOPED_TRACE(technique_name(t) + at_scale);
             const FrameCapture f = render(scale, t);
             CompareMetrics m = compare_frames(f, unit);
             EXPECT_GT(m.iou, 0.995);

@@ -391,11 +391,18 @@ TEST(MeshLoad, PolygonsCrossingThemselvesAreSaid)
         return ::testing::internal::GetCapturedStderr();
     };
     const std::string square = "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n";
-    // Lobes of equal area (no net area: no plane), and of unequal area.
-    EXPECT_NE(warning("tie.obj", square + "f 1 2 4 3\n").find("tie.obj: 1 polygon's outline crosses itself (face 0; a bow tie?)"),
+    // Lobes of equal area (no net area: no plane), of unequal area (0.4 and 6.4: ear clipping's
+    // triangles add up to more than the outline's net area), and a pentagram (its middle counted
+    // twice by the outline).
+    EXPECT_NE(warning("tie.obj", square + "f 1 2 4 3\n").find("tie.obj: 1 polygon's outline crosses itself (a bow tie?)"),
               std::string::npos);
-    EXPECT_NE(warning("uneven.obj", "v 0 0 0\nv 3 0 0\nv 0 1 0\nv 3 2 0\nf 2 1 4 3\nf 1 2 3\n")
-                  .find("uneven.obj: 1 polygon's outline crosses itself (face 0"),
+    EXPECT_NE(warning("uneven.obj", "v 0 0 0\nv 4 4 0\nv 4 0 0\nv 0 1 0\nf 1 2 3 4\n")
+                  .find("uneven.obj: 1 polygon's outline crosses itself"),
+              std::string::npos);
+    std::string star;
+    for (int k = 0; k < 5; ++k)
+        star += "v " + std::to_string(std::cos(1.2566371 * k)) + " " + std::to_string(std::sin(1.2566371 * k)) + " 0\n";
+    EXPECT_NE(warning("star.obj", star + "f 1 3 5 2 4\nf 1 2 3 4 5\n").find("star.obj: 1 polygon's outline crosses itself"),
               std::string::npos);
     // Simple ones, concave or with a straight run of corners: nothing said.
     for (const auto& [name, obj] : {std::pair<std::string, std::string>{"quad.obj", square + "f 1 2 3 4\n"},
