@@ -354,6 +354,11 @@ bool at_seam(vec3 tex_in, vec3 tex_out)
 }
 
 #ifdef PR_SHADOWS
+// How far under the far side's surface, in its height range, the light's ray must be at a seam
+// to go on under it (light_walk): the ray's true place there, one Newton step from the planar
+// one, errs by more than the march's bias (2e-3) in the sheared prisms at a cube's corners.
+const float kLightSeamMargin = 1e-2;
+
 // Self-shadowing with the walk (called where the march in the hit's texture frame finds shadow,
 // main below): the light ray from the hit goes from prism to prism as the view ray does (its
 // exits found in the world, its march in each prism's texture space), so it meets the heights
@@ -368,17 +373,13 @@ bool at_seam(vec3 tex_in, vec3 tex_out)
 // On a torn mesh (PR_PRISM_TEARS) the light's ray goes through the tears as the view's does: where
 // it crosses a UV seam under the far side's surface it goes on under it (`below`, the heights
 // turned over, as the view walk's march), until a seam takes it out again; under the surface it
-// is blocked where it meets the surface from below and where it goes out through a bottom (into
-// the body). `under`: the hit is the surface's back, seen through a tear (the view walk's `below`),
+// is blocked where it meets the surface from below, where it goes out through a bottom into a
+// closed mesh's body (from under an open sheet it goes on) and through a top. `under`: the hit is the surface's back, seen through a tear (the view walk's `below`),
 // and the light's ray starts under it. (Until the forty-first session such a back was dark
 // whatever the light, and a ray that crossed a seam under the far side's surface was blocked
 // there: bump tops along a tetrahedron's edges, each face a UV island of its own, were black where
 // the reference, lit through the tear's crack, is lit: 26.5 dB against 39.6 without shadows;
 // found by an exploratory session.)
-// How far under the far side's surface, in its height range, the light's ray must be at a seam
-// to go on under it (light_walk): the ray's true place there, one Newton step from the planar
-// one, errs by more than the march's bias (2e-3) in the sheared prisms at a cube's corners.
-const float kLightSeamMargin = 1e-2;
 float light_walk(uint prim, vec3 tex, vec3 hit, vec3 light_dir, bool under)
 {
     UvGrad g = UvGrad(vec2(0.0), vec2(0.0));
@@ -543,8 +544,8 @@ void main()
     // rounding of the ray's height (a map using 448/65535 of its range under --depth 150 drew a
     // band along its steps and a plane's open edge: 202 outline pixels wrong against a reference
     // of level 64, IoU 0.963; found by an exploratory session, forty-first). Measured at the
-    // fragment, which lies on the shell's outside (the walk from the eye's lie on the far plane:
-    // 1e-4 there, as before).
+    // fragment, on the shell's outside (the walk from the eye draws on the far plane, where the
+    // tolerance stays 1e-4, as before).
     {
         float view_depth = max(-(u_view * vec4(v_world, 1.0)).z, 0.0);
         float pixel = 2.0 * view_depth * u_viewport.w / max(u_proj[1][1], 1e-30); // world, at the entry
