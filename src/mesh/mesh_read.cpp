@@ -206,6 +206,9 @@ struct Expect {
     // `off_binary_at` on, rewritten in OpenMesh's.
     string off_binary_body;
     size_t off_binary_at = 0;
+    // PLY: the vertex properties of u, v, s and t the reader is not given (ply_uv_names), renamed
+    // by normalize_ply_header.
+    std::vector<string> ply_unread_uv;
 };
 
 void check_triangle_budget(const string& subject, unsigned long long triangles,
@@ -864,8 +867,9 @@ PlyUvNames ply_uv_names(const std::vector<string_view>& names)
 // size, or a word of ASCII): it read them itself, a binary double as an integer it could not
 // convert, with a line on stderr for every value and the rest of the file misread ("face 0 has
 // fewer than 3 vertices"), and an ASCII one into an integer, which "255.0" or "0.5" misaligned
-// (found by an exploratory session, thirty-eighth).
-void normalize_ply_header(string& text)
+// (found by an exploratory session, thirty-eighth). So are the vertex's texture-coordinate
+// properties the scan leaves unread (`unread`: Expect::ply_unread_uv, ply_uv_names).
+void normalize_ply_header(string& text, const std::vector<string>& unread)
 {
     const size_t header_end = [&] {
         LineReader lines(text);
@@ -875,21 +879,8 @@ void normalize_ply_header(string& text)
         return string::npos;
     }();
     if (header_end == string::npos) return; // (the scan says so)
-    // The vertex element's scalar properties first: which texture coordinates are read.
-    std::vector<string> vertex_names;
-    {
-        LineReader lines(string_view(text).substr(0, header_end));
-        string_view line, tok[4];
-        string_view element;
-        while (lines.next(line)) {
-            const size_t words = tokenize(line, tok, 4);
-            if (words == 3 && tok[0] == "element") element = tok[1];
-            if (words == 3 && tok[0] == "property" && element == "vertex") vertex_names.emplace_back(tok[2]);
-        }
-    }
-    const PlyUvNames uv = ply_uv_names(std::vector<string_view>(vertex_names.begin(), vertex_names.end()));
     const auto unread_uv = [&](string_view element, string_view name) {
-        return element == "vertex" && std::find(uv.unread.begin(), uv.unread.end(), name) != uv.unread.end();
+        return element == "vertex" && std::find(unread.begin(), unread.end(), name) != unread.end();
     };
     // OpenMesh's binary reader finds the body 12 bytes past the end of the header's last word
     // before end_header ("\nend_header\n"; 14 where the first of them is CR LF): so end_header is
@@ -1084,6 +1075,7 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
         if (p.count_size == 0) scalars.emplace_back(p.name);
     const PlyUvNames uv = ply_uv_names(scalars);
     if (!uv.why.empty()) warn(subject + ": " + uv.why);
+    e.ply_unread_uv = uv.unread;
     for (const PlyProperty& p : vertex->properties) {
         if (p.name == "u" || p.name == "v" || p.name == "s" || p.name == "t")
             has_uv = has_uv || std::find(uv.unread.begin(), uv.unread.end(), p.name) == uv.unread.end();
@@ -1905,7 +1897,7 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
         requested += omio::Options::VertexTexCoord;
     } else if (ext == ".ply") {
         expect = scan_ply(subject, text, options);
-        normalize_ply_header(text); // (after the scan: its line numbers)
+        normalize_ply_header(text, expect.ply_unread_uv); // (after the scan: its line numbers)
         requested += omio::Options::VertexTexCoord;
     } else {
         expect = scan_stl(subject, text, options);

@@ -132,15 +132,12 @@ std::size_t reference_bytes_per_triangle(int level)
 TexelSteps texel_steps(const HeightField& height)
 {
     TexelSteps s;
-    float lowest = 0.0f, highest = 0.0f;
     for (int y = 0; y < height.height; ++y)
         for (int x = 0; x < height.width; ++x) {
             const float h = height.at(x, y);
             s.steepest = std::max({s.steepest, std::abs(height.at(x + 1, y) - h), std::abs(height.at(x, y + 1) - h)});
-            lowest = x == 0 && y == 0 ? h : std::min(lowest, h);
-            highest = x == 0 && y == 0 ? h : std::max(highest, h);
         }
-    s.span = highest - lowest;
+    s.span = height.max_value() - height.min_value();
     return s;
 }
 

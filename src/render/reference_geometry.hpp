@@ -51,8 +51,7 @@ struct TexelSteps {
 inline constexpr int kMaxReferenceLevel = 4096;
 
 // The largest rise between neighbouring texels (wrapped) of a height field and the heights it
-// spans, for choose_reference_level: one pass over its texels, taken once per field that objects
-// share.
+// spans, for choose_reference_level: taken once per field that objects share.
 TexelSteps texel_steps(const HeightField& height);
 
 // Chooses the uniform level: the coarser of the texel and pixel criteria (so edges are at most
