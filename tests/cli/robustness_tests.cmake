@@ -543,6 +543,9 @@ pr_cli(compare_nothing_drawn_warns EXIT 0 ONE_LINE EXPECT_FILE g.png
        JSON c.json CHECKS "results.0.iou:EQUAL:1|results.1.iou:EQUAL:1"
        ARGS compare --mesh ${M}/torus.obj --eye 0,0,5 --target 0,0,10 --techniques prism,relief --size 24x24
             --json c.json --out g.png)
+# One timed frame is said as one (it read "1 frames"; forty-first session).
+pr_cli(bench_one_frame_said EXIT 0 STDOUT "24x24, 1 frame per technique \\(interleaved\\)"
+       ARGS bench --mesh ${M}/torus.obj --techniques flat --size 24x24 --frames 1 --warmup 0)
 pr_cli(bench_nothing_drawn_warns EXIT 0 ONE_LINE
        STDERR "^prismrelief: warning: bench: nothing was drawn: the scene is out of view or covers no pixel centre \\(check the camera, --fovy and --size; auto-framing fits the displaced shell, which a large --depth makes far larger than the mesh\\)"
        JSON b.json CHECKS "results.0.fragments:EQUAL:0"
