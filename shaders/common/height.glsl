@@ -17,7 +17,19 @@ int g_height_samples = 0;
 #ifdef PR_HEIGHT_FROM_CONE
 // Cone marchers: every height the search sees comes from the cone map's R (level 0), so the
 // linear, cone and binary stages agree on one surface.
+#if (defined(PR_MARCHER) && PR_MARCHER == PR_MARCH_RELAXED_CONE) || \
+    (defined(PR_TECHNIQUE) && PR_TECHNIQUE == PR_TECH_RELAXED_CONE)
+// A relaxed map comes with the cone map as the two layers of one texture (layer 0 relaxed,
+// layer 1 conservative: src/render/renderer.cpp, make_cone_pair_texture), for rising rays
+// (march/cone.glsl, cone_at); heights and slopes read layer 0 (both hold the same heights).
+#define PR_CONE_IS_RELAXED 1
+layout(binding = PR_TEX_CONE) uniform sampler2DArray s_cone;
+#define PR_CONE_COORD(uv) vec3(uv, 0.0)
+#else
+#define PR_CONE_IS_RELAXED 0
 layout(binding = PR_TEX_CONE) uniform sampler2D s_cone;
+#define PR_CONE_COORD(uv) (uv)
+#endif
 #endif
 
 // 1 while the prism walk marches a ray *under* the surface (through a tear, prism.frag), or the
@@ -32,7 +44,7 @@ float height_at(vec2 uv, UvGrad g)
 {
     ++g_height_samples;
 #ifdef PR_HEIGHT_FROM_CONE
-    float h = textureLod(s_cone, uv, 0.0).r;
+    float h = textureLod(s_cone, PR_CONE_COORD(uv), 0.0).r;
 #else
     float h = textureGrad(s_height, uv, g.dx, g.dy).r;
 #endif
@@ -93,27 +105,29 @@ vec3 albedo_at(vec2 uv, UvGrad g)
 // height map there instead cost 2 % of the prism's frame in cache misses.
 #ifdef PR_HEIGHT_FROM_CONE
 #define PR_SLOPE_TEXTURE s_cone
+#define PR_SLOPE_COORD(uv) PR_CONE_COORD(uv)
 #else
 #define PR_SLOPE_TEXTURE s_height
+#define PR_SLOPE_COORD(uv) (uv)
 #endif
 
 // Slopes of the height field (dh/du, dh/dv per UV unit) at uv, from level-0 texels: the three
 // qualities of the seed. Not counted as marcher samples (shading, not search).
 vec2 height_slopes(vec2 uv)
 {
-    vec2 size = vec2(textureSize(PR_SLOPE_TEXTURE, 0));
+    vec2 size = vec2(textureSize(PR_SLOPE_TEXTURE, 0).xy);
     vec2 texel = 1.0 / size;
 #if PR_NORMAL_QUALITY == PR_NORMAL_GATHER
     // 4 texels around uv in one fetch: w=(0,0) z=(1,0) x=(0,1) y=(1,1). Cheapest, coarsest
     // (the slope is constant across each texel quad).
-    vec4 q = textureGather(PR_SLOPE_TEXTURE, uv, 0);
+    vec4 q = textureGather(PR_SLOPE_TEXTURE, PR_SLOPE_COORD(uv), 0);
     vec2 d = vec2((q.y - q.x) + (q.z - q.w), (q.x - q.w) + (q.y - q.z)) * 0.5;
     return d * size;
 #elif PR_NORMAL_QUALITY == PR_NORMAL_CENTRAL
-    float hl = textureLod(PR_SLOPE_TEXTURE, uv - vec2(texel.x, 0.0), 0.0).r;
-    float hr = textureLod(PR_SLOPE_TEXTURE, uv + vec2(texel.x, 0.0), 0.0).r;
-    float hd = textureLod(PR_SLOPE_TEXTURE, uv - vec2(0.0, texel.y), 0.0).r;
-    float hu = textureLod(PR_SLOPE_TEXTURE, uv + vec2(0.0, texel.y), 0.0).r;
+    float hl = textureLod(PR_SLOPE_TEXTURE, PR_SLOPE_COORD(uv - vec2(texel.x, 0.0)), 0.0).r;
+    float hr = textureLod(PR_SLOPE_TEXTURE, PR_SLOPE_COORD(uv + vec2(texel.x, 0.0)), 0.0).r;
+    float hd = textureLod(PR_SLOPE_TEXTURE, PR_SLOPE_COORD(uv - vec2(0.0, texel.y)), 0.0).r;
+    float hu = textureLod(PR_SLOPE_TEXTURE, PR_SLOPE_COORD(uv + vec2(0.0, texel.y)), 0.0).r;
     return vec2(hr - hl, hu - hd) * 0.5 * size;
 #else
     // Sobel: 3x3 neighbourhood of bilinear taps one texel apart, smoothest and most robust to
@@ -124,10 +138,10 @@ vec2 height_slopes(vec2 uv)
     vec2 f = fract(p);
     vec2 centre = (floor(p) + 1.0) * texel; // the gathers' 2x2 blocks start at floor(p) - 1 and + 1
     // Gather order: x = (0,1), y = (1,1), z = (1,0), w = (0,0) within each 2x2 block.
-    vec4 g00 = textureGatherOffset(PR_SLOPE_TEXTURE, centre, ivec2(-1, -1), 0);
-    vec4 g10 = textureGatherOffset(PR_SLOPE_TEXTURE, centre, ivec2(1, -1), 0);
-    vec4 g01 = textureGatherOffset(PR_SLOPE_TEXTURE, centre, ivec2(-1, 1), 0);
-    vec4 g11 = textureGatherOffset(PR_SLOPE_TEXTURE, centre, ivec2(1, 1), 0);
+    vec4 g00 = textureGatherOffset(PR_SLOPE_TEXTURE, PR_SLOPE_COORD(centre), ivec2(-1, -1), 0);
+    vec4 g10 = textureGatherOffset(PR_SLOPE_TEXTURE, PR_SLOPE_COORD(centre), ivec2(1, -1), 0);
+    vec4 g01 = textureGatherOffset(PR_SLOPE_TEXTURE, PR_SLOPE_COORD(centre), ivec2(-1, 1), 0);
+    vec4 g11 = textureGatherOffset(PR_SLOPE_TEXTURE, PR_SLOPE_COORD(centre), ivec2(1, 1), 0);
     // Rows of the block, texels floor(p) + (-1..2, j - 1) for j = 0..3 (no arrays: an array
     // indexed in a loop that the compiler does not unroll would live in memory).
     vec4 r0 = vec4(g00.w, g00.z, g10.w, g10.z), r1 = vec4(g00.x, g00.y, g10.x, g10.y);

@@ -39,7 +39,6 @@ using mat4 = glm::mat4;
 #define PR_TEX_SHADOW_MAP 8 // depth32f array with comparison: the reference's shadow maps (its shadows, surface.frag)
 #define PR_TEX_SHADOW_DEPTH 9 // the same maps' depths, unfiltered and not compared (a view; soft shadows' blocker search)
 #define PR_TEX_PATCH 10 // r32f: the base-surface cone marchers' heights and ratios, read four at a time (march/cone.glsl)
-#define PR_TEX_CONE_RISING 11 // rg16: beside a relaxed map, the cone map, for rising rays (march/cone.glsl)
 // The reference's soft shadows: one shadow map per direction over the light's disc (hard: one).
 #define PR_SHADOW_LAYERS 16
 #define PR_SSBO_COUNTERS 0

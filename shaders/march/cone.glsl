@@ -24,31 +24,23 @@
 // A relaxed cone only promises that a ray coming down through it crosses the surface at most
 // once; a rising ray (dir.z >= 0: inside a prism, entering through a side wall) may pass through a
 // bump and out again within one relaxed step. Such rays step with the conservative cone: the
-// renderer binds the cone map's texture beside the relaxed map's (src/render/renderer.cpp).
-#if (defined(PR_MARCHER) && PR_MARCHER == PR_MARCH_RELAXED_CONE) || \
-    (defined(PR_TECHNIQUE) && PR_TECHNIQUE == PR_TECH_RELAXED_CONE)
-#define PR_CONE_IS_RELAXED 1
-layout(binding = PR_TEX_CONE_RISING) uniform sampler2D s_cone_rising;
-#else
-#define PR_CONE_IS_RELAXED 0
-#endif
+// renderer binds the relaxed map and the cone map as the layers of one texture (common/height.glsl,
+// PR_CONE_IS_RELAXED).
 
 // One fetch of the cone map at level 0, counted as a height sample: (height, c, conservative c)
 // for a ray that descends (`rising` false) or rises. A relaxed march reads its own map for a
 // descending ray, (height, relaxed c, 0: no conservative c), and the cone map for a rising one,
-// (height, conservative c, conservative c), which holds for either. (With both ratios in one
-// RGB16 texture the prism's relaxed march was 7-9 % slower on the blob than its cone march on
-// RG16, for the third channel alone; where no fragment of a group rises llvmpipe takes one of
-// the two fetches here, not both.)
+// (height, conservative c, conservative c), which holds for either: the ray's direction picks the
+// layer, one fetch. (With both ratios in one RGB16 texture the prism's relaxed march was 7-9 %
+// slower on the blob than its cone march on RG16, for the third channel alone. With the two maps
+// in two textures and a branch between their fetches, 7 % slower than with one fetch: llvmpipe
+// takes both where one fragment of a group of 8 rises and another does not, and the heights and
+// slopes read from a texture of their own missed the CPU's caches that the march had filled.)
 vec3 cone_at(vec2 uv, bool rising)
 {
     ++g_height_samples;
 #if PR_CONE_IS_RELAXED == 1
-    vec2 rg;
-    if (rising)
-        rg = textureLod(s_cone_rising, uv, 0.0).rg;
-    else
-        rg = textureLod(s_cone, uv, 0.0).rg;
+    vec2 rg = textureLod(s_cone, vec3(uv, rising ? 1.0 : 0.0), 0.0).rg;
     float c = rg.g * rg.g;
     return vec3(rg.r, c, rising ? c : 0.0);
 #else

@@ -99,14 +99,9 @@ gl::Texture map_texture(GLenum internal_format, int width, int height, GLenum fo
     return t;
 }
 
-// Cone map: R = height, G = sqrt(cone ratio) (a relaxed map's own), level 0 only (cone ratios of a
-// coarser level would mean nothing), bilinear, repeat. RG16 keeps the 16-bit heights and the
-// rounded-down ratios exact. The ratios are narrowed for bilinear filtering (ratios_for_bilinear:
-// each the smallest of its 3x3 neighbourhood). A relaxed march reads the cone map's texture
-// beside its own for rising rays (shaders/march/cone.glsl): the conservative ratios as a third
-// channel of the relaxed texture (RGB16) made every fetch dearer on llvmpipe, and the prism's
-// relaxed marcher was 7 % slower than its cone marcher on the blob.
-gl::Texture make_cone_texture(const ConeMap& map)
+// A cone map's texels: R = height, G = sqrt(cone ratio), the ratios narrowed for bilinear
+// filtering (ratios_for_bilinear: each the smallest of its 3x3 neighbourhood).
+std::vector<float> cone_texels(const ConeMap& map)
 {
     const std::size_t n = map.heights.size();
     const std::vector<float> ratios = ratios_for_bilinear(map.ratios, map.width, map.height);
@@ -115,7 +110,34 @@ gl::Texture make_cone_texture(const ConeMap& map)
         texels[2 * i] = map.heights[i];
         texels[2 * i + 1] = ratios[i];
     }
-    return map_texture(GL_RG16, map.width, map.height, GL_RG, texels.data(), GL_LINEAR);
+    return texels;
+}
+
+// Cone map: cone_texels, level 0 only (cone ratios of a coarser level would mean nothing),
+// bilinear, repeat. RG16 keeps the 16-bit heights and the rounded-down ratios exact.
+gl::Texture make_cone_texture(const ConeMap& map)
+{
+    return map_texture(GL_RG16, map.width, map.height, GL_RG, cone_texels(map).data(), GL_LINEAR);
+}
+
+// A relaxed map's texture: the relaxed map (layer 0) and the cone map (layer 1), for rising rays
+// (shaders/march/cone.glsl, cone_at), as the layers of one RG16 array, so that the ray's direction
+// picks the layer, a texture coordinate, in one fetch, and the heights and slopes read from the
+// texture the march reads. (The conservative ratios as a third channel (RGB16) made every fetch
+// dearer on llvmpipe; the cone map as a texture of its own, fetched in a branch, cost the prism's
+// relaxed march on the blob 7 % of its frame; docs/benchmarks.md, forty-second session.)
+gl::Texture make_cone_pair_texture(const ConeMap& relaxed, const ConeMap& cone)
+{
+    gl::Texture t = gl::Texture::create(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(t.id(), 1, GL_RG16, relaxed.width, relaxed.height, 2);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage3D(t.id(), 0, 0, 0, 0, relaxed.width, relaxed.height, 1, GL_RG, GL_FLOAT, cone_texels(relaxed).data());
+    glTextureSubImage3D(t.id(), 0, 0, 0, 1, cone.width, cone.height, 1, GL_RG, GL_FLOAT, cone_texels(cone).data());
+    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+    return t;
 }
 
 // The base-surface cone marchers' heights and ratios in one R32F texel each, read four at a time
@@ -872,8 +894,6 @@ const ConeMap& Renderer::cone_map(const std::shared_ptr<const HeightField>& fiel
 void Renderer::ensure_aux_textures(AuxMap map, bool patches)
 {
     if (map == AuxMap::None) return;
-    // Rising rays step a relaxed map's march with the cone map's ratios (shaders/march/cone.glsl).
-    if (map == AuxMap::Relaxed) ensure_aux_textures(AuxMap::Cone, false);
     const int k = static_cast<int>(map) - 1;
     for (GpuObject& o : objects_) {
         if (!o.aux_texture[k]) {
@@ -883,7 +903,8 @@ void Renderer::ensure_aux_textures(AuxMap map, bool patches)
                     t = make_max_pyramid_texture(*o.height_field);
                 } else {
                     const ConeMap& cone = cone_map(o.height_field, ConeKind::Cone);
-                    t = make_cone_texture(map == AuxMap::Cone ? cone : cone_map(o.height_field, ConeKind::Relaxed));
+                    t = map == AuxMap::Cone ? make_cone_texture(cone)
+                                            : make_cone_pair_texture(cone_map(o.height_field, ConeKind::Relaxed), cone);
                 }
             }
             o.aux_texture[k] = t.id();
@@ -1463,8 +1484,6 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         // Likewise the derived-map unit: the map this draw needs, else any texture.
         const GLuint aux = aux_map == AuxMap::None ? 0 : o.aux_texture[static_cast<int>(aux_map) - 1];
         glBindTextureUnit(PR_TEX_CONE, aux ? aux : o.height_texture);
-        // Beside a relaxed map the cone map, for rising rays; unsampled by the other draws.
-        if (aux_map == AuxMap::Relaxed) glBindTextureUnit(PR_TEX_CONE_RISING, o.aux_texture[static_cast<int>(AuxMap::Cone) - 1]);
         // The base-surface cone marchers' patches (make_patch_texture), unsampled by the other draws.
         if (marches_patches(settings)) glBindTextureUnit(PR_TEX_PATCH, o.patch_texture[static_cast<int>(aux_map) - 1]);
     };
