@@ -94,7 +94,8 @@ using mat4 = glm::mat4;
 #define PR_NORMAL_SOBEL 2
 
 // Bits of ObjectBlock.u_march.w.
-#define PR_FLAG_COLOR_TEXTURE 1
+// (1: the object has a colour texture, until the forty-second session: now PR_COLOR_TEXTURE, a
+// compile-time choice, Renderer::program_for.)
 #define PR_FLAG_OPEN_SHELL 2 // the mesh has boundary (or non-manifold) edges: the prism walk needs its walls and bottom
 
 // Per frame: camera and light, world space.

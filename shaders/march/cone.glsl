@@ -34,8 +34,8 @@
 // layer, one fetch. (With both ratios in one RGB16 texture the prism's relaxed march was 7-9 %
 // slower on the blob than its cone march on RG16, for the third channel alone. With the two maps
 // in two textures and a branch between their fetches, 7 % slower than with one fetch: llvmpipe
-// takes both where one fragment of a group of 8 rises and another does not, and the heights and
-// slopes read from a texture of their own missed the CPU's caches that the march had filled.)
+// takes both arms of every branch, and the heights and slopes read from a texture of their own
+// missed the CPU's caches that the march had filled.)
 vec3 cone_at(vec2 uv, bool rising)
 {
     ++g_height_samples;

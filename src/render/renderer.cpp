@@ -788,9 +788,10 @@ Renderer::ReferenceStats Renderer::prepare_reference(const Scene& scene, const C
     return stats;
 }
 
-GLuint Renderer::program_for(const DrawSettings& settings, WalkVariant variant, ShellDraw shell)
+GLuint Renderer::program_for(const DrawSettings& settings, WalkVariant variant, ShellDraw shell, bool color_texture)
 {
     ShaderDefines defines = defines_for(settings);
+    if (color_texture) defines.emplace_back("PR_COLOR_TEXTURE", "1");
     if (variant == WalkVariant::Seamless) defines.emplace_back("PR_PRISM_SEAMLESS", "1");
     if (variant == WalkVariant::Through || variant == WalkVariant::Inside || variant == WalkVariant::UnderSurface ||
         variant == WalkVariant::OpenEntry)
@@ -1063,8 +1064,7 @@ void Renderer::upload_object(const GpuObject& o, const DrawSettings& settings, f
     ob.u_normal_matrix = glm::mat4(normal_matrix(o.local));
     ob.u_displace = glm::vec4(o.depth, midlevel, o.height_size.x, o.height_size.y);
     ob.u_march = glm::ivec4(settings.steps, settings.refine, eye ? int(eye->prism) : -1,
-                            (o.color_texture ? PR_FLAG_COLOR_TEXTURE : 0) |
-                                (o.closed && !*o.closed ? PR_FLAG_OPEN_SHELL : 0)); // (the walk's data sets it too)
+                            o.closed && !*o.closed ? PR_FLAG_OPEN_SHELL : 0); // (the walk's data sets it too)
     ob.u_eye_tex = eye ? glm::vec4(eye->tex, 0.0f) : glm::vec4(0.0f);
     ob.u_walk = glm::ivec4(o.walk_max_prisms, 0, 0, 0);
     ob.u_material = glm::vec4(0.12f, 0.88f, 0.18f, 48.0f);
@@ -1396,7 +1396,6 @@ void Renderer::check_drawable(const DrawSettings& settings, const std::string& o
 double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSettings& settings)
 {
     const bool walk = settings.prism_walk();
-    const GLuint program = walk ? 0 : program_for(settings); // the walk's: draw_walk_shell
     const AuxMap aux_map = settings.aux_map();
     ensure_aux_textures(aux_map, marches_patches(settings));
     check_drawable(settings);
@@ -1546,7 +1545,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         glEnable(GL_CULL_FACE);
         glFrontFace(GL_CCW);
         glCullFace(caps == ShellDraw::Tops ? GL_BACK : GL_FRONT);
-        glUseProgram(program_for(settings, variant, caps));
+        glUseProgram(program_for(settings, variant, caps, o.color_texture != 0));
         glDrawElements(GL_TRIANGLES, shell.index_count, GL_UNSIGNED_INT, nullptr);
         glDisable(GL_CULL_FACE);
     };
@@ -1563,7 +1562,8 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         const int full = settings.full_shell ? 1 : 0;
         if (o.listed_count[full] > 0 && !eye_in_body) {
             // (On an open mesh a ray may come in through a wall under the surface: OpenEntry.)
-            glUseProgram(program_for(settings, o.open_shell ? WalkVariant::OpenEntry : variant, ShellDraw::Listed));
+            glUseProgram(program_for(settings, o.open_shell ? WalkVariant::OpenEntry : variant, ShellDraw::Listed,
+                                     o.color_texture != 0));
             glBindTextureUnit(PR_TEX_PRISM_LIST, o.listed_texels[full].id());
             glDrawArrays(GL_POINTS, 0, o.listed_count[full]);
         }
@@ -1589,14 +1589,15 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         set_object(o, &*in);
         bind_prism_data(o, true);
         // Under the surface (inside a bump) the walk starts under it, as through a tear.
-        glUseProgram(program_for(settings, in->under ? WalkVariant::UnderSurface : variant, ShellDraw::FromEye));
+        glUseProgram(program_for(settings, in->under ? WalkVariant::UnderSurface : variant, ShellDraw::FromEye,
+                                 o.color_texture != 0));
         glBindVertexArray(o.base.vao.id()); // (no attributes read)
         glDrawArrays(GL_TRIANGLES, 0, 3);
     };
     for (std::size_t k = 0; k < objects_.size(); ++k) {
         const GpuObject& o = objects_[k];
         if (flat_shell(o)) {
-            glUseProgram(program_for(flat_settings));
+            glUseProgram(program_for(flat_settings, WalkVariant::Plain, ShellDraw::Faces, o.color_texture != 0));
             set_object(o);
             glBindVertexArray(o.base.vao.id());
             glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
@@ -1609,7 +1610,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
             draw_from_eye(o, eye_in[k], in_body[k], variant);
             continue;
         }
-        glUseProgram(program);
+        glUseProgram(program_for(settings, WalkVariant::Plain, ShellDraw::Faces, o.color_texture != 0));
         if (settings.technique != Technique::Reference) {
             if (cull_back[k]) {
                 glEnable(GL_CULL_FACE);
@@ -1633,7 +1634,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     const auto begin_second_pass = [&](const GpuObject& o, const gl::Texture& list) {
         set_object(o);
         bind_prism_data(o, true);
-        glUseProgram(program_for(settings, WalkVariant::Inside, ShellDraw::Listed));
+        glUseProgram(program_for(settings, WalkVariant::Inside, ShellDraw::Listed, o.color_texture != 0));
         glBindTextureUnit(PR_TEX_PRISM_LIST, list.id());
         glBindVertexArray(o.base.vao.id());
     };

@@ -367,6 +367,54 @@ TEST(Reference, TheColourIsTheSameAtAnyScale)
     }
 }
 
+// The colour texture is a compile-time variant (PR_COLOR_TEXTURE), chosen per object: in a scene
+// of a coloured and a plain object each technique draws each with its own, in either order (a
+// black colour map against the plain base colour: the coloured object's pixels are the darker).
+TEST(Reference, EachObjectDrawsWithItsOwnColourVariant)
+{
+    prtest::context();
+    for (const bool coloured_first : {true, false}) {
+        SceneSpec spec;
+        for (int k = 0; k < 2; ++k) {
+            ObjectSpec o;
+            o.mesh = std::string(PR_SOURCE_DIR) + "/meshes/torus.obj";
+            o.height = "builtin:bumps@64";
+            const bool coloured = (k == 0) == coloured_first;
+            if (coloured) o.color = "builtin:const:0";
+            // The coloured torus on the left, the plain one on the right.
+            o.transform = glm::translate(glm::dmat4(1.0), glm::dvec3(coloured ? -1.4 : 1.4, 0.0, 0.0));
+            spec.objects.push_back(o);
+        }
+        spec.width = 2 * kSize;
+        spec.height = kSize;
+        const Scene scene = load_scene(spec);
+        const Camera c = scene_camera(spec, scene);
+        Renderer r(2 * kSize, kSize);
+        r.upload(scene);
+        r.prepare_reference(scene, c, ReferenceOptions{});
+        for (const Technique t : {Technique::Pom, Technique::Prism, Technique::Reference}) {
+            DrawSettings s;
+            s.technique = t;
+            r.draw(c, glm::normalize(glm::vec3(0.3f, 1.0f, 0.8f)), s);
+            const RgbaImage img = r.read_color();
+            double sum[2] = {0.0, 0.0};
+            std::size_t n[2] = {0, 0};
+            for (int y = 0; y < img.height; ++y)
+                for (int x = 0; x < img.width; ++x) {
+                    const auto p = img.at(x, y);
+                    if (p.a < 128) continue;
+                    const int side = x < img.width / 2 ? 0 : 1;
+                    sum[side] += double(p.r) + p.g + p.b;
+                    ++n[side];
+                }
+            ASSERT_GT(n[0], 400u) << technique_name(t);
+            ASSERT_GT(n[1], 400u) << technique_name(t);
+            // Black albedo leaves the highlights alone; the plain torus's diffuse light is far more.
+            EXPECT_LT(sum[0] / double(n[0]), 0.5 * sum[1] / double(n[1])) << technique_name(t) << " " << coloured_first;
+        }
+    }
+}
+
 // A floor far larger than the eye's distance to it: the near plane was kept at 10^-4 of the far
 // one (the usual depth mapping lost precision below that), which put it 15 units from an eye 1
 // unit above a floor 10^5 wide, and every technique drew only a strip at the horizon (coverage

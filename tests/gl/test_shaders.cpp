@@ -64,6 +64,24 @@ TEST(ShaderVariants, ShadowsCompileWithEveryTechniqueAndExit)
         }
 }
 
+// The colour texture's variant (PR_COLOR_TEXTURE, chosen per object) in every technique, with and
+// without shadows, and in the prism walk's passes.
+TEST(ShaderVariants, ColourTextureVariantsCompile)
+{
+    prtest::context();
+    Renderer r(8, 8);
+    for (const TechniqueInfo& t : technique_table())
+        for (Shadows shadows : {Shadows::None, Shadows::Hard}) {
+            DrawSettings s;
+            s.technique = t.technique;
+            s.shadows = shadows;
+            EXPECT_NO_THROW(r.program_for(s, Renderer::WalkVariant::Plain, Renderer::ShellDraw::Faces, true)) << t.name;
+            if (t.technique != Technique::Prism) continue;
+            for (Renderer::WalkVariant pass : {Renderer::WalkVariant::Through, Renderer::WalkVariant::Inside})
+                EXPECT_NO_THROW(r.program_for(s, pass, Renderer::ShellDraw::Listed, true)) << t.name;
+        }
+}
+
 // The prism walk's variants by UV seams (none at all; torn: through the tears, and the second
 // pass from inside), with every marcher, self-shadowing and instrumentation, in the programs
 // draw() builds: the caps by the vertex shader (bottoms: open meshes) and the listed prisms by
