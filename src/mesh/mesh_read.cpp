@@ -741,8 +741,11 @@ std::vector<glm::dvec3> binary_ply_positions(string_view body, const std::vector
 // list count that is negative, or that needs more bytes than the file has left, is refused here,
 // naming the item: OpenMesh's reader sizes a vector from it before reading a value (a face of -1
 // or 1e9 corners took minutes and gigabytes; found by an exploratory session).
+// Each face's vertex indices are checked against `vertices` on the way, and one past them is said
+// as the file has it: the reader's 32-bit handles showed an unsigned index past 2^31 as a negative
+// number (3000000000 as "-1294967296").
 size_t binary_ply_end(const string& subject, string_view body, const std::vector<PlyElement>& elements,
-                      bool big_endian)
+                      bool big_endian, unsigned long long vertices)
 {
     size_t at = 0;
     // (It returned the body's size and left the reader to fail: "the reader reported a failure",
@@ -784,6 +787,14 @@ size_t binary_ply_end(const string& subject, string_view body, const std::vector
                                                              (p.size == 1 ? "" : "s") + ", more than the " +
                                                              std::to_string(left) + " byte" + (left == 1 ? "" : "s") +
                                                              " left in the file (truncated, or a bad count?)"));
+                    if (el.name == "face" && (p.name == "vertex_indices" || p.name == "vertex_index"))
+                        for (size_t k = 0; k < size_t(count); ++k) {
+                            const double index = ply_binary_value(body.data() + at + k * size_t(p.size), p.type, big_endian);
+                            if (index < 0.0 || index >= double(vertices))
+                                fail(subject, "face " + std::to_string(i) + " has an out-of-range vertex index " +
+                                                  std::to_string(static_cast<long long>(index)) + " (the file has " +
+                                                  std::to_string(vertices) + " vertices)");
+                        }
                     at += size_t(count) * size_t(p.size);
                 }
                 if (at > body.size()) ends_inside(el, i);
@@ -1195,7 +1206,7 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
     }
     if (!ascii) {
         const string_view data = text.substr(lines.offset());
-        const size_t end = binary_ply_end(subject, data, elements, big_endian);
+        const size_t end = binary_ply_end(subject, data, elements, big_endian, vertex->count);
         if (end < data.size() && !std::all_of(data.begin() + std::ptrdiff_t(end), data.end(), is_space))
             fail(subject, "binary PLY has " + std::to_string(data.size() - end) + " bytes after the elements the header "
                           "counts (" + std::to_string(face->count) + " face" + (face->count == 1 ? "" : "s") +

@@ -174,6 +174,11 @@ ply_triangle = (b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproper
 write("binary_triangle.ply", ply_triangle + struct.pack("<4i", 3, 0, 1, 2))
 write("ply_negative_face_count.ply", ply_triangle + struct.pack("<4i", -1, 0, 1, 2))
 write("ply_huge_face_count.ply", ply_triangle + struct.pack("<4i", 1000000000, 0, 1, 2))
+# An unsigned index past 2^31 (forty-second session): the reader's 32-bit handles said it as
+# "-1294967296".
+write("ply_uint_index_past_2_31.ply",
+      ply_triangle.replace(b"property list int int vertex_indices", b"property list uchar uint vertex_indices")
+      + struct.pack("<B3I", 3, 0, 1, 3000000000))
 
 # ---- named, where stb's info said nothing of the format (thirty-fifth session) -------------------
 # A Softimage PIC whose packet type is none of 0-2, and a valid RGB one cut short: stb 2.27 freed

@@ -125,7 +125,9 @@ foreach(case "garbage.stl|is neither ASCII STL .* nor binary STL"
              # Found by an exploratory session: OpenMesh sized a vector from a binary face's count
              # (minutes and gigabytes, or no end under `timeout 120`).
              "ply_negative_face_count.ply|binary PLY face 0: its vertex_indices list counts -1 entries \\(a negative count\\)"
-             "ply_huge_face_count.ply|binary PLY face 0: its vertex_indices list counts 1000000000 entries of 4 bytes, more than the 12 bytes left in the file \\(truncated, or a bad count\\?\\)")
+             "ply_huge_face_count.ply|binary PLY face 0: its vertex_indices list counts 1000000000 entries of 4 bytes, more than the 12 bytes left in the file \\(truncated, or a bad count\\?\\)"
+             # Forty-second session: said as the file has it (was "-1294967296").
+             "ply_uint_index_past_2_31.ply|face 0 has an out-of-range vertex index 3000000000 \\(the file has 3 vertices\\)")
     string(REPLACE "|" ";" parts "${case}")
     list(GET parts 0 file)
     list(GET parts 1 message)
