@@ -1061,6 +1061,12 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
         if (!has_indices && !indices)
             fail(subject, "PLY face property '" + p.name +
                               "' comes before vertex_indices, which the reader cannot take (put it after)");
+        // A second list of indices (either name): the reader took each list of a face for a face
+        // of its own, and drew another mesh with exit 0 (a tetrahedron whose faces each had two
+        // lists; found by an exploratory session, forty-second).
+        if (p.count_size > 0 && indices && has_indices)
+            fail(subject, "PLY face element has a second vertex index list '" + p.name +
+                              "', which the reader would take for more faces (one list of indices per face)");
         if (p.count_size > 0 && indices) has_indices = true;
         // The binary reader converts only integers to indices: float ones printed "unsupported
         // conversion type to integral" for every index and misread the rest ("face 1 has fewer

@@ -179,6 +179,12 @@ write("ply_huge_face_count.ply", ply_triangle + struct.pack("<4i", 1000000000, 0
 write("ply_uint_index_past_2_31.ply",
       ply_triangle.replace(b"property list int int vertex_indices", b"property list uchar uint vertex_indices")
       + struct.pack("<B3I", 3, 0, 1, 3000000000))
+# A face with a second list of indices (found by an exploratory session, forty-second): the
+# reader took each list for a face and drew another mesh, exit 0.
+write("ply_two_index_lists.ply",
+      ply_triangle.replace(b"property list int int vertex_indices\n",
+                           b"property list uchar int vertex_indices\nproperty list uchar int vertex_index\n")
+      + struct.pack("<B3iB3i", 3, 0, 1, 2, 3, 0, 2, 1))
 
 # ---- named, where stb's info said nothing of the format (thirty-fifth session) -------------------
 # A Softimage PIC whose packet type is none of 0-2, and a valid RGB one cut short: stb 2.27 freed

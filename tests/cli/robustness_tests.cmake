@@ -127,7 +127,9 @@ foreach(case "garbage.stl|is neither ASCII STL .* nor binary STL"
              "ply_negative_face_count.ply|binary PLY face 0: its vertex_indices list counts -1 entries \\(a negative count\\)"
              "ply_huge_face_count.ply|binary PLY face 0: its vertex_indices list counts 1000000000 entries of 4 bytes, more than the 12 bytes left in the file \\(truncated, or a bad count\\?\\)"
              # Forty-second session: said as the file has it (was "-1294967296").
-             "ply_uint_index_past_2_31.ply|face 0 has an out-of-range vertex index 3000000000 \\(the file has 3 vertices\\)")
+             "ply_uint_index_past_2_31.ply|face 0 has an out-of-range vertex index 3000000000 \\(the file has 3 vertices\\)"
+             # Forty-second session (an exploratory session): each list was read as a face, exit 0.
+             "ply_two_index_lists.ply|PLY face element has a second vertex index list 'vertex_index', which the reader would take for more faces")
     string(REPLACE "|" ";" parts "${case}")
     list(GET parts 0 file)
     list(GET parts 1 message)
