@@ -98,6 +98,19 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
     if (!texels) defines.emplace_back("PR_CONE_BUFFERS", "1");
     gl::Program program = build_program({{GL_COMPUTE_SHADER, "conemap.comp"}}, defines);
     gl::Texture data_texels, children_texels;
+    // The relaxed march's bilinear heights (conemap.comp, bilinear): level 0 as a 2D texture,
+    // whose textureGather brings a sample's four texels, wrapped, in one fetch.
+    gl::Texture heights_2d;
+    if (kind == ConeKind::Relaxed) {
+        heights_2d = gl::Texture::create(GL_TEXTURE_2D);
+        glTextureStorage2D(heights_2d.id(), 1, GL_R32F, field.width, field.height);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        glTextureSubImage2D(heights_2d.id(), 0, 0, 0, field.width, field.height, GL_RED, GL_FLOAT, pyramid.data.data());
+        glTextureParameteri(heights_2d.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(heights_2d.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glTextureParameteri(heights_2d.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+        glTextureParameteri(heights_2d.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+    }
     if (texels) {
         data_texels = gl::Texture::create(GL_TEXTURE_BUFFER);
         glTextureBuffer(data_texels.id(), GL_R32F, data.id());
@@ -140,6 +153,7 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
             for (GLuint b : {0u, 1u, 2u, 3u}) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, 0);
             glBindTextureUnit(0, 0);
             glBindTextureUnit(1, 0);
+            glBindTextureUnit(2, 0);
             glUseProgram(0);
         }
     } unbind;
@@ -150,6 +164,7 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, data.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, children.id());
     }
+    if (heights_2d) glBindTextureUnit(2, heights_2d.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, steps.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, resume.id());
     const auto search_start = std::chrono::steady_clock::now();

@@ -85,6 +85,13 @@ TEST(ConeMapGpu, EqualsCpuRelaxed)
             EXPECT_GE(calls, 1);
         }
     }
+    // Odd sizes: the march's bilinear samples come four at a time from a repeating 2D texture
+    // (conemap.comp, bilinear), whose wrap at the edges must be the CPU's.
+    for (const auto& [w, h] : {std::pair{37, 23}, std::pair{5, 61}}) {
+        const HeightField f = field_of(w, h, 9u, false);
+        expect_same(build_cone_map_gpu(f, ConeKind::Relaxed, {}), build_cone_map_cpu(f, ConeKind::Relaxed, {}),
+                    ConeFormat::Rg16, ("relaxed " + std::to_string(w) + "x" + std::to_string(h)).c_str());
+    }
 }
 
 TEST(ConeMapGpu, EqualsCpuWithABindingNodeBudget)
