@@ -61,7 +61,8 @@ float height_at(int x, int y) { return pyramid_at(y * u_size.x + x); }
 vec4 children_max(int level, int i, int j) { return group_at(u_group_offset[level - 1] + j * u_level_w[level] + i); }
 
 // i modulo n in [0, n) (n > 0, any i). Without %: x86 has no vector integer division, so llvmpipe
-// divides lane by lane, and the relaxed march wraps two coordinates per step. The quotient from
+// divides lane by lane (the relaxed march wraps its candidates' offsets; its samples wrap in the
+// sampler, bilinear). The quotient from
 // a double product with 1/n, corrected by one either way (|i| < 2^31, so the product is off by
 // far less than one), gives the exact remainder. (A double division there instead, each call:
 // the relaxed GPU build of builtin:bumps@512 about 5 % slower on llvmpipe, the same map.)

@@ -104,7 +104,9 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
     if (kind == ConeKind::Relaxed) {
         heights_2d = gl::Texture::create(GL_TEXTURE_2D);
         glTextureStorage2D(heights_2d.id(), 1, GL_R32F, field.width, field.height);
-        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        if (glGetError() == GL_OUT_OF_MEMORY)
+            throw Error(subject, "out of GPU memory for the heights of the GPU generator's relaxed march");
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
         glTextureSubImage2D(heights_2d.id(), 0, 0, 0, field.width, field.height, GL_RED, GL_FLOAT, pyramid.data.data());
         glTextureParameteri(heights_2d.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         glTextureParameteri(heights_2d.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);

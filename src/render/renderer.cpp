@@ -128,6 +128,8 @@ gl::Texture make_cone_texture(const ConeMap& map)
 // relaxed march on the blob 7 % of its frame; docs/benchmarks.md, forty-second session.)
 gl::Texture make_cone_pair_texture(const ConeMap& relaxed, const ConeMap& cone)
 {
+    if (relaxed.width != cone.width || relaxed.height != cone.height)
+        throw Error("cone map", "a relaxed map and its cone map differ in size");
     gl::Texture t = gl::Texture::create(GL_TEXTURE_2D_ARRAY);
     glTextureStorage3D(t.id(), 1, GL_RG16, relaxed.width, relaxed.height, 2);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
@@ -1441,6 +1443,10 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         }
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PR_SSBO_COUNTERS, counters_.id());
     }
+    // The base-surface programs the objects need (with a colour texture and without), built
+    // before the frame's clock starts, as they were when one program served every object.
+    if (!walk)
+        for (const GpuObject& o : objects_) program_for(settings, WalkVariant::Plain, ShellDraw::Faces, o.color_texture != 0);
 
     glFinish();
     const auto start = std::chrono::steady_clock::now();

@@ -186,7 +186,7 @@ public:
     enum class ShellDraw { Faces, Tops, Bottoms, Listed, FromEye };
     // `color_texture`: the object drawn has a colour texture (PR_COLOR_TEXTURE). A compile-time
     // choice: llvmpipe runs both arms of every branch whatever the lanes take, and the prism's
-    // colour level and fetch, behind a uniform flag, were 13 % of its frame on the blob without
+    // colour level and fetch, behind a uniform flag, were 11 % of its frame on the blob without
     // a colour texture (docs/benchmarks.md, forty-second session).
     GLuint program_for(const DrawSettings& settings, WalkVariant variant = WalkVariant::Plain,
                        ShellDraw shell = ShellDraw::Faces, bool color_texture = false);

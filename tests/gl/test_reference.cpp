@@ -368,8 +368,11 @@ TEST(Reference, TheColourIsTheSameAtAnyScale)
 }
 
 // The colour texture is a compile-time variant (PR_COLOR_TEXTURE), chosen per object: in a scene
-// of a coloured and a plain object each technique draws each with its own, in either order (a
-// black colour map against the plain base colour: the coloured object's pixels are the darker).
+// of a coloured and a plain object each of pom, the prism and the reference draws each with its
+// own, in either order. The coloured torus has a black colour map over a blue base colour (drawn
+// plain, it would be blue), the plain one a red base colour (drawn with a colour texture, it would
+// take the unit's stand-in, the grey height map): only highlights (white) on the first, red with
+// little green on the second.
 TEST(Reference, EachObjectDrawsWithItsOwnColourVariant)
 {
     prtest::context();
@@ -381,6 +384,7 @@ TEST(Reference, EachObjectDrawsWithItsOwnColourVariant)
             o.height = "builtin:bumps@64";
             const bool coloured = (k == 0) == coloured_first;
             if (coloured) o.color = "builtin:const:0";
+            o.base_color = coloured ? glm::vec3(0.0f, 0.0f, 1.0f) : glm::vec3(1.0f, 0.0f, 0.0f);
             // The coloured torus on the left, the plain one on the right.
             o.transform = glm::translate(glm::dmat4(1.0), glm::dvec3(coloured ? -1.4 : 1.4, 0.0, 0.0));
             spec.objects.push_back(o);
@@ -397,20 +401,26 @@ TEST(Reference, EachObjectDrawsWithItsOwnColourVariant)
             s.technique = t;
             r.draw(c, glm::normalize(glm::vec3(0.3f, 1.0f, 0.8f)), s);
             const RgbaImage img = r.read_color();
-            double sum[2] = {0.0, 0.0};
+            double sum[2][3] = {};
             std::size_t n[2] = {0, 0};
             for (int y = 0; y < img.height; ++y)
                 for (int x = 0; x < img.width; ++x) {
                     const auto p = img.at(x, y);
                     if (p.a < 128) continue;
                     const int side = x < img.width / 2 ? 0 : 1;
-                    sum[side] += double(p.r) + p.g + p.b;
+                    sum[side][0] += p.r;
+                    sum[side][1] += p.g;
+                    sum[side][2] += p.b;
                     ++n[side];
                 }
             ASSERT_GT(n[0], 400u) << technique_name(t);
             ASSERT_GT(n[1], 400u) << technique_name(t);
-            // Black albedo leaves the highlights alone; the plain torus's diffuse light is far more.
-            EXPECT_LT(sum[0] / double(n[0]), 0.5 * sum[1] / double(n[1])) << technique_name(t) << " " << coloured_first;
+            const std::string what = std::string(technique_name(t)) + (coloured_first ? ", coloured first" : ", plain first");
+            // The coloured torus: no blue cast, and less red than the plain one (its diffuse light).
+            EXPECT_LT(sum[0][2], 1.2 * sum[0][0] + 1.0) << what;
+            EXPECT_LT(sum[0][0] / double(n[0]), 0.6 * sum[1][0] / double(n[1])) << what;
+            // The plain torus: red.
+            EXPECT_GT(sum[1][0], 2.0 * sum[1][1]) << what;
         }
     }
 }

@@ -65,20 +65,29 @@ TEST(ShaderVariants, ShadowsCompileWithEveryTechniqueAndExit)
 }
 
 // The colour texture's variant (PR_COLOR_TEXTURE, chosen per object) in every technique, with and
-// without shadows, and in the prism walk's passes.
+// without shadows, and in every program of the prism walk's passes that draw() builds (with the
+// relief and relaxed-cone marchers).
 TEST(ShaderVariants, ColourTextureVariantsCompile)
 {
     prtest::context();
     Renderer r(8, 8);
-    for (const TechniqueInfo& t : technique_table())
-        for (Shadows shadows : {Shadows::None, Shadows::Hard}) {
+    using Pass = Renderer::WalkVariant;
+    using Draw = Renderer::ShellDraw;
+    for (Shadows shadows : {Shadows::None, Shadows::Hard})
+        for (const TechniqueInfo& t : technique_table()) {
             DrawSettings s;
             s.technique = t.technique;
             s.shadows = shadows;
-            EXPECT_NO_THROW(r.program_for(s, Renderer::WalkVariant::Plain, Renderer::ShellDraw::Faces, true)) << t.name;
+            EXPECT_NO_THROW(r.program_for(s, Pass::Plain, Draw::Faces, true)) << t.name;
             if (t.technique != Technique::Prism) continue;
-            for (Renderer::WalkVariant pass : {Renderer::WalkVariant::Through, Renderer::WalkVariant::Inside})
-                EXPECT_NO_THROW(r.program_for(s, pass, Renderer::ShellDraw::Listed, true)) << t.name;
+            for (Marcher m : {Marcher::Relief, Marcher::RelaxedCone}) {
+                s.marcher = m;
+                for (const auto& [pass, draw] : {std::pair{Pass::Seamless, Draw::Tops}, std::pair{Pass::Through, Draw::Tops},
+                                                 std::pair{Pass::Through, Draw::Listed}, std::pair{Pass::Through, Draw::FromEye},
+                                                 std::pair{Pass::Inside, Draw::Listed}, std::pair{Pass::UnderSurface, Draw::Bottoms},
+                                                 std::pair{Pass::UnderSurface, Draw::FromEye}, std::pair{Pass::OpenEntry, Draw::Listed}})
+                    EXPECT_NO_THROW(r.program_for(s, pass, draw, true)) << t.name << " " << marcher_name(m);
+            }
         }
 }
 
