@@ -92,4 +92,26 @@ Buffer immutable_buffer(const std::vector<T>& data)
     return b;
 }
 
+// A texture sampled with `min_filter` and `mag_filter`, repeating in s and t.
+inline void sample_repeating(const Texture& t, GLint min_filter, GLint mag_filter)
+{
+    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, min_filter);
+    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, mag_filter);
+    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+}
+
+// A map of floats as a 2D texture of level 0 alone (`format`'s channels per texel, row-major),
+// sampled with `filter`, repeating.
+inline Texture map_texture(GLenum internal_format, int width, int height, GLenum format, const float* texels,
+                           GLint filter)
+{
+    Texture t = Texture::create(GL_TEXTURE_2D);
+    glTextureStorage2D(t.id(), 1, internal_format, width, height);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(t.id(), 0, 0, 0, width, height, format, GL_FLOAT, texels);
+    sample_repeating(t, filter, filter);
+    return t;
+}
+
 } // namespace pr::gl

@@ -102,16 +102,9 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
     // whose textureGather brings a sample's four texels, wrapped, in one fetch.
     gl::Texture heights_2d;
     if (kind == ConeKind::Relaxed) {
-        heights_2d = gl::Texture::create(GL_TEXTURE_2D);
-        glTextureStorage2D(heights_2d.id(), 1, GL_R32F, field.width, field.height);
+        heights_2d = gl::map_texture(GL_R32F, field.width, field.height, GL_RED, pyramid.data.data(), GL_NEAREST);
         if (glGetError() == GL_OUT_OF_MEMORY)
             throw Error(subject, "out of GPU memory for the heights of the GPU generator's relaxed march");
-        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-        glTextureSubImage2D(heights_2d.id(), 0, 0, 0, field.width, field.height, GL_RED, GL_FLOAT, pyramid.data.data());
-        glTextureParameteri(heights_2d.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTextureParameteri(heights_2d.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        glTextureParameteri(heights_2d.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
-        glTextureParameteri(heights_2d.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
     }
     if (texels) {
         data_texels = gl::Texture::create(GL_TEXTURE_BUFFER);

@@ -66,10 +66,7 @@ gl::Texture make_texture(GLenum internal_format, int w, int h, GLenum format, GL
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     glTextureSubImage2D(t.id(), 0, 0, 0, w, h, format, type, data);
     glGenerateTextureMipmap(t.id());
-    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+    gl::sample_repeating(t, GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR);
     return t;
 }
 
@@ -82,21 +79,6 @@ gl::Texture make_height_texture(const HeightField& hf)
 gl::Texture make_color_texture(const RgbaImage& img)
 {
     return make_texture(GL_RGBA8, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, img.pixels.data());
-}
-
-// A map of floats as a texture of level 0 alone (`format`'s channels per texel, row-major),
-// sampled with `filter`, repeating.
-gl::Texture map_texture(GLenum internal_format, int width, int height, GLenum format, const float* texels, GLint filter)
-{
-    gl::Texture t = gl::Texture::create(GL_TEXTURE_2D);
-    glTextureStorage2D(t.id(), 1, internal_format, width, height);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage2D(t.id(), 0, 0, 0, width, height, format, GL_FLOAT, texels);
-    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, filter);
-    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, filter);
-    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
-    return t;
 }
 
 // A cone map's texels: R = height, G = sqrt(cone ratio), the ratios narrowed for bilinear
@@ -117,7 +99,7 @@ std::vector<float> cone_texels(const ConeMap& map)
 // bilinear, repeat. RG16 keeps the 16-bit heights and the rounded-down ratios exact.
 gl::Texture make_cone_texture(const ConeMap& map)
 {
-    return map_texture(GL_RG16, map.width, map.height, GL_RG, cone_texels(map).data(), GL_LINEAR);
+    return gl::map_texture(GL_RG16, map.width, map.height, GL_RG, cone_texels(map).data(), GL_LINEAR);
 }
 
 // A relaxed map's texture: the relaxed map (layer 0) and the cone map (layer 1), for rising rays
@@ -135,10 +117,7 @@ gl::Texture make_cone_pair_texture(const ConeMap& relaxed, const ConeMap& cone)
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     glTextureSubImage3D(t.id(), 0, 0, 0, 0, relaxed.width, relaxed.height, 1, GL_RG, GL_FLOAT, cone_texels(relaxed).data());
     glTextureSubImage3D(t.id(), 0, 0, 0, 1, cone.width, cone.height, 1, GL_RG, GL_FLOAT, cone_texels(cone).data());
-    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+    gl::sample_repeating(t, GL_LINEAR, GL_LINEAR);
     return t;
 }
 
@@ -157,7 +136,7 @@ gl::Texture make_patch_texture(const ConeMap& map)
         const auto ratio = std::uint32_t(std::clamp(std::floor(double(map.ratios[i]) * 255.0 + 1e-6), 0.0, 255.0));
         texels[i] = float(height << 8 | ratio) / 16777216.0f;
     }
-    return map_texture(GL_R32F, map.width, map.height, GL_RED, texels.data(), GL_NEAREST);
+    return gl::map_texture(GL_R32F, map.width, map.height, GL_RED, texels.data(), GL_NEAREST);
 }
 
 // Max pyramid for the max-mip marcher (R32F, texelFetch only). Level 0 cell (i, j) is the
