@@ -156,6 +156,14 @@ string shown(string_view s)
     return "'" + out + "'";
 }
 
+// A face's index past the vertices, as the file writes it: "has an out-of-range vertex index
+// 3000000000 (the file has 3 vertices)".
+string out_of_range_index(string_view index, unsigned long long vertices)
+{
+    return "has an out-of-range vertex index " + string(index) + " (the file has " + std::to_string(vertices) +
+           " vertices)";
+}
+
 // Number of distinct values in a face's index list, without allocating for the usual short
 // faces.
 size_t distinct_count(const std::vector<long long>& v)
@@ -791,9 +799,8 @@ size_t binary_ply_end(const string& subject, string_view body, const std::vector
                         for (size_t k = 0; k < size_t(count); ++k) {
                             const double index = ply_binary_value(body.data() + at + k * size_t(p.size), p.type, big_endian);
                             if (index < 0.0 || index >= double(vertices))
-                                fail(subject, "face " + std::to_string(i) + " has an out-of-range vertex index " +
-                                                  std::to_string(static_cast<long long>(index)) + " (the file has " +
-                                                  std::to_string(vertices) + " vertices)");
+                                fail(subject, "face " + std::to_string(i) + " " +
+                                                  out_of_range_index(std::to_string(static_cast<long long>(index)), vertices));
                         }
                     at += size_t(count) * size_t(p.size);
                 }
@@ -1156,10 +1163,8 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
                         // wrapped 4294967296 to a face of "out-of-range vertex index -1"; found by
                         // an exploratory session, forty-first).
                         if (k > 0 && static_cast<unsigned long long>(index) >= vertex->count)
-                            fail(subject, line_prefix(lines.line()) + "face " + std::to_string(i) +
-                                              " has an out-of-range vertex index " +
-                                              string(line.substr(start, pos - start)) + " (the file has " +
-                                              std::to_string(vertex->count) + " vertices)");
+                            fail(subject, line_prefix(lines.line()) + "face " + std::to_string(i) + " " +
+                                              out_of_range_index(line.substr(start, pos - start), vertex->count));
                     }
                     continue;
                 }
@@ -1502,9 +1507,7 @@ public:
         if (handles.size() < 3) return bad(face_number, "has fewer than 3 vertices");
         for (const OpenMesh::VertexHandle& vh : handles) {
             if (!valid(vh))
-                return bad(face_number, "has an out-of-range vertex index " +
-                                            std::to_string(vh.idx()) + " (the file has " +
-                                            std::to_string(m_.positions.size()) + " vertices)");
+                return bad(face_number, out_of_range_index(std::to_string(vh.idx()), m_.positions.size()));
         }
         if (m_.corners.size() + handles.size() > std::numeric_limits<std::uint32_t>::max())
             return bad(face_number, "exceeds the supported number of corners");
