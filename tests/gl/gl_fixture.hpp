@@ -11,8 +11,11 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <string>
+
+#include <unistd.h>
 
 namespace prtest {
 
@@ -112,6 +115,20 @@ inline FramedObject framed_bundled(const std::string& name, int width, int heigh
     spec.camera.elevation_deg = elevation_deg;
     spec.camera.azimuth_deg = azimuth_deg;
     return framed(spec);
+}
+
+// An OBJ file's text loaded as a mesh (written to a temporary file of this process, then removed).
+inline pr::PreparedMesh mesh_from_obj_text(const std::string& obj, const std::string& name)
+{
+    const std::filesystem::path path = std::filesystem::temp_directory_path() /
+                                       ("prismrelief-test-" + name + "-" + std::to_string(::getpid()) + ".obj");
+    {
+        std::ofstream out(path);
+        out << obj;
+    }
+    pr::PreparedMesh m = pr::load_mesh(path.string());
+    std::filesystem::remove(path);
+    return m;
 }
 
 // Cone maps built by GL tests are cached here (never in the user's cache).

@@ -1378,15 +1378,10 @@ TEST(Shadows, WallsPastACurvedSurfacesTerminatorSeeTheLight)
 TEST(Shadows, TheLightsWalkGoesThroughTears)
 {
     prtest::context();
-    const std::filesystem::path path = std::filesystem::temp_directory_path() /
-                                       ("prismrelief-test-tet-" + std::to_string(::getpid()) + ".obj");
-    {
-        std::ofstream out(path);
-        out << "v 1 1 1\nv 1 -1 -1\nv -1 1 -1\nv -1 -1 1\nvt 0.05 0.05\nvt 0.95 0.05\nvt 0.5 0.9\n"
-               "f 1/1 2/2 3/3\nf 1/1 4/2 2/3\nf 1/1 3/2 4/3\nf 2/1 4/2 3/3\n";
-    }
-    PreparedMesh mesh = load_mesh(path.string());
-    std::filesystem::remove(path);
+    PreparedMesh mesh = prtest::mesh_from_obj_text(
+        "v 1 1 1\nv 1 -1 -1\nv -1 1 -1\nv -1 -1 1\nvt 0.05 0.05\nvt 0.95 0.05\nvt 0.5 0.9\n"
+        "f 1/1 2/2 3/3\nf 1/1 4/2 2/3\nf 1/1 3/2 4/3\nf 2/1 4/2 3/3\n",
+        "tet");
     const Scene scene = prtest::one_object(std::move(mesh), std::make_shared<HeightField>(load_height("builtin:bumps")), 0.1386f);
     Renderer r(192, 144);
     const Camera c = prtest::upload_framed(r, scene, 30.0f, 35.0f);

@@ -121,20 +121,6 @@ Camera render_framing(const Scene& scene, float elevation_deg)
 
 std::string exit_label(PrismExit e) { return e == PrismExit::Walk ? " (walk)" : " (exact)"; }
 
-// An OBJ file's text loaded as a mesh (written to a temporary file of this process, then removed).
-PreparedMesh mesh_from_obj_text(const std::string& obj, const std::string& name)
-{
-    const std::filesystem::path path = std::filesystem::temp_directory_path() /
-                                       ("prismrelief-test-" + name + "-" + std::to_string(::getpid()) + ".obj");
-    {
-        std::ofstream out(path);
-        out << obj;
-    }
-    PreparedMesh m = load_mesh(path.string());
-    std::filesystem::remove(path);
-    return m;
-}
-
 } // namespace
 
 // Constant height 1 on the closed sphere: the surface is the top cap everywhere, hit with the
@@ -1037,7 +1023,7 @@ TEST(Prism, WalkCrossesTheSliversAlongACylinder)
                       sides + next + 1, sides + i + 3, next + 1, i + 2);
         obj += line;
     }
-    PreparedMesh tube = mesh_from_obj_text(obj, "sliver-tube");
+    PreparedMesh tube = prtest::mesh_from_obj_text(obj, "sliver-tube");
     const float depth = 0.04f * glm::length(tube.bbox_max - tube.bbox_min);
     Scene scene = prtest::one_object(std::move(tube), bumps_map(256), depth);
     Renderer r(128, 96);
@@ -1184,7 +1170,7 @@ TEST(Prism, TrianglesWithoutUvAreaAreShadedSmoothly)
                               c, b, b);
                 obj += line;
             }
-        return mesh_from_obj_text(obj, "u-line");
+        return prtest::mesh_from_obj_text(obj, "u-line");
     };
     // Stripes along v only: the same surface whatever u says.
     const auto stripes = prtest::height_from(64, [](float, float v) { return 0.5f + 0.4f * std::sin(8.0f * float(M_PI) * v); });
@@ -1257,7 +1243,7 @@ PreparedMesh blender_cylinder(int sides, SideUv side_uv, CapUv cap_uv)
         }
         obj += "\n";
     }
-    return mesh_from_obj_text(obj, "blender-cylinder-" + std::to_string(sides));
+    return prtest::mesh_from_obj_text(obj, "blender-cylinder-" + std::to_string(sides));
 }
 
 // An 8-bit map of `width` x `height` from level(x, row), rows from the top as in a PNG.
