@@ -47,13 +47,16 @@ inline double float_json(float v)
     return std::strtod(digits, nullptr);
 }
 
-// The march's quality a draw took: "steps", "refine", "depth_write" and, where the technique reads
-// it, "normal_quality" (render, and each row of compare and bench; bench's rows had none until the
-// twenty-fourth session, only the report's steps and refine: a row drawn with --depth-write did
-// not say so).
+// The march's quality a draw took: "depth_write" and, where the technique reads them, "steps",
+// "refine" and "normal_quality" (render, and each row of compare and bench; bench's rows had none
+// until the twenty-fourth session, only the report's steps and refine: a row drawn with
+// --depth-write did not say so). Until the forty-third session every row had steps and refine:
+// a reference's or a flat row's read as if it had marched with them.
 inline nlohmann::json quality_json(const DrawSettings& s)
 {
-    nlohmann::json j = {{"steps", s.steps}, {"refine", s.refine}, {"depth_write", s.depth_write}};
+    nlohmann::json j = {{"depth_write", s.depth_write}};
+    if (reads_steps(s)) j["steps"] = s.steps;
+    if (reads_refine(s)) j["refine"] = s.refine;
     // (Where the technique reads it: the pictures of gather and sobel differ by up to 12 dB, and
     // the reports could not tell them apart; found by an exploratory session, thirty-fourth.)
     if (reads_normal_quality(s)) j["normal_quality"] = normal_quality_name(s.normal_quality);

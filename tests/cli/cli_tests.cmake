@@ -299,11 +299,12 @@ pr_cli(bench_counters EXIT 0 JSON b.json
 # Every fragment of a flat floor at height 0 takes --steps + 1 samples and --refine more: the p95
 # is that count (it read 255, the histogram's last bin, whenever fragments took more).
 # Each bench row says the quality it drew with, as compare's rows do (bench's had no
-# depth_write: a row drawn with --depth-write did not say so).
+# depth_write: a row drawn with --depth-write did not say so), steps and refine where its
+# technique reads them (pom no refine, the reference neither; every row had both before).
 pr_cli(bench_rows_carry_their_quality EXIT 0 JSON b.json
-       CHECKS "${R}.0.depth_write:STREQUAL:ON|${R}.0.steps:EQUAL:12|${R}.0.refine:EQUAL:3|${R}.1.depth_write:STREQUAL:ON"
+       CHECKS "${R}.0.depth_write:STREQUAL:ON|${R}.0.steps:EQUAL:12|${R}.0.refine:EQUAL:3|${R}.1.depth_write:STREQUAL:ON|${R}.1.steps:EQUAL:12|${R}.1.refine:ABSENT|${R}.2.steps:ABSENT|${R}.2.refine:ABSENT|${R}.2.depth_write:STREQUAL:ON"
        ARGS bench --mesh ${M}/torus.obj --size 32x24 --frames 1 --warmup 0 --steps 12 --refine 3
-            --depth-write --techniques relief,pom --json b.json)
+            --depth-write --techniques relief,pom,reference --json b.json)
 # The reference's row carries its geometry (a cube's 12 triangles split 4 x 4).
 pr_cli(bench_reference_row_has_its_geometry EXIT 0 JSON b.json
        CHECKS "${R}.1.reference.level:EQUAL:4|${R}.1.reference.triangles:EQUAL:192|${R}.1.reference.capped:STREQUAL:OFF"
