@@ -525,7 +525,9 @@ void check_distinct_outputs(const std::vector<NamedPath>& outputs, const std::ve
                 throw Error(option, path.string() + " is also the " + outputs[j].first + " file: give two names");
         for (const auto& [in_option, in_path] : inputs)
             if (!in_path.empty() && in_path.string().rfind("builtin:", 0) != 0 && same(path, in_path))
-                throw Error(option, path.string() + " is the " + in_option + " input: it would be overwritten");
+                // ("is an input (s.json: objects[0].mesh)": "is the s.json: objects[0].mesh input" read
+                // badly; found by an exploratory session, forty-third.)
+                throw Error(option, path.string() + " is an input (" + in_option + "): it would be overwritten");
     }
 }
 

@@ -1388,14 +1388,13 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     out.had_uvs = generated_faces == 0;
     if (generated_faces > 0 && !options.force_generated_uvs) {
         const std::string repeats = " (" + format_number(options.uv_scale) + " repeats across the largest extent)";
-        if (raw.face_has_uv.empty())
+        if (raw.face_has_uv.empty() && !raw.file_had_uvs)
             warn(name + ": no texture coordinates; generated box-projected UVs" + repeats);
         else if (generated_faces == faces)
-            // The reader keeps face_has_uv when the file had texture coordinates that no face
-            // could use (e.g. a corner without one).
-            warn(name + ": none of the " + std::to_string(faces) +
-                 " faces has usable texture coordinates (one at every corner); generated box-projected UVs" +
-                 repeats);
+            // Texture coordinates that no face could use (a corner without one; said "no texture
+            // coordinates" until the forty-third session: found by an exploratory session).
+            warn(name + (faces == 1 ? std::string(": its face has no") : ": none of the " + std::to_string(faces) + " faces has") +
+                 " usable texture coordinates (one at every corner); generated box-projected UVs" + repeats);
         else
             warn(name + ": " + std::to_string(generated_faces) + " of " + std::to_string(faces) +
                  " faces have no usable texture coordinates (one at every corner); generated box-projected "

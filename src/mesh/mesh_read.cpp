@@ -1525,6 +1525,7 @@ public:
                             const std::vector<OpenMesh::Vec2f>& uvs) override
     {
         if (!fh.is_valid() || size_t(fh.idx()) >= m_.face_count() || uvs.empty()) return;
+        m_.file_had_uvs = true;
         const size_t f = size_t(fh.idx());
         const size_t begin = m_.face_offsets[f];
         const size_t n = m_.face_offsets[f + 1] - begin;
@@ -1558,6 +1559,7 @@ public:
         vertex_uv[size_t(vh.idx())] = glm::vec2(t[0], t[1]);
         vertex_has_uv[size_t(vh.idx())] = 1;
         any_vertex_uv = true;
+        m_.file_had_uvs = true;
     }
     void set_texcoord(OpenMesh::VertexHandle vh, const OpenMesh::Vec3f& t) override
     {

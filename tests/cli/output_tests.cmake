@@ -264,11 +264,11 @@ pr_output_cli(conemap_out_read_only_folder_refused_early EXIT 1 ONE_LINE AS_NOBO
 file(WRITE ${pr_output_helpers}/height.json "{\"objects\": [{\"mesh\": \"${M}/cube.obj\", \"height\": \"h.png\"}]}\n")
 file(WRITE ${pr_output_helpers}/mesh.json "{\"objects\": [{\"mesh\": \"${M}/cube.obj\"}, {\"mesh\": \"../m.obj\"}]}\n")
 pr_output_cli(render_out_over_scene_height EXIT 1 ONE_LINE KEEP_FILE h.png
-       STDERR "${E}--out: h.png is the s.json: objects\\[0\\].height input: it would be overwritten"
+       STDERR "${E}--out: h.png is an input \\(s.json: objects\\[0\\].height\\): it would be overwritten"
        SETUP "cp ${pr_output_helpers}/height.json s.json"
        ARGS render --scene s.json --size 32x32 --out h.png)
 pr_output_cli(compare_json_over_scene_mesh EXIT 1 ONE_LINE KEEP_FILE m.obj
-       STDERR "${E}--json: m.obj is the sub/s.json: objects\\[1\\].mesh input: it would be overwritten"
+       STDERR "${E}--json: m.obj is an input \\(sub/s.json: objects\\[1\\].mesh\\): it would be overwritten"
        SETUP "mkdir sub && cp ${pr_output_helpers}/mesh.json sub/s.json"
        ARGS compare --scene sub/s.json --techniques pom --size 32x32 --json m.obj)
 
@@ -282,7 +282,7 @@ pr_output_cli(compare_tiles_are_renders EXIT 0 SETUP "mkdir t"
 pr_output_cli(compare_tiles_folder_missing EXIT 1 ONE_LINE NO_FILE g.png STDERR "${E}--tiles: t does not exist"
        ARGS compare ${pr_tile_scene} --techniques pom --tiles t --out g.png)
 pr_output_cli(compare_tiles_over_an_input EXIT 1 ONE_LINE KEEP_FILE t/pom.png
-       STDERR "${E}--tiles: t/pom.png is the --height input: it would be overwritten"
+       STDERR "${E}--tiles: t/pom.png is an input \\(--height\\): it would be overwritten"
        SETUP "mkdir t && $<TARGET_FILE:prismrelief> conemap --height builtin:bumps@16 --no-cache --out t/pom.png"
        ARGS compare --mesh ${M}/torus.obj --height t/pom.png --size 32x32 --techniques pom --tiles t)
 

@@ -155,6 +155,13 @@ pr_refuse(mesh_ply_face_texcoord "ply_face_texcoord.ply" "PLY face element has a
 pr_cli(mesh_ply_texture_uv_names EXIT 0 EXPECT_FILE o.png
        STDERR "ply_texture_uv_names.ply: vertex properties texture_u, texture_v are not read as texture coordinates"
        ARGS render --mesh ${BAD}/ply_texture_uv_names.ply --size 48x48 --out o.png)
+# An OBJ whose faces each give texture coordinates at some corners only: the file's coordinates
+# are said to be unusable, not missing (it said "no texture coordinates"; found by an exploratory
+# session, forty-third).
+pr_cli(mesh_obj_uvs_at_some_corners_only EXIT 0 EXPECT_FILE o.png
+       STDERR "warning: p.obj: none of the 2 faces has usable texture coordinates \\(one at every corner\\)"
+       SETUP "printf 'v 0 0 0\\nv 1 0 0\\nv 0 1 0\\nv 1 1 0\\nvt 0 0\\nvt 1 0\\nf 1/1 2/2 3\\nf 2/2 4 3\\n' > p.obj"
+       ARGS render --mesh p.obj --size 32x32 --out o.png)
 # Half the faces wound the other way: turned to agree with the others, with a warning (they were
 # drawn as they were, the welded normals cancelling where they met).
 pr_cli(mesh_inconsistent_orientation EXIT 0 EXPECT_FILE o.png
@@ -260,7 +267,7 @@ pr_cli_special(shader_dir_fifo EXIT 1 ONE_LINE NO_FILE o.png
 # An output over a shader the run reads (PRISMRELIEF_SHADER_DIR) broke every later run.
 pr_cli_special(out_over_shader EXIT 1 ONE_LINE
                SETUP "rm -rf sd && cp -r '${PROJECT_SOURCE_DIR}/shaders' sd && export PRISMRELIEF_SHADER_DIR=sd"
-               STDERR "${E}--out: sd/surface.frag is the PRISMRELIEF_SHADER_DIR input: it would be overwritten"
+               STDERR "${E}--out: sd/surface.frag is an input \\(PRISMRELIEF_SHADER_DIR\\): it would be overwritten"
                ARGS render --mesh ${M}/cube.obj --size 8x8 --out sd/surface.frag)
 pr_cli_special(osmesa_library_fifo EXIT 1 ONE_LINE NO_FILE o.png
                SETUP "rm -f lib.so && mkfifo lib.so && export PRISMRELIEF_OSMESA_LIBRARY=./lib.so"

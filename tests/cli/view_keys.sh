@@ -253,7 +253,7 @@ screenshot_refused)
     [ $rc -eq 0 ] || fail "Q: exit $rc, expected 0"
     # (h.png is P's RGBA picture: the drop says it reads the red channel.)
     [ "$err" = "prismrelief: warning: $WORKDIR/h.png: colour image; using its first (red) channel as the height
-prismrelief: warning: --screenshot: h.png is the height map input: it would be overwritten" ] ||
+prismrelief: warning: --screenshot: h.png is an input (height map): it would be overwritten" ] ||
         fail "stderr is not the drop's note and the one refusal"
     cmp -s h.png h.keep || fail "P wrote over the dropped height image h.png"
     no_temporaries "h.png|h.keep|render_pom.png"

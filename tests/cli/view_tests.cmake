@@ -24,12 +24,12 @@ if(TARGET pr_view)
     pr_cli(view_render_scale_hexadecimal EXIT 2 STDERR "usage: --render-scale: expected a decimal number, got '0x1'"
            ARGS view --mesh ${M}/torus.obj --render-scale 0x1)
     # A dropped file is an input: the screenshot replaced it.
-    pr_cli(view_drop_is_an_input EXIT 1 ONE_LINE STDERR "${E}--screenshot: .*h.png is the --drop input: it would be overwritten"
+    pr_cli(view_drop_is_an_input EXIT 1 ONE_LINE STDERR "${E}--screenshot: .*h.png is an input \\(--drop\\): it would be overwritten"
            ARGS view --mesh ${M}/torus.obj --drop h.png --screenshot h.png)
     # A shader under --shader-dir is named by that flag (it named PRISMRELIEF_SHADER_DIR, which
     # --shader-dir sets, when the variable was not given).
     pr_cli(view_screenshot_over_shader_dir EXIT 1 ONE_LINE ENV DISPLAY= WAYLAND_DISPLAY=
-           STDERR "${E}--screenshot: compositor.frag is the --shader-dir input: it would be overwritten"
+           STDERR "${E}--screenshot: compositor.frag is an input \\(--shader-dir\\): it would be overwritten"
            ARGS view --mesh ${M}/torus.obj --shader-dir . --screenshot compositor.frag --frames 1 NO_FILE compositor.frag)
     pr_cli(view_drop_empty EXIT 1 ONE_LINE STDERR "${E}--drop: empty file name" ARGS view --mesh ${M}/torus.obj --drop=)
     # An empty screenshot name was usage (exit 2), alone of the file options.
