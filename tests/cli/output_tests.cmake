@@ -26,9 +26,9 @@ pr_cli(render_out_and_json_through_a_folder_link EXIT 1 ONE_LINE SETUP "ln -sfn 
        ARGS render --mesh ${M}/cube.obj --size 16x16 --out n.png --json here/n.png)
 pr_cli(render_out_through_a_link_and_up EXIT 0 SETUP "mkdir -p x/y && ln -sfn x/y a && rm -f t.png x/t.png" EXPECT_FILE x/t.png
        ARGS render --mesh ${M}/cube.obj --size 16x16 --out a/../t.png --json t.png)
-pr_cli(render_out_over_height_map EXIT 1 ONE_LINE STDERR "${E}--out: keep.png is the --height input" KEEP_FILE keep.png
+pr_cli(render_out_over_height_map EXIT 1 ONE_LINE STDERR "${E}--out: keep.png is an input \\(--height\\): it would be overwritten" KEEP_FILE keep.png
        ARGS render --mesh ${M}/cube.obj --height keep.png --size 32x32 --out keep.png)
-pr_cli(bench_json_over_scene EXIT 1 ONE_LINE STDERR "${E}--json: keep.json is the --scene input" KEEP_FILE keep.json
+pr_cli(bench_json_over_scene EXIT 1 ONE_LINE STDERR "${E}--json: keep.json is an input \\(--scene\\): it would be overwritten" KEEP_FILE keep.json
        ARGS bench --scene keep.json --techniques pom --size 32x32 --frames 1 --json keep.json)
 
 # PNG data under another format's name.
