@@ -1393,7 +1393,8 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         else if (generated_faces == faces)
             // Texture coordinates that no face could use (a corner without one; said "no texture
             // coordinates" until the forty-third session: found by an exploratory session).
-            warn(name + (faces == 1 ? std::string(": its face has no") : ": none of the " + std::to_string(faces) + " faces has") +
+            warn(name +
+                 (faces == 1 ? std::string(": its face has no") : ": none of the " + std::to_string(faces) + " faces has") +
                  " usable texture coordinates (one at every corner); generated box-projected UVs" + repeats);
         else
             warn(name + ": " + std::to_string(generated_faces) + " of " + std::to_string(faces) +

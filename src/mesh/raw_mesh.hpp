@@ -29,8 +29,8 @@ struct RawMesh {
     std::vector<std::uint32_t> corners;    // vertex index per corner
     std::vector<glm::vec2> corner_uvs;     // per corner; empty when no face has UVs
     std::vector<std::uint8_t> face_has_uv; // per face; empty when no face has UVs
-    // The file gave texture coordinates, usable or not (an OBJ face with one on some corners
-    // only, a PLY vertex with one on a face whose other vertices have none).
+    // The file gave texture coordinates, usable or not (an OBJ face with one at some corners
+    // only): the warning then says they were unusable, not missing (prepare_mesh).
     bool file_had_uvs = false;
     bool had_normals = false;              // the file carried vertex or corner normals
     std::size_t collapsed_faces = 0;       // faces the reader skipped: < 3 distinct vertices
