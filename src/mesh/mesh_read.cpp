@@ -164,6 +164,10 @@ string out_of_range_index(string_view index, unsigned long long vertices)
            " vertices)";
 }
 
+// Whether a face property names its vertex index list, as OpenMesh's PLY reader takes it (either
+// name).
+bool is_ply_index_list(string_view name) { return name == "vertex_indices" || name == "vertex_index"; }
+
 // Number of distinct values in a face's index list, without allocating for the usual short
 // faces.
 size_t distinct_count(const std::vector<long long>& v)
@@ -795,7 +799,7 @@ size_t binary_ply_end(const string& subject, string_view body, const std::vector
                                                              (p.size == 1 ? "" : "s") + ", more than the " +
                                                              std::to_string(left) + " byte" + (left == 1 ? "" : "s") +
                                                              " left in the file (truncated, or a bad count?)"));
-                    if (el.name == "face" && (p.name == "vertex_indices" || p.name == "vertex_index"))
+                    if (el.name == "face" && is_ply_index_list(p.name))
                         for (size_t k = 0; k < size_t(count); ++k) {
                             const double index = ply_binary_value(body.data() + at + k * size_t(p.size), p.type, big_endian);
                             if (index < 0.0 || index >= double(vertices))
@@ -1064,7 +1068,7 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
         }
     bool has_indices = false;
     for (const PlyProperty& p : face->properties) {
-        const bool indices = p.name == "vertex_indices" || p.name == "vertex_index";
+        const bool indices = is_ply_index_list(p.name);
         if (!has_indices && !indices)
             fail(subject, "PLY face property '" + p.name +
                               "' comes before vertex_indices, which the reader cannot take (put it after)");
