@@ -1425,7 +1425,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     // The base-surface programs the objects need (with a colour texture and without), built
     // before the frame's clock starts, as they were when one program served every object.
     if (!walk)
-        for (const GpuObject& o : objects_) program_for(settings, WalkVariant::Plain, ShellDraw::Faces, o.color_texture != 0);
+        for (const GpuObject& o : objects_) object_program(settings, o);
 
     glFinish();
     const auto start = std::chrono::steady_clock::now();
@@ -1530,7 +1530,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         glEnable(GL_CULL_FACE);
         glFrontFace(GL_CCW);
         glCullFace(caps == ShellDraw::Tops ? GL_BACK : GL_FRONT);
-        glUseProgram(program_for(settings, variant, caps, o.color_texture != 0));
+        glUseProgram(object_program(settings, o, variant, caps));
         glDrawElements(GL_TRIANGLES, shell.index_count, GL_UNSIGNED_INT, nullptr);
         glDisable(GL_CULL_FACE);
     };
@@ -1547,8 +1547,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         const int full = settings.full_shell ? 1 : 0;
         if (o.listed_count[full] > 0 && !eye_in_body) {
             // (On an open mesh a ray may come in through a wall under the surface: OpenEntry.)
-            glUseProgram(program_for(settings, o.open_shell ? WalkVariant::OpenEntry : variant, ShellDraw::Listed,
-                                     o.color_texture != 0));
+            glUseProgram(object_program(settings, o, o.open_shell ? WalkVariant::OpenEntry : variant, ShellDraw::Listed));
             glBindTextureUnit(PR_TEX_PRISM_LIST, o.listed_texels[full].id());
             glDrawArrays(GL_POINTS, 0, o.listed_count[full]);
         }
@@ -1574,15 +1573,14 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
         set_object(o, &*in);
         bind_prism_data(o, true);
         // Under the surface (inside a bump) the walk starts under it, as through a tear.
-        glUseProgram(program_for(settings, in->under ? WalkVariant::UnderSurface : variant, ShellDraw::FromEye,
-                                 o.color_texture != 0));
+        glUseProgram(object_program(settings, o, in->under ? WalkVariant::UnderSurface : variant, ShellDraw::FromEye));
         glBindVertexArray(o.base.vao.id()); // (no attributes read)
         glDrawArrays(GL_TRIANGLES, 0, 3);
     };
     for (std::size_t k = 0; k < objects_.size(); ++k) {
         const GpuObject& o = objects_[k];
         if (flat_shell(o)) {
-            glUseProgram(program_for(flat_settings, WalkVariant::Plain, ShellDraw::Faces, o.color_texture != 0));
+            glUseProgram(object_program(flat_settings, o));
             set_object(o);
             glBindVertexArray(o.base.vao.id());
             glDrawElements(GL_TRIANGLES, o.base.index_count, GL_UNSIGNED_INT, nullptr);
@@ -1595,7 +1593,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
             draw_from_eye(o, eye_in[k], in_body[k], variant);
             continue;
         }
-        glUseProgram(program_for(settings, WalkVariant::Plain, ShellDraw::Faces, o.color_texture != 0));
+        glUseProgram(object_program(settings, o));
         if (settings.technique != Technique::Reference) {
             if (cull_back[k]) {
                 glEnable(GL_CULL_FACE);
@@ -1619,7 +1617,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     const auto begin_second_pass = [&](const GpuObject& o, const gl::Texture& list) {
         set_object(o);
         bind_prism_data(o, true);
-        glUseProgram(program_for(settings, WalkVariant::Inside, ShellDraw::Listed, o.color_texture != 0));
+        glUseProgram(object_program(settings, o, WalkVariant::Inside, ShellDraw::Listed));
         glBindTextureUnit(PR_TEX_PRISM_LIST, list.id());
         glBindVertexArray(o.base.vao.id());
     };

@@ -287,6 +287,12 @@ private:
         glm::mat4 local{1.0f}; // the transform less its translation: object to its own frame
         glm::vec3 base_color{0.8f};
     };
+    // program_for() for drawing object `o`: its colour-texture variant follows the object.
+    GLuint object_program(const DrawSettings& settings, const GpuObject& o, WalkVariant variant = WalkVariant::Plain,
+                          ShellDraw shell = ShellDraw::Faces)
+    {
+        return program_for(settings, variant, shell, o.color_texture != 0);
+    }
 
     void create_target();
 
