@@ -1808,7 +1808,14 @@ TEST(MeshErrors, BinaryPlyHeadersAndBodiesAreReadOrNamed)
     const fs::path cut = dir.write_bytes("cut.ply", file(head("float", 4, 2, "", ""), 4, 1));
     EXPECT_ERROR_MENTIONS(load_error(cut), cut, "binary PLY ends inside its face 1 of 2 (cut short, or a count too large?)");
     const fs::path more = dir.write_bytes("more.ply", file(head("float", 5, 2, "", ""), 4, 2));
-    EXPECT_ERROR_MENTIONS(load_error(more), more, "(in a binary PLY: does the header count more vertices than the file holds?)");
+    EXPECT_ERROR_MENTIONS(load_error(more), more,
+                          "face 0 has fewer than 3 vertices (it lists 0); the body reads whole with 4 vertices: does the header "
+                          "count 1 more than the file holds?");
+    // A face of fewer than 3 vertices that the file itself holds is said without that question: no
+    // smaller vertex count reads the body whole (it was asked of every such face).
+    const fs::path short_face = dir.write_bytes(
+        "two.ply", file(head("float", 4, 2, "", ""), 4, 1, std::string("\x02\x00\x00\x00\x00\x02\x00\x00\x00", 9)));
+    EXPECT_EQ(load_error(short_face).problem(), "face 1 has fewer than 3 vertices (it lists 2)");
     const fs::path edges = dir.write_bytes(
         "e.ply", file(head("float", 4, 2, "", "", "element edge 2\nproperty int vertex1\nproperty int vertex2\n"), 4, 2));
     EXPECT_ERROR_MENTIONS(load_error(edges), edges,
