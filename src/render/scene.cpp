@@ -232,6 +232,20 @@ Scene load_scene(const SceneSpec& spec)
     return scene;
 }
 
+void fit_scene_clip_planes(Camera& camera, const Scene& scene, double grow)
+{
+    std::vector<Sphere> objects = scene.object_bounds;
+    double most = 0.0;
+    for (std::size_t k = 0; k < objects.size(); ++k) {
+        const double reach = grow + (k < scene.objects.size() ? kCarveReach * double(scene.objects[k].depth) : 0.0);
+        objects[k].radius += reach;
+        most = std::max(most, reach);
+    }
+    Sphere all = scene.shell_bounds;
+    all.radius += most;
+    fit_clip_planes(camera, objects, all);
+}
+
 Camera scene_camera(const SceneSpec& spec, const Scene& scene)
 {
     const CameraSpec& c = spec.camera;
@@ -264,7 +278,7 @@ Camera scene_camera(const SceneSpec& spec, const Scene& scene)
         }
         case ViewProblem::None: break;
         }
-        fit_clip_planes(camera, scene.object_bounds, scene.shell_bounds);
+        fit_scene_clip_planes(camera, scene);
         return camera;
     }
     Sphere s = scene.shell_bounds;
@@ -273,7 +287,7 @@ Camera scene_camera(const SceneSpec& spec, const Scene& scene)
         s.center = *c.target;
     }
     camera = frame_sphere(s, c.fovy_deg, aspect, c.elevation_deg, c.azimuth_deg, c.up);
-    fit_clip_planes(camera, scene.object_bounds, scene.shell_bounds);
+    fit_scene_clip_planes(camera, scene);
     return camera;
 }
 

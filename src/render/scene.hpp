@@ -89,6 +89,18 @@ Box shell_box(const SceneObject& obj);
 // The sphere around a box, its radius kept above what floats can still tell apart at its centre.
 Sphere sphere_around(const Box& box);
 
+// The clip planes around a scene (fit_clip_planes): each object's shell sphere grown by
+// kCarveReach times its depth, and by `grow` (the viewer's sliders). The base-surface techniques
+// carve inward, up to `depth` under a face wherever the shell runs (it runs outward at the
+// default --midlevel 0), and with --depth-write they write the depth of the point they show:
+// on a ray at angle a to the face, up to depth / sin(a) past the polygon. kCarveReach = 8 keeps
+// rays 7 degrees from the face and steeper inside the far plane; a flatter one's depth is held
+// at the far plane (docs/techniques.md, "Depth write"). Until the forty-fourth session the
+// planes enclosed the shell alone, and a carved floor beyond it was held at the far plane:
+// `compare` under-reported those techniques' depth error (found by an exploratory session).
+inline constexpr double kCarveReach = 8.0;
+void fit_scene_clip_planes(Camera& camera, const Scene& scene, double grow = 0.0);
+
 // Loads every mesh and image (each distinct file once). Throws pr::Error naming the file.
 Scene load_scene(const SceneSpec& spec);
 

@@ -203,13 +203,8 @@ private:
     bool screenshot_stale() const; // a P waits for settings changed since it was pressed
     void drop_screenshots(const char* why, bool as_error); // the pending Ps, said in the log (and stderr)
     // Each object's bounds grown as the scene's (apply_displacement), so that a far-away object
-    // does not push the near plane past the near ones.
-    void fit_planes()
-    {
-        std::vector<Sphere> objects = s_.scene.object_bounds;
-        for (Sphere& b : objects) b.radius += bounds_.radius - base_radius_;
-        fit_clip_planes(s_.camera, objects, bounds_);
-    }
+    // does not push the near plane past the near ones, and by the carve of its depth now.
+    void fit_planes() { fit_scene_clip_planes(s_.camera, s_.scene, bounds_.radius - base_radius_); }
     void error(const std::string& message); // warns, and shows it in the panel's log
     void note(const std::string& message);  // the panel's log only (newest last, the last six)
     void log_warnings();                    // the warnings said since, in the panel's log
