@@ -204,6 +204,25 @@ Scene load_scene(const SceneSpec& spec)
             throw Error(mesh_place, std::string("the object lies more than 1e15 scene units from the origin (its centre at ") +
                                         where + "), past the renderer's precision: move it nearer");
         }
+        // Small for its place: the camera that frames it is placed in double, whose steps there
+        // are a fair part of the object, and the sphere that frames it is at least a few steps
+        // wide (sphere_around) (a torus 3.6e-10 across at x = 3e5, where doubles are 5.8e-11
+        // apart, drew at half its size, at 1e6 not at all, with no word but "nothing was drawn";
+        // found by an exploratory session, forty-fourth). It must span 16 of them, which a 3-unit
+        // object at 9e14, 24 steps across, does (it moves by a few pixels: docs/scenes.md).
+        if (const glm::dvec3 at = 0.5 * (olo + ohi); at != glm::dvec3(0.0)) {
+            const double far = std::max({std::abs(at.x), std::abs(at.y), std::abs(at.z)});
+            const double step = std::ldexp(1.0, std::ilogb(far) - 52);
+            if (diagonal < 16.0 * step) {
+                char what[224];
+                std::snprintf(what, sizeof what,
+                              "the object is %.3g scene units across at %.3g from the origin, where doubles are %.2g "
+                              "apart, too small to place there (16 of those steps at least): move it nearer the "
+                              "origin or scale it up",
+                              diagonal, far, step);
+                throw Error(mesh_place, what);
+            }
+        }
         const Box box = shell_box(obj);
         if (const Sphere s = sphere_around(box); !(2.0 * s.radius <= kLargestAcross))
             throw Error(depth_place, "the object's displacement shell is too large for the renderer's single "

@@ -436,6 +436,17 @@ foreach(size 1e19 1e-23)
                    STDERR "${E}s.obj: the object is ${said}"
                    ARGS render --mesh s.obj --technique relief --size 32x32 --out o.png)
 endforeach()
+# An object small for its place: the camera that frames it is placed in double, whose steps at
+# x = 1e6 are a third of a torus 3.6e-10 across; it drew nothing, exit 0, with the warning that
+# nothing was drawn (at 3e5, half its size). At 1000 it draws as at the origin.
+set(small_far "printf '{\"objects\": [{\"mesh\": \"${M}/torus.obj\", \"transform\": {\"scale\": 1e-10, \"translate\": [@AT@, 0, 0]}}]}' > s.json")
+string(REPLACE @AT@ 1e6 setup "${small_far}")
+pr_cli_special(mesh_small_for_its_place EXIT 1 ONE_LINE NO_FILE o.png SETUP "${setup}"
+               STDERR "${E}s.json: objects\\[0\\].mesh: the object is 3.63e-10 scene units across at 1e\\+06 from the origin, where doubles are 1.2e-10 apart"
+               ARGS render --scene s.json --technique flat --size 32x32 --out o.png)
+string(REPLACE @AT@ 1000 setup "${small_far}")
+pr_cli_special(mesh_small_near_its_place EXIT 0 EXPECT_FILE o.png SETUP "${setup}"
+               ARGS render --scene s.json --technique flat --size 32x32 --out o.png)
 pr_cli(depth_past_float_range EXIT 1 ONE_LINE NO_FILE o.png
        STDERR "${E}--depth: must be at most 3.4e38 in magnitude \\(the renderer's single precision\\)"
        ARGS render --mesh ${M}/torus.obj --depth 1e300 --size 32x32 --out o.png)
