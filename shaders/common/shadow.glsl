@@ -418,7 +418,12 @@ int march_light(vec3 origin, vec3 dir, float t_end, float rise, inout float run_
         float t_back = max(back.x, back.y), t_ahead = min(ahead.x, ahead.y);
         for (int k = 0; k < 2; ++k) {
             float tk = k == 0 ? t_back : t_ahead;
-            if (!(tk >= dt && tk > t_before && tk < t_after)) continue;
+            // (Not before the first sample from the hit, whose own is the caller's; but in the
+            // prism walk's later stretches, from their start: a crossing between it, the last
+            // prism's exit, and the first sample was sampled by neither stretch, and a line of
+            // light ran through a thin wall's shadow where its crest met a prism's side; found by
+            // an exploratory session, forty-fourth.)
+            if (!(tk >= (run_before > 0.0 ? 0.0 : dt) && tk > t_before && tk < t_after)) continue;
             float clearance = light_sample(origin, dir, tk, g).x;
 #if PR_SHADOWS == PR_SHADOWS_HARD
             if (clearance < 0.0) return PR_LIGHT_BLOCKED;
