@@ -80,7 +80,12 @@ inline nlohmann::json scene_json(const Scene& scene)
         // (a report left them out: two objects of one mesh read the same; thirty-sixth session).
         // The scene's transform, not the one drawn with, which holds the mesh's origin too: a mesh
         // whose file lies far from 0 was reported moved by it (thirty-seventh session).
-        if (o.color) j["color"] = o.color_name;
+        // Or the plain colour it was drawn with: two objects of one mesh in red and in blue read
+        // the same (found by an exploratory session, forty-fourth).
+        if (o.color)
+            j["color"] = o.color_name;
+        else
+            j["base_color"] = {float_json(o.base_color.r), float_json(o.base_color.g), float_json(o.base_color.b)};
         if (const glm::dmat4& m = o.placement; m != glm::dmat4(1.0)) {
             nlohmann::json rows = nlohmann::json::array();
             // (+ 0.0: a mirror's zeros were -0.0; found by an exploratory session, forty-first.)

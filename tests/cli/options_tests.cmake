@@ -130,6 +130,15 @@ pr_scene(moved_coloured ", \"color\": \"builtin:checker\", \"transform\": {\"sca
 pr_cli(render_json_names_colour_and_transform EXIT 0 JSON m.json
        CHECKS "objects.0.color:EXISTS|objects.1:ABSENT|objects.0.transform.0.0:EQUAL:2|objects.0.transform.1.3:EQUAL:2|objects.0.transform.3.3:EQUAL:1"
        ARGS render --scene ${OS}/moved_coloured.json --size 16x16 --out m.png --json m.json)
+# …and, without a colour map, its plain colour: a red and a blue object of one mesh read the same
+# (found by an exploratory session, forty-fourth).
+pr_scene(red ", \"base_color\": [1, 0, 0.25]}]}")
+pr_cli(render_json_names_base_colour EXIT 0 JSON m.json
+       CHECKS "objects.0.base_color.0:EQUAL:1|objects.0.base_color.1:EQUAL:0|objects.0.base_color.2:EQUAL:0.25|objects.0.color:ABSENT"
+       ARGS render --scene ${OS}/red.json --size 16x16 --out m.png --json m.json)
+pr_cli(render_json_colour_map_without_base_colour EXIT 0 JSON m.json
+       CHECKS "objects.0.color:EXISTS|objects.0.base_color:ABSENT"
+       ARGS render --scene ${OS}/moved_coloured.json --size 16x16 --out m.png --json m.json)
 # A report names each object's map as the object does, and the transform the scene gives: objects
 # naming one file two ways were reported under the first's name (they share its field), and a
 # mesh whose file lies far from 0 with the renderer's change of frame to it, as if moved (found by
