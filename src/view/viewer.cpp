@@ -1294,6 +1294,14 @@ int Viewer::run()
             } else if (screenshot_pending_ > 0 && image_meanwhile_) {
                 // Built, but the technique's draw failed (a shader error): the picture is still relief's.
                 drop_screenshots("P: no screenshot: the picture shown is relief's (the technique could not be drawn)", true);
+            } else if (screenshot_pending_ > 0 && !blocked_key_.empty() && blocked_key_ == settings_key()) {
+                // What is set could not be drawn (a hot-reloaded shader's error): the picture
+                // shown is the last one drawn, of other settings or the shaders before. P saved it
+                // under the technique the panel names, without a word (found by an exploratory
+                // session, forty-fourth).
+                drop_screenshots("P: no screenshot: what is set could not be drawn (the error above); the picture "
+                                 "shown is an earlier one",
+                                 true);
             } else if (screenshot_pending_ > 0 && screenshot_stale()) {
                 // Turned to another technique (or settings) while P waited: what is drawn now is
                 // not the picture P asked for (it saved flat's after a 1, without a word; found by

@@ -258,6 +258,26 @@ prismrelief: warning: --screenshot: h.png is an input (height map): it would be 
     cmp -s h.png h.keep || fail "P wrote over the dropped height image h.png"
     no_temporaries "h.png|h.keep|render_pom.png"
     ;;
+shader_break)
+    # A shader broken while the viewer runs (--shader-dir, hot reload): what is set can no longer
+    # be drawn, and the picture shown is an earlier one. P saved it under the technique the panel
+    # named, without a word: pom's picture after a 6 to relief, whose variant failed too (found by
+    # an exploratory session, forty-fourth). It says so and saves nothing; the viewer goes on.
+    cp -r "$MESHES/../shaders" shaders || fail "no shaders to copy"
+    start_view $TORUS --technique pom --shader-dir shaders --screenshot s.png
+    printf '\nthis is not glsl;\n' >>shaders/surface.frag
+    wait_stderr "surface.frag" 15 "the broken shader was not reported within 15 s"
+    press 6
+    sleep 1
+    press p
+    wait_stderr "P: no screenshot" 15 "P after the broken draw said nothing within 15 s"
+    press q
+    wait_view
+    [ $rc -eq 0 ] || fail "Q: exit $rc, expected 0"
+    [ ! -e s.png ] || fail "P saved a picture of what could not be drawn"
+    printf '%s\n' "$err" | grep -q -x "prismrelief: warning: P: no screenshot: what is set could not be drawn (the error above); the picture shown is an earlier one" ||
+        fail "no refusal line for P"
+    ;;
 close_key)
     # Q before the N frames of --frames N --screenshot: exit 1, one error line, no file. Without
     # --screenshot the same Q ends the run with its summary (exit 0).
