@@ -8,6 +8,7 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include <algorithm>
 #include <string>
 
 namespace pr {
@@ -50,8 +51,18 @@ void glfw_drop_callback(GLFWwindow* window, int count, const char** paths)
 void glfw_key_callback(GLFWwindow* window, int key, int /*scancode*/, int action, int mods)
 {
     auto* self = static_cast<GlfwWindow*>(glfwGetWindowUserPointer(window));
-    if (!self || action != GLFW_PRESS) return;
+    if (!self) return;
+    if (action == GLFW_RELEASE) {
+        auto& unseen = self->pressed_unseen_;
+        if (const auto at = std::find(unseen.begin(), unseen.end(), key); at != unseen.end()) {
+            unseen.erase(at);
+            self->taps_.push_back(key);
+        }
+        return;
+    }
+    if (action != GLFW_PRESS) return;
     self->keys_.push_back({key, (mods & GLFW_MOD_SHIFT) != 0});
+    self->pressed_unseen_.push_back(key);
 }
 
 std::unique_ptr<GlfwWindow> GlfwWindow::open(int width, int height, const std::string& title)
@@ -124,6 +135,14 @@ std::vector<GlfwWindow::KeyPress> GlfwWindow::take_key_presses()
 {
     std::vector<KeyPress> out;
     out.swap(keys_);
+    return out;
+}
+
+std::vector<int> GlfwWindow::take_taps()
+{
+    pressed_unseen_.clear(); // (still down: the frame that takes these reads them down)
+    std::vector<int> out;
+    out.swap(taps_);
     return out;
 }
 

@@ -48,12 +48,17 @@ public:
         bool shift = false;
     };
     std::vector<KeyPress> take_key_presses();
+    // Keys pressed and released again since the last call (GLFW key codes): a frame that reads
+    // the keys' state sees them up, as if never pressed.
+    std::vector<int> take_taps();
 
 private:
     GlfwWindow() = default;
     GLFWwindow* window_ = nullptr;
     std::vector<std::string> dropped_;
     std::vector<KeyPress> keys_;
+    std::vector<int> pressed_unseen_; // pressed since the last take_taps()
+    std::vector<int> taps_;
     friend void glfw_drop_callback(GLFWwindow*, int, const char**);
     friend void glfw_key_callback(GLFWwindow*, int, int, int, int);
 };

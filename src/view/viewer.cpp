@@ -268,6 +268,7 @@ private:
     // compile, up to a second on llvmpipe, went into the frame times; found by a review).
     bool frame_compiles_ = false;
     std::string blocked_key_;   // settings that failed to draw; retried when they or shaders change
+    std::vector<int> held_taps_; // keys tapped before this frame, held down for Dear ImGui in it
     std::vector<std::string> pending_drops_;
     std::deque<std::string> log_; // load errors, warnings and notices (newest last)
     std::mutex warned_mutex_;     // (warnings come from the cone maps' thread too)
@@ -1194,6 +1195,12 @@ int Viewer::run()
             // A build's progress: 10 per s. With --frames too: the frames drawn meanwhile do not
             // count, and drawn as fast as they go they took the cores from the build.
             const bool building = cone_job_.has_value();
+            // Keys tapped in the last frame were held down for it (below): up again before the
+            // events, which hold them down anew where they are pressed again.
+            ImGuiIO& keys_io = ImGui::GetIO();
+            for (const int key : held_taps_)
+                if (key >= 0 && key < int(IM_ARRAYSIZE(keys_io.KeysDown))) keys_io.KeysDown[key] = false;
+            held_taps_.clear();
             window_.poll_events(busy && !(building && o_.frames > 0) ? 0.0 : building ? 0.1 : 0.25);
             poll_cone_job();
             for (const std::string& path : window_.take_dropped_files()) handle_drop(path);
@@ -1244,6 +1251,16 @@ int Viewer::run()
 
             ImGui_ImplOpenGL3_NewFrame();
             ImGui_ImplGlfw_NewFrame();
+            // A key pressed and released since the last frame is held down for this one: Dear
+            // ImGui 1.86 reads the keys' state once a frame, and a Return tapped in a panel's field
+            // during a slow frame (relief at 200 ms a frame) was lost; the field stayed open and
+            // took P and Q (found by an exploratory session, forty-fourth). (The viewer's own keys
+            // come from GlfwWindow's queue: handle_keys.)
+            for (const int key : window_.take_taps())
+                if (key >= 0 && key < int(IM_ARRAYSIZE(keys_io.KeysDown))) {
+                    keys_io.KeysDown[key] = true;
+                    held_taps_.push_back(key);
+                }
             ImGui::NewFrame();
             handle_input();
             if (show_panel_) draw_panel();

@@ -377,6 +377,24 @@ tap)
     timeout 10 xdotool windowfocus --sync "$win" key q || fail "xdotool could not tap q"
     wait_view
     [ $rc -eq 0 ] || fail "q: exit $rc, expected 0"
+    # A Return tapped in a panel's field during slow frames (relief at 400 x 300, about 200 ms a
+    # frame here): Dear ImGui 1.86 reads the keys' state once a frame, the tap was lost, the field
+    # stayed open and took P and Q (found by an exploratory session, forty-fourth). The steps
+    # slider's field (Ctrl + click at 100, 250 in this layout) takes 1000, and the tapped Return
+    # commits it: P then writes render's picture at --steps 1000.
+    BIG="--mesh $MESHES/torus.obj --height builtin:bricks --size 400x300 --technique relief"
+    "$EXE" render $BIG --steps 1000 --out r_steps.png >/dev/null || fail "render --steps 1000 failed"
+    start_view $BIG --screenshot s.png
+    timeout 10 xdotool mousemove --window "$win" 100 250 keydown ctrl click 1 keyup ctrl sleep 0.3 key ctrl+a \
+        sleep 0.1 type --delay 50 -- 1000 || fail "xdotool could not type into the steps field"
+    timeout 10 xdotool key Return || fail "xdotool could not tap Return"
+    sleep 1
+    press p
+    wait_file s.png
+    "$CHECK" equal s.png r_steps.png 4 || fail "P's picture is not relief at --steps 1000 (the field at 100, 250 not the steps slider's?)"
+    press q
+    wait_view
+    [ $rc -eq 0 ] || fail "q after the field: exit $rc, expected 0"
     ;;
 build)
     # P while a cone map is built on the viewer's thread (relief drawn meanwhile) waits for the
