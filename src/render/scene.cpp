@@ -214,7 +214,7 @@ Scene load_scene(const SceneSpec& spec)
             const double far = std::max({std::abs(at.x), std::abs(at.y), std::abs(at.z)});
             const double step = std::ldexp(1.0, std::ilogb(far) - 52);
             if (diagonal < 16.0 * step) {
-                char what[224];
+                char what[256];
                 std::snprintf(what, sizeof what,
                               "the object is %.3g scene units across at %.3g from the origin, where doubles are %.2g "
                               "apart, too small to place there (16 of those steps at least): move it nearer the "
