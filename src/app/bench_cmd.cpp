@@ -94,6 +94,13 @@ CommandAction add_bench_command(CLI::App& app)
             }
 
         std::vector<BenchRow> rows(runs.size());
+        // Every frame drawn counts in the progress: the counting ones, one that compiles, the
+        // warm-up and the timed ones (the warm-up's were not counted, and 1000 of them at
+        // --steps 1024 ran for an hour without a word; found by an exploratory session, forty-fourth).
+        ProgressBar bar("bench");
+        const double frames_in_all = double(runs.size()) * double(2 + s->warmup + s->frames);
+        double frames_drawn = 0.0;
+        const auto drawn = [&] { bar(++frames_drawn / frames_in_all); };
         // Counters: one instrumented frame per technique (the same shaders with PR_COUNT_SAMPLES).
         for (std::size_t i = 0; i < runs.size(); ++i) {
             rows[i].label = runs[i].label;
@@ -102,18 +109,21 @@ CommandAction add_bench_command(CLI::App& app)
             r.draw(session.camera, session.light, counted);
             rows[i].counters = r.read_counters();
             rows[i].drew = !drew_nothing(r.read_color());
+            drawn();
         }
         // One untimed draw per technique compiles its shaders (the counting frame above built the
         // instrumented variant): with --warmup 0 the first timed frame included the compilation
         // (prism 24 ms against 0.5 ms at 48x32). Then --warmup's frames.
         for (int w = 0; w < 1 + s->warmup; ++w)
-            for (const TechniqueRun& run : runs) r.draw(session.camera, session.light, run.settings);
-        ProgressBar bar("bench");
-        for (int f = 0; f < s->frames; ++f) {
-            for (std::size_t i = 0; i < runs.size(); ++i)
+            for (const TechniqueRun& run : runs) {
+                r.draw(session.camera, session.light, run.settings);
+                drawn();
+            }
+        for (int f = 0; f < s->frames; ++f)
+            for (std::size_t i = 0; i < runs.size(); ++i) {
                 rows[i].ms.push_back(r.draw(session.camera, session.light, runs[i].settings));
-            bar(double(f + 1) / double(s->frames));
-        }
+                drawn();
+            }
         bar.clear();
 
         nlohmann::json results = nlohmann::json::array();

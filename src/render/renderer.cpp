@@ -211,14 +211,24 @@ std::vector<glm::vec4> make_shell_corners(const std::vector<MeshVertex>& vertice
 // sheet of 2000 strips seen 3 degrees up kept holes, found by a review). At most 256 + 8192: a
 // vertex of a million triangles, or slivers of no width, must not let every ray that misses walk
 // a million prisms.
-int walk_prism_limit(const std::vector<MeshVertex>& vertices, const std::vector<std::uint32_t>& indices,
-                     const glm::mat4& transform, float depth)
+// Also what bounded it, for the warnings where it is cut short (ensure_walk_data).
+struct WalkLimit {
+    int prisms = 256;
+    std::uint32_t most_around = 0; // triangles around one welded position, at most
+    double crossed = 0.0;          // prisms a straight path through the shell may cross
+};
+constexpr std::uint32_t kWalkMostAround = 4096;
+constexpr double kWalkCap = 256.0 + 8192.0;
+
+WalkLimit walk_prism_limit(const std::vector<MeshVertex>& vertices, const std::vector<std::uint32_t>& indices,
+                           const glm::mat4& transform, float depth)
 {
+    WalkLimit w;
     std::vector<std::uint32_t> around(welded_position_count(vertices), 0);
     for (const std::uint32_t i : indices) ++around[vertices[i].weld_id];
     const std::uint32_t most = around.empty() ? 0 : *std::max_element(around.begin(), around.end());
-    constexpr double cap = 256.0 + 8192.0;
-    double limit = 256.0 + 2.0 * double(std::min<std::uint32_t>(most, 4096));
+    w.most_around = most;
+    double limit = 256.0 + 2.0 * double(std::min<std::uint32_t>(most, kWalkMostAround));
     std::vector<double> altitudes;
     altitudes.reserve(indices.size() / 3);
     glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
@@ -233,13 +243,20 @@ int walk_prism_limit(const std::vector<MeshVertex>& vertices, const std::vector<
         const double twice_area = glm::length(glm::cross(p[1] - p[0], p[2] - p[0]));
         if (longest > 0.0 && twice_area > 0.0) altitudes.push_back(twice_area / longest);
     }
-    if (altitudes.empty() || !(depth > 0.0f)) return int(limit);
+    if (altitudes.empty() || !(depth > 0.0f)) {
+        w.prisms = int(limit);
+        return w;
+    }
     const std::size_t at = altitudes.size() / 20;
     std::nth_element(altitudes.begin(), altitudes.begin() + std::ptrdiff_t(at), altitudes.end());
     const double narrow = altitudes[at];
     const double crossed = (glm::length(hi - lo) + 2.0 * double(depth)) / narrow;
-    if (std::isfinite(crossed)) limit = std::max(limit, std::min(2.0 * crossed, cap));
-    return int(std::min(limit, cap));
+    if (std::isfinite(crossed)) {
+        w.crossed = crossed;
+        limit = std::max(limit, std::min(2.0 * crossed, kWalkCap));
+    }
+    w.prisms = int(std::min(limit, kWalkCap));
+    return w;
 }
 
 // What the walk needs per triangle, from one pass over the triangles:
@@ -571,6 +588,7 @@ void Renderer::upload(const Scene& scene)
         const Sphere shell = k < scene.object_bounds.size() ? scene.object_bounds[k] : sphere_around(shell_box(so));
         o.shell_radius = float(shell.radius);
         o.shell_center = shell.center;
+        o.name = so.mesh_name.empty() ? "object " + std::to_string(k) : so.mesh_name;
         o.origin = glm::dvec3(so.transform[3]);
         o.local = linear_part(so.transform);
         o.base_color = so.base_color;
@@ -992,7 +1010,22 @@ void Renderer::ensure_walk_data()
             o.listed[full] = gl::immutable_buffer(triangles.listed[full]);
             o.listed_count[full] = GLsizei(triangles.listed[full].size());
         }
-        o.walk_max_prisms = walk_prism_limit(vertices, indices, o.local, o.depth);
+        const WalkLimit limit = walk_prism_limit(vertices, indices, o.local, o.depth);
+        o.walk_max_prisms = limit.prisms;
+        // Where the walk is cut short, said: the rays past it are dropped, holes in the picture,
+        // and every ray that walks that far costs its crossings (a fan of 100,000 triangles drew
+        // a ragged hole round its centre, IoU 0.927; an open cylinder of a million slivers took
+        // over 150 s at 64 x 64; both without a word; found by an exploratory session,
+        // forty-fourth). (docs/prism.md, "Known limits".)
+        if (limit.most_around > kWalkMostAround)
+            warn(o.name + ": a position has " + std::to_string(limit.most_around) +
+                 " triangles around it, more than the prism's walk follows (" + std::to_string(kWalkMostAround) +
+                 "): rays that pass near it may be dropped (holes in the prism's picture)");
+        if (2.0 * limit.crossed > kWalkCap)
+            warn(o.name + ": its triangles are narrow for its size and shell: a ray through the shell may cross up to about " +
+                 std::to_string(std::llround(std::min(limit.crossed, 1e12))) + " prisms, more than the prism's walk follows (" +
+                 std::to_string(int(kWalkCap)) + "): rays that do are dropped (holes in the prism's picture), and long "
+                 "walks make slow frames; a mesh of wider triangles or a smaller --depth helps");
         o.eye_blocks = prism_blocks(corners, indices, o.depth);
         o.triangles = std::move(indices);
         o.shell_corners = std::move(corners);

@@ -66,7 +66,6 @@ TEST(Progress, OffATerminalALongTaskSaysOnceHowFarItIs)
         pr::TaskProgress p(log, false, 0.0); // (the notice at once, not after 10 s)
         p("cone map of a.png", 1.0);
         EXPECT_EQ(contents(log), "");
-        p("relaxed cone map of b.png", 0.001); // (under 1 %: no estimate yet)
         p("relaxed cone map of b.png", 0.25);
         p("relaxed cone map of b.png", 0.5);
         p("relaxed cone map of b.png", 1.0);
@@ -75,6 +74,24 @@ TEST(Progress, OffATerminalALongTaskSaysOnceHowFarItIs)
     EXPECT_EQ(s.rfind("prismrelief: note: building relaxed cone map of b.png: 25% done after ", 0), 0u) << s;
     EXPECT_NE(s.find(" s more\n"), std::string::npos) << s;
     EXPECT_EQ(std::count(s.begin(), s.end(), '\n'), 1) << s; // once, on a line of its own
+    // Under 1 % after the delay: how far, without an estimate, and the estimate at 1 % (the note
+    // waited for 1 %, 77 s into an 8192² relaxed map; forty-fourth session).
+    std::FILE* slow = std::tmpfile();
+    ASSERT_NE(slow, nullptr);
+    {
+        pr::ProgressBar bar("conemap", slow, false, 0.0);
+        bar(0.002);
+        bar(0.004);
+        bar(0.02);
+        bar(0.5);
+    }
+    const std::string t = contents(slow);
+    EXPECT_EQ(t.rfind("prismrelief: note: conemap: 0.2% done after 0 s (an estimate once 1% is done)\n"
+                      "prismrelief: note: conemap: 2% done after ", 0),
+              0u)
+        << t;
+    EXPECT_EQ(std::count(t.begin(), t.end(), '\n'), 2) << t;
+    std::fclose(slow);
     std::fclose(log);
     // Before the delay: nothing.
     std::FILE* quiet = std::tmpfile();
