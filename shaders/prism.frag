@@ -138,7 +138,7 @@ Segment march_segment(vec3 tex_in, vec3 tex_out, vec3 bend, vec3 first, bool pen
     float h0 = first.x;
     if (decide) {
         h0 = height_at(tex_in.xy, g);
-        below = tex_in.z < h0;
+        below = tex_in.z < h0 - PR_HIT_EPSILON;
         pending = false;
     }
     if (below) {

@@ -84,7 +84,7 @@ Bracket march_cone_from(MarchRay r, vec3 hc0, bool pending, bool decide, inout b
         hc_end = hc_next;
 #ifdef PR_PRISM_TEARS
         if (decide && pending) {
-            below = p.z < hc_next.x;
+            below = p.z < hc_next.x - PR_HIT_EPSILON;
             side = below ? -1.0 : 1.0;
         }
 #endif

@@ -64,7 +64,7 @@ Bracket march_linear_from(MarchRay r, UvGrad g, float h0, bool pending, bool dec
         h_end = height_at(p.xy, g);
 #ifdef PR_PRISM_TEARS
         if (decide && i == 0) {
-            below = p.z < h_end;
+            below = p.z < h_end - PR_HIT_EPSILON;
             side = below ? -1.0 : 1.0;
         }
 #endif
