@@ -198,7 +198,9 @@ Scene load_scene(const SceneSpec& spec)
         // kept relative to it: one centred at 3e15 but large for it was let through; found by an
         // exploratory session, thirty-fifth). After the size check, which says more of a mesh
         // both huge and far.
-        if (const glm::dvec3 at = 0.5 * (olo + ohi); std::max({std::abs(at.x), std::abs(at.y), std::abs(at.z)}) > kMaxCoordinate) {
+        const glm::dvec3 at = 0.5 * (olo + ohi);
+        const double far = std::max({std::abs(at.x), std::abs(at.y), std::abs(at.z)});
+        if (far > kMaxCoordinate) {
             char where[96];
             std::snprintf(where, sizeof where, "%.6g, %.6g, %.6g", at.x, at.y, at.z);
             throw Error(mesh_place, std::string("the object lies more than 1e15 scene units from the origin (its centre at ") +
@@ -210,15 +212,15 @@ Scene load_scene(const SceneSpec& spec)
         // apart, drew at half its size, at 1e6 not at all, with no word but "nothing was drawn";
         // found by an exploratory session, forty-fourth). It must span 16 of them, which a 3-unit
         // object at 9e14, 24 steps across, does (it moves by a few pixels: docs/scenes.md).
-        if (const glm::dvec3 at = 0.5 * (olo + ohi); at != glm::dvec3(0.0)) {
-            const double far = std::max({std::abs(at.x), std::abs(at.y), std::abs(at.z)});
+        // (ilogb of 0 is no number to shift by: an object centred on the origin has no such limit.)
+        if (far > 0.0) {
             const double step = std::ldexp(1.0, std::ilogb(far) - 52);
             if (diagonal < 16.0 * step) {
                 char what[256];
                 std::snprintf(what, sizeof what,
-                              "the object is %.3g scene units across at %.3g from the origin, where doubles are %.2g "
-                              "apart, too small to place there (16 of those steps at least): move it nearer the "
-                              "origin or scale it up",
+                              "the object is %.3g scene units across at %.3g from the origin, where doubles are "
+                              "%.2g apart, too small to place there (16 of those steps at least): move it nearer "
+                              "the origin or scale it up",
                               diagonal, far, step);
                 throw Error(mesh_place, what);
             }
