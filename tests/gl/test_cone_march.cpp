@@ -132,6 +132,13 @@ glm::vec3 light_from_x(float elevation_deg)
     return glm::vec3(std::cos(e), 0.0f, std::sin(e));
 }
 
+// A 64-texel map with a wall one texel thin and as high as the range down its middle (column 32),
+// 0 around it.
+std::shared_ptr<HeightField> middle_wall()
+{
+    return prtest::height_from(64, [](float u, float) { return int(std::floor(u * 64.0f)) == 32 ? 1.0f : 0.0f; });
+}
+
 // A map with a box as high as the range in the middle fifth of each side, 0 around it.
 std::shared_ptr<HeightField> centre_box(int texels)
 {
@@ -1583,9 +1590,7 @@ TEST(Shadows, ThinWallsShadowsHoldWhereTheirCrestCrossesAPrismsSide)
     prtest::context();
     Renderer r(128, 128);
     r.set_cache_dir(prtest::cache_dir());
-    const Scene scene = prtest::one_object(prtest::square(), prtest::height_from(64, [](float u, float) {
-        return int(std::floor(u * 64.0f)) == 32 ? 1.0f : 0.0f;
-    }), 0.2f);
+    const Scene scene = prtest::one_object(prtest::square(), middle_wall(), 0.2f);
     r.upload(scene);
     const Camera c = top_down_camera(4.0f, 30.0f);
     const glm::vec3 light = light_from_x(14.0f);
@@ -1617,9 +1622,7 @@ TEST(Shadows, ThinWallsShadowRaysLongerThanTheBound)
     prtest::context();
     Renderer r(128, 128);
     r.set_cache_dir(prtest::cache_dir());
-    const Scene scene = prtest::one_object(prtest::square(), prtest::height_from(64, [](float u, float) {
-        return int(std::floor(u * 64.0f)) == 32 ? 1.0f : 0.0f;
-    }), 2.0f);
+    const Scene scene = prtest::one_object(prtest::square(), middle_wall(), 2.0f);
     r.upload(scene);
     Camera c = top_down_camera(7.0f, 22.0f);
     c.far_plane = 20.0f;
