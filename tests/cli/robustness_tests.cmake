@@ -455,6 +455,13 @@ pr_cli_special(prism_walk_cut_short_said EXIT 0 EXPECT_FILE o.png
                SETUP "awk -v v=v -v f=f 'BEGIN {\n n = 5000\n print v, 0, 0, 0\n i = 0\n while (i < n) {\n a = 6.283185307 * i / n\n print v, cos(a), sin(a), 0\n i++\n }\n i = 0\n while (i < n) {\n print f, 1, i + 2, (i + 1) % n + 2\n i++\n }\n }' > fan.obj"
                STDERR "fan.obj: a position has 4[0-9][0-9][0-9] triangles around it, more than the prism's walk follows \\(4096\\): rays that pass near it may be dropped"
                ARGS render --mesh fan.obj --technique prism --size 16x16 --no-cache --out o.png)
+# …and a triangle a ten-thousandth as wide as it is long: a straight path through its shell may
+# cross about 10,800 such prisms, more than the walk's 8448 (an open cylinder of slivers took
+# minutes a frame and lost its outline's rays without a word).
+pr_cli_special(prism_walk_narrow_triangles_said EXIT 0 EXPECT_FILE o.png
+               SETUP "printf 'v 0 0 0\\nv 1 0 0\\nv 0 0.0001 0\\nf 1 2 3\\n' > s.obj"
+               STDERR "s.obj: its triangles are narrow for its size and shell: a ray through the shell may cross up to about [0-9]+ prisms, more than the prism's walk follows \\(8448\\)"
+               ARGS render --mesh s.obj --technique prism --size 16x16 --no-cache --out o.png)
 pr_cli(depth_past_float_range EXIT 1 ONE_LINE NO_FILE o.png
        STDERR "${E}--depth: must be at most 3.4e38 in magnitude \\(the renderer's single precision\\)"
        ARGS render --mesh ${M}/torus.obj --depth 1e300 --size 32x32 --out o.png)
