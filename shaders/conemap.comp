@@ -39,6 +39,11 @@ layout(std430, binding = 1) writeonly buffer Steps { uint b_steps[]; };
 // u_resume_capacity are written, kResumeWords words each.
 layout(std430, binding = 3) buffer Resume { uint b_resume_count; uint b_resume[]; };
 const uint kResumeWords = 17u;
+// The seeds (maps::ConeSeeds): the texel that set the cone of every fourth texel of every fourth
+// row, written by the seed passes (u_seeding), where every cone search then starts.
+layout(std430, binding = 4) buffer Seeds { uint b_seeds[]; };
+const int kSeedShift = 2, kCoarseSeedShift = 4; // maps::kSeedShift, maps::kCoarseSeedShift
+const uint kNoSeed = 0xffffffffu;               // maps::kNoConeSeed
 
 layout(location = 0) uniform ivec2 u_size;  // texels
 layout(location = 1) uniform int u_levels;  // pyramid levels (the last is 1x1)
@@ -52,6 +57,10 @@ layout(location = 8) uniform int u_level_w[PR_CONE_MAX_LEVELS];
 layout(location = 24) uniform int u_level_h[PR_CONE_MAX_LEVELS];
 layout(location = 40) uniform int u_level_offset[PR_CONE_MAX_LEVELS];
 layout(location = 56) uniform int u_group_offset[PR_CONE_MAX_LEVELS]; // children of level l + 1's nodes
+layout(location = 72) uniform ivec2 u_seed_size; // the seeds' grid
+// 0: this dispatch searches texels; 2: the coarse seeds (u_first and u_count count them), 1: the
+// others (they count all the grid's seeds: the coarse ones, found already, return at once).
+layout(location = 73) uniform int u_seeding;
 
 const double kMargin = 1.0lf - 1.0lf / 1048576.0lf; // 1 - 2^-20, exact
 
@@ -282,20 +291,50 @@ void save_search(uint texel, bool relaxed, uint filled, int m, int li, int lj, d
         b_resume[at + 9u + uint(l / 2)] = (s_list[l] & 0xffffu) | (s_list[l + 1] << 16u);
 }
 
+// maps::Searcher::seeded_best: the least constraint on texel p of the seeds of the four seed
+// texels around it on the grid of every 2^shift-th texel, capped at 1 (`which`: the seed that
+// gave it, else unchanged), computed as node_bound computes a texel's.
+double seeded_best(int px, int py, float hp, int shift, double inv_w2, double inv_h2, inout uint which)
+{
+    int spacing = 1 << shift, stride = 1 << (shift - kSeedShift);
+    int gw = (u_size.x + spacing - 1) >> shift, gh = (u_size.y + spacing - 1) >> shift;
+    int gx = px >> shift, gy = py >> shift;
+    double best = 1.0lf;
+    for (int q = 0; q < 4; ++q) {
+        int sx = gx + (q & 1), sy = gy + (q >> 1);
+        sx = sx < gw ? sx : 0;
+        sy = sy < gh ? sy : 0;
+        uint t = b_seeds[sy * stride * u_seed_size.x + sx * stride];
+        if (t == kNoSeed) continue;
+        int tx = int(t % uint(u_size.x)), ty = int(t / uint(u_size.x));
+        double c = node_bound(0, tx, ty, height_at(tx, ty), px, py, hp, inv_w2, inv_h2);
+        if (c >= 0.0lf && c < best) {
+            best = c;
+            which = t;
+        }
+    }
+    return best;
+}
+
 // maps::Searcher::search: the ratio of texel (px, py) in format steps, for cones or relaxed cones.
 // `ran_out_of_nodes` is set where the node budget ran out: the CPU's search goes on best first
-// from there (save_search; render/conemap_gpu.cpp).
-int search(int px, int py, bool relaxed, out bool ran_out_of_nodes)
+// from there (save_search; render/conemap_gpu.cpp). `seeding` (maps::Searcher::seed_of): 2 and 1,
+// a cone search from nothing (2) or from the coarse seeds (1) that only finds `argmin`, the
+// texel whose constraint set the cone (kNoSeed for none), stopping where the node budget runs
+// out; 0, a texel's search, from the seeds.
+int search(int px, int py, bool relaxed, int seeding, out bool ran_out_of_nodes, out uint argmin)
 {
     ran_out_of_nodes = false; // (an out parameter is undefined until written: the early return below)
+    argmin = kNoSeed;
     float hp = height_at(px, py);
     int top = u_levels - 1;
     if (!(hp < node_max(top, 0, 0))) return u_steps;
     precise double inv_w2 = 1.0lf / (double(u_size.x) * double(u_size.x));
     precise double inv_h2 = 1.0lf / (double(u_size.y) * double(u_size.y));
-    int k = u_steps;
-    double best = 1.0lf;
-    double threshold = 1.0lf;
+    double best = relaxed || seeding == 2 ? 1.0lf
+                  : seeded_best(px, py, hp, seeding == 1 ? kCoarseSeedShift : kSeedShift, inv_w2, inv_h2, argmin);
+    int k = ratio_steps(best);
+    double threshold = steps_squared(k);
     int budget = u_budget;
     // The root is the first node visited (bound 0), and it is not a texel (the map has more
     // than one: a single texel is its own maximum and returned above).
@@ -339,6 +378,7 @@ int search(int px, int py, bool relaxed, out bool ran_out_of_nodes)
 #endif
             if (c < best) {
                 best = c;
+                argmin = uint(lj) * uint(u_size.x) + uint(li);
                 k = ratio_steps(best);
                 threshold = steps_squared(k);
             }
@@ -349,6 +389,7 @@ int search(int px, int py, bool relaxed, out bool ran_out_of_nodes)
         if ((children & 7u) != 0u) filled |= 1u << (m - 1);
     }
     ran_out_of_nodes = out_of_nodes;
+    if (seeding != 0) return k;
     if (out_of_nodes) {
         save_search(uint(py) * uint(u_size.x) + uint(px), relaxed, filled, m, li, lj, best, budget);
     } else if (out_of_steps >= 0.0lf) {
@@ -362,13 +403,31 @@ void main()
 {
     uint index = gl_GlobalInvocationID.x;
     if (index >= u_count) return;
+    uint argmin;
+    bool cone_out = false, relaxed_out = false;
+    if (u_seeding != 0) {
+        // The coarse pass counts the coarse seeds (every stride-th of every stride-th row of the
+        // grid), the other pass all of them.
+        int stride = 1 << (kCoarseSeedShift - kSeedShift);
+        int row = u_seeding == 2 ? (u_seed_size.x + stride - 1) / stride : u_seed_size.x;
+        uint item = u_first + index;
+        int sx = int(item % uint(row)), sy = int(item / uint(row));
+        if (u_seeding == 2) {
+            sx *= stride;
+            sy *= stride;
+        } else if ((sx & (stride - 1)) == 0 && (sy & (stride - 1)) == 0) {
+            return; // (a coarse seed)
+        }
+        search(sx << kSeedShift, sy << kSeedShift, false, u_seeding, cone_out, argmin);
+        b_seeds[sy * u_seed_size.x + sx] = argmin;
+        return;
+    }
     uint texel = u_first + index;
     int px = int(texel % uint(u_size.x)), py = int(texel / uint(u_size.x));
-    bool cone_out = false, relaxed_out = false;
-    int k = search(px, py, false, cone_out);
+    int k = search(px, py, false, 0, cone_out, argmin);
     if (cone_out) k = 0;
 #if PR_CONE_KIND == 1
-    int kr = search(px, py, true, relaxed_out);
+    int kr = search(px, py, true, 0, relaxed_out, argmin);
     if (!relaxed_out) k = max(k, kr);
 #endif
     b_steps[texel] = uint(k) | (cone_out ? 0x80000000u : 0u) | (relaxed_out ? 0x40000000u : 0u);

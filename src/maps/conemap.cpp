@@ -270,9 +270,10 @@ struct Node {
 // One texel's search. Returns k (the ratio in format steps).
 class Searcher {
 public:
+    // `seeds`: where the cone searches start (cone_seeds_cpu); null for the seeds' own searches.
     Searcher(const HeightField& f, const MaxPyramid& pyr, ConeKind kind, ConeFormat format, int budget,
-             int node_budget, int best_first_budget)
-        : f_(f), pyr_(pyr), kind_(kind), format_(format), steps_(cone_format_steps(format)),
+             int node_budget, int best_first_budget, const ConeSeeds* seeds)
+        : f_(f), pyr_(pyr), kind_(kind), format_(format), steps_(cone_format_steps(format)), seeds_(seeds),
           budget_(budget > 0 ? budget : std::numeric_limits<int>::max()),
           node_budget_(node_budget > 0 ? node_budget : std::numeric_limits<int>::max()),
           best_first_budget_(std::max(best_first_budget, 0)),
@@ -310,7 +311,27 @@ public:
         if (!(hp < global_max_)) return steps_; // nothing is higher: the cap
         stack_.clear();
         stack_.push_back({top_, 0, 0, 0.0});
-        return run(px, py, hp, relaxed, steps_, 1.0, budget_, 0, cut);
+        const double best = relaxed || !seeds_ ? 1.0 : seeded_best(px, py, hp, kSeedShift);
+        return run(px, py, hp, relaxed, cone_ratio_steps(best, format_), best, budget_, 0, cut);
+    }
+
+    // A seed (ConeSeeds): the texel whose constraint set the cone of texel (px, py) in its cone
+    // search, depth first and stopped by the node budget alone (the best found by then);
+    // kNoConeSeed where none is higher. The search starts from nothing for the seeds of every
+    // fourth column and row of the grid (`coarse`), from those for the others.
+    std::uint32_t seed_of(int px, int py, bool coarse)
+    {
+        argmin_ = kNoConeSeed;
+        const float hp = f_.texels[std::size_t(py) * std::size_t(f_.width) + std::size_t(px)];
+        if (!(hp < global_max_)) return kNoConeSeed;
+        stack_.clear();
+        stack_.push_back({top_, 0, 0, 0.0});
+        const double best = coarse ? 1.0 : seeded_best(px, py, hp, kCoarseSeedShift, &argmin_);
+        bool cut = false;
+        depth_first_only_ = true;
+        run(px, py, hp, false, cone_ratio_steps(best, format_), best, budget_, 0, cut);
+        depth_first_only_ = false;
+        return argmin_;
     }
 
     // A depth-first search the GPU stopped where its node budget ran out, from where it stopped:
@@ -351,7 +372,7 @@ private:
         const auto later = [](const Node& a, const Node& b) { return a.bound > b.bound; };
         while (!stack_.empty()) {
             if (++visits > limit) {
-                if (!heap && best_first_budget_ > 0) {
+                if (!heap && best_first_budget_ > 0 && !depth_first_only_) {
                     std::erase_if(stack_, [&](const Node& n) { return n.bound * kMargin >= threshold; });
                     std::make_heap(stack_.begin(), stack_.end(), later);
                     heap = true;
@@ -387,6 +408,7 @@ private:
                 }
                 if (c < best) {
                     best = c;
+                    argmin_ = std::uint32_t(n.j) * std::uint32_t(f_.width) + std::uint32_t(n.i);
                     k = cone_ratio_steps(best, format_);
                     threshold = steps_squared(k, steps_);
                     if (k == 0) return 0;
@@ -432,6 +454,33 @@ private:
         return double(std::int64_t(cone_height_steps(h, format_)) - std::int64_t(cone_height_steps(hp, format_))) /
                double(steps_);
     }
+    // The least constraint on texel p (height hp) of the seeds of the four seed texels around it
+    // on the grid of every 2^shift-th texel (ConeSeeds at kSeedShift, the coarse seeds at
+    // kCoarseSeedShift: the nearest at or below and left of p, the next ones right and up,
+    // wrapping), capped at 1: where its search starts; `which` gets the seed that gave it, if any.
+    // Computed as the search computes a texel's constraint.
+    double seeded_best(int px, int py, float hp, int shift, std::uint32_t* which = nullptr) const
+    {
+        const int spacing = 1 << shift, stride = 1 << (shift - kSeedShift); // grid texels per seed here
+        const int gw = (f_.width + spacing - 1) / spacing, gh = (f_.height + spacing - 1) / spacing;
+        const int gx = px >> shift, gy = py >> shift;
+        double best = 1.0;
+        for (int q = 0; q < 4; ++q) {
+            const int sx = gx + (q & 1) < gw ? gx + (q & 1) : 0, sy = gy + (q >> 1) < gh ? gy + (q >> 1) : 0;
+            const std::uint32_t t =
+                seeds_->texels[std::size_t(sy * stride) * std::size_t(seeds_->width) + std::size_t(sx * stride)];
+            if (t == kNoConeSeed) continue;
+            const double dmax = rise(f_.texels[t], hp);
+            if (!(dmax > 0.0)) continue;
+            const int tx = int(t % std::uint32_t(f_.width)), ty = int(t / std::uint32_t(f_.width));
+            const double c = node_distance(0, tx, ty, px, py) / dmax;
+            if (c < best) {
+                best = c;
+                if (which) *which = t;
+            }
+        }
+        return best;
+    }
     // min(c, the lower bound of every node still on the stack that could lower the result): the
     // ratio when a budget stops the search early.
     double rest_bound(double c, double threshold) const
@@ -468,6 +517,9 @@ private:
     ConeKind kind_;
     ConeFormat format_;
     int steps_;
+    const ConeSeeds* seeds_;
+    std::uint32_t argmin_ = kNoConeSeed; // the texel that set `best` last (seed_of)
+    bool depth_first_only_ = false;      // seed_of: no best-first part
     int budget_;
     int node_budget_;
     int best_first_budget_;
@@ -492,7 +544,7 @@ namespace {
 // at the next item when options.cancel turns true or an item throws (rethrown here).
 template <class PerItem>
 void for_each_item(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind, const ConeBuildOptions& options,
-                   int count, PerItem per_item)
+                   const ConeSeeds* seeds, int count, PerItem per_item)
 {
     const unsigned threads = cone_cpu_threads(options, count);
     std::atomic<int> next{0}, done{0};
@@ -505,7 +557,7 @@ void for_each_item(const HeightField& field, const MaxPyramid& pyramid, ConeKind
     const auto work = [&]() {
         try {
             Searcher searcher(field, pyramid, kind, options.format, options.relaxed_budget, options.node_budget,
-                              options.best_first_budget);
+                              options.best_first_budget, seeds);
             for (int i = next++; i < count; i = next++) {
                 if (cancelled()) break;
                 per_item(searcher, i);
@@ -549,6 +601,35 @@ void for_each_item(const HeightField& field, const MaxPyramid& pyramid, ConeKind
 
 } // namespace
 
+ConeSeeds cone_seeds_cpu(const HeightField& field, const MaxPyramid& pyramid, const ConeBuildOptions& options)
+{
+    ConeSeeds seeds;
+    seeds.width = (field.width + kConeSeedSpacing - 1) / kConeSeedSpacing;
+    seeds.height = (field.height + kConeSeedSpacing - 1) / kConeSeedSpacing;
+    seeds.texels.assign(std::size_t(seeds.width) * std::size_t(seeds.height), kNoConeSeed);
+    constexpr int stride = 1 << (kCoarseSeedShift - kSeedShift); // the coarse seeds' spacing on the grid
+    // The coarse seeds (every stride-th seed of every stride-th row), a row at a time, from
+    // nothing; then the others from them. Their share of the progress: by the searches' count.
+    const int coarse_rows = (seeds.height + stride - 1) / stride;
+    const double share = 1.0 / double(stride * stride);
+    ConeBuildOptions part = options;
+    if (options.progress) part.progress = [&](double f) { options.progress(share * f); };
+    for_each_item(field, pyramid, ConeKind::Cone, part, nullptr, coarse_rows, [&](Searcher& searcher, int row) {
+        const int sy = row * stride;
+        for (int sx = 0; sx < seeds.width; sx += stride)
+            seeds.texels[std::size_t(sy) * std::size_t(seeds.width) + std::size_t(sx)] =
+                searcher.seed_of(sx << kSeedShift, sy << kSeedShift, true);
+    });
+    if (options.progress) part.progress = [&](double f) { options.progress(share + (1.0 - share) * f); };
+    for_each_item(field, pyramid, ConeKind::Cone, part, &seeds, seeds.height, [&](Searcher& searcher, int sy) {
+        for (int sx = 0; sx < seeds.width; ++sx)
+            if (sx % stride != 0 || sy % stride != 0)
+                seeds.texels[std::size_t(sy) * std::size_t(seeds.width) + std::size_t(sx)] =
+                    searcher.seed_of(sx << kSeedShift, sy << kSeedShift, false);
+    });
+    return seeds;
+}
+
 ConeMap build_cone_map_cpu(const HeightField& given, ConeKind kind, const ConeBuildOptions& options)
 {
     if (given.width < 1 || given.height < 1 ||
@@ -557,6 +638,12 @@ ConeMap build_cone_map_cpu(const HeightField& given, ConeKind kind, const ConeBu
     HeightField rounded;
     const HeightField& field = cone_source_field(given, options.format, rounded);
     const MaxPyramid pyramid = build_max_pyramid(field);
+    // The seeds first, a sixteenth of the searches (their share of the progress).
+    const double share = 1.0 / double(kConeSeedSpacing * kConeSeedSpacing + 1);
+    ConeBuildOptions part = options;
+    if (options.progress) part.progress = [&](double f) { options.progress(share * f); };
+    const ConeSeeds seeds = cone_seeds_cpu(field, pyramid, part);
+    if (options.progress) part.progress = [&](double f) { options.progress(share + (1.0 - share) * f); };
     ConeMap map;
     map.width = field.width;
     map.height = field.height;
@@ -564,7 +651,7 @@ ConeMap build_cone_map_cpu(const HeightField& given, ConeKind kind, const ConeBu
     map.heights = field.texels;
     map.ratios.assign(field.texels.size(), 0.0f);
     // A row at a time.
-    for_each_item(field, pyramid, kind, options, field.height, [&](Searcher& searcher, int y) {
+    for_each_item(field, pyramid, kind, part, &seeds, field.height, [&](Searcher& searcher, int y) {
         for (int x = 0; x < field.width; ++x)
             map.ratios[std::size_t(y) * std::size_t(field.width) + std::size_t(x)] =
                 cone_steps_to_ratio(searcher.search(x, y), options.format);
@@ -579,14 +666,14 @@ namespace {
 // calling options.progress (the caller's own progress goes on around it).
 template <class PerIndex>
 void for_each_search(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind,
-                     const ConeBuildOptions& options, std::size_t count, PerIndex per_index)
+                     const ConeBuildOptions& options, const ConeSeeds& seeds, std::size_t count, PerIndex per_index)
 {
     if (count == 0) return;
     ConeBuildOptions quiet = options;
     quiet.progress = nullptr;
     constexpr std::size_t kPerItem = 64;
     const int items = int((count + kPerItem - 1) / kPerItem);
-    for_each_item(field, pyramid, kind, quiet, items, [&](Searcher& searcher, int item) {
+    for_each_item(field, pyramid, kind, quiet, &seeds, items, [&](Searcher& searcher, int item) {
         const std::size_t end = std::min(count, std::size_t(item + 1) * kPerItem);
         for (std::size_t i = std::size_t(item) * kPerItem; i < end; ++i) per_index(searcher, i);
     });
@@ -595,21 +682,21 @@ void for_each_search(const HeightField& field, const MaxPyramid& pyramid, ConeKi
 } // namespace
 
 void cone_steps_of_texels(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind,
-                          const ConeBuildOptions& options, const std::vector<std::uint32_t>& texels,
-                          std::vector<std::uint32_t>& steps)
+                          const ConeBuildOptions& options, const ConeSeeds& seeds,
+                          const std::vector<std::uint32_t>& texels, std::vector<std::uint32_t>& steps)
 {
     const std::uint32_t w = std::uint32_t(field.width);
-    for_each_search(field, pyramid, kind, options, texels.size(), [&](Searcher& searcher, std::size_t i) {
+    for_each_search(field, pyramid, kind, options, seeds, texels.size(), [&](Searcher& searcher, std::size_t i) {
         steps[texels[i]] = std::uint32_t(searcher.search(int(texels[i] % w), int(texels[i] / w)));
     });
 }
 
 void cone_steps_resumed(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind,
-                        const ConeBuildOptions& options, const std::vector<ConeSearchState>& states,
-                        std::vector<std::uint32_t>& k)
+                        const ConeBuildOptions& options, const ConeSeeds& seeds,
+                        const std::vector<ConeSearchState>& states, std::vector<std::uint32_t>& k)
 {
     k.assign(states.size(), 0u);
-    for_each_search(field, pyramid, kind, options, states.size(), [&](Searcher& searcher, std::size_t i) {
+    for_each_search(field, pyramid, kind, options, seeds, states.size(), [&](Searcher& searcher, std::size_t i) {
         bool cut = false;
         k[i] = std::uint32_t(searcher.resume(states[i], cut));
     });

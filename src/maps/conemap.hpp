@@ -76,6 +76,11 @@ struct ConeBuildOptions {
     // with their state (the CPU goes on from there); beyond that, the CPU searches their texels
     // again from the start (the same map, slower). 0: the default, 32768. Tests set it low.
     int gpu_resume_capacity = 0;
+    // GPU generator only: where it finds the seeds (ConeSeeds). Auto: on the CPU's threads where
+    // the OpenGL renderer is software (llvmpipe: the seeds, far apart, are searched faster there,
+    // docs/cone-maps.md "Seeds"), else in the compute shader. The same seeds either way; tests
+    // pick each.
+    enum class SeedPass { Auto, Cpu, Gpu } gpu_seed_pass = SeedPass::Auto;
 };
 
 // The threads the CPU generator runs for `items` items (build_cone_map_cpu: rows): options.threads,
@@ -103,8 +108,9 @@ ConeMap read_cone_png(const std::filesystem::path& path, ConeKind kind);
 // Bumped whenever the generator's output changes: part of every cache key. (3: rg8 maps are
 // built from their 8-bit heights; 4: rises in the stored height steps, exactly; 5: the search
 // goes on best first where the node budget runs out; 6: a relaxed constraint's exit is the
-// ray's last step still in the surface; 7: and the level ray through q counts as well.)
-inline constexpr std::uint32_t kConeGeneratorVersion = 7;
+// ray's last step still in the surface; 7: and the level ray through q counts as well; 8: cone
+// searches start from seeds, ConeSeeds: the same maps but where a node budget runs out.)
+inline constexpr std::uint32_t kConeGeneratorVersion = 8;
 
 // 255 (rg8) or 65535 (rg16): the ratio is stored as k / steps, k an integer.
 int cone_format_steps(ConeFormat format);
@@ -152,6 +158,26 @@ struct MaxPyramid {
 };
 MaxPyramid build_max_pyramid(const HeightField& field);
 
+// Where the cone searches start (docs/cone-maps.md, "Seeds"): the texels on a grid of every
+// kConeSeedSpacing-th column and row are searched first, each from nothing, and each keeps the
+// texel whose constraint set its cone (depth first; where the node budget runs out, the best
+// found by then). Every texel's cone search then starts from the least constraint of the seeds
+// of the four grid texels around it, so that most of its search only proves that nothing lies
+// nearer: a threshold from the start prunes what the search would otherwise visit before it
+// finds its cone. The seeds of every fourth column and row of the grid are searched from nothing,
+// the others start from those (the coarse seeds) in the same way. Both generators compute the
+// same seeds and start from them alike.
+inline constexpr int kSeedShift = 2, kCoarseSeedShift = 4;
+inline constexpr int kConeSeedSpacing = 1 << kSeedShift;
+inline constexpr std::uint32_t kNoConeSeed = 0xffffffffu; // no texel is higher
+struct ConeSeeds {
+    int width = 0, height = 0;          // the grid: the field's size over kConeSeedSpacing, rounded up
+    std::vector<std::uint32_t> texels;  // per grid texel, row-major: a texel (y * width + x) or kNoConeSeed
+};
+// The seeds of `field` (cone_source_field()'s) on options.threads threads; options.progress gets
+// the fraction of them done.
+ConeSeeds cone_seeds_cpu(const HeightField& field, const MaxPyramid& pyramid, const ConeBuildOptions& options);
+
 // Where the GPU generator's depth-first search of one texel stopped because its node budget ran
 // out (shaders/conemap.comp, save_search): enough to go on from there on the CPU.
 struct ConeSearchState {
@@ -169,16 +195,16 @@ struct ConeSearchState {
 // The CPU generator's ratio, in format steps, of each search listed, each going on from where
 // the GPU stopped it (best first, as the CPU's own search does there): k[i] for states[i].
 void cone_steps_resumed(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind,
-                        const ConeBuildOptions& options, const std::vector<ConeSearchState>& states,
-                        std::vector<std::uint32_t>& k);
+                        const ConeBuildOptions& options, const ConeSeeds& seeds,
+                        const std::vector<ConeSearchState>& states, std::vector<std::uint32_t>& k);
 
 // The CPU generator's ratio, in format steps, of each texel listed (y * width + x), written to
 // steps[texel]; `field` is cone_source_field()'s, `pyramid` its max pyramid. On options.threads
 // threads; options.progress is not called. For the GPU generator's texels whose search ran out of
 // nodes there.
 void cone_steps_of_texels(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind,
-                          const ConeBuildOptions& options, const std::vector<std::uint32_t>& texels,
-                          std::vector<std::uint32_t>& steps);
+                          const ConeBuildOptions& options, const ConeSeeds& seeds,
+                          const std::vector<std::uint32_t>& texels, std::vector<std::uint32_t>& steps);
 
 // The relaxed-cone constraint of texel q on texel p (kind relaxed, see docs/cone-maps.md): the
 // least over two rays through q's surface point, the one from p's column at height 1 and the

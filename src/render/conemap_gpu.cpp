@@ -50,6 +50,15 @@ std::vector<ConeSearchState> read_searches(const std::vector<std::uint32_t>& wor
     return states;
 }
 
+// The texels (or seeds) the dispatch after one of `count` that took `seconds` takes: about
+// kChunkSeconds at its pace, growing at most fourfold, at most `most`, in whole groups.
+std::size_t next_chunk(std::size_t count, double seconds, std::size_t most)
+{
+    const double scale = seconds > 0.0 ? std::clamp(kChunkSeconds / seconds, 0.25, 4.0) : 4.0;
+    return std::clamp(std::size_t(double(count) * scale) / kGroupSize * kGroupSize, std::size_t(kGroupSize),
+                      std::max(most / kGroupSize * kGroupSize, std::size_t(kGroupSize)));
+}
+
 } // namespace
 
 ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBuildOptions& options,
@@ -120,6 +129,13 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
     gl::Buffer resume = gl::Buffer::create();
     glNamedBufferStorage(resume.id(), GLsizeiptr((1 + capacity * kResumeWords) * sizeof(std::uint32_t)), nullptr,
                          GL_DYNAMIC_STORAGE_BIT);
+    ConeSeeds seeds; // (maps::cone_seeds_cpu's, found by the seed pass below)
+    seeds.width = (field.width + kConeSeedSpacing - 1) / kConeSeedSpacing;
+    seeds.height = (field.height + kConeSeedSpacing - 1) / kConeSeedSpacing;
+    seeds.texels.resize(std::size_t(seeds.width) * std::size_t(seeds.height));
+    gl::Buffer seed_buffer = gl::Buffer::create();
+    glNamedBufferStorage(seed_buffer.id(), GLsizeiptr(seeds.texels.size() * sizeof(std::uint32_t)), nullptr,
+                         GL_DYNAMIC_STORAGE_BIT);
 
     const GLuint p = program.id();
     glProgramUniform2i(p, 0, field.width, field.height);
@@ -138,6 +154,7 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
     glProgramUniform1iv(p, 24, kMaxLevels, h);
     glProgramUniform1iv(p, 40, kMaxLevels, off);
     glProgramUniform1iv(p, 56, kMaxLevels, group_offset);
+    glProgramUniform2i(p, 72, seeds.width, seeds.height);
 
     glUseProgram(p);
     // Everything bound here is unbound (to 0) on every way out, a CPU share that throws too (a
@@ -145,7 +162,7 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
     struct Unbind {
         ~Unbind()
         {
-            for (GLuint b : {0u, 1u, 2u, 3u}) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, 0);
+            for (GLuint b : {0u, 1u, 2u, 3u, 4u}) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, 0);
             glBindTextureUnit(0, 0);
             glBindTextureUnit(1, 0);
             glBindTextureUnit(2, 0);
@@ -162,8 +179,59 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
     if (heights_2d) glBindTextureUnit(2, heights_2d.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, steps.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, resume.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, seed_buffer.id());
     const auto search_start = std::chrono::steady_clock::now();
-    std::size_t chunk = kFirstChunkTexels;
+    // The seeds first (maps::ConeSeeds; conemap.comp, u_seeding): the coarse ones, then the others
+    // from them; a sixteenth of the searches, their share of the progress. On a software renderer
+    // the CPU's threads find them (ConeBuildOptions::gpu_seed_pass), else the shader, whose seeds
+    // are read back for the CPU's share of the searches below.
+    const double seed_share = 1.0 / double(kConeSeedSpacing * kConeSeedSpacing + 1);
+    bool cpu_seeds = options.gpu_seed_pass == ConeBuildOptions::SeedPass::Cpu;
+    if (options.gpu_seed_pass == ConeBuildOptions::SeedPass::Auto) {
+        const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+        const std::string name = renderer ? renderer : "";
+        cpu_seeds = name.find("llvmpipe") != std::string::npos || name.find("softpipe") != std::string::npos ||
+                    name.find("swrast") != std::string::npos;
+    }
+    std::size_t chunk = kFirstChunkTexels / (kConeSeedSpacing * kConeSeedSpacing);
+    if (cpu_seeds) {
+        ConeBuildOptions part = options;
+        if (options.progress) part.progress = [&](double f) { options.progress(seed_share * f); };
+        seeds = cone_seeds_cpu(field, pyramid, part);
+        glNamedBufferSubData(seed_buffer.id(), 0, GLsizeiptr(seeds.texels.size() * sizeof(std::uint32_t)),
+                             seeds.texels.data());
+    } else {
+        constexpr int stride = 1 << (kCoarseSeedShift - kSeedShift);
+        const std::size_t coarse_seeds =
+            std::size_t((seeds.width + stride - 1) / stride) * std::size_t((seeds.height + stride - 1) / stride);
+        for (const int pass : {2, 1}) {
+            glProgramUniform1i(p, 73, pass);
+            const std::size_t items = pass == 2 ? coarse_seeds : seeds.texels.size();
+            const double coarse_share = seed_share / double(stride * stride);
+            const double from = pass == 2 ? 0.0 : coarse_share, part = pass == 2 ? coarse_share : seed_share - coarse_share;
+            for (std::size_t first = 0; first < items;) {
+                if (options.cancel && options.cancel->load(std::memory_order_relaxed)) throw ConeBuildCancelled();
+                const std::size_t count = std::min(chunk, items - first);
+                const auto start = std::chrono::steady_clock::now();
+                glProgramUniform1ui(p, 3, GLuint(first));
+                glProgramUniform1ui(p, 4, GLuint(count));
+                glDispatchCompute(GLuint((count + kGroupSize - 1) / kGroupSize), 1, 1);
+                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT); // (the next pass reads them)
+                glFinish();
+                first += count;
+                if (options.progress) options.progress(from + part * double(first) / double(items));
+                chunk = next_chunk(count, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+                                   kMaxChunkTexels);
+            }
+        }
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glGetNamedBufferSubData(seed_buffer.id(), 0, GLsizeiptr(seeds.texels.size() * sizeof(std::uint32_t)),
+                                seeds.texels.data());
+    }
+    glProgramUniform1i(p, 73, 0);
+    const double seed_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - search_start).count();
+    chunk = kFirstChunkTexels;
     std::vector<std::uint32_t> k(n);
     std::vector<std::uint32_t> words, resumed, again;
     std::vector<int> missing;
@@ -210,29 +278,29 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
         for (std::size_t t = first; t < first + count; ++t)
             if (missing[t - first] > 0) again.push_back(std::uint32_t(t));
         std::erase_if(states, [&](const ConeSearchState& st) { return missing[st.texel - first] > 0; });
-        cone_steps_resumed(field, pyramid, kind, options, states, resumed);
+        cone_steps_resumed(field, pyramid, kind, options, seeds, states, resumed);
         for (std::size_t e = 0; e < states.size(); ++e) k[states[e].texel] = std::max(k[states[e].texel], resumed[e]);
-        cone_steps_of_texels(field, pyramid, kind, options, again, k);
+        cone_steps_of_texels(field, pyramid, kind, options, seeds, again, k);
         resumed_count += states.size();
         restarted_count += again.size();
         cpu_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - cpu_start).count();
         first += count;
-        if (options.progress) options.progress(double(first) / double(n));
+        if (options.progress) options.progress(seed_share + (1.0 - seed_share) * double(first) / double(n));
         // The next one: to take kChunkSeconds at this one's pace, growing at most fourfold, and,
         // where searches ran out of nodes, to about three quarters of the searches b_resume holds
         // at this one's rate (a ramp's second dispatch had four times the first one's texels and
         // more searches to save than room).
-        const double scale = seconds > 0.0 ? std::clamp(kChunkSeconds / seconds, 0.25, 4.0) : 4.0;
         std::size_t most = kMaxChunkTexels;
         if (saved > 0) most = std::min(most, std::size_t(0.75 * double(capacity) * double(count) / double(saved)));
-        chunk = std::clamp(std::size_t(double(count) * scale) / kGroupSize * kGroupSize, std::size_t(kGroupSize),
-                           std::max(most / kGroupSize * kGroupSize, std::size_t(kGroupSize)));
+        chunk = next_chunk(count, seconds, most);
     }
     if (report) {
         report->search_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - search_start).count();
         report->cpu_ms = cpu_seconds * 1000.0;
         report->resumed = resumed_count;
         report->restarted = restarted_count;
+        report->seed_ms = seed_ms;
+        report->seeds_on_cpu = cpu_seeds;
     }
     if (const GLenum e = glGetError(); e != GL_NO_ERROR)
         throw Error(subject, "OpenGL error " + std::to_string(e) + " while building the cone map on the GPU");

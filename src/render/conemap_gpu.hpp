@@ -13,6 +13,8 @@ struct ConeGpuReport {
     double cpu_ms = 0.0;        // of that, the CPU's threads finishing searches that ran out of nodes
     std::size_t resumed = 0;    // searches the CPU went on with from the GPU's state
     std::size_t restarted = 0;  // texels the CPU searched again from the start (no room for a state)
+    double seed_ms = 0.0;       // of search_ms, finding the seeds (maps::ConeSeeds)
+    bool seeds_on_cpu = false;  // found by the CPU's threads (ConeBuildOptions::gpu_seed_pass)
 };
 
 // Splits the work into dispatches of a few thousand texels, each finished before the next, so a

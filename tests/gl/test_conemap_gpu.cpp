@@ -58,14 +58,20 @@ void expect_same(const ConeMap& gpu, const ConeMap& cpu, ConeFormat format, cons
 TEST(ConeMapGpu, EqualsCpuCone)
 {
     prtest::context();
+    // The seeds (maps::ConeSeeds) from the shader's seed passes and from the CPU's threads (what
+    // llvmpipe gets by itself).
     for (bool smooth : {false, true})
-        for (ConeFormat format : {ConeFormat::Rg8, ConeFormat::Rg16}) {
-            const HeightField f = field_of(64, 40, smooth ? 3u : 4u, smooth);
-            ConeBuildOptions o;
-            o.format = format;
-            expect_same(build_cone_map_gpu(f, ConeKind::Cone, o), build_cone_map_cpu(f, ConeKind::Cone, o), format,
-                        smooth ? "cone smooth" : "cone random");
-        }
+        for (ConeFormat format : {ConeFormat::Rg8, ConeFormat::Rg16})
+            for (auto seeds : {ConeBuildOptions::SeedPass::Gpu, ConeBuildOptions::SeedPass::Auto}) {
+                const HeightField f = field_of(64, 40, smooth ? 3u : 4u, smooth);
+                ConeBuildOptions o;
+                o.format = format;
+                o.gpu_seed_pass = seeds;
+                ConeGpuReport report;
+                expect_same(build_cone_map_gpu(f, ConeKind::Cone, o, &report), build_cone_map_cpu(f, ConeKind::Cone, o),
+                            format, smooth ? "cone smooth" : "cone random");
+                EXPECT_EQ(report.seeds_on_cpu, seeds == ConeBuildOptions::SeedPass::Auto); // (llvmpipe)
+            }
 }
 
 TEST(ConeMapGpu, EqualsCpuRelaxed)
@@ -76,6 +82,7 @@ TEST(ConeMapGpu, EqualsCpuRelaxed)
         for (int budget : {0, ConeBuildOptions{}.relaxed_budget, 24}) { // exact, the default, one that binds often
             ConeBuildOptions o;
             o.relaxed_budget = budget;
+            o.gpu_seed_pass = budget == 24 ? ConeBuildOptions::SeedPass::Gpu : ConeBuildOptions::SeedPass::Cpu;
             int calls = 0;
             o.progress = [&](double) { ++calls; };
             ConeBuildOptions cpu = o;
@@ -103,6 +110,8 @@ TEST(ConeMapGpu, EqualsCpuWithABindingNodeBudget)
     // The GPU searches depth first; where its nodes run out the CPU goes on best first, from the
     // state the GPU saved: with that part off, running out, and finishing; and with room for the
     // state of one search per dispatch, so that the CPU searches those texels again from the start.
+    // The seeds' searches run out of nodes too (they keep the best found by then): found by the
+    // shader and by the CPU's threads.
     for (ConeKind kind : {ConeKind::Cone, ConeKind::Relaxed})
         for (int best_first : {0, 24, 1024})
             for (int capacity : {0, 1}) {
@@ -110,9 +119,11 @@ TEST(ConeMapGpu, EqualsCpuWithABindingNodeBudget)
                 o.node_budget = 24;
                 o.best_first_budget = best_first;
                 o.gpu_resume_capacity = capacity;
+                o.gpu_seed_pass = best_first == 24 ? ConeBuildOptions::SeedPass::Cpu : ConeBuildOptions::SeedPass::Gpu;
                 const std::string what = std::string(kind == ConeKind::Cone ? "cone" : "relaxed") +
                                          " ramp budget, best first " + std::to_string(best_first) +
-                                         (capacity == 1 ? ", no room" : "");
+                                         (capacity == 1 ? ", no room" : "") +
+                                         (best_first == 24 ? ", seeds on the CPU" : ", seeds on the GPU");
                 ConeGpuReport report;
                 expect_same(build_cone_map_gpu(f, kind, o, &report), build_cone_map_cpu(f, kind, o), ConeFormat::Rg16,
                             what.c_str());
@@ -138,7 +149,7 @@ TEST(ConeMapGpu, ACancelledBuildLeavesTheContextAsItWas)
     GLint program = -1, texture = -1;
     glGetIntegerv(GL_CURRENT_PROGRAM, &program);
     EXPECT_EQ(program, 0);
-    for (GLuint binding : {0u, 1u, 2u, 3u}) {
+    for (GLuint binding : {0u, 1u, 2u, 3u, 4u}) {
         GLint storage = -1;
         glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, binding, &storage);
         EXPECT_EQ(storage, 0) << binding;
