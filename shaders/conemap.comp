@@ -40,7 +40,8 @@ layout(std430, binding = 1) writeonly buffer Steps { uint b_steps[]; };
 layout(std430, binding = 3) buffer Resume { uint b_resume_count; uint b_resume[]; };
 const uint kResumeWords = 17u;
 // The seeds (maps::ConeSeeds): the texel that set the cone of every fourth texel of every fourth
-// row, written by the seed passes (u_seeding), where every cone search then starts.
+// row, written by the seed passes (u_seeding), where every search then starts; kind relaxed, the
+// relaxed seeds after them (from u_seed_size.x * u_seed_size.y on).
 layout(std430, binding = 4) buffer Seeds { uint b_seeds[]; };
 const int kSeedShift = 2, kCoarseSeedShift = 4; // maps::kSeedShift, maps::kCoarseSeedShift
 const uint kNoSeed = 0xffffffffu;               // maps::kNoConeSeed
@@ -61,6 +62,7 @@ layout(location = 72) uniform ivec2 u_seed_size; // the seeds' grid
 // 0: this dispatch searches texels; 2: the coarse seeds (u_first and u_count count them), 1: the
 // others (they count all the grid's seeds: the coarse ones, found already, return at once).
 layout(location = 73) uniform int u_seeding;
+layout(location = 74) uniform int u_seed_relaxed; // 1: the seed passes find the relaxed seeds
 
 const double kMargin = 1.0lf - 1.0lf / 1048576.0lf; // 1 - 2^-20, exact
 
@@ -293,10 +295,14 @@ void save_search(uint texel, bool relaxed, uint filled, int m, int li, int lj, d
 
 // maps::Searcher::seeded_best: the least constraint on texel p of the seeds of the four seed
 // texels around it on the grid of every 2^shift-th texel, capped at 1 (`which`: the seed that
-// gave it, else unchanged), computed as node_bound computes a texel's.
-double seeded_best(int px, int py, float hp, int shift, double inv_w2, double inv_h2, inout uint which)
+// gave it, else unchanged), computed as node_bound computes a texel's; `relaxed`, of the relaxed
+// seeds, each marched (relaxed_constraint) only where its cone constraint could lower the result,
+// within the march budget; where that runs out, the seeds marched before count.
+double seeded_best(int px, int py, float hp, int shift, bool relaxed, inout int budget, double inv_w2, double inv_h2,
+                   inout uint which)
 {
     int spacing = 1 << shift, stride = 1 << (shift - kSeedShift);
+    int base = relaxed ? u_seed_size.x * u_seed_size.y : 0;
     int gw = (u_size.x + spacing - 1) >> shift, gh = (u_size.y + spacing - 1) >> shift;
     int gx = px >> shift, gy = py >> shift;
     double best = 1.0lf;
@@ -304,11 +310,22 @@ double seeded_best(int px, int py, float hp, int shift, double inv_w2, double in
         int sx = gx + (q & 1), sy = gy + (q >> 1);
         sx = sx < gw ? sx : 0;
         sy = sy < gh ? sy : 0;
-        uint t = b_seeds[sy * stride * u_seed_size.x + sx * stride];
+        uint t = b_seeds[base + sy * stride * u_seed_size.x + sx * stride];
         if (t == kNoSeed) continue;
         int tx = int(t % uint(u_size.x)), ty = int(t / uint(u_size.x));
         double c = node_bound(0, tx, ty, height_at(tx, ty), px, py, hp, inv_w2, inv_h2);
-        if (c >= 0.0lf && c < best) {
+        if (!(c >= 0.0lf)) continue;
+#if PR_CONE_KIND == 1
+        if (relaxed) {
+            double threshold = steps_squared(ratio_steps(best));
+            if (!(c * kMargin < threshold)) continue;
+            c = relaxed_constraint(px, py, signed_offset(tx - px, u_size.x), signed_offset(ty - py, u_size.y),
+                                   threshold / kMargin * (1.0lf + 1e-9lf), budget, c);
+            if (c < 0.0lf) c = 1e300lf;
+            if (budget <= 0) break; // (a lower bound only)
+        }
+#endif
+        if (c < best) {
             best = c;
             which = t;
         }
@@ -331,11 +348,12 @@ int search(int px, int py, bool relaxed, int seeding, out bool ran_out_of_nodes,
     if (!(hp < node_max(top, 0, 0))) return u_steps;
     precise double inv_w2 = 1.0lf / (double(u_size.x) * double(u_size.x));
     precise double inv_h2 = 1.0lf / (double(u_size.y) * double(u_size.y));
-    double best = relaxed || seeding == 2 ? 1.0lf
-                  : seeded_best(px, py, hp, seeding == 1 ? kCoarseSeedShift : kSeedShift, inv_w2, inv_h2, argmin);
+    int budget = u_budget;
+    double best = seeding == 2 ? 1.0lf
+                               : seeded_best(px, py, hp, seeding == 1 ? kCoarseSeedShift : kSeedShift, relaxed, budget,
+                                             inv_w2, inv_h2, argmin);
     int k = ratio_steps(best);
     double threshold = steps_squared(k);
-    int budget = u_budget;
     // The root is the first node visited (bound 0), and it is not a texel (the map has more
     // than one: a single texel is its own maximum and returned above).
     int visits = 1;
@@ -418,8 +436,8 @@ void main()
         } else if ((sx & (stride - 1)) == 0 && (sy & (stride - 1)) == 0) {
             return; // (a coarse seed)
         }
-        search(sx << kSeedShift, sy << kSeedShift, false, u_seeding, cone_out, argmin);
-        b_seeds[sy * u_seed_size.x + sx] = argmin;
+        search(sx << kSeedShift, sy << kSeedShift, u_seed_relaxed != 0, u_seeding, cone_out, argmin);
+        b_seeds[(u_seed_relaxed != 0 ? u_seed_size.x * u_seed_size.y : 0) + sy * u_seed_size.x + sx] = argmin;
         return;
     }
     uint texel = u_first + index;

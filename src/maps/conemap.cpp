@@ -311,25 +311,30 @@ public:
         if (!(hp < global_max_)) return steps_; // nothing is higher: the cap
         stack_.clear();
         stack_.push_back({top_, 0, 0, 0.0});
-        const double best = relaxed || !seeds_ ? 1.0 : seeded_best(px, py, hp, kSeedShift);
-        return run(px, py, hp, relaxed, cone_ratio_steps(best, format_), best, budget_, 0, cut);
+        int budget = budget_;
+        const double best = !seeds_ || (relaxed && seeds_->relaxed.empty())
+                                ? 1.0
+                                : seeded_best(px, py, hp, kSeedShift, relaxed, budget);
+        return run(px, py, hp, relaxed, cone_ratio_steps(best, format_), best, budget, 0, cut);
     }
 
-    // A seed (ConeSeeds): the texel whose constraint set the cone of texel (px, py) in its cone
-    // search, depth first and stopped by the node budget alone (the best found by then);
-    // kNoConeSeed where none is higher. The search starts from nothing for the seeds of every
-    // fourth column and row of the grid (`coarse`), from those for the others.
-    std::uint32_t seed_of(int px, int py, bool coarse)
+    // A seed (ConeSeeds): the texel whose constraint set the cone (`relaxed`: the relaxed cone) of
+    // texel (px, py) in its search, depth first and stopped by the node budget alone (the best
+    // found by then); kNoConeSeed where none is lower than the cap. The search starts from nothing
+    // for the seeds of every fourth column and row of the grid (`coarse`), from those for the
+    // others.
+    std::uint32_t seed_of(int px, int py, bool coarse, bool relaxed)
     {
         argmin_ = kNoConeSeed;
         const float hp = f_.texels[std::size_t(py) * std::size_t(f_.width) + std::size_t(px)];
         if (!(hp < global_max_)) return kNoConeSeed;
         stack_.clear();
         stack_.push_back({top_, 0, 0, 0.0});
-        const double best = coarse ? 1.0 : seeded_best(px, py, hp, kCoarseSeedShift, &argmin_);
+        int budget = budget_;
+        const double best = coarse ? 1.0 : seeded_best(px, py, hp, kCoarseSeedShift, relaxed, budget, &argmin_);
         bool cut = false;
         depth_first_only_ = true;
-        run(px, py, hp, false, cone_ratio_steps(best, format_), best, budget_, 0, cut);
+        run(px, py, hp, relaxed, cone_ratio_steps(best, format_), best, budget, 0, cut);
         depth_first_only_ = false;
         return argmin_;
     }
@@ -395,6 +400,7 @@ private:
             if (n.bound * kMargin >= threshold) continue; // k went down since it was pushed
             if (n.level == 0) {
                 double c = n.bound; // kind cone: the bound of a texel is its constraint
+                bool bound_only = false;
                 if (relaxed) {
                     const int sx = signed_offset(n.i - px, f_.width);
                     const int sy = signed_offset(n.j - py, f_.height);
@@ -404,11 +410,14 @@ private:
                         cut = true;
                         c = rest_bound(c, threshold);
                         stack_.clear();
+                        bound_only = true;
                     }
                 }
                 if (c < best) {
                     best = c;
-                    argmin_ = std::uint32_t(n.j) * std::uint32_t(f_.width) + std::uint32_t(n.i);
+                    // (A seed is a texel whose constraint set the result; a bound is none: the
+                    // seed stays the one found before, as the GPU's search keeps it.)
+                    if (!bound_only) argmin_ = std::uint32_t(n.j) * std::uint32_t(f_.width) + std::uint32_t(n.i);
                     k = cone_ratio_steps(best, format_);
                     threshold = steps_squared(k, steps_);
                     if (k == 0) return 0;
@@ -458,22 +467,32 @@ private:
     // on the grid of every 2^shift-th texel (ConeSeeds at kSeedShift, the coarse seeds at
     // kCoarseSeedShift: the nearest at or below and left of p, the next ones right and up,
     // wrapping), capped at 1: where its search starts; `which` gets the seed that gave it, if any.
-    // Computed as the search computes a texel's constraint.
-    double seeded_best(int px, int py, float hp, int shift, std::uint32_t* which = nullptr) const
+    // Computed as the search computes a texel's constraint: `relaxed`, the relaxed seeds' relaxed
+    // constraints, each marched only where its cone constraint could lower the result, within the
+    // march `budget` (decremented); where that runs out, the seeds marched before it count.
+    double seeded_best(int px, int py, float hp, int shift, bool relaxed, int& budget,
+                       std::uint32_t* which = nullptr) const
     {
+        const std::vector<std::uint32_t>& grid = relaxed ? seeds_->relaxed : seeds_->texels;
         const int spacing = 1 << shift, stride = 1 << (shift - kSeedShift); // grid texels per seed here
         const int gw = (f_.width + spacing - 1) / spacing, gh = (f_.height + spacing - 1) / spacing;
         const int gx = px >> shift, gy = py >> shift;
         double best = 1.0;
         for (int q = 0; q < 4; ++q) {
             const int sx = gx + (q & 1) < gw ? gx + (q & 1) : 0, sy = gy + (q >> 1) < gh ? gy + (q >> 1) : 0;
-            const std::uint32_t t =
-                seeds_->texels[std::size_t(sy * stride) * std::size_t(seeds_->width) + std::size_t(sx * stride)];
+            const std::uint32_t t = grid[std::size_t(sy * stride) * std::size_t(seeds_->width) + std::size_t(sx * stride)];
             if (t == kNoConeSeed) continue;
             const double dmax = rise(f_.texels[t], hp);
             if (!(dmax > 0.0)) continue;
             const int tx = int(t % std::uint32_t(f_.width)), ty = int(t / std::uint32_t(f_.width));
-            const double c = node_distance(0, tx, ty, px, py) / dmax;
+            double c = node_distance(0, tx, ty, px, py) / dmax;
+            if (relaxed) {
+                const double threshold = steps_squared(cone_ratio_steps(best, format_), steps_);
+                if (!(c * kMargin < threshold)) continue;
+                c = relaxed_constraint(f_, px, py, signed_offset(tx - px, f_.width), signed_offset(ty - py, f_.height),
+                                       threshold / kMargin * (1.0 + 1e-9), budget, c);
+                if (budget <= 0) break; // (a lower bound only)
+            }
             if (c < best) {
                 best = c;
                 if (which) *which = t;
@@ -601,32 +620,47 @@ void for_each_item(const HeightField& field, const MaxPyramid& pyramid, ConeKind
 
 } // namespace
 
-ConeSeeds cone_seeds_cpu(const HeightField& field, const MaxPyramid& pyramid, const ConeBuildOptions& options)
+ConeSeeds cone_seeds_cpu(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind,
+                         const ConeBuildOptions& options)
 {
     ConeSeeds seeds;
     seeds.width = (field.width + kConeSeedSpacing - 1) / kConeSeedSpacing;
     seeds.height = (field.height + kConeSeedSpacing - 1) / kConeSeedSpacing;
-    seeds.texels.assign(std::size_t(seeds.width) * std::size_t(seeds.height), kNoConeSeed);
+    const std::size_t count = std::size_t(seeds.width) * std::size_t(seeds.height);
+    seeds.texels.assign(count, kNoConeSeed);
+    if (kind == ConeKind::Relaxed) seeds.relaxed.assign(count, kNoConeSeed);
     constexpr int stride = 1 << (kCoarseSeedShift - kSeedShift); // the coarse seeds' spacing on the grid
-    // The coarse seeds (every stride-th seed of every stride-th row), a row at a time, from
-    // nothing; then the others from them. Their share of the progress: by the searches' count.
     const int coarse_rows = (seeds.height + stride - 1) / stride;
-    const double share = 1.0 / double(stride * stride);
+    // The cone seeds, then (kind relaxed) the relaxed ones; of each, the coarse seeds (every
+    // stride-th seed of every stride-th row) a row at a time, from nothing, then the others from
+    // them. Their shares of the progress: by the searches' count, a relaxed one as 4 cone ones.
+    const double weight = kind == ConeKind::Relaxed ? 5.0 : 1.0;
+    double done = 0.0;
     ConeBuildOptions part = options;
-    if (options.progress) part.progress = [&](double f) { options.progress(share * f); };
-    for_each_item(field, pyramid, ConeKind::Cone, part, nullptr, coarse_rows, [&](Searcher& searcher, int row) {
-        const int sy = row * stride;
-        for (int sx = 0; sx < seeds.width; sx += stride)
-            seeds.texels[std::size_t(sy) * std::size_t(seeds.width) + std::size_t(sx)] =
-                searcher.seed_of(sx << kSeedShift, sy << kSeedShift, true);
-    });
-    if (options.progress) part.progress = [&](double f) { options.progress(share + (1.0 - share) * f); };
-    for_each_item(field, pyramid, ConeKind::Cone, part, &seeds, seeds.height, [&](Searcher& searcher, int sy) {
-        for (int sx = 0; sx < seeds.width; ++sx)
-            if (sx % stride != 0 || sy % stride != 0)
-                seeds.texels[std::size_t(sy) * std::size_t(seeds.width) + std::size_t(sx)] =
-                    searcher.seed_of(sx << kSeedShift, sy << kSeedShift, false);
-    });
+    const auto next_part = [&](double of) {
+        if (options.progress)
+            part.progress = [&options, from = done, of, weight](double f) { options.progress((from + of * f) / weight); };
+        done += of;
+    };
+    for (const bool relaxed : {false, true}) {
+        if (relaxed && kind == ConeKind::Cone) break;
+        std::vector<std::uint32_t>& out = relaxed ? seeds.relaxed : seeds.texels;
+        const double of = relaxed ? 4.0 : 1.0;
+        next_part(of / double(stride * stride));
+        for_each_item(field, pyramid, kind, part, nullptr, coarse_rows, [&](Searcher& searcher, int row) {
+            const int sy = row * stride;
+            for (int sx = 0; sx < seeds.width; sx += stride)
+                out[std::size_t(sy) * std::size_t(seeds.width) + std::size_t(sx)] =
+                    searcher.seed_of(sx << kSeedShift, sy << kSeedShift, true, relaxed);
+        });
+        next_part(of * (1.0 - 1.0 / double(stride * stride)));
+        for_each_item(field, pyramid, kind, part, &seeds, seeds.height, [&](Searcher& searcher, int sy) {
+            for (int sx = 0; sx < seeds.width; ++sx)
+                if (sx % stride != 0 || sy % stride != 0)
+                    out[std::size_t(sy) * std::size_t(seeds.width) + std::size_t(sx)] =
+                        searcher.seed_of(sx << kSeedShift, sy << kSeedShift, false, relaxed);
+        });
+    }
     return seeds;
 }
 
@@ -642,7 +676,7 @@ ConeMap build_cone_map_cpu(const HeightField& given, ConeKind kind, const ConeBu
     const double share = 1.0 / double(kConeSeedSpacing * kConeSeedSpacing + 1);
     ConeBuildOptions part = options;
     if (options.progress) part.progress = [&](double f) { options.progress(share * f); };
-    const ConeSeeds seeds = cone_seeds_cpu(field, pyramid, part);
+    const ConeSeeds seeds = cone_seeds_cpu(field, pyramid, kind, part);
     if (options.progress) part.progress = [&](double f) { options.progress(share + (1.0 - share) * f); };
     ConeMap map;
     map.width = field.width;

@@ -165,18 +165,21 @@ MaxPyramid build_max_pyramid(const HeightField& field);
 // of the four grid texels around it, so that most of its search only proves that nothing lies
 // nearer: a threshold from the start prunes what the search would otherwise visit before it
 // finds its cone. The seeds of every fourth column and row of the grid are searched from nothing,
-// the others start from those (the coarse seeds) in the same way. Both generators compute the
-// same seeds and start from them alike.
+// the others start from those (the coarse seeds) in the same way. Relaxed maps have relaxed seeds
+// as well, for their relaxed searches (the texel whose relaxed constraint set the relaxed cone),
+// found and used alike. Both generators compute the same seeds and start from them alike.
 inline constexpr int kSeedShift = 2, kCoarseSeedShift = 4;
 inline constexpr int kConeSeedSpacing = 1 << kSeedShift;
 inline constexpr std::uint32_t kNoConeSeed = 0xffffffffu; // no texel is higher
 struct ConeSeeds {
     int width = 0, height = 0;          // the grid: the field's size over kConeSeedSpacing, rounded up
     std::vector<std::uint32_t> texels;  // per grid texel, row-major: a texel (y * width + x) or kNoConeSeed
+    std::vector<std::uint32_t> relaxed; // kind relaxed: the same for the relaxed searches (else empty)
 };
-// The seeds of `field` (cone_source_field()'s) on options.threads threads; options.progress gets
-// the fraction of them done.
-ConeSeeds cone_seeds_cpu(const HeightField& field, const MaxPyramid& pyramid, const ConeBuildOptions& options);
+// The seeds of `field` (cone_source_field()'s) for a map of `kind` on options.threads threads;
+// options.progress gets the fraction of them done.
+ConeSeeds cone_seeds_cpu(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind,
+                         const ConeBuildOptions& options);
 
 // Where the GPU generator's depth-first search of one texel stopped because its node budget ran
 // out (shaders/conemap.comp, save_search): enough to go on from there on the CPU.

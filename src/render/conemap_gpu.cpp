@@ -129,12 +129,14 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
     gl::Buffer resume = gl::Buffer::create();
     glNamedBufferStorage(resume.id(), GLsizeiptr((1 + capacity * kResumeWords) * sizeof(std::uint32_t)), nullptr,
                          GL_DYNAMIC_STORAGE_BIT);
-    ConeSeeds seeds; // (maps::cone_seeds_cpu's, found by the seed pass below)
+    // The seeds (maps::cone_seeds_cpu's, found below): the cone seeds, then kind relaxed's relaxed ones.
+    ConeSeeds seeds;
     seeds.width = (field.width + kConeSeedSpacing - 1) / kConeSeedSpacing;
     seeds.height = (field.height + kConeSeedSpacing - 1) / kConeSeedSpacing;
-    seeds.texels.resize(std::size_t(seeds.width) * std::size_t(seeds.height));
+    const std::size_t seed_count = std::size_t(seeds.width) * std::size_t(seeds.height);
+    const bool relaxed = kind == ConeKind::Relaxed;
     gl::Buffer seed_buffer = gl::Buffer::create();
-    glNamedBufferStorage(seed_buffer.id(), GLsizeiptr(seeds.texels.size() * sizeof(std::uint32_t)), nullptr,
+    glNamedBufferStorage(seed_buffer.id(), GLsizeiptr((relaxed ? 2 : 1) * seed_count * sizeof(std::uint32_t)), nullptr,
                          GL_DYNAMIC_STORAGE_BIT);
 
     const GLuint p = program.id();
@@ -194,39 +196,62 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
                     name.find("swrast") != std::string::npos;
     }
     std::size_t chunk = kFirstChunkTexels / (kConeSeedSpacing * kConeSeedSpacing);
+    const auto seed_words = [&](bool of_relaxed) {
+        return std::pair{GLintptr((of_relaxed ? seed_count : 0) * sizeof(std::uint32_t)),
+                         GLsizeiptr(seed_count * sizeof(std::uint32_t))};
+    };
     if (cpu_seeds) {
         ConeBuildOptions part = options;
         if (options.progress) part.progress = [&](double f) { options.progress(seed_share * f); };
-        seeds = cone_seeds_cpu(field, pyramid, part);
-        glNamedBufferSubData(seed_buffer.id(), 0, GLsizeiptr(seeds.texels.size() * sizeof(std::uint32_t)),
-                             seeds.texels.data());
+        seeds = cone_seeds_cpu(field, pyramid, kind, part);
+        for (const bool of_relaxed : {false, true}) {
+            if (of_relaxed && !relaxed) break;
+            const auto [offset, size] = seed_words(of_relaxed);
+            glNamedBufferSubData(seed_buffer.id(), offset, size, (of_relaxed ? seeds.relaxed : seeds.texels).data());
+        }
     } else {
+        // As the CPU's: the cone seeds, then the relaxed ones; of each, the coarse seeds, then the
+        // others from them. Shares of the progress by the searches' count, a relaxed one as four.
         constexpr int stride = 1 << (kCoarseSeedShift - kSeedShift);
         const std::size_t coarse_seeds =
             std::size_t((seeds.width + stride - 1) / stride) * std::size_t((seeds.height + stride - 1) / stride);
-        for (const int pass : {2, 1}) {
-            glProgramUniform1i(p, 73, pass);
-            const std::size_t items = pass == 2 ? coarse_seeds : seeds.texels.size();
-            const double coarse_share = seed_share / double(stride * stride);
-            const double from = pass == 2 ? 0.0 : coarse_share, part = pass == 2 ? coarse_share : seed_share - coarse_share;
-            for (std::size_t first = 0; first < items;) {
-                if (options.cancel && options.cancel->load(std::memory_order_relaxed)) throw ConeBuildCancelled();
-                const std::size_t count = std::min(chunk, items - first);
-                const auto start = std::chrono::steady_clock::now();
-                glProgramUniform1ui(p, 3, GLuint(first));
-                glProgramUniform1ui(p, 4, GLuint(count));
-                glDispatchCompute(GLuint((count + kGroupSize - 1) / kGroupSize), 1, 1);
-                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT); // (the next pass reads them)
-                glFinish();
-                first += count;
-                if (options.progress) options.progress(from + part * double(first) / double(items));
-                chunk = next_chunk(count, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
-                                   kMaxChunkTexels);
+        const double weight = relaxed ? 5.0 : 1.0;
+        double done = 0.0;
+        for (const bool of_relaxed : {false, true}) {
+            if (of_relaxed && !relaxed) break;
+            glProgramUniform1i(p, 74, of_relaxed ? 1 : 0);
+            for (const int pass : {2, 1}) {
+                glProgramUniform1i(p, 73, pass);
+                const std::size_t items = pass == 2 ? coarse_seeds : seed_count;
+                const double part = (of_relaxed ? 4.0 : 1.0) *
+                                    (pass == 2 ? 1.0 / double(stride * stride) : 1.0 - 1.0 / double(stride * stride));
+                for (std::size_t first = 0; first < items;) {
+                    if (options.cancel && options.cancel->load(std::memory_order_relaxed)) throw ConeBuildCancelled();
+                    const std::size_t count = std::min(chunk, items - first);
+                    const auto start = std::chrono::steady_clock::now();
+                    glProgramUniform1ui(p, 3, GLuint(first));
+                    glProgramUniform1ui(p, 4, GLuint(count));
+                    glDispatchCompute(GLuint((count + kGroupSize - 1) / kGroupSize), 1, 1);
+                    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT); // (the next pass reads them)
+                    glFinish();
+                    first += count;
+                    if (options.progress)
+                        options.progress(seed_share * (done + part * double(first) / double(items)) / weight);
+                    chunk = next_chunk(count,
+                                       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+                                       kMaxChunkTexels);
+                }
+                done += part;
             }
         }
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        glGetNamedBufferSubData(seed_buffer.id(), 0, GLsizeiptr(seeds.texels.size() * sizeof(std::uint32_t)),
-                                seeds.texels.data());
+        for (const bool of_relaxed : {false, true}) {
+            if (of_relaxed && !relaxed) break;
+            std::vector<std::uint32_t>& out = of_relaxed ? seeds.relaxed : seeds.texels;
+            out.resize(seed_count);
+            const auto [offset, size] = seed_words(of_relaxed);
+            glGetNamedBufferSubData(seed_buffer.id(), offset, size, out.data());
+        }
     }
     glProgramUniform1i(p, 73, 0);
     const double seed_ms =

@@ -244,42 +244,55 @@ TEST(ConeMap, ConeEqualsBruteForceAndIsConservative)
         }
 }
 
-// The seeds (ConeSeeds) of every fourth texel of every fourth row, where every cone search starts:
-// the texel whose constraint sets that texel's cone (the brute force's steps), none where the cone
-// is capped (no constraint under 1: nothing higher, or nothing near enough). Sizes that are not multiples of the spacing; the coarse seeds (every sixteenth
-// texel) searched from nothing, the others from them.
+// The seeds (ConeSeeds) of every fourth texel of every fourth row, where every search starts: the
+// texel whose constraint sets that texel's cone (the brute force's steps), none where the cone is
+// capped (no constraint under 1: nothing higher, or nothing near enough); and for relaxed maps
+// the same of relaxed constraints and relaxed cones (exact: no march budget). Sizes that are not
+// multiples of the spacing; the coarse seeds (every sixteenth texel) searched from nothing, the
+// others from them.
 TEST(ConeMap, SeedsAreTheTexelsThatSetTheirCones)
 {
     for (const HeightField& f : {random_map(37, 30, 31), smooth_map(70, 22, 32)}) {
         ConeBuildOptions o;
         o.node_budget = 0;
-        const ConeSeeds seeds = cone_seeds_cpu(f, build_max_pyramid(f), o);
+        o.relaxed_budget = 0;
+        const ConeSeeds seeds = cone_seeds_cpu(f, build_max_pyramid(f), ConeKind::Relaxed, o);
         ASSERT_EQ(seeds.width, (f.width + 3) / 4);
         ASSERT_EQ(seeds.height, (f.height + 3) / 4);
         ASSERT_EQ(seeds.texels.size(), std::size_t(seeds.width * seeds.height));
-        const std::vector<int> expected = brute_force(f, ConeKind::Cone, ConeFormat::Rg16);
-        int none = 0, found = 0;
-        for (int sy = 0; sy < seeds.height; ++sy)
-            for (int sx = 0; sx < seeds.width; ++sx) {
-                const int px = 4 * sx, py = 4 * sy;
-                const std::uint32_t t = seeds.texels[std::size_t(sy * seeds.width + sx)];
-                if (t == kNoConeSeed) {
-                    EXPECT_EQ(expected[std::size_t(py * f.width + px)], 65535) << px << "," << py;
-                    ++none;
-                    continue;
+        ASSERT_EQ(seeds.relaxed.size(), seeds.texels.size());
+        EXPECT_EQ(cone_seeds_cpu(f, build_max_pyramid(f), ConeKind::Cone, o).texels, seeds.texels);
+        EXPECT_TRUE(cone_seeds_cpu(f, build_max_pyramid(f), ConeKind::Cone, o).relaxed.empty());
+        for (ConeKind kind : {ConeKind::Cone, ConeKind::Relaxed}) {
+            const std::vector<int> expected = brute_force(f, kind, ConeFormat::Rg16);
+            const std::vector<std::uint32_t>& grid = kind == ConeKind::Cone ? seeds.texels : seeds.relaxed;
+            const std::string what = kind == ConeKind::Cone ? "cone " : "relaxed ";
+            int none = 0, found = 0;
+            for (int sy = 0; sy < seeds.height; ++sy)
+                for (int sx = 0; sx < seeds.width; ++sx) {
+                    const int px = 4 * sx, py = 4 * sy;
+                    const std::uint32_t t = grid[std::size_t(sy * seeds.width + sx)];
+                    if (t == kNoConeSeed) {
+                        EXPECT_EQ(expected[std::size_t(py * f.width + px)], 65535) << what << px << "," << py;
+                        ++none;
+                        continue;
+                    }
+                    ASSERT_LT(t, f.texels.size());
+                    const int qx = int(t) % f.width, qy = int(t) / f.width;
+                    const double rise = stored_rise(f, qx, qy, px, py);
+                    ASSERT_GT(rise, 0.0) << what << px << "," << py;
+                    const int dx = signed_offset(qx - px, f.width), dy = signed_offset(qy - py, f.height);
+                    double c = uv_distance(f, dx, dy) / rise;
+                    int budget = std::numeric_limits<int>::max();
+                    if (kind == ConeKind::Relaxed)
+                        c = relaxed_constraint(f, px, py, dx, dy, std::numeric_limits<double>::infinity(), budget, c);
+                    EXPECT_EQ(cone_ratio_steps(c, ConeFormat::Rg16), expected[std::size_t(py * f.width + px)])
+                        << what << px << "," << py;
+                    ++found;
                 }
-                ASSERT_LT(t, f.texels.size());
-                const int qx = int(t) % f.width, qy = int(t) / f.width;
-                const double rise = stored_rise(f, qx, qy, px, py);
-                ASSERT_GT(rise, 0.0) << px << "," << py;
-                const double c =
-                    uv_distance(f, signed_offset(qx - px, f.width), signed_offset(qy - py, f.height)) / rise;
-                EXPECT_EQ(cone_ratio_steps(c, ConeFormat::Rg16), expected[std::size_t(py * f.width + px)])
-                    << px << "," << py;
-                ++found;
-            }
-        EXPECT_GT(found, seeds.width * seeds.height / 2);
-        EXPECT_GE(none, 1); // (both maps have capped cones among their seed texels)
+            EXPECT_GT(found, seeds.width * seeds.height / 2) << what;
+            EXPECT_GE(none, 1) << what; // (both maps have capped cones among their seed texels)
+        }
     }
 }
 
