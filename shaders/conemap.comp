@@ -63,6 +63,10 @@ layout(location = 72) uniform ivec2 u_seed_size; // the seeds' grid
 // others (they count all the grid's seeds: the coarse ones, found already, return at once).
 layout(location = 73) uniform int u_seeding;
 layout(location = 74) uniform int u_seed_relaxed; // 1: the seed passes find the relaxed seeds
+// 1: the texel dispatches' lanes take the texels in blocks of 4 x 2 (u_size.x a multiple of 4,
+// u_size.y even; u_first a multiple of 2 u_size.x), 0: in rows. Neighbours search alike, and
+// llvmpipe runs eight lanes at a time until the longest search of the eight ends.
+layout(location = 75) uniform int u_blocks;
 
 const double kMargin = 1.0lf - 1.0lf / 1048576.0lf; // 1 - 2^-20, exact
 
@@ -339,9 +343,11 @@ double seeded_best(int px, int py, float hp, int shift, bool relaxed, inout int 
 // a cone search from nothing (2) or from the coarse seeds (1) that only finds `argmin`, the
 // texel whose constraint set the cone (kNoSeed for none), stopping where the node budget runs
 // out; 0, a texel's search, from the seeds.
-int search(int px, int py, bool relaxed, int seeding, out bool ran_out_of_nodes, out uint argmin)
+int search(int px, int py, bool relaxed, int seeding, out bool ran_out_of_nodes, out bool ran_out_of_steps,
+           out uint argmin)
 {
     ran_out_of_nodes = false; // (an out parameter is undefined until written: the early return below)
+    ran_out_of_steps = false;
     argmin = kNoSeed;
     float hp = height_at(px, py);
     int top = u_levels - 1;
@@ -407,6 +413,7 @@ int search(int px, int py, bool relaxed, int seeding, out bool ran_out_of_nodes,
         if ((children & 7u) != 0u) filled |= 1u << (m - 1);
     }
     ran_out_of_nodes = out_of_nodes;
+    ran_out_of_steps = out_of_steps >= 0.0lf;
     if (seeding != 0) return k;
     if (out_of_nodes) {
         save_search(uint(py) * uint(u_size.x) + uint(px), relaxed, filled, m, li, lj, best, budget);
@@ -436,17 +443,37 @@ void main()
         } else if ((sx & (stride - 1)) == 0 && (sy & (stride - 1)) == 0) {
             return; // (a coarse seed)
         }
-        search(sx << kSeedShift, sy << kSeedShift, u_seed_relaxed != 0, u_seeding, cone_out, argmin);
+        bool steps_out;
+        search(sx << kSeedShift, sy << kSeedShift, u_seed_relaxed != 0, u_seeding, cone_out, steps_out, argmin);
         b_seeds[(u_seed_relaxed != 0 ? u_seed_size.x * u_seed_size.y : 0) + sy * u_seed_size.x + sx] = argmin;
         return;
     }
-    uint texel = u_first + index;
-    int px = int(texel % uint(u_size.x)), py = int(texel / uint(u_size.x));
-    int k = search(px, py, false, 0, cone_out, argmin);
-    if (cone_out) k = 0;
+    uint item = u_first + index;
+    int px, py;
+    if (u_blocks != 0) {
+        uint pair = item / (2u * uint(u_size.x)), r = item - pair * 2u * uint(u_size.x);
+        px = int((r >> 3u) * 4u + (r & 3u));
+        py = int(pair * 2u + ((r >> 2u) & 1u));
+    } else {
+        px = int(item % uint(u_size.x));
+        py = int(item / uint(u_size.x));
+    }
+    uint texel = uint(py) * uint(u_size.x) + uint(px);
 #if PR_CONE_KIND == 1
-    int kr = search(px, py, true, 0, relaxed_out, argmin);
-    if (!relaxed_out) k = max(k, kr);
+    // maps::Searcher::search: the relaxed search, and the cone search for a floor only where a
+    // budget cut the relaxed one short (a relaxed search run to its end is never below it). Where
+    // one ran out of nodes, the low bits hold the other's k (or 0) and the CPU goes on with it.
+    bool steps_out = false;
+    int k = search(px, py, true, 0, relaxed_out, steps_out, argmin);
+    if (relaxed_out) k = 0;
+    if (relaxed_out || steps_out) {
+        int kc = search(px, py, false, 0, cone_out, steps_out, argmin);
+        k = max(k, cone_out ? 0 : kc);
+    }
+#else
+    bool steps_out;
+    int k = search(px, py, false, 0, cone_out, steps_out, argmin);
+    if (cone_out) k = 0;
 #endif
     b_steps[texel] = uint(k) | (cone_out ? 0x80000000u : 0u) | (relaxed_out ? 0x40000000u : 0u);
 }

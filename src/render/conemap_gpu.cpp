@@ -52,11 +52,11 @@ std::vector<ConeSearchState> read_searches(const std::vector<std::uint32_t>& wor
 
 // The texels (or seeds) the dispatch after one of `count` that took `seconds` takes: about
 // kChunkSeconds at its pace, growing at most fourfold, at most `most`, in whole groups.
-std::size_t next_chunk(std::size_t count, double seconds, std::size_t most)
+// In whole `unit`s (the texel dispatches: whole pairs of rows where they go in blocks).
+std::size_t next_chunk(std::size_t count, double seconds, std::size_t most, std::size_t unit = kGroupSize)
 {
     const double scale = seconds > 0.0 ? std::clamp(kChunkSeconds / seconds, 0.25, 4.0) : 4.0;
-    return std::clamp(std::size_t(double(count) * scale) / kGroupSize * kGroupSize, std::size_t(kGroupSize),
-                      std::max(most / kGroupSize * kGroupSize, std::size_t(kGroupSize)));
+    return std::clamp(std::size_t(double(count) * scale) / unit * unit, unit, std::max(most / unit * unit, unit));
 }
 
 } // namespace
@@ -256,7 +256,13 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
     glProgramUniform1i(p, 73, 0);
     const double seed_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - search_start).count();
-    chunk = kFirstChunkTexels;
+    // Texels go to the shader's lanes in blocks of 4 x 2 (conemap.comp, u_blocks) where the map's
+    // width is a multiple of 4 and its height even, so each dispatch takes whole pairs of rows:
+    // the texels of [first, first + count) are those of the rows it covers, in another order.
+    const bool blocks = field.width % 4 == 0 && field.height % 2 == 0;
+    glProgramUniform1i(p, 75, blocks ? 1 : 0);
+    const std::size_t unit = blocks ? 2 * std::size_t(field.width) : kGroupSize;
+    chunk = std::max(kFirstChunkTexels / unit, std::size_t(1)) * unit;
     std::vector<std::uint32_t> k(n);
     std::vector<std::uint32_t> words, resumed, again;
     std::vector<int> missing;
@@ -317,7 +323,7 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
         // more searches to save than room).
         std::size_t most = kMaxChunkTexels;
         if (saved > 0) most = std::min(most, std::size_t(0.75 * double(capacity) * double(count) / double(saved)));
-        chunk = next_chunk(count, seconds, most);
+        chunk = next_chunk(count, seconds, most, unit);
     }
     if (report) {
         report->search_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - search_start).count();
