@@ -41,7 +41,8 @@ layout(std430, binding = 3) buffer Resume { uint b_resume_count; uint b_resume[]
 const uint kResumeWords = 17u;
 // The seeds (maps::ConeSeeds): the texel that set the cone of every fourth texel of every fourth
 // row, written by the seed passes (u_seeding), where every search then starts; kind relaxed, the
-// relaxed seeds after them (from u_seed_size.x * u_seed_size.y on).
+// relaxed seeds after them (from u_seed_size.x * u_seed_size.y on). Each as x | y << 16 (the map
+// has at most 32768 texels a side): llvmpipe divides integers lane by lane.
 layout(std430, binding = 4) buffer Seeds { uint b_seeds[]; };
 const int kSeedShift = 2, kCoarseSeedShift = 4; // maps::kSeedShift, maps::kCoarseSeedShift
 const uint kNoSeed = 0xffffffffu;               // maps::kNoConeSeed
@@ -316,7 +317,7 @@ double seeded_best(int px, int py, float hp, int shift, bool relaxed, inout int 
         sy = sy < gh ? sy : 0;
         uint t = b_seeds[base + sy * stride * u_seed_size.x + sx * stride];
         if (t == kNoSeed) continue;
-        int tx = int(t % uint(u_size.x)), ty = int(t / uint(u_size.x));
+        int tx = int(t & 0xffffu), ty = int(t >> 16u);
         double c = node_bound(0, tx, ty, height_at(tx, ty), px, py, hp, inv_w2, inv_h2);
         if (!(c >= 0.0lf)) continue;
 #if PR_CONE_KIND == 1
@@ -402,7 +403,7 @@ int search(int px, int py, bool relaxed, int seeding, out bool ran_out_of_nodes,
 #endif
             if (c < best) {
                 best = c;
-                argmin = uint(lj) * uint(u_size.x) + uint(li);
+                argmin = uint(li) | (uint(lj) << 16u);
                 k = ratio_steps(best);
                 threshold = steps_squared(k);
             }

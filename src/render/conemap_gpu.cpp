@@ -196,10 +196,12 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
                     name.find("swrast") != std::string::npos;
     }
     std::size_t chunk = kFirstChunkTexels / (kConeSeedSpacing * kConeSeedSpacing);
+    // In the buffer as x | y << 16 (conemap.comp, Seeds), in ConeSeeds as y * width + x.
     const auto seed_words = [&](bool of_relaxed) {
         return std::pair{GLintptr((of_relaxed ? seed_count : 0) * sizeof(std::uint32_t)),
                          GLsizeiptr(seed_count * sizeof(std::uint32_t))};
     };
+    const std::uint32_t row = std::uint32_t(field.width);
     if (cpu_seeds) {
         ConeBuildOptions part = options;
         if (options.progress) part.progress = [&](double f) { options.progress(seed_share * f); };
@@ -207,7 +209,10 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
         for (const bool of_relaxed : {false, true}) {
             if (of_relaxed && !relaxed) break;
             const auto [offset, size] = seed_words(of_relaxed);
-            glNamedBufferSubData(seed_buffer.id(), offset, size, (of_relaxed ? seeds.relaxed : seeds.texels).data());
+            std::vector<std::uint32_t> packed = of_relaxed ? seeds.relaxed : seeds.texels;
+            for (std::uint32_t& t : packed)
+                if (t != kNoConeSeed) t = (t % row) | ((t / row) << 16);
+            glNamedBufferSubData(seed_buffer.id(), offset, size, packed.data());
         }
     } else {
         // As the CPU's: the cone seeds, then the relaxed ones; of each, the coarse seeds, then the
@@ -251,6 +256,8 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
             out.resize(seed_count);
             const auto [offset, size] = seed_words(of_relaxed);
             glGetNamedBufferSubData(seed_buffer.id(), offset, size, out.data());
+            for (std::uint32_t& t : out)
+                if (t != kNoConeSeed) t = (t >> 16) * row + (t & 0xffffu);
         }
     }
     glProgramUniform1i(p, 73, 0);
