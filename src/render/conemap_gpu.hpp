@@ -8,8 +8,8 @@ namespace pr {
 
 // What a GPU build did besides the map (prismrelief conemap --json reports it).
 struct ConeGpuReport {
-    double search_ms = 0.0;     // the dispatches, the read-back and the CPU's share below, without
-                                // creating the context, uploading and compiling
+    double search_ms = 0.0;     // the seeds, the dispatches, the read-back and the CPU's share
+                                // below, without creating the context, uploading and compiling
     double cpu_ms = 0.0;        // of that, the CPU's threads finishing searches that ran out of nodes
     std::size_t resumed = 0;    // searches the CPU went on with from the GPU's state
     std::size_t restarted = 0;  // texels the CPU searched again from the start (no room for a state)
