@@ -340,10 +340,11 @@ double seeded_best(int px, int py, float hp, int shift, bool relaxed, inout int 
 
 // maps::Searcher::search: the ratio of texel (px, py) in format steps, for cones or relaxed cones.
 // `ran_out_of_nodes` is set where the node budget ran out: the CPU's search goes on best first
-// from there (save_search; render/conemap_gpu.cpp). `seeding` (maps::Searcher::seed_of): 2 and 1,
-// a cone search from nothing (2) or from the coarse seeds (1) that only finds `argmin`, the
-// texel whose constraint set the cone (kNoSeed for none), stopping where the node budget runs
-// out; 0, a texel's search, from the seeds.
+// from there (save_search; render/conemap_gpu.cpp); `ran_out_of_steps` where the relaxed march
+// budget did. `seeding` (maps::Searcher::seed_of): 2 and 1, a search from nothing (2) or from the
+// coarse seeds (1) that only finds `argmin`, the texel (x | y << 16) whose constraint set the
+// result (kNoSeed for none), stopping where the node budget runs out; 0, a texel's search, from
+// the seeds.
 int search(int px, int py, bool relaxed, int seeding, out bool ran_out_of_nodes, out bool ran_out_of_steps,
            out uint argmin)
 {
