@@ -298,6 +298,32 @@ void save_search(uint texel, bool relaxed, uint filled, int m, int li, int lj, d
         b_resume[at + 9u + uint(l / 2)] = (s_list[l] & 0xffffu) | (s_list[l + 1] << 16u);
 }
 
+// Takes the next node to visit off the lists (depth first, the CPU's order): it becomes the node
+// visited last (m, li, lj); its parent is (pi, pj) one level up, q its place there.
+void pop_next(inout uint filled, inout int m, inout int li, inout int lj, out int pi, out int pj, out int q)
+{
+    int cur = findLSB(filled);
+    uint list = s_list[cur];
+    q = int((list >> 3u) & 3u);
+    s_list[cur] = ((list & 7u) - 1u) | ((list >> 5u) << 3u);
+    if ((list & 7u) == 1u) filled &= ~(1u << cur);
+    int shift = cur + 1 - m;
+    pi = li >> shift;
+    pj = lj >> shift;
+    li = 2 * pi + (q & 1);
+    lj = 2 * pj + (q >> 1);
+    m = cur;
+}
+
+// Lists the children of node (m, li, lj) (m >= 1) that may lower the result, to visit next.
+void push_children(int m, int li, int lj, int px, int py, float hp, double inv_w2, double inv_h2, double threshold,
+                   inout uint filled)
+{
+    uint children = child_list(m, li, lj, px, py, hp, inv_w2, inv_h2, threshold);
+    s_list[m - 1] = children;
+    if ((children & 7u) != 0u) filled |= 1u << (m - 1);
+}
+
 // maps::Searcher::seeded_best: the least constraint on texel p of the seeds of the four seed
 // texels around it on the grid of every 2^shift-th texel, capped at 1 (`which`: the seed that
 // gave it, else unchanged), computed as node_bound computes a texel's; `relaxed`, of the relaxed
@@ -372,36 +398,60 @@ int search(int px, int py, bool relaxed, int seeding, out bool ran_out_of_nodes,
     // runs in full for every lane: code in it costs on every pass).
     bool out_of_nodes = false;
     double out_of_steps = -1.0lf; // >= 0: the relaxed march budget ran out at this constraint
-    while (k > 0 && filled != 0u) {
-        int cur = findLSB(filled);
+    double nbound;
+    int pi, pj, q;
+    if (!relaxed) {
+        // The cone search visits nodes in an inner loop until it comes to a texel to count, for
+        // at most 16 passes, and counts it after that loop: llvmpipe runs every branch of a loop's
+        // body for all lanes, and the count (steps in double precision) ran on every pass. Without
+        // the bound of 16, lanes at a texel waited for the others' way down (`builtin:MAP@1024`,
+        // s: pyramids 4.0-4.2 -> 4.3-4.4 unbounded, 2.7-2.8 with 16 (8: 2.9-3.1, 32: 2.7-2.9, 64:
+        // 3.0-3.2), boxes 0.75 -> 0.57-0.61, bumps 2.2-2.3 -> 1.7-1.8). The relaxed search below
+        // counts a texel on the pass that visits it: its long marches are most of its time, and
+        // in such a loop ran 1.3-1.7 times as long (`builtin:MAP@512` with 1, 4 or 16 passes).
+        while (k > 0 && filled != 0u) {
+            bool at_texel = false;
+            int passes = 0;
+            while (!at_texel && filled != 0u && passes++ < 16) {
+                if (++visits > u_node_budget) {
+                    out_of_nodes = true;
+                    break;
+                }
+                pop_next(filled, m, li, lj, pi, pj, q);
+                nbound = node_bound(m, li, lj, children_max(m + 1, pi, pj)[q], px, py, hp, inv_w2, inv_h2);
+                if (nbound * kMargin >= threshold) continue;
+                if (m == 0)
+                    at_texel = true;
+                else
+                    push_children(m, li, lj, px, py, hp, inv_w2, inv_h2, threshold, filled);
+            }
+            if (out_of_nodes) break;
+            if (!at_texel) continue;
+            if (nbound < best) {
+                best = nbound;
+                argmin = uint(li) | (uint(lj) << 16u);
+                k = ratio_steps(best);
+                threshold = steps_squared(k);
+            }
+        }
+    }
+#if PR_CONE_KIND == 1
+    while (relaxed && k > 0 && filled != 0u) {
         if (++visits > u_node_budget) {
             out_of_nodes = true;
             break;
         }
-        uint list = s_list[cur];
-        int q = int((list >> 3u) & 3u);
-        s_list[cur] = ((list & 7u) - 1u) | ((list >> 5u) << 3u);
-        if ((list & 7u) == 1u) filled &= ~(1u << cur);
-        int shift = cur + 1 - m;
-        int pi = li >> shift, pj = lj >> shift;
-        li = 2 * pi + (q & 1);
-        lj = 2 * pj + (q >> 1);
-        m = cur;
-        double nbound = node_bound(m, li, lj, children_max(m + 1, pi, pj)[q], px, py, hp, inv_w2, inv_h2);
+        pop_next(filled, m, li, lj, pi, pj, q);
+        nbound = node_bound(m, li, lj, children_max(m + 1, pi, pj)[q], px, py, hp, inv_w2, inv_h2);
         if (nbound * kMargin >= threshold) continue;
         if (m == 0) {
-            double c = nbound;
-#if PR_CONE_KIND == 1
-            if (relaxed) {
-                c = relaxed_constraint(px, py, signed_offset(li - px, u_size.x), signed_offset(lj - py, u_size.y),
-                                       threshold / kMargin * (1.0lf + 1e-9lf), budget, nbound);
-                if (c < 0.0lf) c = 1e300lf;
-                if (budget <= 0) {
-                    out_of_steps = c;
-                    break;
-                }
+            double c = relaxed_constraint(px, py, signed_offset(li - px, u_size.x), signed_offset(lj - py, u_size.y),
+                                          threshold / kMargin * (1.0lf + 1e-9lf), budget, nbound);
+            if (c < 0.0lf) c = 1e300lf;
+            if (budget <= 0) {
+                out_of_steps = c;
+                break;
             }
-#endif
             if (c < best) {
                 best = c;
                 argmin = uint(li) | (uint(lj) << 16u);
@@ -410,10 +460,9 @@ int search(int px, int py, bool relaxed, int seeding, out bool ran_out_of_nodes,
             }
             continue;
         }
-        uint children = child_list(m, li, lj, px, py, hp, inv_w2, inv_h2, threshold);
-        s_list[m - 1] = children;
-        if ((children & 7u) != 0u) filled |= 1u << (m - 1);
+        push_children(m, li, lj, px, py, hp, inv_w2, inv_h2, threshold, filled);
     }
+#endif
     ran_out_of_nodes = out_of_nodes;
     ran_out_of_steps = out_of_steps >= 0.0lf;
     if (seeding != 0) return k;
