@@ -620,8 +620,7 @@ void for_each_item(const HeightField& field, const MaxPyramid& pyramid, ConeKind
 
 } // namespace
 
-ConeSeeds cone_seeds_cpu(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind,
-                         const ConeBuildOptions& options)
+ConeSeeds cone_seed_grid(const HeightField& field, ConeKind kind)
 {
     ConeSeeds seeds;
     seeds.width = (field.width + kConeSeedSpacing - 1) / kConeSeedSpacing;
@@ -629,31 +628,44 @@ ConeSeeds cone_seeds_cpu(const HeightField& field, const MaxPyramid& pyramid, Co
     const std::size_t count = std::size_t(seeds.width) * std::size_t(seeds.height);
     seeds.texels.assign(count, kNoConeSeed);
     if (kind == ConeKind::Relaxed) seeds.relaxed.assign(count, kNoConeSeed);
+    return seeds;
+}
+
+std::pair<double, double> cone_seed_pass_progress(ConeKind kind, bool relaxed_seeds, bool coarse)
+{
+    constexpr double coarse_part = 1.0 / double(1 << (2 * (kCoarseSeedShift - kSeedShift))); // of a kind's seeds
+    const double all = kind == ConeKind::Relaxed ? 5.0 : 1.0;
+    const double from = (relaxed_seeds ? 1.0 : 0.0) + (coarse ? 0.0 : (relaxed_seeds ? 4.0 : 1.0) * coarse_part);
+    const double share = (relaxed_seeds ? 4.0 : 1.0) * (coarse ? coarse_part : 1.0 - coarse_part);
+    return {from / all, share / all};
+}
+
+ConeSeeds cone_seeds_cpu(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind,
+                         const ConeBuildOptions& options)
+{
+    ConeSeeds seeds = cone_seed_grid(field, kind);
     constexpr int stride = 1 << (kCoarseSeedShift - kSeedShift); // the coarse seeds' spacing on the grid
     const int coarse_rows = (seeds.height + stride - 1) / stride;
     // The cone seeds, then (kind relaxed) the relaxed ones; of each, the coarse seeds (every
     // stride-th seed of every stride-th row) a row at a time, from nothing, then the others from
-    // them. Their shares of the progress: by the searches' count, a relaxed one as 4 cone ones.
-    const double weight = kind == ConeKind::Relaxed ? 5.0 : 1.0;
-    double done = 0.0;
+    // them.
     ConeBuildOptions part = options;
-    const auto next_part = [&](double of) {
-        if (options.progress)
-            part.progress = [&options, from = done, of, weight](double f) { options.progress((from + of * f) / weight); };
-        done += of;
+    const auto pass_progress = [&](bool relaxed, bool coarse) {
+        if (!options.progress) return;
+        const auto [from, share] = cone_seed_pass_progress(kind, relaxed, coarse);
+        part.progress = [&options, from, share](double f) { options.progress(from + share * f); };
     };
     for (const bool relaxed : {false, true}) {
         if (relaxed && kind == ConeKind::Cone) break;
         std::vector<std::uint32_t>& out = relaxed ? seeds.relaxed : seeds.texels;
-        const double of = relaxed ? 4.0 : 1.0;
-        next_part(of / double(stride * stride));
+        pass_progress(relaxed, true);
         for_each_item(field, pyramid, kind, part, nullptr, coarse_rows, [&](Searcher& searcher, int row) {
             const int sy = row * stride;
             for (int sx = 0; sx < seeds.width; sx += stride)
                 out[std::size_t(sy) * std::size_t(seeds.width) + std::size_t(sx)] =
                     searcher.seed_of(sx << kSeedShift, sy << kSeedShift, true, relaxed);
         });
-        next_part(of * (1.0 - 1.0 / double(stride * stride)));
+        pass_progress(relaxed, false);
         for_each_item(field, pyramid, kind, part, &seeds, seeds.height, [&](Searcher& searcher, int sy) {
             for (int sx = 0; sx < seeds.width; ++sx)
                 if (sx % stride != 0 || sy % stride != 0)
@@ -672,12 +684,12 @@ ConeMap build_cone_map_cpu(const HeightField& given, ConeKind kind, const ConeBu
     HeightField rounded;
     const HeightField& field = cone_source_field(given, options.format, rounded);
     const MaxPyramid pyramid = build_max_pyramid(field);
-    // The seeds first, a sixteenth of the searches (their share of the progress).
-    const double share = 1.0 / double(kConeSeedSpacing * kConeSeedSpacing + 1);
+    // The seeds first (their share of the progress: kConeSeedProgress).
     ConeBuildOptions part = options;
-    if (options.progress) part.progress = [&](double f) { options.progress(share * f); };
+    if (options.progress) part.progress = [&](double f) { options.progress(kConeSeedProgress * f); };
     const ConeSeeds seeds = cone_seeds_cpu(field, pyramid, kind, part);
-    if (options.progress) part.progress = [&](double f) { options.progress(share + (1.0 - share) * f); };
+    if (options.progress)
+        part.progress = [&](double f) { options.progress(kConeSeedProgress + (1.0 - kConeSeedProgress) * f); };
     ConeMap map;
     map.width = field.width;
     map.height = field.height;

@@ -176,6 +176,15 @@ struct ConeSeeds {
     std::vector<std::uint32_t> texels;  // per grid texel, row-major: a texel (y * width + x) or kNoConeSeed
     std::vector<std::uint32_t> relaxed; // kind relaxed: the same for the relaxed searches (else empty)
 };
+// The seeds' grid for `field` and a map of `kind`, every seed kNoConeSeed (`relaxed` empty for
+// kind cone).
+ConeSeeds cone_seed_grid(const HeightField& field, ConeKind kind);
+// The seeds' share of a build's progress: they are a sixteenth of the searches.
+inline constexpr double kConeSeedProgress = 1.0 / double(kConeSeedSpacing * kConeSeedSpacing + 1);
+// Where one pass of the seeds' searches starts in their progress (0..1), and its share of it: the
+// cone seeds, then kind relaxed's relaxed seeds; of each, the coarse seeds, then the others. By the
+// searches' count, a relaxed one as four cone ones. Both generators report their passes so.
+std::pair<double, double> cone_seed_pass_progress(ConeKind kind, bool relaxed_seeds, bool coarse);
 // The seeds of `field` (cone_source_field()'s) for a map of `kind` on options.threads threads;
 // options.progress gets the fraction of them done.
 ConeSeeds cone_seeds_cpu(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind,

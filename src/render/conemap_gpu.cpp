@@ -130,10 +130,8 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
     glNamedBufferStorage(resume.id(), GLsizeiptr((1 + capacity * kResumeWords) * sizeof(std::uint32_t)), nullptr,
                          GL_DYNAMIC_STORAGE_BIT);
     // The seeds (maps::cone_seeds_cpu's, found below): the cone seeds, then kind relaxed's relaxed ones.
-    ConeSeeds seeds;
-    seeds.width = (field.width + kConeSeedSpacing - 1) / kConeSeedSpacing;
-    seeds.height = (field.height + kConeSeedSpacing - 1) / kConeSeedSpacing;
-    const std::size_t seed_count = std::size_t(seeds.width) * std::size_t(seeds.height);
+    ConeSeeds seeds = cone_seed_grid(field, kind);
+    const std::size_t seed_count = seeds.texels.size();
     const bool relaxed = kind == ConeKind::Relaxed;
     gl::Buffer seed_buffer = gl::Buffer::create();
     glNamedBufferStorage(seed_buffer.id(), GLsizeiptr((relaxed ? 2 : 1) * seed_count * sizeof(std::uint32_t)), nullptr,
@@ -187,7 +185,6 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
     // from them; a sixteenth of the searches, their share of the progress. On a software renderer
     // the CPU's threads find them (ConeBuildOptions::gpu_seed_pass), else the shader, whose seeds
     // are read back for the CPU's share of the searches below.
-    const double seed_share = 1.0 / double(kConeSeedSpacing * kConeSeedSpacing + 1);
     bool cpu_seeds = options.gpu_seed_pass == ConeBuildOptions::SeedPass::Cpu;
     if (options.gpu_seed_pass == ConeBuildOptions::SeedPass::Auto) {
         const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
@@ -204,7 +201,7 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
     const std::uint32_t row = std::uint32_t(field.width);
     if (cpu_seeds) {
         ConeBuildOptions part = options;
-        if (options.progress) part.progress = [&](double f) { options.progress(seed_share * f); };
+        if (options.progress) part.progress = [&](double f) { options.progress(kConeSeedProgress * f); };
         seeds = cone_seeds_cpu(field, pyramid, kind, part);
         for (const bool of_relaxed : {false, true}) {
             if (of_relaxed && !relaxed) break;
@@ -216,20 +213,17 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
         }
     } else {
         // As the CPU's: the cone seeds, then the relaxed ones; of each, the coarse seeds, then the
-        // others from them. Shares of the progress by the searches' count, a relaxed one as four.
+        // others from them.
         constexpr int stride = 1 << (kCoarseSeedShift - kSeedShift);
         const std::size_t coarse_seeds =
             std::size_t((seeds.width + stride - 1) / stride) * std::size_t((seeds.height + stride - 1) / stride);
-        const double weight = relaxed ? 5.0 : 1.0;
-        double done = 0.0;
         for (const bool of_relaxed : {false, true}) {
             if (of_relaxed && !relaxed) break;
             glProgramUniform1i(p, 74, of_relaxed ? 1 : 0);
             for (const int pass : {2, 1}) {
                 glProgramUniform1i(p, 73, pass);
                 const std::size_t items = pass == 2 ? coarse_seeds : seed_count;
-                const double part = (of_relaxed ? 4.0 : 1.0) *
-                                    (pass == 2 ? 1.0 / double(stride * stride) : 1.0 - 1.0 / double(stride * stride));
+                const auto [from, share] = cone_seed_pass_progress(kind, of_relaxed, pass == 2);
                 for (std::size_t first = 0; first < items;) {
                     if (options.cancel && options.cancel->load(std::memory_order_relaxed)) throw ConeBuildCancelled();
                     const std::size_t count = std::min(chunk, items - first);
@@ -241,19 +235,17 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
                     glFinish();
                     first += count;
                     if (options.progress)
-                        options.progress(seed_share * (done + part * double(first) / double(items)) / weight);
+                        options.progress(kConeSeedProgress * (from + share * double(first) / double(items)));
                     chunk = next_chunk(count,
                                        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
                                        kMaxChunkTexels);
                 }
-                done += part;
             }
         }
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         for (const bool of_relaxed : {false, true}) {
             if (of_relaxed && !relaxed) break;
             std::vector<std::uint32_t>& out = of_relaxed ? seeds.relaxed : seeds.texels;
-            out.resize(seed_count);
             const auto [offset, size] = seed_words(of_relaxed);
             glGetNamedBufferSubData(seed_buffer.id(), offset, size, out.data());
             for (std::uint32_t& t : out)
@@ -323,7 +315,8 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
         restarted_count += again.size();
         cpu_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - cpu_start).count();
         first += count;
-        if (options.progress) options.progress(seed_share + (1.0 - seed_share) * double(first) / double(n));
+        if (options.progress)
+            options.progress(kConeSeedProgress + (1.0 - kConeSeedProgress) * double(first) / double(n));
         // The next one: to take kChunkSeconds at this one's pace, growing at most fourfold, and,
         // where searches ran out of nodes, to about three quarters of the searches b_resume holds
         // at this one's rate (a ramp's second dispatch had four times the first one's texels and

@@ -1203,8 +1203,7 @@ int Viewer::run()
             // Keys tapped in the last frame were held down for it (below): up again before the
             // events, which hold them down anew where they are pressed again.
             ImGuiIO& keys_io = ImGui::GetIO();
-            for (const int key : held_taps_)
-                if (key >= 0 && key < int(IM_ARRAYSIZE(keys_io.KeysDown))) keys_io.KeysDown[key] = false;
+            for (const int key : held_taps_) keys_io.KeysDown[key] = false; // (in range: held below)
             held_taps_.clear();
             window_.poll_events(busy && !(building && o_.frames > 0) ? 0.0 : building ? 0.1 : 0.25);
             poll_cone_job();

@@ -296,6 +296,34 @@ TEST(ConeMap, SeedsAreTheTexelsThatSetTheirCones)
     }
 }
 
+// The seed passes' shares of the seeds' progress, which both generators report by: in their
+// order (cone seeds, then relaxed ones; coarse, then the others), each starting where the one
+// before ended, together the whole, a relaxed search counting as four cone ones.
+TEST(ConeMap, SeedPassesShareTheSeedsProgressInOrder)
+{
+    for (ConeKind kind : {ConeKind::Cone, ConeKind::Relaxed}) {
+        double end = 0.0;
+        for (bool relaxed : {false, true}) {
+            if (relaxed && kind == ConeKind::Cone) break;
+            for (bool coarse : {true, false}) {
+                const auto [from, share] = cone_seed_pass_progress(kind, relaxed, coarse);
+                EXPECT_DOUBLE_EQ(from, end) << relaxed << coarse;
+                EXPECT_GT(share, 0.0);
+                end = from + share;
+            }
+        }
+        EXPECT_DOUBLE_EQ(end, 1.0);
+    }
+    EXPECT_DOUBLE_EQ(cone_seed_pass_progress(ConeKind::Cone, false, true).second, 1.0 / 16.0);
+    EXPECT_DOUBLE_EQ(cone_seed_pass_progress(ConeKind::Relaxed, true, false).second, 4.0 * 15.0 / 16.0 / 5.0);
+    const ConeSeeds grid = cone_seed_grid(random_map(9, 5, 1), ConeKind::Relaxed);
+    EXPECT_EQ(grid.width, 3);
+    EXPECT_EQ(grid.height, 2);
+    EXPECT_EQ(grid.texels, std::vector<std::uint32_t>(6, kNoConeSeed));
+    EXPECT_EQ(grid.relaxed, grid.texels);
+    EXPECT_TRUE(cone_seed_grid(random_map(9, 5, 1), ConeKind::Cone).relaxed.empty());
+}
+
 // An rg8 map stores 8-bit heights (R), and a marcher or any reader of the PNG sees only those: its
 // ratios must be conservative against them, not against the field's 16 bits, which 8-bit rounding
 // can reorder or bring closer (1139 of 4096 texels of builtin:noise@64 had a higher stored texel
