@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -126,9 +127,18 @@ CommandAction add_conemap_command(CLI::App& app)
         bar.clear();
 
         const ConeMap& m = result.map;
-        double sum = 0.0, lo = 1.0, hi = 0.0;
-        for (float r : m.ratios) sum += r, lo = std::min(lo, double(r)), hi = std::max(hi, double(r));
-        const double mean = m.ratios.empty() ? 0.0 : sum / double(m.ratios.size());
+        // Of the ratios as the PNG stores them, G over the format's steps: the map's floats are
+        // those quotients rounded down to float (cone_steps_to_ratio), which reported 96/255 as
+        // 0.37647056 (found by an exploratory session, forty-sixth).
+        const double steps = double(cone_format_steps(options.format));
+        double sum = 0.0, lo = steps, hi = 0.0;
+        for (float r : m.ratios) {
+            const double k = std::round(double(r) * steps);
+            sum += k, lo = std::min(lo, k), hi = std::max(hi, k);
+        }
+        const double mean = m.ratios.empty() ? 0.0 : sum / double(m.ratios.size()) / steps;
+        lo = m.ratios.empty() ? 1.0 : lo / steps;
+        hi /= steps;
         const std::string how = result.from_cache ? "from the cache (" + one_line(result.entry.string()) + ")" : "built (" + device + ")";
         // Both outputs or neither: both are staged before either is renamed into place, so a
         // failure to write either leaves both destinations as they were.

@@ -6,6 +6,11 @@ pr_cli(conemap_cone EXIT 0 EXPECT_FILE c.png STDOUT "c.png: 64x64 cone rg16, bui
        ARGS conemap --height builtin:bumps@64 --out c.png --no-cache --json c.json)
 pr_cli(conemap_relaxed_rg8 EXIT 0 EXPECT_FILE r.png STDOUT "r.png: 48x48 relaxed rg8"
        ARGS conemap --height builtin:boxes@48 --kind relaxed --format rg8 --threads 1 --out r.png --cache-dir cache)
+# --json's ratios are G over the format's steps, as the PNG stores them (81/255 here), not the
+# floats they round down to (0.31764704, found by an exploratory session, forty-sixth).
+pr_cli(conemap_json_ratios_are_the_stored_steps EXIT 0 EXPECT_FILE n.png
+       JSON n.json CHECKS "ratio_min:MATCHES:^0[.]31764705882352|ratio_max:EQUAL:1|ratio_mean:MATCHES:^0[.]54759306"
+       ARGS conemap --height builtin:noise@37 --format rg8 --out n.png --no-cache --json n.json)
 # (OSMesa draws with llvmpipe, where the CPU's threads find the seeds: docs/cone-maps.md, "GPU".)
 pr_cli(conemap_gpu EXIT 0 EXPECT_FILE g.png STDOUT "g.png: 48x48 cone rg16, built \\(gpu"
        JSON g.json CHECKS "backend:STREQUAL:gpu|search_ms:GREATER:0|ms:GREATER:0|search_cpu_ms:GREATER_EQUAL:0|searches_resumed:EQUAL:0|texels_restarted:EQUAL:0|seeds:STREQUAL:cpu|seed_ms:GREATER:0"
