@@ -21,6 +21,21 @@
 
 namespace pr {
 
+namespace {
+
+// A cache entry's absolute path without "." parts (--cache-dir ./cd/ gave "/w/./cd/cone/...";
+// found by an exploratory session, forty-sixth). Not lexically_normal(): ".." past a link to a
+// folder elsewhere is not the folder before the link.
+std::string absolute_entry(const std::filesystem::path& entry)
+{
+    std::filesystem::path tidy;
+    for (const std::filesystem::path& part : std::filesystem::absolute(entry))
+        if (!part.empty() && part != ".") tidy /= part;
+    return tidy.string();
+}
+
+} // namespace
+
 CommandAction add_conemap_command(CLI::App& app)
 {
     struct State {
@@ -154,7 +169,7 @@ CommandAction add_conemap_command(CLI::App& app)
                                            {"from_cache", result.from_cache},
                                            // null without a cache (--no-cache, or no cache location), as search_ms is without a GPU
                                            {"cache_entry", s->no_cache || result.entry.empty() ? nlohmann::json()
-                                                                                              : nlohmann::json(std::filesystem::absolute(result.entry).string())},
+                                                                                              : nlohmann::json(absolute_entry(result.entry))},
                                            {"ms", ms},
                                            // A GPU build only (null otherwise): the dispatches and
                                            // read-back, without creating the context, uploading and
