@@ -31,7 +31,7 @@ pr_cli(conemap_cache_entry_is_absolute EXIT 0 EXPECT_FILE o.png SETUP "mkdir rel
 # ... without "." parts (--cache-dir ./rel2/ gave ".../cli_work/NAME/./rel2/cone/..."; found by an
 # exploratory session, forty-sixth).
 pr_cli(conemap_cache_entry_has_no_dot_parts EXIT 0 EXPECT_FILE o.png
-       JSON j.json CHECKS "cache_entry:MATCHES:^(/([^/.][^/]*|[.][^/]+))+/rel2/cone/cone-rg16-16x16-[0-9a-f]+[.]bin$"
+       JSON j.json CHECKS "cache_entry:MATCHES:^(/[.]?[^/.][^/]*)+/rel2/cone/cone-rg16-16x16-[0-9a-f]+[.]bin$"
        ARGS conemap --height builtin:bumps@16 --out o.png --cache-dir ./rel2/ --json j.json)
 pr_cli(conemap_cache_not_written_has_no_entry EXIT 0 ONE_LINE EXPECT_FILE o.png SETUP "printf x > cfile"
        STDERR "^prismrelief: warning: cone-map cache not written: "
