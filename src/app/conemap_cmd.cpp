@@ -118,7 +118,7 @@ CommandAction add_conemap_command(CLI::App& app)
         std::optional<ConeGpuReport> gpu_report; // a GPU build's
         const ConeBuilder build = [&](const HeightField& f, ConeKind k, const ConeBuildOptions& o) {
             if (!gpu) {
-                const unsigned n = cone_cpu_threads(o, f.height); // (one per row at most)
+                const unsigned n = cone_cpu_threads(o, cone_cpu_items(f.width, f.height));
                 device = "cpu, " + std::to_string(n) + (n == 1 ? " thread" : " threads");
                 return build_cone_map_cpu(f, k, o);
             }

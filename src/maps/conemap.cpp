@@ -550,6 +550,12 @@ private:
 
 } // namespace
 
+int cone_cpu_items(int width, int height)
+{
+    const std::int64_t spans = (std::int64_t(std::max(width, 0)) + kConeSpan - 1) / kConeSpan;
+    return int(std::min<std::int64_t>(spans * std::max(height, 0), std::numeric_limits<int>::max()));
+}
+
 unsigned cone_cpu_threads(const ConeBuildOptions& options, int items)
 {
     const unsigned threads = options.threads > 0 ? unsigned(options.threads) : std::thread::hardware_concurrency();
@@ -618,6 +624,19 @@ void for_each_item(const HeightField& field, const MaxPyramid& pyramid, ConeKind
     if (cancelled()) throw ConeBuildCancelled();
 }
 
+// `per_span(searcher, row, begin, end)` for the items [begin, end) of each of `rows` rows of
+// `length` items, in spans of at most kConeSpan (cone_cpu_items), on options.threads threads.
+template <class PerSpan>
+void for_each_span(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind, const ConeBuildOptions& options,
+                   const ConeSeeds* seeds, int rows, int length, PerSpan per_span)
+{
+    const int spans = std::max(1, (length + kConeSpan - 1) / kConeSpan);
+    for_each_item(field, pyramid, kind, options, seeds, cone_cpu_items(length, rows), [&](Searcher& searcher, int item) {
+        const int begin = (item % spans) * kConeSpan;
+        per_span(searcher, item / spans, begin, std::min(length, begin + kConeSpan));
+    });
+}
+
 } // namespace
 
 ConeSeeds cone_seed_grid(const HeightField& field, ConeKind kind)
@@ -659,19 +678,22 @@ ConeSeeds cone_seeds_cpu(const HeightField& field, const MaxPyramid& pyramid, Co
         if (relaxed && kind == ConeKind::Cone) break;
         std::vector<std::uint32_t>& out = relaxed ? seeds.relaxed : seeds.texels;
         pass_progress(relaxed, true);
-        for_each_item(field, pyramid, kind, part, nullptr, coarse_rows, [&](Searcher& searcher, int row) {
-            const int sy = row * stride;
-            for (int sx = 0; sx < seeds.width; sx += stride)
-                out[std::size_t(sy) * std::size_t(seeds.width) + std::size_t(sx)] =
-                    searcher.seed_of(sx << kSeedShift, sy << kSeedShift, true, relaxed);
-        });
+        const int coarse_columns = (seeds.width + stride - 1) / stride;
+        for_each_span(field, pyramid, kind, part, nullptr, coarse_rows, coarse_columns,
+                      [&](Searcher& searcher, int row, int begin, int end) {
+                          const int sy = row * stride;
+                          for (int sx = begin * stride; sx < end * stride; sx += stride)
+                              out[std::size_t(sy) * std::size_t(seeds.width) + std::size_t(sx)] =
+                                  searcher.seed_of(sx << kSeedShift, sy << kSeedShift, true, relaxed);
+                      });
         pass_progress(relaxed, false);
-        for_each_item(field, pyramid, kind, part, &seeds, seeds.height, [&](Searcher& searcher, int sy) {
-            for (int sx = 0; sx < seeds.width; ++sx)
-                if (sx % stride != 0 || sy % stride != 0)
-                    out[std::size_t(sy) * std::size_t(seeds.width) + std::size_t(sx)] =
-                        searcher.seed_of(sx << kSeedShift, sy << kSeedShift, false, relaxed);
-        });
+        for_each_span(field, pyramid, kind, part, &seeds, seeds.height, seeds.width,
+                      [&](Searcher& searcher, int sy, int begin, int end) {
+                          for (int sx = begin; sx < end; ++sx)
+                              if (sx % stride != 0 || sy % stride != 0)
+                                  out[std::size_t(sy) * std::size_t(seeds.width) + std::size_t(sx)] =
+                                      searcher.seed_of(sx << kSeedShift, sy << kSeedShift, false, relaxed);
+                      });
     }
     return seeds;
 }
@@ -696,12 +718,12 @@ ConeMap build_cone_map_cpu(const HeightField& given, ConeKind kind, const ConeBu
     map.kind = kind;
     map.heights = field.texels;
     map.ratios.assign(field.texels.size(), 0.0f);
-    // A row at a time.
-    for_each_item(field, pyramid, kind, part, &seeds, field.height, [&](Searcher& searcher, int y) {
-        for (int x = 0; x < field.width; ++x)
-            map.ratios[std::size_t(y) * std::size_t(field.width) + std::size_t(x)] =
-                cone_steps_to_ratio(searcher.search(x, y), options.format);
-    });
+    for_each_span(field, pyramid, kind, part, &seeds, field.height, field.width,
+                  [&](Searcher& searcher, int y, int begin, int end) {
+                      for (int x = begin; x < end; ++x)
+                          map.ratios[std::size_t(y) * std::size_t(field.width) + std::size_t(x)] =
+                              cone_steps_to_ratio(searcher.search(x, y), options.format);
+                  });
     if (options.progress) options.progress(1.0);
     return map;
 }

@@ -46,7 +46,7 @@ struct ConeBuildOptions {
     ConeFormat format = ConeFormat::Rg16;
     // Called now and then with the fraction done (0..1), from the calling thread.
     std::function<void(double)> progress;
-    // When set and it turns true, the CPU's threads stop at their next row (the GPU generator
+    // When set and it turns true, the CPU's threads stop at their next span (the GPU generator
     // before its next dispatch) and the build throws ConeBuildCancelled (the viewer's background builds, when the scene changes or
     // the window closes). Nothing is cached then.
     const std::atomic<bool>* cancel = nullptr;
@@ -83,8 +83,14 @@ struct ConeBuildOptions {
     enum class SeedPass { Auto, Cpu, Gpu } gpu_seed_pass = SeedPass::Auto;
 };
 
-// The threads the CPU generator runs for `items` items (build_cone_map_cpu: rows): options.threads,
-// or the machine's with 0, at least 1 and at most one per item.
+// The CPU generator's threads take spans of at most kConeSpan texels of a row, one at a time: a
+// map of a few long rows (16384 x 1) ran on one thread when a row was the unit (found by an
+// exploratory session, forty-sixth). cone_cpu_items: how many spans a width x height map has.
+constexpr int kConeSpan = 256;
+int cone_cpu_items(int width, int height);
+
+// The threads the CPU generator runs for `items` items (build_cone_map_cpu: cone_cpu_items):
+// options.threads, or the machine's with 0, at least 1 and at most one per item.
 unsigned cone_cpu_threads(const ConeBuildOptions& options, int items);
 
 // Thrown by build_cone_map_cpu() and build_cone_map_gpu() when ConeBuildOptions::cancel turned true.
@@ -93,7 +99,8 @@ public:
     ConeBuildCancelled() : std::runtime_error("cone-map build cancelled") {}
 };
 
-// Multi-threaded CPU generator: a row at a time on cone_cpu_threads(options, field.height) threads.
+// Multi-threaded CPU generator: spans of rows (kConeSpan) on
+// cone_cpu_threads(options, cone_cpu_items(field.width, field.height)) threads.
 ConeMap build_cone_map_cpu(const HeightField& field, ConeKind kind, const ConeBuildOptions& options = {});
 
 // Writes R = height, G = ratio as a 2-channel PNG (8 or 16 bits), atomically. Throws pr::Error.

@@ -549,7 +549,7 @@ void Viewer::cancel_cone_job()
 {
     if (!cone_job_) return;
     *cone_job_->cancel = true;
-    cone_job_->maps.wait(); // the generator stops at its next row
+    cone_job_->maps.wait(); // the generator stops at its next span of a row
     cone_job_.reset();
 }
 

@@ -11,6 +11,10 @@ pr_cli(conemap_relaxed_rg8 EXIT 0 EXPECT_FILE r.png STDOUT "r.png: 48x48 relaxed
 pr_cli(conemap_json_ratios_are_the_stored_steps EXIT 0 EXPECT_FILE n.png
        JSON n.json CHECKS "ratio_min:MATCHES:^0[.]31764705882352|ratio_max:EQUAL:1|ratio_mean:MATCHES:^0[.]54759306"
        ARGS conemap --height builtin:noise@37 --format rg8 --out n.png --no-cache --json n.json)
+# A map of one long row is shared among the threads (it took one thread, a row each; found by an
+# exploratory session, forty-sixth).
+pr_cli(conemap_one_row_takes_the_threads EXIT 0 EXPECT_FILE l.png STDOUT "l.png: 2048x1 relaxed rg16, built \\(cpu, 2 threads\\)"
+       ARGS conemap --height builtin:noise@2048x1 --kind relaxed --threads 2 --out l.png --no-cache)
 # (OSMesa draws with llvmpipe, where the CPU's threads find the seeds: docs/cone-maps.md, "GPU".)
 pr_cli(conemap_gpu EXIT 0 EXPECT_FILE g.png STDOUT "g.png: 48x48 cone rg16, built \\(gpu"
        JSON g.json CHECKS "backend:STREQUAL:gpu|search_ms:GREATER:0|ms:GREATER:0|search_cpu_ms:GREATER_EQUAL:0|searches_resumed:EQUAL:0|texels_restarted:EQUAL:0|seeds:STREQUAL:cpu|seed_ms:GREATER:0"

@@ -623,16 +623,34 @@ TEST(ConeMap, RatiosForBilinearAreNoWiderThanAPatchsCorners)
 
 TEST(ConeMap, ThreadCountDoesNotChangeTheMap)
 {
-    const HeightField f = smooth_map(64, 48, 9);
-    for (ConeKind kind : {ConeKind::Cone, ConeKind::Relaxed}) {
-        ConeBuildOptions one, two;
-        one.threads = 1;
-        two.threads = 2;
-        int calls = 0;
-        two.progress = [&](double) { ++calls; };
-        EXPECT_EQ(build_cone_map_cpu(f, kind, one).ratios, build_cone_map_cpu(f, kind, two).ratios);
-        EXPECT_GE(calls, 1);
-    }
+    // (Rows longer than a span, kConeSpan, with a part span at their end, and rows shorter.)
+    for (const HeightField& f : {smooth_map(64, 48, 9), smooth_map(2 * kConeSpan + 37, 3, 4), smooth_map(5, 90, 2)})
+        for (ConeKind kind : {ConeKind::Cone, ConeKind::Relaxed}) {
+            ConeBuildOptions one, two, three;
+            one.threads = 1;
+            two.threads = 2;
+            three.threads = 3;
+            int calls = 0;
+            two.progress = [&](double) { ++calls; };
+            const std::vector<float> ratios = build_cone_map_cpu(f, kind, one).ratios;
+            EXPECT_EQ(ratios, build_cone_map_cpu(f, kind, two).ratios) << f.width << "x" << f.height;
+            EXPECT_EQ(ratios, build_cone_map_cpu(f, kind, three).ratios) << f.width << "x" << f.height;
+            EXPECT_GE(calls, 1);
+        }
+}
+
+// The threads take spans of rows: a map of one long row has work for all of them (it ran on one
+// thread when a row was the unit; found by an exploratory session, forty-sixth).
+TEST(ConeMap, LongRowsAreSharedAmongThreads)
+{
+    EXPECT_EQ(cone_cpu_items(16384, 1), 16384 / kConeSpan);
+    EXPECT_EQ(cone_cpu_items(kConeSpan + 1, 2), 4);
+    EXPECT_EQ(cone_cpu_items(1, 1), 1);
+    EXPECT_EQ(cone_cpu_items(512, 512), 512 * (512 / kConeSpan));
+    ConeBuildOptions o;
+    o.threads = 4;
+    EXPECT_EQ(cone_cpu_threads(o, cone_cpu_items(16384, 1)), 4u);
+    EXPECT_EQ(cone_cpu_threads(o, cone_cpu_items(kConeSpan, 1)), 1u);
 }
 
 // A cancelled build (the viewer's, when the scene changes or the window closes) stops and
