@@ -8,6 +8,7 @@
 #include "maps/conemap.hpp"
 #include "render/reference_geometry.hpp"
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -578,9 +579,12 @@ void check_linear_part(const glm::dmat4& t, const std::string& subject)
     if (glm::determinant(a) == 0.0)
         throw Error(subject, "is singular: it flattens the object (to a plane, a line or a point)");
     const double condition = condition_number(a);
+    // (With 7 digits: a shear of 1000, just over the bound, read "condition number 1e+06, at
+    // most 1e6"; found by an exploratory session, forty-sixth.)
     if (!(condition <= 1e6)) // NaN too
-        throw Error(subject, "is nearly singular: it flattens the object (condition number " +
-                                 number_text(condition) + ", at most 1e6)");
+        throw Error(subject, fmt::format("is nearly singular: it flattens the object (condition number {:.7g}, "
+                                         "more than the 1e6 allowed)",
+                                         condition));
 }
 
 glm::dmat4 json_transform(const json& j, const std::string& where)
@@ -614,6 +618,9 @@ glm::dmat4 json_transform(const json& j, const std::string& where)
     if (j.contains("rotate")) {
         // Degrees about X, then Y, then Z (applied to the object in that order).
         const glm::dvec3 r = json_dvec3(j["rotate"], where + ".rotate");
+        // (As an azimuth is: 1e300 degrees drew at an angle of no meaning; found by an
+        // exploratory session, forty-sixth.)
+        for (int i = 0; i < 3; ++i) finite(r[i], where + ".rotate");
         t = glm::rotate(t, glm::radians(r.z), glm::dvec3(0, 0, 1));
         t = glm::rotate(t, glm::radians(r.y), glm::dvec3(0, 1, 0));
         t = glm::rotate(t, glm::radians(r.x), glm::dvec3(1, 0, 0));

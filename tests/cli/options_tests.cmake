@@ -121,6 +121,17 @@ pr_cli(scene_matrix_nearly_singular EXIT 1 ONE_LINE
        STDERR "${E}.*nearly_singular.json: objects\\[0\\].transform.matrix: is nearly singular"
        NO_FILE o.png ARGS render --scene ${OS}/nearly_singular.json --out o.png)
 pr_scene_refused(scale_thin ", \"transform\": {\"scale\": [1, 1e-9, 1]}}]}" "objects\\[0\\].transform.scale: is nearly singular")
+# Just over the bound, said with the digits that show it (a shear of 1000 read "condition number
+# 1e+06, at most 1e6"; found by an exploratory session, forty-sixth).
+pr_scene_refused(shear_just_over ", \"transform\": {\"matrix\": [1,1000,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]}}]}"
+                 "objects\\[0\\].transform.matrix: is nearly singular: it flattens the object \\(condition number 1000002, more than the 1e6 allowed\\)")
+# A rotation as an azimuth: a float's range (1e300 degrees drew at an angle of no meaning).
+pr_scene_refused(rotate_huge ", \"transform\": {\"rotate\": [1e300, 0, 0]}}]}"
+                 "objects\\[0\\].transform.rotate: must be at most 3.4e38 in magnitude")
+# -0.0 given is reported as 0 (it read -0.0; found by an exploratory session, forty-sixth).
+pr_cli(render_json_minus_zero_depth EXIT 0 JSON z.json EXPECT_FILE z.png
+       CHECKS "objects.0.depth:MATCHES:^0|objects.0.midlevel:MATCHES:^0"
+       ARGS render --mesh ${M}/plane.obj --size 32x32 --depth -0.0 --midlevel -0.0 --out z.png --json z.json)
 # A scale of two numbers: what it takes, a number too (thirty-sixth session: "an array of three").
 pr_scene_refused(scale_two ", \"transform\": {\"scale\": [1, 2]}}]}"
                  "objects\\[0\\].transform.scale: expected a number \\(uniform\\) or an array of three numbers")
