@@ -183,7 +183,7 @@ CommandAction add_bench_command(CLI::App& app)
         if (std::none_of(rows.begin(), rows.end(), [](const BenchRow& row) { return row.drew; }))
             warn_nothing_drawn("bench");
         if (!s->json.empty()) {
-            const nlohmann::json report = {{"results", results},
+            nlohmann::json report = {{"results", results},
                                            {"size", {session.spec.width, session.spec.height}},
                                            {"objects", scene_json(session.scene)},
                                            // (Times depend on the view: the camera makes a run
@@ -192,6 +192,7 @@ CommandAction add_bench_command(CLI::App& app)
                                            {"renderer", session.context->description()},
                                            {"steps", s->quality.steps},
                                            {"refine", s->quality.refine}};
+            report.update(lighting_json(session.light, session.spec.mesh_options));
             write_file_atomic(s->json, report_text(report));
             std::printf("wrote %s\n", one_line(s->json).c_str());
         }

@@ -206,6 +206,17 @@ inline nlohmann::json camera_json(const Camera& c)
             {"fovy", shortest_decimal(c.fovy_deg)}};
 }
 
+// What else the images were drawn with (render, compare, bench): the direction towards the light
+// (unit, in the world: the default one turns with the camera), the scale of generated UVs and
+// whether every mesh's UVs were generated (--generate-uvs). The same scene drawn under another
+// --light or --uv-scale gave the same report (found by an exploratory session, forty-sixth).
+inline nlohmann::json lighting_json(glm::vec3 light, const MeshOptions& mesh)
+{
+    return {{"light", {shortest_decimal(light.x), shortest_decimal(light.y), shortest_decimal(light.z)}},
+            {"uv_scale", float_json(mesh.uv_scale)},
+            {"generate_uvs", mesh.force_generated_uvs}};
+}
+
 // How the reference geometry was built (compare, render --technique reference).
 inline nlohmann::json reference_json(const Renderer::ReferenceStats& r)
 {

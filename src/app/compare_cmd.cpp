@@ -194,7 +194,7 @@ CommandAction add_compare_command(CLI::App& app)
                               silhouette_diff_tile(frame.color, reference.color)});
         }
 
-        const nlohmann::json report = {
+        nlohmann::json report = {
             {"results", results},
             {"reference", [&] {
                  nlohmann::json r = reference_json(ref_stats);
@@ -207,6 +207,7 @@ CommandAction add_compare_command(CLI::App& app)
             {"objects", scene_json(session.scene)},
             {"camera", camera_json(session.camera)},
             {"renderer", session.context->description()}};
+        report.update(lighting_json(session.light, session.spec.mesh_options));
         // Both outputs staged before either replaces a file: a failure leaves both as they were.
         std::optional<StagedFile> grid, json;
         // The tiles first: the grid then takes the images over instead of copying them (a copy of

@@ -114,6 +114,7 @@ CommandAction add_render_command(CLI::App& app)
             report.update(quality_json(settings));
             report.update(prism_configuration(settings));
             report.update(shadows_json(settings));
+            report.update(lighting_json(session.light, session.spec.mesh_options));
             if (settings.technique == Technique::Reference) report["reference"] = reference_json(stats);
             json.emplace(s->json, report_text(report));
         }

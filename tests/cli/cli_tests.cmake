@@ -301,6 +301,18 @@ pr_cli(bench_nothing_in_view EXIT 0 JSON b.json STDOUT "prism +[0-9.]+ +[0-9.]+ 
        CHECKS "${R}.0.fragments:EQUAL:0|${R}.0.samples_per_fragment_mean:TYPE:NULL|${R}.0.samples_per_fragment_p95:TYPE:NULL"
        ARGS bench --mesh ${M}/cube.obj --eye 0,0,50 --target 0,0,100 --size 32x24 --frames 1 --warmup 0
             --techniques prism --json b.json)
+# Reports say the light (unit, towards it) and the UV options the images were drawn with: the same
+# scene under another --light or --uv-scale gave the same report (found by an exploratory
+# session, forty-sixth).
+pr_cli(render_json_has_light_and_uvs EXIT 0 JSON r.json EXPECT_FILE r.png
+       CHECKS "light.0:MATCHES:^0[.]33333|light.1:MATCHES:^0[.]66666|light.2:MATCHES:^0[.]66666|uv_scale:EQUAL:3|generate_uvs:STREQUAL:ON"
+       ARGS render --mesh ${M}/torus.obj --size 32x32 --light 1,2,2 --uv-scale 3 --generate-uvs --out r.png --json r.json)
+pr_cli(compare_json_has_light_and_uvs EXIT 0 JSON c.json EXPECT_FILE g.png
+       CHECKS "light.0:EQUAL:0|light.1:EQUAL:1|light.2:EQUAL:0|uv_scale:EXISTS|generate_uvs:STREQUAL:OFF"
+       ARGS compare --mesh ${M}/torus.obj --size 32x24 --light 0,5,0 --techniques pom --out g.png --json c.json)
+pr_cli(bench_json_has_light_and_uvs EXIT 0 JSON b.json
+       CHECKS "light.0:EQUAL:-1|light.1:EQUAL:0|uv_scale:EXISTS|generate_uvs:STREQUAL:OFF"
+       ARGS bench --mesh ${M}/torus.obj --size 32x24 --frames 1 --warmup 0 --light -2,0,0 --techniques flat --json b.json)
 # The vertex exit's march ends within a shell's thickness past its prism's slab: on the cube,
 # whose corners' frames differ much, 5 % of its fragments ran to the loop's cap of 1025 samples
 # (p95 1025; found by an exploratory session, forty-sixth).
