@@ -184,14 +184,14 @@ CommandAction add_bench_command(CLI::App& app)
             warn_nothing_drawn("bench");
         if (!s->json.empty()) {
             nlohmann::json report = {{"results", results},
-                                           {"size", {session.spec.width, session.spec.height}},
-                                           {"objects", scene_json(session.scene)},
-                                           // (Times depend on the view: the camera makes a run
-                                           // repeatable, as render's and compare's reports do.)
-                                           {"camera", camera_json(session.camera)},
-                                           {"renderer", session.context->description()},
-                                           {"steps", s->quality.steps},
-                                           {"refine", s->quality.refine}};
+                                     {"size", {session.spec.width, session.spec.height}},
+                                     {"objects", scene_json(session.scene)},
+                                     // (Times depend on the view: the camera makes a run
+                                     // repeatable, as render's and compare's reports do.)
+                                     {"camera", camera_json(session.camera)},
+                                     {"renderer", session.context->description()},
+                                     {"steps", s->quality.steps},
+                                     {"refine", s->quality.refine}};
             report.update(lighting_json(session.light, session.spec.mesh_options));
             write_file_atomic(s->json, report_text(report));
             std::printf("wrote %s\n", one_line(s->json).c_str());
