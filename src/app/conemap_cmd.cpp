@@ -14,7 +14,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -148,7 +147,7 @@ CommandAction add_conemap_command(CLI::App& app)
         const double steps = double(cone_format_steps(options.format));
         double sum = 0.0, lo = steps, hi = 0.0;
         for (float r : m.ratios) {
-            const double k = std::round(double(r) * steps);
+            const double k = double(cone_ratio_to_steps(r, options.format));
             sum += k, lo = std::min(lo, k), hi = std::max(hi, k);
         }
         const double mean = m.ratios.empty() ? 0.0 : sum / double(m.ratios.size()) / steps;

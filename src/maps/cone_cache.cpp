@@ -28,7 +28,6 @@
 #include <cerrno>
 #include <charconv>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -77,11 +76,10 @@ T get(const std::vector<std::uint8_t>& in, std::size_t at)
 std::vector<std::uint8_t> serialize(const ConeMap& map, ConeFormat format, std::uint64_t key)
 {
     const std::size_t n = map.heights.size();
-    const int steps = cone_format_steps(format);
     std::vector<std::uint8_t> payload;
     payload.reserve(n * 6);
     for (float h : map.heights) put(payload, h);
-    for (float r : map.ratios) put(payload, std::uint16_t(std::lround(double(r) * steps)));
+    for (float r : map.ratios) put(payload, std::uint16_t(cone_ratio_to_steps(r, format)));
     Fnv sum;
     sum.add(payload.data(), payload.size());
     std::vector<std::uint8_t> out(kMagic, kMagic + 8);

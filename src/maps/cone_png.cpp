@@ -71,7 +71,6 @@ std::vector<std::uint8_t> encode(const ConeMap& map, ConeFormat format)
 {
     const int bytes_per_sample = format == ConeFormat::Rg8 ? 1 : 2;
     const int bpp = 3 * bytes_per_sample; // bytes per pixel
-    const int steps = cone_format_steps(format);
     const std::size_t stride = std::size_t(map.width) * std::size_t(bpp);
     // Raw rows, top row first.
     std::vector<std::uint8_t> raw(stride * std::size_t(map.height));
@@ -80,8 +79,7 @@ std::vector<std::uint8_t> encode(const ConeMap& map, ConeFormat format)
         for (int x = 0; x < map.width; ++x) {
             const std::size_t i = std::size_t(y) * std::size_t(map.width) + std::size_t(x);
             const std::uint32_t h = cone_height_steps(map.heights[i], format);
-            const auto r = std::uint32_t(std::lround(std::clamp(map.ratios[i], 0.0f, 1.0f) * double(steps)));
-            const std::uint32_t v[3] = {h, r, 0};
+            const std::uint32_t v[3] = {h, cone_ratio_to_steps(map.ratios[i], format), 0};
             for (int c = 0; c < 3; ++c) {
                 if (bytes_per_sample == 1) {
                     row[x * bpp + c] = std::uint8_t(v[c]);

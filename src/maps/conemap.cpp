@@ -107,6 +107,11 @@ float cone_steps_to_ratio(int k, ConeFormat format)
     return r;
 }
 
+std::uint32_t cone_ratio_to_steps(float ratio, ConeFormat format)
+{
+    return std::uint32_t(std::lround(std::clamp(ratio, 0.0f, 1.0f) * double(cone_format_steps(format))));
+}
+
 const std::vector<float>& cone_ratio_table(ConeFormat format)
 {
     const auto make = [](ConeFormat f) {

@@ -137,6 +137,8 @@ const HeightField& cone_source_field(const HeightField& field, ConeFormat format
 int cone_ratio_steps(double c, ConeFormat format);
 // k / steps as the largest float not above the exact quotient.
 float cone_steps_to_ratio(int k, ConeFormat format);
+// The other way: the step k a stored ratio stands for (the PNG's G channel), r clamped to [0,1].
+std::uint32_t cone_ratio_to_steps(float ratio, ConeFormat format);
 // cone_steps_to_ratio(k, format) for every k in [0, steps], built once per process: whole maps
 // (the GPU builder's steps, a cache entry, a PNG) convert through it, a lookup per texel instead
 // of a division and a check (a 1024² cache read: 89 -> 85 ms).

@@ -741,6 +741,17 @@ TEST(ConeMap, CacheDropsTheLeastRecentlyUsedEntriesBeyondItsBound)
     EXPECT_EQ(cone_cache_max_bytes(), std::uint64_t(2048) << 20);
 }
 
+// A stored ratio's step, as the PNG, the cache and conemap --json take it: every step of either
+// format comes back from its float, and ratios outside [0, 1] are clamped.
+TEST(ConeMap, RatioStepsComeBackFromTheirFloats)
+{
+    for (ConeFormat format : {ConeFormat::Rg8, ConeFormat::Rg16})
+        for (int k = 0; k <= cone_format_steps(format); ++k)
+            ASSERT_EQ(cone_ratio_to_steps(cone_steps_to_ratio(k, format), format), std::uint32_t(k)) << k;
+    EXPECT_EQ(cone_ratio_to_steps(1.5f, ConeFormat::Rg8), 255u);
+    EXPECT_EQ(cone_ratio_to_steps(-0.5f, ConeFormat::Rg16), 0u);
+}
+
 TEST(ConeMap, PngRoundTrip)
 {
     prtest::TempDir dir;
