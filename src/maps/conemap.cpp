@@ -635,7 +635,7 @@ template <class PerSpan>
 void for_each_span(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind, const ConeBuildOptions& options,
                    const ConeSeeds* seeds, int rows, int length, PerSpan per_span)
 {
-    const int spans = std::max(1, (length + kConeSpan - 1) / kConeSpan);
+    const int spans = cone_cpu_items(length, 1); // per row
     for_each_item(field, pyramid, kind, options, seeds, cone_cpu_items(length, rows), [&](Searcher& searcher, int item) {
         const int begin = (item % spans) * kConeSpan;
         per_span(searcher, item / spans, begin, std::min(length, begin + kConeSpan));
@@ -670,6 +670,7 @@ ConeSeeds cone_seeds_cpu(const HeightField& field, const MaxPyramid& pyramid, Co
     ConeSeeds seeds = cone_seed_grid(field, kind);
     constexpr int stride = 1 << (kCoarseSeedShift - kSeedShift); // the coarse seeds' spacing on the grid
     const int coarse_rows = (seeds.height + stride - 1) / stride;
+    const int coarse_columns = (seeds.width + stride - 1) / stride;
     // The cone seeds, then (kind relaxed) the relaxed ones; of each, the coarse seeds (every
     // stride-th seed of every stride-th row) a row at a time, from nothing, then the others from
     // them.
@@ -683,7 +684,6 @@ ConeSeeds cone_seeds_cpu(const HeightField& field, const MaxPyramid& pyramid, Co
         if (relaxed && kind == ConeKind::Cone) break;
         std::vector<std::uint32_t>& out = relaxed ? seeds.relaxed : seeds.texels;
         pass_progress(relaxed, true);
-        const int coarse_columns = (seeds.width + stride - 1) / stride;
         for_each_span(field, pyramid, kind, part, nullptr, coarse_rows, coarse_columns,
                       [&](Searcher& searcher, int row, int begin, int end) {
                           const int sy = row * stride;
