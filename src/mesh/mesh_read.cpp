@@ -1022,6 +1022,9 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
             long long count = -1;
             if (n != 3 || !parse_int(tok[2], count) || count < 0 || count > 0xffffffffLL)
                 fail(subject, where + "malformed element line");
+            if (tok[1] == "vertex" || tok[1] == "face")
+                for (const PlyElement& el : elements)
+                    if (el.name == tok[1]) fail(subject, where + "element '" + string(tok[1]) + "' declared twice");
             elements.push_back({string(tok[1]), static_cast<unsigned long long>(count), {}});
         } else if (tok[0] == "property") {
             if (elements.empty()) fail(subject, where + "property before any element");
@@ -1041,6 +1044,11 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
             }
             if (p.size == 0 || (tok[1] == "list" && p.count_size == 0))
                 fail(subject, where + "malformed or unknown property type");
+            // (OpenMesh's reader then failed without saying why: found by an exploratory session.)
+            for (const PlyProperty& q : elements.back().properties)
+                if (q.name == p.name)
+                    fail(subject, where + "element '" + elements.back().name + "' declares property '" + p.name +
+                                      "' twice");
             elements.back().properties.push_back(p);
         } else {
             fail(subject, where + "unexpected header line " + shown(line));

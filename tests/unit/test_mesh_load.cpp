@@ -1393,6 +1393,52 @@ TEST(MeshLoad, PlyLayoutsTheReaderMisreadsAreRefused)
     EXPECT_TRUE(prtest::contains(edge.what(), "PLY element 'edge' has a list property 'verts'")) << edge.what();
 }
 
+// A property declared twice in an element, or a second vertex or face element, is named (OpenMesh's
+// reader failed on both without saying why: "could not be read as ply (the reader reported a
+// failure)"; found by an exploratory session, forty-seventh).
+TEST(MeshLoad, PlyHeadersDeclaringSomethingTwiceAreNamed)
+{
+    TempDir dir;
+    const std::string xyz = "property float x\nproperty float y\nproperty float z\n";
+    const std::string face = "element face 1\nproperty list uchar int vertex_indices\n";
+    const std::string data = "0 0 0\n1 0 0\n0 1 0\n";
+    const fs::path property = dir.write("property.ply", "ply\nformat ascii 1.0\nelement vertex 3\n" + xyz +
+                                                            "property float x\n" + face + "end_header\n" + data +
+                                                            "3 0 1 2\n");
+    EXPECT_ERROR_MENTIONS(load_error(property), property, "line 7: element 'vertex' declares property 'x' twice");
+    const fs::path vertex = dir.write("vertex.ply", "ply\nformat ascii 1.0\nelement vertex 3\n" + xyz +
+                                                        "element vertex 3\n" + xyz + face + "end_header\n" + data +
+                                                        data + "3 0 1 2\n");
+    EXPECT_ERROR_MENTIONS(load_error(vertex), vertex, "line 7: element 'vertex' declared twice");
+    const fs::path faces = dir.write("faces.ply", "ply\nformat ascii 1.0\nelement vertex 3\n" + xyz + face + face +
+                                                      "end_header\n" + data + "3 0 1 2\n3 0 1 2\n");
+    EXPECT_ERROR_MENTIONS(load_error(faces), faces, "line 9: element 'face' declared twice");
+    // A property of the same name in two elements is no repetition.
+    const pr::PreparedMesh m = pr::load_mesh(dir.write("apart.ply", "ply\nformat ascii 1.0\nelement vertex 3\n" + xyz +
+                                                                        "property uchar flags\n" + face +
+                                                                        "property uchar flags\nend_header\n"
+                                                                        "0 0 0 1\n1 0 0 1\n0 1 0 1\n3 0 1 2 1\n"));
+    EXPECT_EQ(m.triangle_count(), 1u);
+}
+
+// An OBJ face with a vt at some corners only gets generated UVs, and the warning says so for the
+// file's one face (docs/mesh-input.md said it read "no texture coordinates").
+TEST(MeshLoad, ObjFaceWithoutAVtAtACornerIsSaid)
+{
+    TempDir dir;
+    const fs::path p = dir.write("partial.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
+                                                "f 1/1 2 3/3 4/3\n");
+    ::testing::internal::CaptureStderr();
+    const pr::PreparedMesh m = pr::load_mesh(p);
+    const std::string warnings = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(warnings.find("its face has no usable texture coordinates (one at every corner); generated "
+                            "box-projected UVs"),
+              std::string::npos)
+        << warnings;
+    EXPECT_FALSE(m.had_uvs);
+    EXPECT_EQ(m.triangle_count(), 2u);
+}
+
 // A UTF-8 byte-order mark before any text format, and comments after an OBJ line's values, are
 // read past (they were refused: "does not start with 'ply'", "malformed face corner '#'", ...).
 TEST(MeshLoad, ByteOrderMarksAndTrailingCommentsAreReadPast)
