@@ -229,20 +229,40 @@ WalkLimit walk_prism_limit(const std::vector<MeshVertex>& vertices, const std::v
     const std::uint32_t most = around.empty() ? 0 : *std::max_element(around.begin(), around.end());
     w.most_around = most;
     double limit = 256.0 + 2.0 * double(std::min<std::uint32_t>(most, kWalkMostAround));
+    // A walk goes from prism to neighbouring prism, so it stays within one piece of the mesh (its
+    // triangles joined by shared positions): its path is bounded by the largest piece's size, not
+    // the whole mesh's (two cubes 2 units wide, 2e5 apart in one file, read "may cross up to about
+    // 141423 prisms"; found by an exploratory session, forty-seventh).
+    std::vector<std::uint32_t> piece(around.size());
+    std::iota(piece.begin(), piece.end(), 0u);
+    const auto root = [&](std::uint32_t a) {
+        while (piece[a] != a) a = piece[a] = piece[piece[a]];
+        return a;
+    };
+    for (std::size_t t = 0; t + 2 < indices.size(); t += 3)
+        for (int k = 1; k < 3; ++k) {
+            const std::uint32_t a = root(vertices[indices[t]].weld_id), b = root(vertices[indices[t + std::size_t(k)]].weld_id);
+            if (a != b) piece[std::max(a, b)] = std::min(a, b);
+        }
+    std::vector<glm::dvec3> lo(around.size(), glm::dvec3(std::numeric_limits<double>::max()));
+    std::vector<glm::dvec3> hi(around.size(), glm::dvec3(-std::numeric_limits<double>::max()));
     std::vector<double> altitudes;
     altitudes.reserve(indices.size() / 3);
-    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
     for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
         glm::dvec3 p[3];
+        const std::uint32_t r = root(vertices[indices[t]].weld_id);
         for (int k = 0; k < 3; ++k) {
             p[k] = glm::dvec3(transform * glm::vec4(vertices[indices[t + std::size_t(k)]].position, 1.0f));
-            lo = glm::min(lo, p[k]);
-            hi = glm::max(hi, p[k]);
+            lo[r] = glm::min(lo[r], p[k]);
+            hi[r] = glm::max(hi[r], p[k]);
         }
         const double longest = std::max({glm::length(p[1] - p[0]), glm::length(p[2] - p[1]), glm::length(p[0] - p[2])});
         const double twice_area = glm::length(glm::cross(p[1] - p[0], p[2] - p[0]));
         if (longest > 0.0 && twice_area > 0.0) altitudes.push_back(twice_area / longest);
     }
+    double across = 0.0; // the largest piece's diagonal
+    for (std::size_t r = 0; r < around.size(); ++r)
+        if (piece[r] == r && lo[r].x <= hi[r].x) across = std::max(across, glm::length(hi[r] - lo[r]));
     if (altitudes.empty() || !(depth > 0.0f)) {
         w.prisms = int(limit);
         return w;
@@ -250,7 +270,7 @@ WalkLimit walk_prism_limit(const std::vector<MeshVertex>& vertices, const std::v
     const std::size_t at = altitudes.size() / 20;
     std::nth_element(altitudes.begin(), altitudes.begin() + std::ptrdiff_t(at), altitudes.end());
     const double narrow = altitudes[at];
-    const double crossed = (glm::length(hi - lo) + 2.0 * double(depth)) / narrow;
+    const double crossed = (across + 2.0 * double(depth)) / narrow;
     if (std::isfinite(crossed)) {
         w.crossed = crossed;
         limit = std::max(limit, std::min(2.0 * crossed, kWalkCap));
@@ -1494,12 +1514,26 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     // no thickness at any depth (the rock at depth 1e-3: 10 pinholes at 256x192, IoU 0.9987, and
     // at the default depth too; found by an exploratory session). The reach is the height range's
     // furthest texel from the midlevel.
-    const auto flat_shell = [&](const GpuObject& o) {
+    const auto shell_reach = [](const GpuObject& o) {
         const double m = double(o.midlevel);
         const double surface = std::max(std::abs(double(o.height_low) - m), std::abs(double(o.height_high) - m));
-        const double reach = std::min(double(displacement_reach(o.depth, o.midlevel)), double(o.depth) * surface);
-        return prism && reach <= 1e-6 * double(o.shell_radius);
+        return std::min(double(displacement_reach(o.depth, o.midlevel)), double(o.depth) * surface);
     };
+    const auto flat_shell = [&](const GpuObject& o) { return prism && shell_reach(o) <= 1e-6 * double(o.shell_radius); };
+    // Said, once an upload, where a displacement was asked for and is lost so: one file of pieces
+    // far apart has one frame, whose size sets the bound (two cubes 2 units wide, 2e5 apart, at
+    // --depth 0.09: their bumps were drawn flat without a word; found by an exploratory session,
+    // forty-seventh). docs/prism.md, "Known limits".
+    for (GpuObject& o : objects_)
+        if (flat_shell(o) && shell_reach(o) > 0.0 && !o.thin_shell_said) {
+            o.thin_shell_said = true;
+            char reach[32], radius[32];
+            std::snprintf(reach, sizeof reach, "%.3g", shell_reach(o));
+            std::snprintf(radius, sizeof radius, "%.3g", double(o.shell_radius));
+            warn(o.name + ": its displacement reaches " + reach + ", under a millionth of its size (radius " + radius +
+                 "), too thin a shell for the prism's single precision: it draws the base mesh; pieces of one file "
+                 "far apart share its size: give each an object of its own (a scene file)");
+        }
     DrawSettings flat_settings = settings;
     flat_settings.technique = Technique::Reference;
     flat_settings.shadows = Shadows::None;

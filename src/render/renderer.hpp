@@ -279,6 +279,7 @@ private:
         float depth = 0.0f;
         float midlevel = 0.0f;
         float shell_radius = 0.0f; // of the sphere around its displacement shell (Scene::object_bounds)
+        bool thin_shell_said = false; // the prism's warning that its shell is too thin (draw)
         glm::dvec3 shell_center{0.0}; // world space
         // The object's own frame: world positions less `origin` (its transform's translation,
         // in double), which the shaders and the walk's data work in, with the camera brought to
