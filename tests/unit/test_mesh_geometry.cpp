@@ -402,11 +402,6 @@ TEST(MeshUv, SmallChartsJoinTheirNeighbours)
     }
 }
 
-// On the bundled blob (no UVs), the charts' ragged edges and islands are tidied: fewer seams
-// (470 edges by the dominant axis alone), and every triangle projected along one of the six box
-// directions no more than 60° from its own normal (at most 2× stretch). Judged by the corners'
-// summed welded normals until the thirty-sixth session: 331 seams, but at a sharp edge a face
-// took an axis in its own plane (below: GeneratedUvsOfAWedgeHaveArea).
 // The charts do not depend on the order of the file's faces: the tidying visits faces by where
 // they are (the blob with its faces shuffled had other charts: 63 pixels of a checker on it, 300
 // of the reference's picture; found by an exploratory session, forty-seventh).
@@ -443,6 +438,11 @@ TEST(MeshUv, GeneratedChartsDoNotDependOnTheFacesOrder)
     EXPECT_EQ(pr::edge_adjacency(a.vertices, a.indices).seam_edges, pr::edge_adjacency(b.vertices, b.indices).seam_edges);
 }
 
+// On the bundled blob (no UVs), the charts' ragged edges and islands are tidied: fewer seams
+// (470 edges by the dominant axis alone), and every triangle projected along one of the six box
+// directions no more than 60° from its own normal (at most 2× stretch). Judged by the corners'
+// summed welded normals until the thirty-sixth session: 331 seams, but at a sharp edge a face
+// took an axis in its own plane (below: GeneratedUvsOfAWedgeHaveArea).
 TEST(MeshUv, GeneratedChartsOfTheBlobAreTidy)
 {
     const pr::PreparedMesh m = pr::load_mesh(kMeshes / "blob.off");
