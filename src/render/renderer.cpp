@@ -1531,8 +1531,8 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
             std::snprintf(reach, sizeof reach, "%.3g", shell_reach(o));
             std::snprintf(radius, sizeof radius, "%.3g", double(o.shell_radius));
             warn(o.name + ": its displacement reaches " + reach + ", under a millionth of its size (radius " + radius +
-                 "), too thin a shell for the prism's single precision: it draws the base mesh; pieces of one file "
-                 "far apart share its size: give each an object of its own (a scene file)");
+                 "): too thin a shell for the prism's single precision, so it draws the base mesh (where a file's "
+                 "pieces lie far apart, an object of its own for each, in a scene file, helps)");
         }
     DrawSettings flat_settings = settings;
     flat_settings.technique = Technique::Reference;

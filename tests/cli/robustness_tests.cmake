@@ -466,10 +466,10 @@ pr_cli_special(prism_walk_narrow_triangles_said EXIT 0 EXPECT_FILE o.png
 # of the file's size, too thin a shell for the prism's single precision, and it drew them flat
 # without a word, while its walk's estimate took the whole file's size for a ray's path and warned
 # of narrow triangles (about 141,000 prisms; found by an exploratory session, forty-seventh). Now
-# the one line says why the relief is gone and what helps ('.' for ';': CMake splits lists there).
+# the one line says why the relief is gone and what helps.
 pr_cli_special(prism_shell_too_thin_for_the_file_said EXIT 0 EXPECT_FILE o.png ONE_LINE
                SETUP "printf 'v 100000 0 0\\nv 100002 0 0\\nv 100000 2 0\\nv -100000 0 0\\nv -99998 0 0\\nv -100000 2 0\\nvt 0 0\\nvt 1 0\\nvt 0 1\\nf 1/1 2/2 3/3\\nf 4/1 5/2 6/3\\n' > two.obj"
-               STDERR "^prismrelief: warning: two.obj: its displacement reaches 0.0[0-9]+, under a millionth of its size \\(radius 1e\\+05\\), too thin a shell for the prism's single precision: it draws the base mesh. pieces of one file far apart share its size: give each an object of its own \\(a scene file\\)"
+               STDERR "^prismrelief: warning: two.obj: its displacement reaches 0.0[0-9]+, under a millionth of its size \\(radius 1e\\+05\\): too thin a shell for the prism's single precision, so it draws the base mesh \\(where a file's pieces lie far apart, an object of its own for each, in a scene file, helps\\)"
                ARGS render --mesh two.obj --depth 0.05 --eye 100001,1,3 --target 100001,1,0 --technique prism
                     --size 16x16 --no-cache --out o.png)
 pr_cli(depth_past_float_range EXIT 1 ONE_LINE NO_FILE o.png
