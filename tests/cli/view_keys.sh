@@ -491,7 +491,9 @@ tab)
 summary)
     # The --frames summary gives the draws of the technique it names: after 6 (relief) it gave the
     # median of flat's draws and relief's under relief's name (found by an exploratory session,
-    # thirty-eighth). Relief's draws take several times flat's.
+    # thirty-eighth). Relief's draws take two to three times flat's at this size; counted with
+    # flat's, the median fell among them (about flat's own). Over 1.4 times, not 2: an ASan
+    # build on a loaded machine measured 1.9 (forty-seventh session), and the defect gives about 1.
     start_view $TORUS --technique flat --frames 100000
     sleep 2
     quit_quietly
@@ -503,8 +505,8 @@ summary)
     quit_quietly
     relief_ms=$(sed -n 's/.* relief draw \([0-9.]*\) ms median.*/\1/p' view.out)
     [ -n "$relief_ms" ] && [ -n "$flat_ms" ] || fail "no summary: $(cat view.out)"
-    awk -v f="$flat_ms" -v r="$relief_ms" 'BEGIN { exit !(r > 2 * f) }' ||
-        fail "relief's median ($relief_ms ms) is not over twice flat's ($flat_ms ms): flat's draws were counted"
+    awk -v f="$flat_ms" -v r="$relief_ms" 'BEGIN { exit !(r > 1.4 * f) }' ||
+        fail "relief's median ($relief_ms ms) is not over 1.4 times flat's ($flat_ms ms): flat's draws were counted"
     echo "flat $flat_ms ms, relief $relief_ms ms"
     ;;
 divider)
