@@ -1383,7 +1383,11 @@ int Viewer::run()
             std::printf("view: %d frame%s at %dx%d:", counted_, counted_ == 1 ? "" : "s", compositor_->width(), compositor_->height());
             for (int k = 0; k < (split_ ? 2 : 1); ++k) {
                 const std::string name = display_name(half_[k]);
+                // (With how many draws: the median of a technique switched to is of its own draws
+                // only, which a test checks by the count, not by the times.)
                 std::printf(" %s draw %s", name.c_str(), ms_text(stats_[k].draws).c_str());
+                if (!stats_[k].draws.empty())
+                    std::printf(" of %zu draw%s", stats_[k].draws.size(), stats_[k].draws.size() == 1 ? "" : "s");
                 if (stats_[k].prisms_per_fragment >= 0.0)
                     std::printf(" (%.2f samples/fragment, %.2f prisms/fragment)", stats_[k].samples_per_fragment,
                                 stats_[k].prisms_per_fragment);

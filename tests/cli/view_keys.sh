@@ -491,23 +491,21 @@ tab)
 summary)
     # The --frames summary gives the draws of the technique it names: after 6 (relief) it gave the
     # median of flat's draws and relief's under relief's name (found by an exploratory session,
-    # thirty-eighth). Relief's draws take two to three times flat's at this size; counted with
-    # flat's, the median fell among them (about flat's own). Over 1.4 times, not 2: an ASan
-    # build on a loaded machine measured 1.9 (forty-seventh session), and the defect gives about 1.
-    start_view $TORUS --technique flat --frames 100000
-    sleep 2
-    quit_quietly
-    flat_ms=$(sed -n 's/.* flat draw \([0-9.]*\) ms median.*/\1/p' view.out)
+    # thirty-eighth). Two seconds of flat, then one of relief: relief's median is of its own
+    # draws, well under three quarters of the frames. (Until the forty-seventh session this asked
+    # relief's median for twice flat's: an ASan build measured 1.4 times, the draws' own code
+    # there weighing more than the shaders'.)
     start_view $TORUS --technique flat --frames 100000
     sleep 2
     press 6
     sleep 1
     quit_quietly
-    relief_ms=$(sed -n 's/.* relief draw \([0-9.]*\) ms median.*/\1/p' view.out)
-    [ -n "$relief_ms" ] && [ -n "$flat_ms" ] || fail "no summary: $(cat view.out)"
-    awk -v f="$flat_ms" -v r="$relief_ms" 'BEGIN { exit !(r > 1.4 * f) }' ||
-        fail "relief's median ($relief_ms ms) is not over 1.4 times flat's ($flat_ms ms): flat's draws were counted"
-    echo "flat $flat_ms ms, relief $relief_ms ms"
+    frames=$(sed -n 's/^view: \([0-9]*\) frames at .*/\1/p' view.out)
+    relief_draws=$(sed -n 's/.* relief draw [0-9.]* ms median of \([0-9]*\) draws.*/\1/p' view.out)
+    [ -n "$frames" ] && [ -n "$relief_draws" ] || fail "no summary: $(cat view.out)"
+    [ "$relief_draws" -gt 0 ] && [ $((4 * relief_draws)) -lt $((3 * frames)) ] ||
+        fail "relief's median is of $relief_draws draws of $frames frames: flat's draws were counted"
+    echo "relief: $relief_draws draws of $frames frames"
     ;;
 divider)
     # Keys act on the half under the cursor: the divider at 0.4 of 201 columns (80.4) draws the

@@ -123,7 +123,7 @@ elseif(CASE STREQUAL "split")
     endif()
     # The walk's half says how many prisms its rays cross, as bench's ppf_mean; pom's does not.
     expect_match("${view_out}"
-                 "pom draw [0-9.]+ ms median \\([0-9.]+ samples/fragment\\); prism:relief draw [0-9.]+ ms median \\([0-9.]+ samples/fragment, [1-9][0-9.]* prisms/fragment\\)"
+                 "pom draw [0-9.]+ ms median of [0-9]+ draws? \\([0-9.]+ samples/fragment\\); prism:relief draw [0-9.]+ ms median of [0-9]+ draws? \\([0-9.]+ samples/fragment, [1-9][0-9.]* prisms/fragment\\)"
                  "the summary does not give the walk's prisms per fragment")
     run_render(${torus} --technique pom --out pom.png)
     run_render(${torus} --technique prism --out prism.png)
@@ -237,7 +237,7 @@ elseif(CASE STREQUAL "cone_build")
     # The frames drawn with relief meanwhile do not count towards --frames: four frames of the
     # technique follow the build, and the first of them counts samples as a first frame does (the
     # summary timed the technique's first draw alone, its shaders' compile, and counted nothing).
-    string(REGEX MATCH "view: 4 frames at 160x120: relaxed-cone draw [0-9.]+ ms median \\(([0-9.]+) samples/fragment\\)"
+    string(REGEX MATCH "view: 4 frames at 160x120: relaxed-cone draw [0-9.]+ ms median of [0-9]+ draws? \\(([0-9.]+) samples/fragment\\)"
            built_summary "${view_out}")
     if(NOT built_summary)
         message(FATAL_ERROR "after the build the summary is not four frames of relaxed-cone with samples:\n${view_out}")
