@@ -1392,25 +1392,19 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         }
         fsum = {};
         // The faces by where they are: the mean of each one's distinct corners, then its normal
-        // (then its number, for faces alike in both: none in a file of distinct faces).
+        // (then its number, for faces alike in both: none in a file of distinct faces). A face's
+        // triangles lie together in `tris`, faces in order (made so above, and only ever removed).
         std::vector<dvec3> centre(face_count, dvec3(0.0));
-        {
-            std::vector<uint32_t> corners_of; // (weld ids, the face's triangles' corners in a row)
-            std::vector<uint32_t> face_tris(face_count + 1, 0);
-            for (const Triangle& t : tris) ++face_tris[t.face + 1];
-            for (size_t f = 0; f < face_count; ++f) face_tris[f + 1] += face_tris[f];
-            corners_of.resize(3 * tris.size());
-            std::vector<uint32_t> fill(face_tris.begin(), face_tris.end() - 1);
-            for (const Triangle& t : tris)
-                for (int k = 0; k < 3; ++k) corners_of[3 * std::size_t(fill[t.face]) + std::size_t(k)] = tri_weld(t, k);
-            for (size_t f = 0; f < face_count; ++f) {
-                const auto first = corners_of.begin() + std::ptrdiff_t(3 * face_tris[f]);
-                const auto last = corners_of.begin() + std::ptrdiff_t(3 * face_tris[f + 1]);
-                std::sort(first, last);
-                const auto end = std::unique(first, last);
-                for (auto it = first; it != end; ++it) centre[f] += wpos[*it];
-                if (end != first) centre[f] /= double(end - first);
-            }
+        std::vector<uint32_t> corners; // the welds of one face's triangles
+        for (size_t i = 0; i < tris.size();) {
+            const uint32_t f = tris[i].face;
+            corners.clear();
+            for (; i < tris.size() && tris[i].face == f; ++i)
+                for (int k = 0; k < 3; ++k) corners.push_back(tri_weld(tris[i], k));
+            std::sort(corners.begin(), corners.end());
+            const auto end = std::unique(corners.begin(), corners.end());
+            for (auto it = corners.begin(); it != end; ++it) centre[f] += wpos[*it];
+            centre[f] /= double(end - corners.begin());
         }
         std::vector<uint32_t> order(face_count);
         std::iota(order.begin(), order.end(), 0u);
