@@ -68,6 +68,13 @@ layout(location = 74) uniform int u_seed_relaxed; // 1: the seed passes find the
 // u_size.y even; u_first a multiple of 2 u_size.x), 0: in rows. Neighbours search alike, and
 // llvmpipe runs eight lanes at a time until the longest search of the eight ends.
 layout(location = 75) uniform int u_blocks;
+// The texel dispatches' pieces (pairs of rows with u_blocks, else runs of 64 texels) go to the
+// groups in the order piece * u_spread modulo the dispatch's whole pieces (u_spread coprime to
+// their count; 1: in order). llvmpipe gives each of its threads one contiguous share of a
+// dispatch's groups, and a dispatch ends when the costliest share does: spread like this, each
+// share takes rows from all over the dispatch, and the shares cost alike (render/conemap_gpu.cpp,
+// spread_step).
+layout(location = 76) uniform uint u_spread;
 
 const double kMargin = 1.0lf - 1.0lf / 1048576.0lf; // 1 - 2^-20, exact
 
@@ -540,6 +547,9 @@ void main()
         b_seeds[(u_seed_relaxed != 0 ? u_seed_size.x * u_seed_size.y : 0) + sy * u_seed_size.x + sx] = argmin;
         return;
     }
+    uint piece = u_blocks != 0 ? 2u * uint(u_size.x) : 64u; // texels
+    uint pieces = u_count / piece, at = index / piece;
+    if (at < pieces) index = ((at * u_spread) % pieces) * piece + (index - at * piece);
     uint item = u_first + index;
     int px, py;
     if (u_blocks != 0) {

@@ -10,6 +10,7 @@
 #include <bit>
 #include <chrono>
 #include <cstring>
+#include <numeric>
 #include <string>
 
 namespace pr {
@@ -22,8 +23,10 @@ constexpr GLuint kGroupSize = 64;  // local_size_x in conemap.comp
 // sized from the time of the one before to take about kChunkSeconds. Each dispatch ends with a
 // wait while its last groups finish on one core, so fewer, longer ones are faster (16384 texels
 // at a time cost llvmpipe 8 % on a 1024² map); but none runs for long, and the progress moves.
+// At most 2^19 texels: at most 2^16 pieces (of at least eight texels), whose spread order
+// (spread_step) the shader computes in 32 bits.
 constexpr std::size_t kFirstChunkTexels = 16384;
-constexpr std::size_t kMaxChunkTexels = std::size_t(1) << 20;
+constexpr std::size_t kMaxChunkTexels = std::size_t(1) << 19;
 constexpr double kChunkSeconds = 0.25;
 constexpr std::size_t kResumeWords = 17; // conemap.comp, save_search
 constexpr std::size_t kDefaultResumeCapacity = 32768;
@@ -57,6 +60,23 @@ std::size_t next_chunk(std::size_t count, double seconds, std::size_t most, std:
 {
     const double scale = seconds > 0.0 ? std::clamp(kChunkSeconds / seconds, 0.25, 4.0) : 4.0;
     return std::clamp(std::size_t(double(count) * scale) / unit * unit, unit, std::max(most / unit * unit, unit));
+}
+
+// The step of a texel dispatch's spread order (conemap.comp, u_spread) over its `pieces` whole
+// pieces (pairs of rows where texels go in blocks, else runs of 64 texels): near the golden
+// ratio's fraction of them and coprime to their count, so that every contiguous share of the
+// order takes pieces evenly from the whole dispatch. llvmpipe splits a dispatch's groups into one
+// contiguous share per thread (lp_cs_tpool: groups / threads each, the remainder one by one), so
+// with the rows in order one thread took rows costlier than the other's and the other waited:
+// builtin:bricks@512, relaxed, one core idle for 10-25 % of each dispatch (perf, every CPU
+// sampled). Pieces smaller than a pair of rows (a block each) were slower: a group's lanes then
+// read far apart.
+GLuint spread_step(std::size_t pieces)
+{
+    if (pieces < 3) return 1;
+    std::size_t step = std::max<std::size_t>(1, std::size_t(0.6180339887498949 * double(pieces)));
+    while (std::gcd(step, pieces) != 1) ++step;
+    return GLuint(step);
 }
 
 } // namespace
@@ -276,6 +296,7 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
         glNamedBufferSubData(resume.id(), 0, sizeof zero, &zero);
         glProgramUniform1ui(p, 3, GLuint(first));
         glProgramUniform1ui(p, 4, GLuint(count));
+        glProgramUniform1ui(p, 76, spread_step(count / (blocks ? 2 * std::size_t(field.width) : 64)));
         glDispatchCompute(GLuint((count + kGroupSize - 1) / kGroupSize), 1, 1);
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         glGetNamedBufferSubData(steps.id(), GLintptr(first * sizeof(std::uint32_t)),
