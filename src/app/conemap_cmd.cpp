@@ -74,7 +74,7 @@ CommandAction add_conemap_command(CLI::App& app)
                     "Derived-map cache (default $XDG_CACHE_HOME/prismrelief, else ~/.cache/prismrelief; the "
                     "least recently used go beyond $PRISMRELIEF_CACHE_MAX_MB, default 2048)");
     cmd->add_flag("--no-cache", s->no_cache, "Neither read nor write the cache");
-    cmd->add_option("--json", s->json, "JSON report: height_map, width, height, kind, format, backend, device, ms (a GPU build's search_ms: its dispatches and read-back, and search_cpu_ms of it the CPU's threads finishing the searches that ran out of nodes there, searches_resumed from the GPU's state or texels_restarted; seed_ms of it finding the seeds where seeds says, cpu or gpu), from_cache, cache_entry, statistics of the stored ratio sqrt(c) (ratio_min, ratio_mean, ratio_max)");
+    cmd->add_option("--json", s->json, "JSON report: height_map, width, height, kind, format, backend, device, ms (a GPU build's search_ms: its dispatches and read-back, and search_cpu_ms of it the CPU's threads finishing the searches that ran out of nodes there, searches_resumed from the GPU's state or texels_restarted; seed_ms of it finding the seeds where seeds says, cpu (the wait for them: begun before the context) or gpu), from_cache, cache_entry, statistics of the stored ratio sqrt(c) (ratio_min, ratio_mean, ratio_max)");
     cmd->footer("Example:\n  prismrelief conemap --height builtin:bricks --kind relaxed --out out/bricks_relaxed.png");
 
     return [s, cmd]() {

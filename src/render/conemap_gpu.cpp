@@ -7,11 +7,15 @@
 #include "render/shader_program.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <chrono>
 #include <cstring>
+#include <exception>
 #include <numeric>
 #include <string>
+#include <system_error>
+#include <thread>
 
 namespace pr {
 
@@ -79,6 +83,85 @@ GLuint spread_step(std::size_t pieces)
     return GLuint(step);
 }
 
+// The seeds found by the CPU's threads (maps::cone_seeds_cpu) while the calling thread makes the
+// context and compiles the shader, one thread's work: on two cores the other core idled for
+// about 85 ms there, and the seeds (about 190 ms of core time for builtin:bricks@512, relaxed)
+// waited for it. They run at the usual priority (at the lowest, nice 19, a build on a loaded
+// machine would wait for them for as long as the load lasts: a thread cannot raise its priority
+// again): while the context is made three threads share the two cores, no core idles, and the
+// caller waits for them (take) only after the compile. stop() (and the destructor, on every way
+// out) cancels them and waits. Threads started while Mesa loads (preload_backend) start once it
+// has loaded (glibc's pthread_create waits for a dlopen in progress).
+class EarlySeeds {
+public:
+    EarlySeeds() = default;
+    EarlySeeds(const EarlySeeds&) = delete;
+    EarlySeeds& operator=(const EarlySeeds&) = delete;
+    ~EarlySeeds() { stop(); }
+
+    void start(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind, const ConeBuildOptions& options)
+    {
+        ConeBuildOptions part = options;
+        part.progress = [this](double f) { fraction_.store(f, std::memory_order_relaxed); }; // (take() reports it)
+        part.cancel = &stop_;
+        user_cancel_ = options.cancel;
+        try {
+            thread_ = std::thread([this, &field, &pyramid, kind, part] {
+                try {
+                    seeds_ = cone_seeds_cpu(field, pyramid, kind, part);
+                } catch (...) {
+                    error_ = std::current_exception();
+                }
+                done_.store(true, std::memory_order_release);
+            });
+        } catch (const std::system_error&) {
+            // (No thread to be had: take() finds them on the caller's thread.)
+        }
+    }
+
+    // The seeds (rethrows what their search threw: ConeBuildCancelled where the build's cancel
+    // flag turned true meanwhile). Where start() had no thread, found now, on the CPU's threads
+    // as usual. options.progress is called from this thread with their share of the progress.
+    ConeSeeds take(const HeightField& field, const MaxPyramid& pyramid, ConeKind kind, const ConeBuildOptions& options)
+    {
+        if (!thread_.joinable()) {
+            ConeBuildOptions part = options;
+            if (options.progress) part.progress = [&](double f) { options.progress(kConeSeedProgress * f); };
+            return cone_seeds_cpu(field, pyramid, kind, part);
+        }
+        // The build's cancel flag is passed on while waiting (the seeds' own flag is stop_).
+        auto reported = std::chrono::steady_clock::now();
+        while (!done_.load(std::memory_order_acquire)) {
+            if (user_cancel_ && user_cancel_->load(std::memory_order_relaxed)) stop_.store(true);
+            std::this_thread::sleep_for(std::chrono::microseconds(200));
+            if (options.progress && std::chrono::steady_clock::now() - reported > std::chrono::milliseconds(100)) {
+                options.progress(kConeSeedProgress * fraction_.load(std::memory_order_relaxed));
+                reported = std::chrono::steady_clock::now();
+            }
+        }
+        thread_.join();
+        if (error_) std::rethrow_exception(error_);
+        if (options.progress) options.progress(kConeSeedProgress);
+        return std::move(seeds_);
+    }
+
+    void stop()
+    {
+        if (!thread_.joinable()) return;
+        stop_.store(true);
+        thread_.join();
+    }
+
+private:
+    std::thread thread_;
+    std::atomic<bool> stop_{false};
+    std::atomic<bool> done_{false};
+    std::atomic<double> fraction_{0.0};
+    const std::atomic<bool>* user_cancel_ = nullptr;
+    ConeSeeds seeds_;
+    std::exception_ptr error_;
+};
+
 } // namespace
 
 ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBuildOptions& options,
@@ -114,6 +197,10 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
                     if (ci < w && cj < h) out[q] = level[std::size_t(cj) * std::size_t(w) + std::size_t(ci)];
                 }
     }
+    // Unless the shader is to find them, the CPU's threads start on the seeds now (EarlySeeds),
+    // while this thread makes the context and compiles the shader.
+    EarlySeeds early;
+    if (options.gpu_seed_pass != ConeBuildOptions::SeedPass::Gpu) early.start(field, pyramid, kind, options);
     if (make_current) make_current();
     while (glGetError() != GL_NO_ERROR) {} // errors of earlier work are not ours
     gl::Buffer data = gl::immutable_buffer(pyramid.data);
@@ -219,10 +306,9 @@ ConeMap build_cone_map_gpu(const HeightField& given, ConeKind kind, const ConeBu
                          GLsizeiptr(seed_count * sizeof(std::uint32_t))};
     };
     const std::uint32_t row = std::uint32_t(field.width);
+    if (!cpu_seeds) early.stop(); // (a GPU renderer's shader finds them, below)
     if (cpu_seeds) {
-        ConeBuildOptions part = options;
-        if (options.progress) part.progress = [&](double f) { options.progress(kConeSeedProgress * f); };
-        seeds = cone_seeds_cpu(field, pyramid, kind, part);
+        seeds = early.take(field, pyramid, kind, options);
         for (const bool of_relaxed : {false, true}) {
             if (of_relaxed && !relaxed) break;
             const auto [offset, size] = seed_words(of_relaxed);

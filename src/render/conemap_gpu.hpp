@@ -13,7 +13,8 @@ struct ConeGpuReport {
     double cpu_ms = 0.0;        // of that, the CPU's threads finishing searches that ran out of nodes
     std::size_t resumed = 0;    // searches the CPU went on with from the GPU's state
     std::size_t restarted = 0;  // texels the CPU searched again from the start (no room for a state)
-    double seed_ms = 0.0;       // of search_ms, finding the seeds (maps::ConeSeeds)
+    double seed_ms = 0.0;       // of search_ms, finding the seeds (maps::ConeSeeds); on the CPU,
+                                // the wait for those begun before the context (make_current)
     bool seeds_on_cpu = false;  // found by the CPU's threads (ConeBuildOptions::gpu_seed_pass)
 };
 
@@ -25,7 +26,9 @@ struct ConeGpuReport {
 // ConeBuildOptions::gpu_resume_capacity holds, those texels are searched again from the start).
 // Throws pr::Error("conemap", …) on GL failure. With `make_current`, the context is made by
 // that call, after the CPU's share of the work (the max pyramid) and before the first GL call:
-// `prismrelief conemap` loads Mesa on another thread meanwhile (preload_backend).
+// `prismrelief conemap` loads Mesa on another thread meanwhile (preload_backend). Unless
+// ConeBuildOptions::gpu_seed_pass says Gpu, the CPU's threads begin on the seeds before that
+// call, and are stopped where the renderer turns out to be a GPU's.
 ConeMap build_cone_map_gpu(const HeightField& field, ConeKind kind, const ConeBuildOptions& options = {},
                            ConeGpuReport* report = nullptr, const std::function<void()>& make_current = {});
 

@@ -4,14 +4,17 @@
 // test reports the largest difference if they are not.
 #include "gl_fixture.hpp"
 
+#include "core/error.hpp"
 #include "maps/conemap.hpp"
 #include "render/conemap_gpu.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <random>
 #include <string>
+#include <vector>
 
 using namespace pr;
 
@@ -135,6 +138,35 @@ TEST(ConeMapGpu, EqualsCpuWithABindingNodeBudget)
                     EXPECT_GT(report.restarted, f.texels.size() / 2) << what;
                 }
             }
+}
+
+// The CPU's threads find the seeds while the context is made (make_current; render/conemap_gpu.cpp,
+// EarlySeeds): a context that fails, or a build cancelled meanwhile, stops them (a thread left
+// running would end the process), and the progress of a build goes from the seeds' share to 1
+// without going back.
+TEST(ConeMapGpu, SeedsFoundWhileTheContextIsMadeStopWithTheBuild)
+{
+    prtest::context();
+    const HeightField f = field_of(96, 64, 11u, true);
+    EXPECT_THROW(build_cone_map_gpu(f, ConeKind::Relaxed, {}, nullptr, [] { throw Error("--backend", "no context"); }),
+                 Error);
+    std::atomic<bool> cancel{false};
+    ConeBuildOptions o;
+    o.cancel = &cancel;
+    EXPECT_THROW(build_cone_map_gpu(f, ConeKind::Relaxed, o, nullptr, [&] { cancel = true; }), ConeBuildCancelled);
+    std::vector<double> seen;
+    ConeBuildOptions p;
+    p.progress = [&](double v) { seen.push_back(v); };
+    ConeGpuReport report;
+    expect_same(build_cone_map_gpu(f, ConeKind::Relaxed, p, &report, [] {}), build_cone_map_cpu(f, ConeKind::Relaxed, {}),
+                ConeFormat::Rg16, "relaxed, seeds while the context is made");
+    EXPECT_TRUE(report.seeds_on_cpu); // (llvmpipe)
+    ASSERT_FALSE(seen.empty());
+    EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+    EXPECT_GE(seen.front(), 0.0);
+    EXPECT_DOUBLE_EQ(seen.back(), 1.0);
+    EXPECT_NE(std::find(seen.begin(), seen.end(), kConeSeedProgress), seen.end());
+    EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
 }
 
 // A cancelled build (the viewer's, when the scene changes) throws and leaves nothing of its own
