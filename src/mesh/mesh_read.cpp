@@ -1009,8 +1009,13 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
             ended = true;
             break;
         } else if (tok[0] == "format") {
-            if (n != 3 || !parse_finite_float(tok[2]))
+            double version = 0.0;
+            if (n != 3 || !parse_finite_float(tok[2], &version))
                 fail(subject, where + "malformed format line (expected 'format TYPE 1.0')");
+            // 1.0 is the only version there is; a file that says another may mean anything
+            // (taken without a word until found by an exploratory session, forty-seventh).
+            if (version != 1.0)
+                fail(subject, where + "PLY version " + shown(tok[2]) + " is not 1.0, the only one there is");
             if (tok[1] == "ascii")
                 ascii = true;
             else if (tok[1] == "binary_big_endian")

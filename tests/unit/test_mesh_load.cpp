@@ -1421,6 +1421,22 @@ TEST(MeshLoad, PlyHeadersDeclaringSomethingTwiceAreNamed)
     EXPECT_EQ(m.triangle_count(), 1u);
 }
 
+// PLY has one version, 1.0 (written "1" by some): a header that says another is refused with its
+// line (it was taken without a word).
+TEST(MeshLoad, PlyVersionOtherThanOneIsRefused)
+{
+    TempDir dir;
+    const std::string rest = "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                             "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                             "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    const fs::path two = dir.write("two.ply", "ply\nformat ascii 2.0\n" + rest);
+    EXPECT_ERROR_MENTIONS(load_error(two), two, "line 2: PLY version '2.0' is not 1.0, the only one there is");
+    for (const char* version : {"1.0", "1", "1.00"}) {
+        const pr::PreparedMesh m = pr::load_mesh(dir.write("one.ply", std::string("ply\nformat ascii ") + version + "\n" + rest));
+        EXPECT_EQ(m.triangle_count(), 1u) << version;
+    }
+}
+
 // An OBJ face with a vt at some corners only gets generated UVs, and the warning says so for the
 // file's one face (docs/mesh-input.md said it read "no texture coordinates").
 TEST(MeshLoad, ObjFaceWithoutAVtAtACornerIsSaid)
