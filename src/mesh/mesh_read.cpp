@@ -1009,6 +1009,9 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
             ended = true;
             break;
         } else if (tok[0] == "format") {
+            // A second one was half read: its version checked, its type dropped (found by an
+            // exploratory session, forty-eighth).
+            if (have_format) fail(subject, where + "a second format line (a header has one, right after 'ply')");
             double version = 0.0;
             if (n != 3 || !parse_finite_float(tok[2], &version))
                 fail(subject, where + "malformed format line (expected 'format TYPE 1.0')");

@@ -1422,8 +1422,8 @@ TEST(MeshLoad, PlyHeadersDeclaringSomethingTwiceAreNamed)
 }
 
 // PLY has one version, 1.0 (written "1" by some): a header that says another is refused with its
-// line (it was taken without a word).
-TEST(MeshLoad, PlyVersionOtherThanOneIsRefused)
+// line (it was taken without a word), and so is a second format line.
+TEST(MeshLoad, PlyFormatLineOfAnotherVersionOrASecondOneIsRefused)
 {
     TempDir dir;
     const std::string rest = "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
@@ -1435,6 +1435,9 @@ TEST(MeshLoad, PlyVersionOtherThanOneIsRefused)
         const pr::PreparedMesh m = pr::load_mesh(dir.write("one.ply", std::string("ply\nformat ascii ") + version + "\n" + rest));
         EXPECT_EQ(m.triangle_count(), 1u) << version;
     }
+    // A second format line was half read (its version checked, its type dropped).
+    const fs::path second = dir.write("second.ply", "ply\nformat ascii 1.0\nformat binary_little_endian 1.0\n" + rest);
+    EXPECT_ERROR_MENTIONS(load_error(second), second, "line 3: a second format line (a header has one, right after 'ply')");
 }
 
 // An OBJ face with a vt at some corners only gets generated UVs, and the warning says so for the
