@@ -3,6 +3,7 @@
 // (llvmpipe or a Mesa GPU driver), then the default display. libEGL is opened at run time, like
 // OSMesa, so neither library is linked into the binary and a machine without it gets one line.
 #include "platform/context.hpp"
+#include "platform/loader_reason.hpp"
 
 #include "core/error.hpp"
 #include "core/file_kind.hpp"
@@ -32,10 +33,15 @@ EglApi& api()
             if (const std::string why = not_a_file_reason(lib); !why.empty())
                 throw Error("--backend", std::string("egl: cannot load ") + lib + ": it " + why);
             a.lib = dlopen(lib, RTLD_NOW | RTLD_LOCAL);
-            if (!a.lib) throw Error("--backend", std::string("egl: cannot load ") + lib);
+            if (!a.lib) throw Error("--backend", std::string("egl: cannot load ") + lib + ": " + loader_reason(lib));
         }
-        for (const char* name : {"libEGL.so.1", "libEGL.so"})
+        std::string reason; // (as OSMesa's: a libEGL there that cannot be loaded says why)
+        for (const char* name : {"libEGL.so.1", "libEGL.so"}) {
             if (a.lib || (a.lib = dlopen(name, RTLD_NOW | RTLD_LOCAL))) break;
+            if (const std::string why = loader_reason(name); reason.empty() && why.find("No such file") == std::string::npos)
+                reason = why;
+        }
+        if (!a.lib && !reason.empty()) throw Error("--backend", "egl: libEGL is installed but cannot be loaded: " + reason);
         if (!a.lib) throw Error("--backend", "egl: libEGL is not installed");
         a.get_proc = reinterpret_cast<PFNEGLGETPROCADDRESSPROC>(dlsym(a.lib, "eglGetProcAddress"));
         if (!a.get_proc) throw Error("--backend", "egl: libEGL has no eglGetProcAddress");

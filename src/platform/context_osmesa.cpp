@@ -5,6 +5,7 @@
 
 #include "core/error.hpp"
 #include "core/file_kind.hpp"
+#include "platform/loader_reason.hpp"
 
 #include <GL/osmesa.h>
 #include <dlfcn.h>
@@ -40,12 +41,20 @@ OSMesaApi load_osmesa()
         if (const std::string why = not_a_file_reason(lib); !why.empty())
             return {.error = std::string("osmesa: cannot load ") + lib + ": it " + why};
         a.lib = dlopen(lib, RTLD_NOW | RTLD_LOCAL);
-        if (!a.lib) return {.error = std::string("osmesa: cannot load ") + lib};
+        if (!a.lib) return {.error = std::string("osmesa: cannot load ") + lib + ": " + loader_reason(lib)};
     }
+    // Where a name is there but cannot be loaded (a library it needs is missing; too little
+    // address space under `ulimit -v`: LLVM's segments do not map), the loader's reason is said
+    // instead of "not installed" (found by an exploratory session, forty-eighth).
+    std::string reason;
     for (const char* name : {"libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so"}) {
         if (a.lib) break;
         a.lib = dlopen(name, RTLD_NOW | RTLD_LOCAL);
+        if (const std::string why = a.lib ? "" : loader_reason(name);
+            reason.empty() && !why.empty() && why.find("No such file") == std::string::npos)
+            reason = why;
     }
+    if (!a.lib && !reason.empty()) return {.error = "osmesa: libOSMesa is installed but cannot be loaded: " + reason};
     if (!a.lib) return {.error = "osmesa: libOSMesa is not installed (run scripts/setup.sh)"};
     a.create_attribs = reinterpret_cast<decltype(a.create_attribs)>(dlsym(a.lib, "OSMesaCreateContextAttribs"));
     a.make_current = reinterpret_cast<decltype(a.make_current)>(dlsym(a.lib, "OSMesaMakeCurrent"));

@@ -273,6 +273,13 @@ pr_cli_special(osmesa_library_fifo EXIT 1 ONE_LINE NO_FILE o.png
                SETUP "rm -f lib.so && mkfifo lib.so && export PRISMRELIEF_OSMESA_LIBRARY=./lib.so"
                STDERR "${E}--backend: osmesa: cannot load ./lib.so: it is not a regular file \\(a FIFO\\)"
                ARGS render --mesh ${M}/cube.obj --size 32x32 --out o.png)
+# A library that is there but cannot be loaded says the loader's reason (it said nothing of it; and
+# libOSMesa found under its own name but not loadable, as under `ulimit -v`, was "not installed";
+# found by an exploratory session, forty-eighth).
+pr_cli_special(osmesa_library_not_elf EXIT 1 ONE_LINE NO_FILE o.png
+               SETUP "printf 'this text is long enough to hold an ELF header but is none at all\\n' > lib.so && export PRISMRELIEF_OSMESA_LIBRARY=./lib.so"
+               STDERR "${E}--backend: osmesa: cannot load ./lib.so: invalid ELF header"
+               ARGS render --mesh ${M}/cube.obj --size 32x32 --out o.png)
 # Pipes with a writer are read: bash's process substitution (worked before, must go on working)
 # and, for meshes, a named FIFO with a writer (OpenMesh opened the file again by name: "cannot be
 # read (size unknown)" before, and a hang had that been passed).
