@@ -190,6 +190,8 @@ long name_limit(const fs::path& folder)
     return max <= 0 || max > NAME_MAX ? NAME_MAX : max;
 }
 
+std::string temporary_name(const fs::path& target, unsigned number); // (below)
+
 void check_destination(const fs::path& path, const fs::path& target)
 {
     if (path.empty()) throw Error("--out", "empty file name");
@@ -251,6 +253,23 @@ void check_destination(const fs::path& path, const fs::path& target)
     // system; what else fails is reported when the file is written.)
     if (::faccessat(AT_FDCWD, dir.c_str(), W_OK, AT_EACCESS) != 0)
         throw Error(subject, "cannot write in folder " + dir.string() + ": " + std::strerror(errno));
+    // Root passes that wherever the file system is writable, but some folders take no new file
+    // (/proc, /sys): the output failed at the end, after the work ("cannot write: No such file or
+    // directory"; found by an exploratory session). A file made there and removed at once finds
+    // them before it. (Others are refused by the permission check above.)
+    if (::geteuid() == 0) {
+        std::random_device rd;
+        const fs::path probe = dir / temporary_name(target, rd());
+        const int slot = register_temporary(probe); // (a signal meanwhile removes it)
+        const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+        const int err = errno;
+        if (fd >= 0) {
+            ::close(fd);
+            ::unlink(probe.c_str());
+        }
+        release_temporary(slot);
+        if (fd < 0 && err != EEXIST) throw Error(subject, "cannot write in folder " + dir.string() + ": " + std::strerror(err));
+    }
     // An immutable or append-only file or folder (chattr +i, +a) takes no rename, root or not:
     // it failed after the work, and the outputs renamed before it stayed replaced. (statx: no
     // open, no read permission needed; where a file system keeps no such attributes, none.)

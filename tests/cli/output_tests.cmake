@@ -455,3 +455,11 @@ string(REPEAT "a" 252 pr_long_name)
 pr_output_cli(conemap_out_name_too_long_refused_early EXIT 1 ONE_LINE TIMEOUT 5
        STDERR "${E}${pr_long_name}.png: cannot write: its name is 256 bytes, more than the 255 a file name may have here"
        ARGS conemap --height builtin:noise@1024 --kind relaxed --no-cache --out ${pr_long_name}.png)
+# A folder that takes no new file though root may write there (/proc): refused before the work,
+# where the render was drawn and the rename failed ("cannot write: No such file or directory";
+# found by an exploratory session). Root only: anyone else is refused by the permission check.
+pr_output_cli(out_in_proc_refused_early EXIT 1 ONE_LINE NO_FILE /proc/prismrelief_out.png
+              SETUP "[ $(id -u) -eq 0 ] || exit 77"
+              STDERR "${E}/proc/prismrelief_out.png: cannot write in folder /proc: "
+              ARGS render --mesh ${M}/cube.obj --size 8x8 --out /proc/prismrelief_out.png)
+
