@@ -190,8 +190,6 @@ long name_limit(const fs::path& folder)
     return max <= 0 || max > NAME_MAX ? NAME_MAX : max;
 }
 
-std::string temporary_name(const fs::path& target, unsigned number); // (below)
-
 void check_destination(const fs::path& path, const fs::path& target)
 {
     if (path.empty()) throw Error("--out", "empty file name");
@@ -253,23 +251,6 @@ void check_destination(const fs::path& path, const fs::path& target)
     // system; what else fails is reported when the file is written.)
     if (::faccessat(AT_FDCWD, dir.c_str(), W_OK, AT_EACCESS) != 0)
         throw Error(subject, "cannot write in folder " + dir.string() + ": " + std::strerror(errno));
-    // Root passes that wherever the file system is writable, but some folders take no new file
-    // (/proc, /sys): the output failed at the end, after the work ("cannot write: No such file or
-    // directory"; found by an exploratory session). A file made there and removed at once finds
-    // them before it. (Others are refused by the permission check above.)
-    if (::geteuid() == 0) {
-        std::random_device rd;
-        const fs::path probe = dir / temporary_name(target, rd());
-        const int slot = register_temporary(probe); // (a signal meanwhile removes it)
-        const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
-        const int err = errno;
-        if (fd >= 0) {
-            ::close(fd);
-            ::unlink(probe.c_str());
-        }
-        release_temporary(slot);
-        if (fd < 0 && err != EEXIST) throw Error(subject, "cannot write in folder " + dir.string() + ": " + std::strerror(err));
-    }
     // An immutable or append-only file or folder (chattr +i, +a) takes no rename, root or not:
     // it failed after the work, and the outputs renamed before it stayed replaced. (statx: no
     // open, no read permission needed; where a file system keeps no such attributes, none.)
@@ -310,11 +291,43 @@ std::string temporary_name(const fs::path& target, unsigned number)
     return name;
 }
 
+// Makes a new temporary beside `target` (temporary_name, O_EXCL: another process's of the same
+// name is left alone and other digits are tried, ten at most), registered so that a signal
+// removes it: its descriptor, or -errno where none could be made.
+int create_temporary(const fs::path& target, fs::path& tmp, int& slot, mode_t mode)
+{
+    std::random_device rd;
+    for (int attempt = 1;; ++attempt) {
+        tmp = folder_of(target) / temporary_name(target, rd());
+        slot = register_temporary(tmp); // before the file exists: a signal from now on removes it
+        const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, mode);
+        if (fd >= 0) return fd;
+        const int err = errno;
+        release_temporary(std::exchange(slot, -1));
+        if (err != EEXIST || attempt == 10) return -err;
+    }
+}
+
 } // namespace
 
 void check_output_folder(const fs::path& path)
 {
-    check_destination(path, destination_of(path));
+    const fs::path target = destination_of(path);
+    check_destination(path, target);
+    // Root passes check_destination's permission check wherever the file system is writable, but
+    // some folders take no new file (/proc, /sys): the output failed at the end, after the work
+    // ("cannot write: No such file or directory"; found by an exploratory session). A temporary
+    // made there and removed at once finds them before it. (Others are refused by that check.)
+    if (::geteuid() == 0) {
+        fs::path probe;
+        int slot = -1;
+        const int fd = create_temporary(target, probe, slot, 0600);
+        if (fd < 0)
+            throw Error(path.string(), "cannot write in folder " + folder_of(target).string() + ": " + std::strerror(-fd));
+        ::close(fd);
+        ::unlink(probe.c_str());
+        release_temporary(slot);
+    }
 }
 
 StagedFile::StagedFile(fs::path path, std::span<const std::uint8_t> bytes, OldMode old_mode)
@@ -325,19 +338,9 @@ StagedFile::StagedFile(fs::path path, std::span<const std::uint8_t> bytes, OldMo
     if (old_mode != OldMode::Drop || ::lstat(path_.c_str(), &link) != 0 || !S_ISLNK(link.st_mode))
         check_destination(path_, target_); // (a link the rename replaces needs no check)
 
-    std::random_device rd;
     fs::path tmp;
-    int fd = -1;
-    // Another process's temporary of the same name (O_EXCL) is left alone: other digits are tried.
-    for (int attempt = 1; fd < 0; ++attempt) {
-        tmp = folder_of(target_) / temporary_name(target_, rd());
-        slot_ = register_temporary(tmp); // before the file exists: a signal from now on removes it
-        fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-        if (fd >= 0) break;
-        const int err = errno;
-        release_temporary(std::exchange(slot_, -1));
-        if (err != EEXIST || attempt == 10) throw Error(subject, std::string("cannot write: ") + std::strerror(err));
-    }
+    const int fd = create_temporary(target_, tmp, slot_, 0644);
+    if (fd < 0) throw Error(subject, std::string("cannot write: ") + std::strerror(-fd));
     const auto fail = [&](int err) {
         ::close(fd);
         ::unlink(tmp.c_str());

@@ -67,7 +67,8 @@ inline void commit_together(std::initializer_list<StagedFile*> files)
 // Fails early (before long work) when `path` could not be written: its folder is missing or not
 // writable, it names a folder, or it exists and is not a regular file (a device, a FIFO, a
 // socket: renaming over it would replace, say, /dev/null). A symbolic link is judged by the file
-// it names (a dangling one by that file's folder). Throws pr::Error naming `path`.
+// it names (a dangling one by that file's folder); for root, whose permission always passes, a
+// temporary made in the folder and removed at once (/proc takes none). Throws pr::Error naming `path`.
 void check_output_folder(const std::filesystem::path& path);
 
 // check_output_folder() for a PNG output, which also refuses a name ending in another image
