@@ -36,11 +36,7 @@ EglApi& api()
             if (!a.lib) throw Error("--backend", std::string("egl: cannot load ") + lib + ": " + loader_reason(lib));
         }
         std::string reason; // (as OSMesa's: a libEGL there that cannot be loaded says why)
-        for (const char* name : {"libEGL.so.1", "libEGL.so"}) {
-            if (a.lib || (a.lib = dlopen(name, RTLD_NOW | RTLD_LOCAL))) break;
-            if (const std::string why = loader_reason(name); reason.empty() && why.find("No such file") == std::string::npos)
-                reason = why;
-        }
+        if (!a.lib) a.lib = open_first_library({"libEGL.so.1", "libEGL.so"}, reason);
         if (!a.lib && !reason.empty()) throw Error("--backend", "egl: libEGL is installed but cannot be loaded: " + reason);
         if (!a.lib) throw Error("--backend", "egl: libEGL is not installed");
         a.get_proc = reinterpret_cast<PFNEGLGETPROCADDRESSPROC>(dlsym(a.lib, "eglGetProcAddress"));

@@ -47,13 +47,7 @@ OSMesaApi load_osmesa()
     // address space under `ulimit -v`: LLVM's segments do not map), the loader's reason is said
     // instead of "not installed" (found by an exploratory session, forty-eighth).
     std::string reason;
-    for (const char* name : {"libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so"}) {
-        if (a.lib) break;
-        a.lib = dlopen(name, RTLD_NOW | RTLD_LOCAL);
-        if (const std::string why = a.lib ? "" : loader_reason(name);
-            reason.empty() && !why.empty() && why.find("No such file") == std::string::npos)
-            reason = why;
-    }
+    if (!a.lib) a.lib = open_first_library({"libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so"}, reason);
     if (!a.lib && !reason.empty()) return {.error = "osmesa: libOSMesa is installed but cannot be loaded: " + reason};
     if (!a.lib) return {.error = "osmesa: libOSMesa is not installed (run scripts/setup.sh)"};
     a.create_attribs = reinterpret_cast<decltype(a.create_attribs)>(dlsym(a.lib, "OSMesaCreateContextAttribs"));
