@@ -104,7 +104,6 @@ public:
         ConeBuildOptions part = options;
         part.progress = [this](double f) { fraction_.store(f, std::memory_order_relaxed); }; // (take() reports it)
         part.cancel = &stop_;
-        user_cancel_ = options.cancel;
         try {
             thread_ = std::thread([this, &field, &pyramid, kind, part] {
                 try {
@@ -132,7 +131,7 @@ public:
         // The build's cancel flag is passed on while waiting (the seeds' own flag is stop_).
         auto reported = std::chrono::steady_clock::now();
         while (!done_.load(std::memory_order_acquire)) {
-            if (user_cancel_ && user_cancel_->load(std::memory_order_relaxed)) stop_.store(true);
+            if (options.cancel && options.cancel->load(std::memory_order_relaxed)) stop_.store(true);
             std::this_thread::sleep_for(std::chrono::microseconds(200));
             if (options.progress && std::chrono::steady_clock::now() - reported > std::chrono::milliseconds(100)) {
                 options.progress(kConeSeedProgress * fraction_.load(std::memory_order_relaxed));
@@ -160,7 +159,6 @@ private:
     std::atomic<bool> stop_{false};
     std::atomic<bool> done_{false};
     std::atomic<double> fraction_{0.0};
-    const std::atomic<bool>* user_cancel_ = nullptr;
     ConeSeeds seeds_;
     std::exception_ptr error_;
 };
