@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "gl/gl.hpp"
+#include "platform/mesa_cache.hpp"
 
 namespace pr {
 
@@ -40,6 +41,11 @@ void Context::load_gl(ProcLoader get_proc, const std::string& subject, const std
         return std::string(s ? s : "?");
     };
     description_ = backend + ": " + str(GL_RENDERER) + ", OpenGL " + str(GL_VERSION);
+    // Mesa's shader cache turned off where Mesa could not make its folder (platform/mesa_cache.hpp):
+    // said once, prefixed, instead of Mesa's own line.
+    if (const std::string& why = mesa_shader_cache_off_reason(); !why.empty() && str(GL_VERSION).find("Mesa") != std::string::npos)
+        warn("Mesa's shader cache is off (" + why +
+             "): shaders are compiled anew on every run; MESA_SHADER_CACHE_DIR can name a folder for it");
 }
 
 std::unique_ptr<Context> create_headless_context(Backend backend, const std::string& option)

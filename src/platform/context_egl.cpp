@@ -4,6 +4,7 @@
 // OSMesa, so neither library is linked into the binary and a machine without it gets one line.
 #include "platform/context.hpp"
 #include "platform/loader_reason.hpp"
+#include "platform/mesa_cache.hpp"
 
 #include "core/error.hpp"
 #include "core/file_kind.hpp"
@@ -156,6 +157,7 @@ private:
 
 std::unique_ptr<Context> create_egl_context()
 {
+    prepare_mesa_shader_cache(); // (Mesa's EGL, where it is Mesa's, reads it when the display starts)
     return std::make_unique<EglContextImpl>();
 }
 

@@ -4,6 +4,7 @@
 #include "view/glfw_window.hpp"
 
 #include "core/error.hpp"
+#include "platform/mesa_cache.hpp"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -68,6 +69,7 @@ void glfw_key_callback(GLFWwindow* window, int key, int /*scancode*/, int action
 std::unique_ptr<GlfwWindow> GlfwWindow::open(int width, int height, const std::string& title)
 {
     last_glfw_error().clear();
+    prepare_mesa_shader_cache(); // (a Mesa libGL reads it when the window's context is made)
     glfwSetErrorCallback(&glfw_error_callback);
     if (!glfwInit()) fail("no display (is DISPLAY set? under CI use xvfb-run)");
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);

@@ -6,6 +6,7 @@
 #include "core/error.hpp"
 #include "core/file_kind.hpp"
 #include "platform/loader_reason.hpp"
+#include "platform/mesa_cache.hpp"
 
 #include <GL/osmesa.h>
 #include <dlfcn.h>
@@ -76,7 +77,9 @@ std::mutex& loading_mutex()
 void start_loading(std::launch how)
 {
     const std::lock_guard<std::mutex> lock(loading_mutex());
-    if (!loading().valid()) loading() = std::async(how, load_osmesa).share();
+    if (loading().valid()) return;
+    prepare_mesa_shader_cache(); // (before Mesa's thread: it may set a variable)
+    loading() = std::async(how, load_osmesa).share();
 }
 
 const OSMesaApi& api()

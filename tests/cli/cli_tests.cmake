@@ -5,7 +5,9 @@ set(M ${PROJECT_SOURCE_DIR}/meshes)
 set(BAD ${PROJECT_SOURCE_DIR}/tests/bad)
 
 function(pr_cli name)
-    cmake_parse_arguments(T "ONE_LINE" "EXIT;STDERR;STDOUT;NO_FILE;EXPECT_FILE;KEEP_FILE;ENV;JSON;CHECKS;SETUP" "ARGS" ${ARGN})
+    # ENV: one or more NAME=VALUE (a one-value keyword kept only the first: view_tests.cmake's
+    # "ENV DISPLAY= WAYLAND_DISPLAY=" left WAYLAND_DISPLAY as it was).
+    cmake_parse_arguments(T "ONE_LINE" "EXIT;STDERR;STDOUT;NO_FILE;EXPECT_FILE;KEEP_FILE;JSON;CHECKS;SETUP" "ARGS;ENV" ${ARGN})
     string(REPLACE ";" "|" args "${T_ARGS}")
     set(cmd ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:prismrelief> "-DARGS=${args}"
             -DWORKDIR=${PR_CLI_WORK}/${name} -DEXPECT_EXIT=${T_EXIT}

@@ -527,6 +527,21 @@ pr_cli_special(conemap_json_empty_name BASH EXIT 1 ONE_LINE STDERR "${E}--json: 
 # for shader cache (No such file or directory)---disabling." on every run.
 pr_cli(empty_xdg_cache_home_is_quiet EXIT 0 STDERR "^$" ENV XDG_CACHE_HOME= EXPECT_FILE o.png
        ARGS render --mesh ${M}/torus.obj --technique flat --size 8x8 --out o.png)
+# A folder Mesa cannot make for its shader cache: one warning of ours, not Mesa's own unprefixed
+# "Cannot use …/notafolder for shader cache (not a directory)---disabling." (or "Failed to create …
+# for shader cache (…)"), which came on every run; the render goes on without the cache.
+pr_cli(mesa_cache_folder_a_file_warns_once EXIT 0 ONE_LINE EXPECT_FILE o.png SETUP "touch notafolder"
+       ENV XDG_CACHE_HOME=${PR_CLI_WORK}/mesa_cache_folder_a_file_warns_once/notafolder
+       STDERR "^prismrelief: warning: Mesa's shader cache is off \\(/.*/notafolder is not a folder\\): shaders are compiled anew on every run"
+       ARGS render --mesh ${M}/torus.obj --technique flat --size 8x8 --out o.png)
+pr_cli(mesa_cache_folder_not_made_warns_once EXIT 0 ONE_LINE EXPECT_FILE o.png
+       ENV MESA_SHADER_CACHE_DIR=${PR_CLI_WORK}/mesa_cache_folder_not_made_warns_once/missing/cache
+       STDERR "^prismrelief: warning: Mesa's shader cache is off \\(cannot make /.*/missing/cache: No such file or directory\\)"
+       ARGS conemap --height builtin:bumps@16 --backend gpu --no-cache --out o.png)
+# Turned off by the user (any of Mesa's words for true): nothing said.
+pr_cli(mesa_cache_off_by_the_user_is_quiet EXIT 0 STDERR "^$" EXPECT_FILE o.png SETUP "touch notafolder"
+       ENV XDG_CACHE_HOME=${PR_CLI_WORK}/mesa_cache_off_by_the_user_is_quiet/notafolder MESA_SHADER_CACHE_DISABLE=Yes
+       ARGS render --mesh ${M}/torus.obj --technique flat --size 8x8 --out o.png)
 # A file name that is not UTF-8 goes into a JSON report as U+FFFD: nlohmann threw "invalid UTF-8
 # byte" after the work, exit 1, and nothing was written.
 pr_cli_special(conemap_json_non_utf8_name BASH EXIT 0 EXPECT_FILE q.json
