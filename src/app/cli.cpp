@@ -171,6 +171,12 @@ int run_cli(int argc, char** argv)
                 return option->get_items_expected_max() > 0;
         return false;
     };
+    const auto is_flag = [&app](const std::string& name) {
+        for (const CLI::App* command : app.get_subcommands({}))
+            if (const CLI::Option* option = command->get_option_no_throw(name))
+                return option->get_items_expected_max() == 0;
+        return false;
+    };
     std::vector<std::string> args(argv, argv + argc);
     std::vector<std::string> split;
     bool options_end = false, help_asked = false;
@@ -188,6 +194,16 @@ int run_cli(int argc, char** argv)
                 split.pop_back();
             split.push_back(a);
             break;
+        }
+        // A flag given a value ("--no-cache=false"): CLI11 read true and false words, numbers
+        // (-1 false) and "" (true) there, and said "expected a number" of any other word, so
+        // `--no-cache=false` used the cache without a word (found by an exploratory session,
+        // forty-ninth). A flag is on where given and off where not: a value is usage.
+        if (const std::size_t eq = a.find('=');
+            i > 0 && !options_end && a.starts_with("--") && eq != std::string::npos && is_flag(a.substr(0, eq))) {
+            std::fprintf(stderr, "prismrelief: usage: %s takes no value, got '%s' (give the flag alone to turn it on; see prismrelief --help)\n",
+                         one_line(a.substr(0, eq)).c_str(), one_line(a.substr(eq + 1)).c_str());
+            return kExitUsage;
         }
         // An option that takes a value, followed by another option: CLI11 took the option for
         // the value (`--json --depth-write` wrote the report to a file named "--depth-write"

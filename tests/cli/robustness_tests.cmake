@@ -556,6 +556,17 @@ pr_cli(depth_equals_empty EXIT 2 STDERR "usage: --depth: expected a number, got 
        ARGS render --mesh ${M}/cube.obj --depth= --size 8x8 --out o.png)
 pr_cli(out_equals_empty EXIT 1 ONE_LINE STDERR "${E}--out: empty file name"
        ARGS render --mesh ${M}/cube.obj --out= --size 8x8)
+# A flag given a value is usage: `--no-cache=false` used the cache without a word (CLI11 reads
+# true/false words, numbers and "" there), `--depth-write=maybe` said "expected a number"
+# (found by an exploratory session, forty-ninth).
+pr_cli(flag_given_false_is_usage EXIT 2 ONE_LINE NO_FILE o.png
+       STDERR "^prismrelief: usage: --no-cache takes no value, got 'false' \\(give the flag alone to turn it on"
+       ARGS conemap --height builtin:bumps@16 --out o.png --no-cache=false --cache-dir ${PR_CLI_WORK}/flag_given_false_is_usage/c)
+pr_cli(flag_given_a_word_is_usage EXIT 2 ONE_LINE NO_FILE o.png
+       STDERR "^prismrelief: usage: --depth-write takes no value, got 'maybe'"
+       ARGS render --mesh ${M}/cube.obj --depth-write=maybe --size 8x8 --out o.png)
+pr_cli(flag_given_nothing_is_usage EXIT 2 ONE_LINE NO_FILE o.png STDERR "^prismrelief: usage: --generate-uvs takes no value, got ''"
+       ARGS render --mesh ${M}/cube.obj --generate-uvs= --size 8x8 --out o.png)
 pr_cli(depth_hexadecimal EXIT 2 STDERR "usage: --depth: expected a decimal number, got '0x10'" NO_FILE o.png
        ARGS render --mesh ${M}/cube.obj --depth 0x10 --size 8x8 --out o.png)
 pr_cli(steps_hexadecimal EXIT 2 STDERR "usage: --steps: expected a decimal whole number, got '0x10'" NO_FILE o.png
