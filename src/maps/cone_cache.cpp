@@ -370,6 +370,16 @@ EntryRead read_entry(const std::filesystem::path& entry, const HeightField& fiel
     return r;
 }
 
+// Why what is where an entry goes is not one (not_a_file_reason), or a link that loops; "" where
+// it is a file or nothing is there (a dangling link reads as nothing: a miss).
+std::string entry_not_a_file_reason(const std::filesystem::path& entry)
+{
+    if (std::string why = not_a_file_reason(entry.c_str()); !why.empty()) return why;
+    struct stat st {};
+    if (::stat(entry.c_str(), &st) != 0 && errno == ELOOP) return "is a symbolic link that loops";
+    return "";
+}
+
 } // namespace
 
 std::optional<ConeMap> read_cached_cone_map(const HeightField& field, ConeKind kind,
@@ -409,11 +419,12 @@ ConeCacheResult cached_cone_map(const HeightField& field, ConeKind kind, const s
         // directory; rebuilding it", a warning meant for entries that are wrong; found by an
         // exploratory session, thirty-second.)
         if (!r.gone) warn("cone-map cache entry " + result.entry.string() + ": " + r.why + "; rebuilding it");
-    } else if (const std::string why = not_a_file_reason(result.entry.c_str());
+    } else if (const std::string why = entry_not_a_file_reason(result.entry);
                !why.empty() && !(std::filesystem::is_directory(result.entry, ec) && !std::filesystem::is_empty(result.entry, ec))) {
-        // An empty folder, a FIFO or a link to a device where the entry goes: replaced below, and
-        // said as any entry that is wrong is (it went without a word; found by an exploratory
-        // session, forty-first). (A folder with anything in it stays, and the write below says so.)
+        // An empty folder, a FIFO, a link to a device or a link that loops where the entry goes:
+        // replaced below, and said as any entry that is wrong is (they went without a word; found
+        // by exploratory sessions, forty-first and forty-ninth). (A folder with anything in it
+        // stays, and the write below says so.)
         warn("cone-map cache entry " + result.entry.string() + ": " + why + "; rebuilding it");
     }
     result.map = build(field, kind, options);
