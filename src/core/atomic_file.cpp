@@ -322,6 +322,11 @@ void check_output_folder(const fs::path& path)
         fs::path probe;
         int slot = -1;
         const int fd = create_temporary(target, probe, slot, 0600);
+        // (No such file in a folder that is there: it takes no new file; "cannot write in folder
+        // /proc: No such file or directory" read as if /proc were missing.)
+        if (fd == -ENOENT)
+            throw Error(path.string(), "cannot write in folder " + folder_of(target).string() +
+                                           ": it takes no new file (a file system such as /proc or /sys)");
         if (fd < 0)
             throw Error(path.string(), "cannot write in folder " + folder_of(target).string() + ": " + std::strerror(-fd));
         ::close(fd);

@@ -460,6 +460,6 @@ pr_output_cli(conemap_out_name_too_long_refused_early EXIT 1 ONE_LINE TIMEOUT 5
 # found by an exploratory session). Root only: anyone else is refused by the permission check.
 pr_output_cli(out_in_proc_refused_early EXIT 1 ONE_LINE NO_FILE /proc/prismrelief_out.png
               SETUP "[ $(id -u) -eq 0 ] || exit 77"
-              STDERR "${E}/proc/prismrelief_out.png: cannot write in folder /proc: "
+              STDERR "${E}/proc/prismrelief_out.png: cannot write in folder /proc: it takes no new file \\(a file system such as /proc or /sys\\)"
               ARGS render --mesh ${M}/cube.obj --size 8x8 --out /proc/prismrelief_out.png)
 
