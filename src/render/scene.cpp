@@ -104,6 +104,7 @@ Scene load_scene(const SceneSpec& spec)
             throw e.under(place);
         }
     };
+    std::size_t triangles = 0; // the objects' so far, together
     for (const ObjectSpec& o : spec.objects) {
         SceneObject obj;
         obj.mesh_name = o.mesh;
@@ -114,6 +115,17 @@ Scene load_scene(const SceneSpec& spec)
         auto found = meshes.find(mesh_file);
         if (found == meshes.end())
             found = meshes.emplace(mesh_file, placed(o.mesh_place, [&] { return load_mesh(o.mesh, spec.mesh_options); })).first;
+        // --max-triangles bounds the scene's objects together too: each object is drawn (and
+        // kept) on its own, so a small scene naming one mesh 100,000 times ran out of memory
+        // after half a minute, said as "render: out of memory" (found by an exploratory session,
+        // forty-ninth).
+        triangles += found->second.indices.size() / 3;
+        if (triangles > spec.mesh_options.max_triangles)
+            throw Error(o.mesh_place.empty() ? o.mesh : o.mesh_place,
+                        "the scene's objects up to this one hold " + std::to_string(triangles) +
+                            " triangles together, more than --max-triangles " +
+                            std::to_string(spec.mesh_options.max_triangles) +
+                            " (each object counts its mesh's triangles, also where objects share a file)");
         if (--uses[mesh_file] == 0) {
             obj.mesh = std::move(found->second);
             meshes.erase(found);

@@ -290,6 +290,17 @@ pr_cli_special(height_process_substitution BASH EXIT 0 EXPECT_FILE o.png STDOUT 
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/pipe_scene.json "{\"objects\": [{\"mesh\": \"${M}/cube.obj\"}]}\n")
 pr_cli_special(scene_process_substitution BASH EXIT 0 EXPECT_FILE o.png STDOUT "o.png: 32x32 relief"
                ARGS render --scene "<(cat '${CMAKE_CURRENT_BINARY_DIR}/pipe_scene.json')" --size 32x32 --out o.png)
+# --max-triangles bounds a scene's objects together: one mesh named by many objects ran out of
+# memory after half a minute ("render: out of memory"; an exploratory session, forty-ninth). The
+# torus has 2304 triangles: three objects hold 6912, two 4608.
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/three_tori.json
+     "{\"objects\": [{\"mesh\": \"${M}/torus.obj\"}, {\"mesh\": \"${M}/torus.obj\", \"transform\": {\"translate\": [3, 0, 0]}},
+                    {\"mesh\": \"${M}/torus.obj\", \"transform\": {\"translate\": [6, 0, 0]}}]}\n")
+pr_cli(scene_triangles_together_over_the_limit EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}${CMAKE_CURRENT_BINARY_DIR}/three_tori.json: objects\\[2\\].mesh: the scene's objects up to this one hold 6912 triangles together, more than --max-triangles 5000"
+       ARGS render --scene ${CMAKE_CURRENT_BINARY_DIR}/three_tori.json --max-triangles 5000 --size 16x16 --out o.png)
+pr_cli(scene_triangles_together_under_the_limit EXIT 0 EXPECT_FILE o.png
+       ARGS render --scene ${CMAKE_CURRENT_BINARY_DIR}/three_tori.json --max-triangles 6912 --size 16x16 --out o.png)
 pr_cli_special(conemap_process_substitution BASH EXIT 0 EXPECT_FILE c.png STDOUT "c.png: 32x32 cone rg16"
                ARGS conemap --height "<(cat '${BAD}/sixteen_bit.png')" --no-cache --out c.png)
 pr_cli_special(height_process_substitution_empty BASH EXIT 1 ONE_LINE NO_FILE o.png
