@@ -398,9 +398,15 @@ void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<Draw
     if (given(o.light_size_flag) && parse_shadows(o.shadows, "--shadows") != Shadows::Soft && any(reads_shadows))
         throw Error(o.light_size_flag->get_name(), "has no effect without --shadows soft (it is the soft light's "
                                                    "size): add --shadows soft, or leave it out");
+    // The prism's marcher and exit decide what it steps and refines: where given, they are said
+    // with what is drawn ("--technique prism refines no hit" read as if no prism did, where the
+    // default one does both and --marcher linear was the cause; an exploratory session, forty-ninth).
+    std::string drawn_with = drawn;
+    for (const CLI::Option* flag : {o.marcher_flag, o.prism_exit_flag})
+        if (given(flag)) drawn_with += " " + flag->get_name() + " " + flag->as<std::string>();
     for (const auto& u : unread)
         if (given(u.flag) && !any(u.reads))
-            throw Error(u.flag->get_name(), "has no effect: " + drawn + " " + u.not_done + ": leave it out");
+            throw Error(u.flag->get_name(), "has no effect: " + drawn_with + " " + u.not_done + ": leave it out");
     const bool reference = std::any_of(drawn_settings.begin(), drawn_settings.end(),
                                        [](const DrawSettings& s) { return s.technique == Technique::Reference; });
     if (!reference)

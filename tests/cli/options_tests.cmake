@@ -317,6 +317,14 @@ pr_cli(refine_with_prism_linear EXIT 1 ONE_LINE NO_FILE c.json
        STDERR "${E}--refine: has no effect: --techniques steep,prism:linear refines no hit"
        ARGS compare ${TQ} --techniques steep,prism:linear --refine 2 --json c.json)
 pr_cli(refine_with_flat_and_prism EXIT 0 EXPECT_FILE c.json ARGS compare ${TQ} --techniques flat,prism --refine 2 --json c.json)
+# The prism's marcher and exit, given as flags, are said with it: "--technique prism refines no
+# hit" read as if no prism did (the default one steps and refines; an exploratory session, forty-ninth).
+pr_cli(refine_with_prism_marcher_flag EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}--refine: has no effect: --technique prism --marcher linear refines no hit"
+       ARGS render ${TQ} --technique prism --marcher linear --refine 3 --out o.png)
+pr_cli(steps_with_prism_marcher_and_exit_flags EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}--steps: has no effect: --technique prism --marcher max-mip --prism-exit exact takes no linear steps"
+       ARGS render ${TQ} --technique prism --marcher max-mip --prism-exit exact --steps 4 --out o.png)
 pr_cli(normal_quality_with_flat EXIT 1 ONE_LINE NO_FILE o.png
        STDERR "${E}--normal-quality: has no effect: --technique flat takes no normal from the heights \\(flat shades with the mesh's\\)"
        ARGS render ${TQ} --technique flat --normal-quality gather --out o.png)
