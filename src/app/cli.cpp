@@ -178,6 +178,17 @@ int run_cli(int argc, char** argv)
         return false;
     };
     std::vector<std::string> args(argv, argv + argc);
+    // An option before the subcommand: "--bogus" alone said "A subcommand is required", and
+    // "--size 64x64 render …" CLI11's "The following arguments were not expected: 64x64 --size"
+    // (found by an exploratory session, forty-ninth). Only --help and --version go there.
+    if (args.size() > 1 && args[1].size() > 1 && args[1][0] == '-' && !ends_parse(args[1].substr(0, args[1].find('=')))) {
+        const std::string name = args[1].substr(0, args[1].find('='));
+        std::fprintf(stderr,
+                     "prismrelief: usage: '%s': options go after the subcommand (prismrelief render|compare|bench|conemap|view "
+                     "[OPTIONS]; see prismrelief --help)\n",
+                     one_line(name).c_str());
+        return kExitUsage;
+    }
     std::vector<std::string> split;
     bool options_end = false, help_asked = false;
     for (std::size_t i = 0; i < args.size(); ++i) {

@@ -24,6 +24,13 @@ endfunction()
 # Usage (exit 2) and information (exit 0).
 pr_cli(no_arguments EXIT 2 STDERR "usage: .*subcommand")
 pr_cli(unknown_option EXIT 2 STDERR "usage: .*--bogus" ARGS render --bogus --out x.png)
+# Before the subcommand only --help and --version: "--bogus" alone said "A subcommand is
+# required", "--size 64x64 render …" CLI11's "The following arguments were not expected: 64x64
+# --size" (an exploratory session, forty-ninth).
+pr_cli(option_before_subcommand EXIT 2 ONE_LINE NO_FILE x.png
+       STDERR "^prismrelief: usage: '--size': options go after the subcommand \\(prismrelief render\\|compare\\|bench\\|conemap\\|view \\[OPTIONS\\]"
+       ARGS --size 64x64 render --mesh ${M}/cube.obj --out x.png)
+pr_cli(unknown_option_before_subcommand EXIT 2 ONE_LINE STDERR "^prismrelief: usage: '--bogus': options go after the subcommand" ARGS --bogus)
 # An option the command does not take, with its value: named first, not after its value as
 # CLI11 lists extras ("The following arguments were not expected: 4 --msaa"; an exploratory
 # session).
