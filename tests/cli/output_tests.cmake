@@ -449,6 +449,11 @@ pr_output_cli(cache_flags_taken_without_cone_maps EXIT 0 EXPECT_FILE o.png
 pr_output_cli(out_dash_refused EXIT 1 ONE_LINE NO_FILE -
               STDERR "${E}-: is not standard output here: every output is a file written whole and renamed into place"
               ARGS render --mesh ${M}/cube.obj --size 16x16 --out -)
+# Nor standard input, where no file of that name is there ("cannot open: No such file or
+# directory"; an exploratory session, forty-ninth).
+pr_output_cli(height_dash_is_not_stdin EXIT 1 ONE_LINE NO_FILE o.png
+              STDERR "${E}--height: -: is not standard input here: name a file \\(/dev/stdin reads standard input"
+              ARGS conemap --height - --no-cache --out o.png)
 # A name past the file system's limit on a name, or a path past the system's, is refused before
 # the work (a 256-byte name: a 40 s relaxed cone map, then "File name too long").
 string(REPEAT "a" 252 pr_long_name)
