@@ -581,8 +581,10 @@ void check_linear_part(const glm::dmat4& t, const std::string& subject)
     double largest = 0.0;
     for (int c = 0; c < 3; ++c) largest = std::max(largest, glm::length(a[c]));
     if (largest > kMaxCoordinate) throw Error(subject, "scales by more than 1e15 (float precision)");
-    if (largest < 1.0 / kMaxCoordinate) throw Error(subject, "scales by less than 1e-15 (float precision)");
-    if (glm::determinant(a) == 0.0)
+    // (All zero is singular, said as such: it read "scales by less than 1e-15"; found by an
+    // exploratory session, forty-ninth.)
+    if (largest > 0.0 && largest < 1.0 / kMaxCoordinate) throw Error(subject, "scales by less than 1e-15 (float precision)");
+    if (largest == 0.0 || glm::determinant(a) == 0.0)
         throw Error(subject, "is singular: it flattens the object (to a plane, a line or a point)");
     const double condition = condition_number(a);
     // (With 7 digits: a shear of 1000, just over the bound, read "condition number 1e+06, at

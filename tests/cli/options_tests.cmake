@@ -116,6 +116,7 @@ pr_cli(scene_matrix_projective EXIT 1 ONE_LINE
        STDERR "${E}.*projective.json: objects\\[0\\].transform.matrix: must be affine: last row 0 0 0 1"
        NO_FILE o.png ARGS render --scene ${OS}/projective.json --out o.png)
 pr_scene_refused(singular ", \"transform\": {\"matrix\": [1,1,0,0, 1,1,0,0, 0,0,1,0, 0,0,0,1]}}]}" "objects\\[0\\].transform.matrix: is singular")
+pr_scene_refused(all_zero_matrix ", \"transform\": {\"matrix\": [0,0,0,0, 0,0,0,0, 0,0,0,0, 0,0,0,1]}}]}" "objects\\[0\\].transform.matrix: is singular")
 pr_scene(nearly_singular ", \"transform\": {\"matrix\": [1,1,0,0, 1,1.000000001,0,0, 0,0,1,0, 0,0,0,1]}}]}")
 pr_cli(scene_matrix_nearly_singular EXIT 1 ONE_LINE
        STDERR "${E}.*nearly_singular.json: objects\\[0\\].transform.matrix: is nearly singular"
