@@ -102,6 +102,10 @@ void prepare_mesa_shader_cache()
 {
     static std::once_flag once;
     std::call_once(once, [] {
+        // An empty folder variable is taken as unset (as main() does with XDG_CACHE_HOME): Mesa
+        // tried to make "" and said "Failed to create  for shader cache".
+        for (const char* name : {"MESA_SHADER_CACHE_DIR", "MESA_GLSL_CACHE_DIR"})
+            if (const char* value = std::getenv(name); value != nullptr && *value == '\0') unsetenv(name);
         const std::string why = mesa_shader_cache_problem([](const char* name) { return std::getenv(name); },
                                                           home_folder());
         if (why.empty()) return;

@@ -18,7 +18,8 @@ namespace pr {
 std::string mesa_shader_cache_problem(const std::function<const char*(const char*)>& env, const std::string& home);
 
 // Once per process, before a backend loads Mesa (no other thread may read the environment
-// meanwhile): turns Mesa's cache off where mesa_shader_cache_problem() finds a problem.
+// meanwhile): unsets an empty MESA_SHADER_CACHE_DIR (or MESA_GLSL_CACHE_DIR), and turns Mesa's
+// cache off where mesa_shader_cache_problem() then finds a problem.
 void prepare_mesa_shader_cache();
 
 // The problem found by prepare_mesa_shader_cache(), "" where none (Context::load_gl warns with

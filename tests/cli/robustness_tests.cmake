@@ -549,6 +549,10 @@ pr_cli(mesa_cache_folder_not_made_warns_once EXIT 0 ONE_LINE EXPECT_FILE o.png
        ENV MESA_SHADER_CACHE_DIR=${PR_CLI_WORK}/mesa_cache_folder_not_made_warns_once/missing/cache
        STDERR "^prismrelief: warning: Mesa's shader cache is off \\(cannot make /.*/missing/cache: No such file or directory\\)"
        ARGS conemap --height builtin:bumps@16 --backend gpu --no-cache --out o.png)
+# An empty MESA_SHADER_CACHE_DIR is taken as unset, as an empty XDG_CACHE_HOME is (Mesa said
+# "Failed to create  for shader cache (No such file or directory)---disabling.").
+pr_cli(empty_mesa_shader_cache_dir_is_quiet EXIT 0 STDERR "^$" ENV MESA_SHADER_CACHE_DIR= EXPECT_FILE o.png
+       ARGS render --mesh ${M}/torus.obj --technique flat --size 8x8 --out o.png)
 # Turned off by the user (any of Mesa's words for true): nothing said.
 pr_cli(mesa_cache_off_by_the_user_is_quiet EXIT 0 STDERR "^$" EXPECT_FILE o.png SETUP "touch notafolder"
        ENV XDG_CACHE_HOME=${PR_CLI_WORK}/mesa_cache_off_by_the_user_is_quiet/notafolder MESA_SHADER_CACHE_DISABLE=Yes
