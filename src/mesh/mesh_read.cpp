@@ -1450,6 +1450,8 @@ Expect scan_stl(const string& subject, string_view text, const MeshOptions& opti
     // out; words outside facets but "vertex" are skipped, as the reader skips them.
     StlWords words(text);
     bool solid_ended = false; // "endsolid" after the last facet
+    size_t after_end_line = 0; // the first line with words after an "endsolid" and before a "solid"
+    string_view after_end;
     string_view word;
     size_t word_line = 0;
     while (words.next(word, word_line)) {
@@ -1457,6 +1459,13 @@ Expect scan_stl(const string& subject, string_view text, const MeshOptions& opti
             solid_ended = stl_keyword(word, "endsolid");
             words.skip_line(); // (its name)
             continue;
+        }
+        // Words after an "endsolid" that no "solid" follows are in no solid: skipped, as
+        // OpenMesh skips them, but said (they went without a word; found by an exploratory
+        // session, forty-ninth).
+        if (solid_ended && after_end_line == 0) {
+            after_end_line = word_line;
+            after_end = word;
         }
         // A fourth vertex (or more) in a facet, or one outside a facet.
         if (stl_keyword(word, "vertex"))
@@ -1504,6 +1513,9 @@ Expect scan_stl(const string& subject, string_view text, const MeshOptions& opti
         solid_ended = false;
     }
     e.stl_ascii = true;
+    if (after_end_line != 0)
+        warn(subject + ": " + line_prefix(after_end_line) + shown(after_end) +
+             " comes after an 'endsolid', outside any solid: the words there are ignored");
     // A file cut between two facets reads without a fault but the facets after the cut: the
     // last solid's "endsolid" is the one sign of its end.
     if (e.file_faces > 0 && !solid_ended)
