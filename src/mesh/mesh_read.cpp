@@ -578,6 +578,7 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
                           std::to_string(text.size()) + " bytes can hold");
     check_triangle_budget(subject, nf, options);
 
+    size_t extra_lines = 0, first_extra = 0; // plain vertex lines with values past x y z (nx ny nz)
     for (unsigned long long i = 0; i < nv; ++i) {
         string_view value[16];
         do {
@@ -604,12 +605,19 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
         if (n < fixed || !rest_ok || (has_c && has_st && n > 16)) // (16: the most values read here)
             fail(subject, line_prefix(lines.line()) + "a " + header_name + " vertex needs " +
                               vertex_layout + " (" + std::to_string(n) + " values here)");
+        if (!has_c && !has_st && n > fixed && extra_lines++ == 0) first_extra = lines.line();
         const size_t st = has_c ? n - 2 : fixed;
         for (size_t k = 3; k < std::min<size_t>(n, 16); ++k)
             if ((k < fixed || (has_st && (k == st || k == st + 1))) && !parse_finite_float(value[k]))
                 fail(subject, line_prefix(lines.line()) + "a " + header_name + " vertex needs " +
                                   vertex_layout + ", with numbers (" + shown(value[k]) + " here)");
     }
+    // Values past a plain vertex's (a colour without a C in the header, say) are ignored by the
+    // reader, and were without a word (found by an exploratory session, forty-ninth).
+    if (extra_lines > 0)
+        warn(subject + ": " + line_prefix(first_extra) + "a vertex line holds values past the " + vertex_layout + " of an " +
+             header_name + " vertex" + (extra_lines > 1 ? " (and " + std::to_string(extra_lines - 1) + " more such lines)" : "") +
+             ": ignored (a colour needs a C in the header, a texture coordinate ST)");
     // OpenMesh tells a colour's form by the line's remaining values, which it counts by single
     // spaces: a tab or two spaces between them read the colour as the texture coordinate.
     e.off_single_spaces = has_c;
@@ -619,7 +627,8 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
         do {
             if (!lines.next(line))
                 fail(subject, "file ends after " + std::to_string(f) + " of " + std::to_string(nf) +
-                                  " faces");
+                                  " faces (does the header count more vertices or faces than the file holds? a "
+                                  "vertex count one too large reads a face as a vertex)");
             n = tokenize(line, tok, 1);
         } while (n == 0);
         long long count = 0;

@@ -1276,6 +1276,32 @@ TEST(MeshErrors, OffFaceIndexOutOfRange)
     const fs::path trunc = dir.write("t.off", "OFF\n3 3 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"
                                               "                              \n");
     EXPECT_ERROR_MENTIONS(load_error(trunc), trunc, "file ends after 1 of 3 faces");
+    // A vertex count one too large reads the face as a vertex (its values past x y z ignored):
+    // the cut is said with that hint (an exploratory session, forty-ninth).
+    const fs::path more = dir.write("m.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n3 0 1 2\n");
+    EXPECT_ERROR_MENTIONS(load_error(more), more,
+                          "file ends after 0 of 1 faces (does the header count more vertices or faces than the file "
+                          "holds? a vertex count one too large reads a face as a vertex)");
+}
+
+// Values past a plain OFF vertex's x y z (a colour without C in the header) are ignored, as the
+// reader ignores them, and said once with the first line (silent until the forty-ninth session;
+// found by an exploratory session).
+TEST(MeshLoad, OffVertexValuesPastItsLayoutAreSaid)
+{
+    TempDir dir;
+    ::testing::internal::CaptureStderr();
+    const pr::PreparedMesh m =
+        pr::load_mesh(dir.write("g.off", "OFF\n3 1 0\n0 0 0\n1 0 0 7\n1 1 0 0.5 0.5 0.5\n3 0 1 2\n"));
+    const std::string said = ::testing::internal::GetCapturedStderr();
+    EXPECT_EQ(m.triangle_count(), 1u);
+    EXPECT_NE(said.find("g.off: line 4: a vertex line holds values past the x y z of an OFF vertex (and 1 more such "
+                        "lines): ignored (a colour needs a C in the header, a texture coordinate ST)"),
+              std::string::npos)
+        << said;
+    ::testing::internal::CaptureStderr();
+    pr::load_mesh(dir.write("c.off", "COFF\n3 1 0\n0 0 0 1 0 0\n1 0 0 0 1 0\n1 1 0 0 0 1\n3 0 1 2\n"));
+    EXPECT_EQ(::testing::internal::GetCapturedStderr().find("values past"), std::string::npos);
 }
 
 TEST(MeshErrors, PlyFaceIndexOutOfRange)
