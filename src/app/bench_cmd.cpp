@@ -59,11 +59,11 @@ CommandAction add_bench_command(CLI::App& app)
         "bench", "Time techniques (interleaved) and count fragments and height samples per fragment on the GPU");
     add_scene_options(*cmd, s->scene);
     add_technique_options(*cmd, s->quality, false);
-    cmd->add_option("--frames", s->frames, "Timed frames per technique")
+    cmd->add_option("--frames", s->frames, "Timed frames per technique (1-100000)")
         ->transform(saturating<int>())
         ->group("Bench")
         ->capture_default_str();
-    cmd->add_option("--warmup", s->warmup, "Untimed frames per technique first, after one that compiles its shaders")
+    cmd->add_option("--warmup", s->warmup, "Untimed frames per technique first, after one that compiles its shaders (0-1000)")
         ->transform(saturating<int>())
         ->group("Bench")
         ->capture_default_str();

@@ -77,7 +77,7 @@ CommandAction add_view_command(CLI::App& app)
     cmd->add_flag("--screenshot-ui", s->screenshot_ui,
                   "The screenshot shows the whole window as seen (panel, background; opaque)")
         ->group("View");
-    cmd->add_option("--frames", s->frames, "Draw this many frames, print frame times, then exit (0: interactive)")
+    cmd->add_option("--frames", s->frames, "Draw this many frames, print frame times, then exit (0: interactive; up to 1000000)")
         ->transform(saturating<int>())
         ->group("View")
         ->capture_default_str();
