@@ -187,14 +187,31 @@ std::string shortened_to_columns(const std::string& text, std::size_t columns)
     return text.substr(0, head_end) + "..." + text.substr(tail_start);
 }
 
+namespace {
+
+// Prints `message` as a warning, or holds it (hold_warnings); w.mutex held.
+void say_warning(Warnings& w, const std::string& message)
+{
+    const std::string line = std::string(kWarningPrefix) + one_line(message) + "\n";
+    if (w.holding) w.held.push_back(line);
+    else print_warning(w, line);
+}
+
+} // namespace
+
 void warn(const std::string& message)
 {
     Warnings& w = warnings();
     std::lock_guard lock(w.mutex);
-    if (!w.said.insert(message).second) return;
-    const std::string line = std::string(kWarningPrefix) + one_line(message) + "\n";
-    if (w.holding) w.held.push_back(line);
-    else print_warning(w, line);
+    if (w.said.insert(message).second) say_warning(w, message);
+}
+
+void warn_each_time(const std::string& message)
+{
+    Warnings& w = warnings();
+    std::lock_guard lock(w.mutex);
+    w.said.insert(message);
+    say_warning(w, message);
 }
 
 void observe_warnings(std::function<void(const std::string&)> observer)

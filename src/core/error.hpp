@@ -37,6 +37,10 @@ enum ExitCode : int { kExitOk = 0, kExitFailure = 1, kExitUsage = 2 };
 // Non-fatal remarks about input that is only odd (non-manifold, degenerate faces, ...):
 // printed as "prismrelief: warning: ..." on stderr, once each (as one line: one_line()).
 void warn(const std::string& message);
+// As warn(), but said every time: what comes again after the user acts (the viewer's refusals
+// and shader errors: a second P refused the same way printed nothing, and with the panel hidden
+// looked ignored; found by an exploratory session, forty-ninth).
+void warn_each_time(const std::string& message);
 
 // Hands every warning from now on to `observer` as it is printed (the message, without the
 // "prismrelief: warning: " before it), and first those printed before, in order: the viewer's

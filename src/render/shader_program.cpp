@@ -20,9 +20,13 @@ std::string& shader_dir_name()
     return name;
 }
 
+// Set while build_embedded_program() builds: the override folder is passed over.
+thread_local bool embedded_only = false;
+
 // The override folder (PRISMRELIEF_SHADER_DIR), or null where none is set.
 const char* shader_dir()
 {
+    if (embedded_only) return nullptr;
     const char* dir = std::getenv("PRISMRELIEF_SHADER_DIR");
     return dir && *dir ? dir : nullptr;
 }
@@ -145,6 +149,15 @@ PreprocessedShader preprocess_shader(const std::string& file, const ShaderDefine
     std::set<std::string> seen;
     append_file(file, out, seen, 0);
     return out;
+}
+
+gl::Program build_embedded_program(const std::vector<ShaderStage>& stages, const ShaderDefines& defines)
+{
+    struct Embedded {
+        Embedded() { embedded_only = true; }
+        ~Embedded() { embedded_only = false; }
+    } embedded;
+    return build_program(stages, defines);
 }
 
 gl::Program build_program(const std::vector<ShaderStage>& stages, const ShaderDefines& defines)

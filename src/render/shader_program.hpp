@@ -52,6 +52,10 @@ PreprocessedShader preprocess_shader(const std::string& file, const ShaderDefine
 
 // Compiles and links. Throws ShaderError(shader_path_shown(file), "<log with file:line>") on failure.
 gl::Program build_program(const std::vector<ShaderStage>& stages, const ShaderDefines& defines);
+// The same from the embedded copies alone, whatever PRISMRELIEF_SHADER_DIR says: for a program
+// that must exist, where the folder's copy does not build and there is no earlier one to keep
+// (the viewer's compositor at its start).
+gl::Program build_embedded_program(const std::vector<ShaderStage>& stages, const ShaderDefines& defines);
 
 // Every shader file the program table knows, for the test that compiles every variant.
 std::vector<std::string> shader_file_list();

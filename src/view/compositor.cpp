@@ -25,14 +25,22 @@ void make_target(int w, int h, gl::Texture& tex, gl::Framebuffer& fbo)
     glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 0, zero);
 }
 
+const std::vector<ShaderStage> kCompositorStages = {{GL_VERTEX_SHADER, "compositor.vert"},
+                                                     {GL_FRAGMENT_SHADER, "compositor.frag"}};
+
 gl::Program compositor_program()
 {
-    return build_program({{GL_VERTEX_SHADER, "compositor.vert"}, {GL_FRAGMENT_SHADER, "compositor.frag"}}, {});
+    return build_program(kCompositorStages, {});
 }
 
 } // namespace
 
 Compositor::Compositor() : program_(compositor_program()), vao_(gl::VertexArray::create()) {}
+
+Compositor::Compositor(EmbeddedShaders)
+    : program_(build_embedded_program(kCompositorStages, {})), vao_(gl::VertexArray::create())
+{
+}
 
 void Compositor::reload_program()
 {

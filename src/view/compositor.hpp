@@ -11,6 +11,10 @@ namespace pr::view {
 class Compositor {
 public:
     Compositor();
+    // From the embedded shaders, whatever the override folder holds (the viewer's start, where
+    // the folder's compositor does not build: a later reload takes the folder's again).
+    struct EmbeddedShaders {};
+    explicit Compositor(EmbeddedShaders);
     void resize(int width, int height); // framebuffer pixels; clears both targets
     int width() const { return width_; }
     int height() const { return height_; }

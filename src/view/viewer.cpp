@@ -179,7 +179,7 @@ private:
     void draw_panel();
     void draw_build_box();
     void technique_combo(int half);
-    void take_screenshot(const std::string& path);
+    bool take_screenshot(const std::string& path); // false where it could not (said)
     void screenshot_now(); // key P and the panel's button, once the frame is drawn: --screenshot's path, else a numbered name
     void reset_view();     // key R and the panel's button
     void reload_shaders(); // the watcher and the panel's button
@@ -290,7 +290,7 @@ private:
 
 void Viewer::error(const std::string& message)
 {
-    warn(message);
+    warn_each_time(message);
     note(one_line(message)); // (as the warning's observer hands it on: log_warnings skips it)
 }
 
@@ -692,7 +692,7 @@ void Viewer::render_scene()
     }
 }
 
-void Viewer::take_screenshot(const std::string& path)
+bool Viewer::take_screenshot(const std::string& path)
 {
     try {
         // Never over a file the scene reads now: the start checks --screenshot against the inputs
@@ -709,9 +709,11 @@ void Viewer::take_screenshot(const std::string& path)
         write_png(path, o_.screenshot_ui ? read_window() : compositor_->read_view());
         note("wrote " + path);
         if (o_.frames > 0) std::printf("%s: %dx%d\n", one_line(path).c_str(), compositor_->width(), compositor_->height());
+        return true;
     } catch (const Error& e) {
         if (o_.frames > 0) throw; // --frames --screenshot: the PNG is the result; failing to write it fails
         error(e.what());
+        return false;
     }
 }
 
@@ -744,7 +746,10 @@ void Viewer::drop_screenshots(const char* why, bool as_error)
 
 void Viewer::screenshot_now()
 {
-    if (!o_.screenshot.empty()) return take_screenshot(o_.screenshot);
+    if (!o_.screenshot.empty()) {
+        take_screenshot(o_.screenshot);
+        return;
+    }
     // The next number whose file is not there: the count starts at 1 in every run, and a second
     // run's first P replaced the first run's picture (found by an exploratory session).
     std::string path;
@@ -754,7 +759,10 @@ void Viewer::screenshot_now()
     // session, thirty-sixth.)
     do path = "prismrelief-view-" + std::to_string(++screenshot_counter_) + ".png";
     while (std::filesystem::exists(std::filesystem::symlink_status(path, ec)) && screenshot_counter_ < 1000000);
-    take_screenshot(path);
+    // A number whose file could not be written is tried again by the next P (it was skipped: on
+    // a full disk, the P after space was freed wrote -2 with -1 free; an exploratory session,
+    // forty-ninth).
+    if (!take_screenshot(path)) --screenshot_counter_;
 }
 
 void Viewer::reset_view()
@@ -1049,9 +1057,13 @@ void Viewer::draw_panel()
         } else
             ImGui::Text("%-14s %s", name.c_str(), time);
     };
-    const float last = frame_ms_.empty() ? 0.0f : frame_ms_.back();
-    ImGui::Text("frame %.1f ms (%.0f fps), %dx%d px", last, last > 0.0f ? 1000.0f / last : 0.0f,
-                compositor_->width(), compositor_->height());
+    // (n/a before the first frame time, as a technique's time: it read "0.0 ms (0 fps)"; an
+    // exploratory session, forty-ninth.)
+    if (frame_ms_.empty() || !(frame_ms_.back() > 0.0f))
+        ImGui::Text("frame n/a ms, %dx%d px", compositor_->width(), compositor_->height());
+    else
+        ImGui::Text("frame %.1f ms (%.0f fps), %dx%d px", frame_ms_.back(), 1000.0f / frame_ms_.back(),
+                    compositor_->width(), compositor_->height());
     fmt_half(0);
     if (split_) fmt_half(1);
     // (Drawn before the first frame time too, empty: the panel's items below kept moving down
@@ -1190,7 +1202,18 @@ void Viewer::draw_panel()
 int Viewer::run()
 {
     window_.set_swap_interval(o_.frames > 0 ? 0 : 1);
-    compositor_.emplace();
+    // A compositor.frag under --shader-dir that does not build ends a batch run (--frames), as any
+    // shader that cannot draw does; interactively it is reported, as a hot reload's error is, and
+    // the embedded one composes until a reload builds the folder's (it ended the viewer, exit 1,
+    // right after "the window stays open"; found by an exploratory session, forty-ninth).
+    try {
+        compositor_.emplace();
+    } catch (const ShaderError& e) {
+        if (o_.frames > 0) throw;
+        compositor_error_ = e.what();
+        error(e.what());
+        compositor_.emplace(Compositor::EmbeddedShaders{});
+    }
     init_imgui();
     show_panel_ = o_.panel;
     bool previous_counted = false;
@@ -1321,8 +1344,12 @@ int Viewer::run()
                 // shown is the last one drawn, of other settings or the shaders before. P saved it
                 // under the technique the panel names, without a word (found by an exploratory
                 // session, forty-fourth).
-                drop_screenshots("P: no screenshot: what is set could not be drawn (the error above); the picture "
-                                 "shown is an earlier one",
+                // (Nothing drawn yet since the scene was loaded: no earlier picture to speak of;
+                // an exploratory session, forty-ninth.)
+                drop_screenshots(rendered_ > 0 ? "P: no screenshot: what is set could not be drawn (the error above); "
+                                                 "the picture shown is an earlier one"
+                                               : "P: no screenshot: what is set could not be drawn (the error above), "
+                                                 "and nothing has been drawn yet",
                                  true);
             } else if (screenshot_pending_ > 0 && screenshot_stale()) {
                 // Turned to another technique (or settings) while P waited: what is drawn now is
