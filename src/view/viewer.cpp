@@ -403,6 +403,14 @@ void Viewer::handle_drop(const std::string& path)
 {
     const std::string ext = lower_extension(path);
     try {
+        // Said alike whatever the name ends in: a folder "adir" read "cannot load this file type"
+        // where "fold.obj" read "is a folder", and a missing "x.png" "cannot open: No such file or
+        // directory" where "x.obj" read "does not exist" (an exploratory session, forty-ninth).
+        std::error_code ec;
+        const std::filesystem::file_status status = std::filesystem::status(path, ec);
+        if (status.type() == std::filesystem::file_type::not_found) throw Error(path, "does not exist");
+        if (status.type() == std::filesystem::file_type::directory)
+            throw Error(path, "is a folder (drop a mesh or a height image)");
         SceneSpec spec = s_.spec;
         if (ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl") {
             ObjectSpec obj = spec.objects.at(0);

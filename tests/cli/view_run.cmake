@@ -199,8 +199,13 @@ elseif(CASE STREQUAL "drop")
     run_render(--mesh ${MESHES}/cube.obj --height builtin:bricks --size 160x120 --technique relief --out cube_render.png)
     check(same cube.png cube_render.png 4)
     # A dropped file's error is its own, not said under the flag that named the map before.
-    run_view(${torus} --technique relief --frames 2 --drop nonexistent.png)
-    expect_match("${view_err}" "warning: nonexistent.png: cannot open" "the bad dropped image was said under a flag")
+    # A missing image and a folder are said as a missing mesh and a folder are, whatever the name
+    # ends in ("nonexistent.png: cannot open: No such file or directory", "adir: cannot load this
+    # file type"; an exploratory session, forty-ninth).
+    file(MAKE_DIRECTORY ${WORKDIR}/adir)
+    run_view(${torus} --technique relief --frames 2 --drop nonexistent.png --drop adir)
+    expect_match("${view_err}" "warning: nonexistent.png: does not exist" "the missing dropped image was not said as missing")
+    expect_match("${view_err}" "warning: adir: is a folder \\(drop a mesh or a height image\\)" "the dropped folder was not said as one")
 elseif(CASE STREQUAL "shader_error")
     # A broken shader in --shader-dir is reported with file and line. Interactively the viewer
     # shows it in the panel and goes on (hot reload); with --frames a frame that cannot be drawn
