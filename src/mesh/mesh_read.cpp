@@ -309,10 +309,13 @@ Expect scan_obj(const string& subject, string_view text, const MeshOptions& opti
                     if (s2 != string_view::npos) ns = corner.substr(s2 + 1);
                 }
                 long long v = 0, t = 0, vn = 0;
-                if (!parse_int(vs, v) || v == 0 || (!ts.empty() && (!parse_int(ts, t) || t == 0)) ||
-                    (!ns.empty() && (!parse_int(ns, vn) || vn == 0)))
-                    fail(subject,
-                         line_prefix(lines.line()) + "malformed face corner " + shown(corner));
+                const bool numbers = parse_int(vs, v) && (ts.empty() || parse_int(ts, t)) && (ns.empty() || parse_int(ns, vn));
+                // (An index 0 said so: it read "malformed face corner '0'"; an exploratory
+                // session, forty-ninth.)
+                if (numbers && (v == 0 || (!ts.empty() && t == 0) || (!ns.empty() && vn == 0)))
+                    fail(subject, line_prefix(lines.line()) + "face corner " + shown(corner) +
+                                      " has an index 0 (OBJ counts from 1, or from -1 back)");
+                if (!numbers) fail(subject, line_prefix(lines.line()) + "malformed face corner " + shown(corner));
                 if (v < 0) {
                     v += static_cast<long long>(nv) + 1;
                     if (v < 1)
@@ -1492,6 +1495,11 @@ Expect scan_stl(const string& subject, string_view text, const MeshOptions& opti
             if (!(k == 0 ? words.next(v, l) : words.next_after_numbers(v, l, vertex_line)))
                 fail(subject, "file ends inside a facet");
             vertex_line = l;
+            // (A facet's end after fewer than three vertices said so: it read "expected 'vertex x
+            // y z' with finite numbers" on the endloop line; an exploratory session, forty-ninth.)
+            if (k > 0 && (stl_keyword(v, "endloop") || stl_keyword(v, "endfacet")))
+                fail(subject, line_prefix(vertex_line) + shown(v) + " after " + std::to_string(k) +
+                                  (k == 1 ? " vertex" : " vertices") + " (STL facets are triangles: three)");
             if (!stl_keyword(v, "vertex")) fail(subject, line_prefix(vertex_line) + "expected 'vertex x y z' with finite numbers");
             for (int c = 0; c < 3; ++c)
                 if (!words.next(v, l) || !parse_finite_float(v))

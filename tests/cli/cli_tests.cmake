@@ -503,7 +503,7 @@ pr_cli(reference_larger_than_memory EXIT 1 ONE_LINE NO_FILE r.png
 # warning for what is only odd.
 foreach(case "nan_coordinate.obj|line 2: vertex position is not three finite numbers"
              "inf_coordinate.obj|line 2: vertex position is not three finite numbers"
-             "zero_index.obj|line 4: malformed face corner"
+             "zero_index.obj|line 4: face corner .0. has an index 0 \\(OBJ counts from 1, or from -1 back\\)"
              "degenerate_only.obj|all 1 triangles are degenerate"
              "truncated_binary.stl|.*its header claims 1000 triangles"
              "garbage.ply|PLY vertex element lacks"

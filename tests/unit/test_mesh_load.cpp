@@ -1209,7 +1209,7 @@ TEST(MeshErrors, ObjIndexOutOfRange)
     const fs::path neg = dir.write("n.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n");
     EXPECT_ERROR_MENTIONS(load_error(neg), neg, "out of range");
     const fs::path zero = dir.write("z.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n");
-    EXPECT_ERROR_MENTIONS(load_error(zero), zero, "malformed face corner");
+    EXPECT_ERROR_MENTIONS(load_error(zero), zero, "line 4: face corner '0' has an index 0 (OBJ counts from 1, or from -1 back)");
     const fs::path vt = dir.write("t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/2\n");
     EXPECT_ERROR_MENTIONS(load_error(vt), vt, "texture coordinate index 2 is out of range");
 }
@@ -1689,6 +1689,16 @@ TEST(MeshLoad, StlWordsAfterEndsolidAreSaid)
     ::testing::internal::CaptureStderr();
     pr::load_mesh(dir.write("two.stl", octa + octa));
     EXPECT_EQ(::testing::internal::GetCapturedStderr().find("outside any solid"), std::string::npos);
+}
+
+// A facet that ends after fewer than three vertices says so (it read "expected 'vertex x y z'
+// with finite numbers" on its endloop line; an exploratory session, forty-ninth).
+TEST(MeshErrors, StlFacetWithTwoVerticesIsSaid)
+{
+    TempDir dir;
+    const fs::path p = dir.write("two.stl", "solid a\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+                                            "endloop\nendfacet\nendsolid a\n");
+    EXPECT_ERROR_MENTIONS(load_error(p), p, "line 6: 'endloop' after 2 vertices (STL facets are triangles: three)");
 }
 
 TEST(MeshErrors, StlFacetWithFourVerticesIsRefused)
