@@ -668,6 +668,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     size_t clip_work_left = options.ear_clip_work;
     size_t fanned = 0;  // concave polygons past the ear clipping's limits
     size_t crossed = 0; // polygons whose outlines cross themselves
+    std::vector<uint8_t> crossing(face_count, 0); // per face: its outline crosses itself
     size_t repeated_in_faces = 0, faces_repeating_triangles = 0;
     std::vector<std::pair<std::array<uint32_t, 3>, uint32_t>> in_face; // a polygon's triangles by their sorted welds
     std::vector<uint8_t> in_face_drop;
@@ -685,7 +686,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         } else {
             const PolygonCut cut = triangulate_polygon(poly, local, clip_work_left);
             if (cut == PolygonCut::FannedPastLimits) ++fanned;
-            if (cut == PolygonCut::CrossesItself) ++crossed;
+            if (cut == PolygonCut::CrossesItself) ++crossed, crossing[f] = 1;
         }
         const size_t first_triangle = tris.size();
         for (const auto& t : local) {
@@ -955,7 +956,11 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
             if (j - i == 1) boundary[sides[i].tri] = 1;
             for (size_t x = i; x < j && j - i <= 16; ++x) // (16: a fan of more on one edge is said anyway)
                 for (size_t y = x + 1; y < j; ++y)
-                    if (back_to_back(tris[sides[x].tri], tris[sides[y].tri], sides[i].key))
+                    // (Not two triangles of one bow tie, folded by its own triangulation: said as
+                    // crossing itself already, it read as a two-sided sheet too; an exploratory
+                    // session, forty-ninth.)
+                    if (!(tris[sides[x].tri].face == tris[sides[y].tri].face && crossing[tris[sides[x].tri].face]) &&
+                        back_to_back(tris[sides[x].tri], tris[sides[y].tri], sides[i].key))
                         backed[tris[sides[x].tri].face] = backed[tris[sides[y].tri].face] = 1;
             if (j - i == 2 && sides[i].tri != sides[i + 1].tri) {
                 const uint32_t x = sides[i].tri, y = sides[i + 1].tri;

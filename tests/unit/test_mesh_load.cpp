@@ -394,8 +394,11 @@ TEST(MeshLoad, PolygonsCrossingThemselvesAreSaid)
     // Lobes of equal area (no net area: no plane), of unequal area (0.4 and 6.4: ear clipping's
     // triangles add up to more than the outline's net area), and a pentagram (its middle counted
     // twice by the outline).
-    EXPECT_NE(warning("tie.obj", square + "f 1 2 4 3\n").find("tie.obj: 1 polygon's outline crosses itself (a bow tie?)"),
-              std::string::npos);
+    const std::string tie = warning("tie.obj", square + "f 1 2 4 3\n");
+    EXPECT_NE(tie.find("tie.obj: 1 polygon's outline crosses itself (a bow tie?)"), std::string::npos);
+    // Its own triangles, folded onto each other by its triangulation, are not a two-sided sheet
+    // (said so too until the forty-ninth session; found by an exploratory session).
+    EXPECT_EQ(tie.find("back to back"), std::string::npos) << tie;
     EXPECT_NE(warning("uneven.obj", "v 0 0 0\nv 4 4 0\nv 4 0 0\nv 0 1 0\nf 1 2 3 4\n")
                   .find("uneven.obj: 1 polygon's outline crosses itself"),
               std::string::npos);
