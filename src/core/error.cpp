@@ -189,6 +189,9 @@ std::string shortened_to_columns(const std::string& text, std::size_t columns)
 
 namespace {
 
+// The messages this thread's innermost ThreadWarningHold holds (null: none).
+thread_local std::vector<std::string>* t_held = nullptr;
+
 // Prints `message` as a warning, or holds it (hold_warnings); w.mutex held.
 void say_warning(Warnings& w, const std::string& message)
 {
@@ -203,7 +206,9 @@ void warn(const std::string& message)
 {
     Warnings& w = warnings();
     std::lock_guard lock(w.mutex);
-    if (w.said.insert(message).second) say_warning(w, message);
+    if (!w.said.insert(message).second) return;
+    if (t_held) t_held->push_back(message);
+    else say_warning(w, message);
 }
 
 void warn_each_time(const std::string& message)
@@ -211,7 +216,40 @@ void warn_each_time(const std::string& message)
     Warnings& w = warnings();
     std::lock_guard lock(w.mutex);
     w.said.insert(message);
-    say_warning(w, message);
+    if (t_held) t_held->push_back(message);
+    else say_warning(w, message);
+}
+
+ThreadWarningHold::ThreadWarningHold() : outer_(t_held)
+{
+    t_held = &messages_;
+}
+
+ThreadWarningHold::~ThreadWarningHold()
+{
+    if (!released_) {
+        // Dropped, and forgotten: said again should they come again.
+        Warnings& w = warnings();
+        std::lock_guard lock(w.mutex);
+        for (const std::string& message : messages_) w.said.erase(message);
+    }
+    t_held = outer_;
+}
+
+void ThreadWarningHold::release()
+{
+    if (released_) return;
+    released_ = true;
+    t_held = outer_;
+    for (const std::string& message : messages_) {
+        if (outer_) {
+            outer_->push_back(message);
+            continue;
+        }
+        Warnings& w = warnings();
+        std::lock_guard lock(w.mutex);
+        say_warning(w, message);
+    }
 }
 
 void observe_warnings(std::function<void(const std::string&)> observer)

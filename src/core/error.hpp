@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace pr {
 
@@ -41,6 +42,25 @@ void warn(const std::string& message);
 // and shader errors: a second P refused the same way printed nothing, and with the panel hidden
 // looked ignored; found by an exploratory session, forty-ninth).
 void warn_each_time(const std::string& message);
+
+// While one lives, the warnings this thread says are held (another thread's are not: the
+// viewer's cone-map builds go on beside a drop); release() says them, and where it ends
+// unreleased they are dropped and forgotten (said should they come again). For work that may
+// fail after its inputs warned: a dropped file the viewer refused said "no texture
+// coordinates" before its error (found by an exploratory session, forty-ninth).
+class ThreadWarningHold {
+public:
+    ThreadWarningHold();
+    ~ThreadWarningHold();
+    ThreadWarningHold(const ThreadWarningHold&) = delete;
+    ThreadWarningHold& operator=(const ThreadWarningHold&) = delete;
+    void release();
+
+private:
+    std::vector<std::string> messages_;
+    std::vector<std::string>* outer_;
+    bool released_ = false;
+};
 
 // Hands every warning from now on to `observer` as it is printed (the message, without the
 // "prismrelief: warning: " before it), and first those printed before, in order: the viewer's

@@ -403,6 +403,9 @@ void Viewer::handle_drop(const std::string& path)
 {
     const std::string ext = lower_extension(path);
     try {
+        // The file's load warnings wait until it is taken: a refused one said "no texture
+        // coordinates" before its error (found by an exploratory session, forty-ninth).
+        ThreadWarningHold held;
         // Said alike whatever the name ends in: a folder "adir" read "cannot load this file type"
         // where "fold.obj" read "is a folder", and a missing "x.png" "cannot open: No such file or
         // directory" where "x.obj" read "does not exist" (an exploratory session, forty-ninth).
@@ -448,6 +451,7 @@ void Viewer::handle_drop(const std::string& path)
             throw Error(path, "cannot load this file type (drop a mesh: OBJ, OFF, PLY, STL; or a height "
                               "image: PNG, JPEG, BMP, TGA, binary PNM, HDR, GIF, PSD, PIC)");
         }
+        held.release();
         note("loaded " + path);
     } catch (const Error& e) {
         error(e.what());

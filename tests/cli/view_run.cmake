@@ -206,6 +206,14 @@ elseif(CASE STREQUAL "drop")
     run_view(${torus} --technique relief --frames 2 --drop nonexistent.png --drop adir)
     expect_match("${view_err}" "warning: nonexistent.png: does not exist" "the missing dropped image was not said as missing")
     expect_match("${view_err}" "warning: adir: is a folder \\(drop a mesh or a height image\\)" "the dropped folder was not said as one")
+    # A refused drop's load warnings are not said before its error (its "no texture coordinates"
+    # was; forty-ninth session); a drop taken says its own.
+    file(WRITE ${WORKDIR}/huge.obj "v 0 0 0\nv 2e30 0 0\nv 0 2e30 0\nf 1 2 3\n")
+    file(WRITE ${WORKDIR}/small.obj "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    run_view(${torus} --technique relief --frames 2 --drop huge.obj --drop small.obj)
+    expect_match("${view_err}" "warning: huge.obj: the object is" "the refused drop was not said")
+    expect_no_match("${view_err}" "huge.obj: no texture coordinates" "the refused drop's load warning was said")
+    expect_match("${view_err}" "small.obj: no texture coordinates" "the taken drop's load warning was not said")
 elseif(CASE STREQUAL "shader_error")
     # A broken shader in --shader-dir is reported with file and line. Interactively the viewer
     # shows it in the panel and goes on (hot reload); with --frames a frame that cannot be drawn

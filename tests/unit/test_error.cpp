@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <thread>
 #include <vector>
 
 TEST(OneLine, ControlCharactersAreWrittenOut)
@@ -77,4 +78,35 @@ TEST(Warnings, AnObserverHearsThoseSaidBeforeAndAfter)
     for (const std::string& m : heard)
         if (m.rfind("observer test:", 0) == 0) ours.push_back(m);
     EXPECT_EQ(ours, (std::vector<std::string>{"observer test: before\\nthe observer", "observer test: after it"}));
+}
+
+// A thread's held warnings (ThreadWarningHold): said on release, dropped and forgotten where it
+// ends unreleased, and another thread's said at once meanwhile. warn_each_time says a message
+// every time (the viewer's refusals), warn once.
+TEST(Warnings, AThreadsHoldKeepsItsOwnAndEachTimeRepeats)
+{
+    testing::internal::CaptureStderr();
+    {
+        pr::ThreadWarningHold held;
+        pr::warn("hold test: dropped");
+        std::thread([] { pr::warn("hold test: another thread's"); }).join();
+    }
+    const std::string dropped = testing::internal::GetCapturedStderr();
+    EXPECT_EQ(dropped.find("hold test: dropped"), std::string::npos) << dropped;
+    EXPECT_NE(dropped.find("prismrelief: warning: hold test: another thread's\n"), std::string::npos) << dropped;
+    testing::internal::CaptureStderr();
+    {
+        pr::ThreadWarningHold held;
+        pr::warn("hold test: dropped"); // (forgotten when dropped: said now)
+        EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+        testing::internal::CaptureStderr();
+        held.release();
+    }
+    pr::warn_each_time("hold test: each time");
+    pr::warn_each_time("hold test: each time");
+    pr::warn("hold test: each time"); // (said already: once is enough for warn)
+    const std::string said = testing::internal::GetCapturedStderr();
+    EXPECT_EQ(said, "prismrelief: warning: hold test: dropped\n"
+                    "prismrelief: warning: hold test: each time\n"
+                    "prismrelief: warning: hold test: each time\n");
 }
