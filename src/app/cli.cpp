@@ -165,18 +165,15 @@ int run_cli(int argc, char** argv)
     // the flag's own check says what is wrong ("expected a number, got an empty value").
     // Only for an option that takes a value (a flag given "=" is CLI11's to refuse), and not past
     // a "--".
-    const auto takes_value = [&app](const std::string& name) {
+    // How many values the option `name` takes (the first command that has it): 0 for a flag,
+    // -1 where no command has such an option.
+    const auto values_taken = [&app](const std::string& name) {
         for (const CLI::App* command : app.get_subcommands({}))
-            if (const CLI::Option* option = command->get_option_no_throw(name))
-                return option->get_items_expected_max() > 0;
-        return false;
+            if (const CLI::Option* option = command->get_option_no_throw(name)) return option->get_items_expected_max();
+        return -1;
     };
-    const auto is_flag = [&app](const std::string& name) {
-        for (const CLI::App* command : app.get_subcommands({}))
-            if (const CLI::Option* option = command->get_option_no_throw(name))
-                return option->get_items_expected_max() == 0;
-        return false;
-    };
+    const auto takes_value = [&](const std::string& name) { return values_taken(name) > 0; };
+    const auto is_flag = [&](const std::string& name) { return values_taken(name) == 0; };
     std::vector<std::string> args(argv, argv + argc);
     // An option before the subcommand: "--bogus" alone said "A subcommand is required", and
     // "--size 64x64 render …" CLI11's "The following arguments were not expected: 64x64 --size"

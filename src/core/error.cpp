@@ -192,9 +192,14 @@ namespace {
 // The messages this thread's innermost ThreadWarningHold holds (null: none).
 thread_local std::vector<std::string>* t_held = nullptr;
 
-// Prints `message` as a warning, or holds it (hold_warnings); w.mutex held.
+// Hands `message` to this thread's ThreadWarningHold, or prints it as a warning, or holds it
+// (hold_warnings); w.mutex held.
 void say_warning(Warnings& w, const std::string& message)
 {
+    if (t_held) {
+        t_held->push_back(message);
+        return;
+    }
     const std::string line = std::string(kWarningPrefix) + one_line(message) + "\n";
     if (w.holding) w.held.push_back(line);
     else print_warning(w, line);
@@ -206,9 +211,7 @@ void warn(const std::string& message)
 {
     Warnings& w = warnings();
     std::lock_guard lock(w.mutex);
-    if (!w.said.insert(message).second) return;
-    if (t_held) t_held->push_back(message);
-    else say_warning(w, message);
+    if (w.said.insert(message).second) say_warning(w, message);
 }
 
 void warn_each_time(const std::string& message)
@@ -216,8 +219,7 @@ void warn_each_time(const std::string& message)
     Warnings& w = warnings();
     std::lock_guard lock(w.mutex);
     w.said.insert(message);
-    if (t_held) t_held->push_back(message);
-    else say_warning(w, message);
+    say_warning(w, message);
 }
 
 ThreadWarningHold::ThreadWarningHold() : outer_(t_held)
@@ -240,16 +242,10 @@ void ThreadWarningHold::release()
 {
     if (released_) return;
     released_ = true;
-    t_held = outer_;
-    for (const std::string& message : messages_) {
-        if (outer_) {
-            outer_->push_back(message);
-            continue;
-        }
-        Warnings& w = warnings();
-        std::lock_guard lock(w.mutex);
-        say_warning(w, message);
-    }
+    t_held = outer_; // (so that they go to an outer hold, if any)
+    Warnings& w = warnings();
+    std::lock_guard lock(w.mutex);
+    for (const std::string& message : messages_) say_warning(w, message);
 }
 
 void observe_warnings(std::function<void(const std::string&)> observer)

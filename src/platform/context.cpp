@@ -40,10 +40,11 @@ void Context::load_gl(ProcLoader get_proc, const std::string& subject, const std
         const auto* s = reinterpret_cast<const char*>(glGetString(name));
         return std::string(s ? s : "?");
     };
-    description_ = backend + ": " + str(GL_RENDERER) + ", OpenGL " + str(GL_VERSION);
+    const std::string gl_version = str(GL_VERSION);
+    description_ = backend + ": " + str(GL_RENDERER) + ", OpenGL " + gl_version;
     // Mesa's shader cache turned off where Mesa could not make its folder (platform/mesa_cache.hpp):
     // said once, prefixed, instead of Mesa's own line.
-    if (const std::string& why = mesa_shader_cache_off_reason(); !why.empty() && str(GL_VERSION).find("Mesa") != std::string::npos)
+    if (const std::string& why = mesa_shader_cache_off_reason(); !why.empty() && gl_version.find("Mesa") != std::string::npos)
         warn("Mesa's shader cache is off (" + why +
              "): shaders are compiled anew on every run; MESA_SHADER_CACHE_DIR can name a folder for it");
 }

@@ -119,7 +119,7 @@ Scene load_scene(const SceneSpec& spec)
         // kept) on its own, so a small scene naming one mesh 100,000 times ran out of memory
         // after half a minute, said as "render: out of memory" (found by an exploratory session,
         // forty-ninth).
-        triangles += found->second.indices.size() / 3;
+        triangles += found->second.triangle_count();
         if (triangles > spec.mesh_options.max_triangles)
             throw Error(o.mesh_place.empty() ? o.mesh : o.mesh_place,
                         "the scene's objects up to this one hold " + std::to_string(triangles) +
