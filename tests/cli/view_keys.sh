@@ -287,6 +287,23 @@ shader_break)
     [ "$(printf '%s\n' "$err" | grep -c -x "prismrelief: warning: P: no screenshot: what is set could not be drawn (the error above); the picture shown is an earlier one")" -eq 2 ] ||
         fail "not two refusal lines for two P"
     ;;
+shader_broken_start)
+    # A technique whose shader is broken from the start (--shader-dir): the viewer opens (the
+    # error is said) with nothing drawn, and P says so rather than speak of "an earlier picture"
+    # (found by an exploratory session, forty-ninth; hand-checked only until the fiftieth).
+    cp -r "$MESHES/../shaders" shaders || fail "no shaders to copy"
+    printf '\nthis is not glsl;\n' >>shaders/surface.frag
+    start_view $TORUS --technique pom --shader-dir shaders --screenshot s.png
+    grep -q "surface.frag" view.err || fail "the broken shader was not said"
+    press p
+    wait_stderr "P: no screenshot" 15 "P with nothing drawn said nothing within 15 s"
+    press q
+    wait_view
+    [ $rc -eq 0 ] || fail "Q: exit $rc, expected 0"
+    [ ! -e s.png ] || fail "P saved a picture when nothing had been drawn"
+    printf '%s\n' "$err" | grep -q -x "prismrelief: warning: P: no screenshot: what is set could not be drawn (the error above), and nothing has been drawn yet" ||
+        fail "P's refusal did not say that nothing has been drawn yet"
+    ;;
 compositor_break)
     # A compositor.frag under --shader-dir that does not build at the start: said, and the
     # embedded compositor shows the view until a reload builds the folder's; P writes render's
