@@ -346,6 +346,13 @@ pr_cli(bench_rows_carry_their_quality EXIT 0 JSON b.json
        CHECKS "${R}.0.depth_write:STREQUAL:ON|${R}.0.steps:EQUAL:12|${R}.0.refine:EQUAL:3|${R}.1.depth_write:STREQUAL:ON|${R}.1.steps:EQUAL:12|${R}.1.refine:ABSENT|${R}.2.steps:ABSENT|${R}.2.refine:ABSENT|${R}.2.depth_write:STREQUAL:ON"
        ARGS bench --mesh ${M}/torus.obj --size 32x24 --frames 1 --warmup 0 --steps 12 --refine 3
             --depth-write --techniques relief,pom,reference --json b.json)
+# The report's own steps and refine likewise: where some row reads them (flat's report said
+# "steps": 32, a flag the same run refuses as having no effect; found by an exploratory session,
+# fiftieth).
+pr_cli(bench_report_quality_where_read EXIT 0 JSON b.json CHECKS "steps:EQUAL:12|refine:ABSENT|${R}.0.steps:EQUAL:12"
+       ARGS bench --mesh ${M}/torus.obj --size 32x24 --frames 1 --warmup 0 --steps 12 --techniques pom,flat --json b.json)
+pr_cli(bench_report_quality_none_read EXIT 0 JSON b.json CHECKS "steps:ABSENT|refine:ABSENT|size.0:EQUAL:32"
+       ARGS bench --mesh ${M}/torus.obj --size 32x24 --frames 1 --warmup 0 --techniques flat,reference --json b.json)
 # The reference's row carries its geometry (a cube's 12 triangles split 4 x 4).
 pr_cli(bench_reference_row_has_its_geometry EXIT 0 JSON b.json
        CHECKS "${R}.1.reference.level:EQUAL:4|${R}.1.reference.triangles:EQUAL:192|${R}.1.reference.capped:STREQUAL:OFF"
