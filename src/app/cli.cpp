@@ -71,6 +71,18 @@ std::string usage_message(CLI::App& app, const CLI::ParseError& e, int argc, cha
     return e.what();
 }
 
+// Where a usage message sends the user: the subcommand's own help where the words name one
+// (`render --out o.png` said "see prismrelief render --help" but `render --mesh m.obj`
+// "see prismrelief --help", which lists no render option; found by an exploratory session,
+// fiftieth), else the program's.
+std::string help_hint(const CLI::App& app, int argc, char** argv)
+{
+    if (argc > 1)
+        for (const CLI::App* command : app.get_subcommands({}))
+            if (command->get_name() == argv[1]) return "see prismrelief " + command->get_name() + " --help";
+    return "see prismrelief --help";
+}
+
 // --help and --version end the parse where they stand (as getopt's callers do): what follows is
 // not read. What came before is: an unknown subcommand or option there is usage, as without them
 // (`prismrelief frobnicate --version` printed the version and exited 0; found by an audit).
@@ -81,8 +93,8 @@ int help_or_usage(CLI::App& app, const CLI::ParseError& e, int argc, char** argv
         if (command->parsed() && extra.empty()) extra = command->remaining();
     if (extra.empty()) return app.exit(e);
     const CLI::ExtrasError unknown(extra);
-    std::fprintf(stderr, "prismrelief: usage: %s (see prismrelief --help)\n",
-                 one_line(usage_message(app, unknown, argc, argv)).c_str());
+    std::fprintf(stderr, "prismrelief: usage: %s (%s)\n", one_line(usage_message(app, unknown, argc, argv)).c_str(),
+                 help_hint(app, argc, argv).c_str());
     return kExitUsage;
 }
 
@@ -209,8 +221,8 @@ int run_cli(int argc, char** argv)
         // forty-ninth). A flag is on where given and off where not: a value is usage.
         if (const std::size_t eq = a.find('=');
             i > 0 && !options_end && a.starts_with("--") && eq != std::string::npos && is_flag(a.substr(0, eq))) {
-            std::fprintf(stderr, "prismrelief: usage: %s takes no value, got '%s' (give the flag alone to turn it on; see prismrelief --help)\n",
-                         one_line(a.substr(0, eq)).c_str(), one_line(a.substr(eq + 1)).c_str());
+            std::fprintf(stderr, "prismrelief: usage: %s takes no value, got '%s' (give the flag alone to turn it on; %s)\n",
+                         one_line(a.substr(0, eq)).c_str(), one_line(a.substr(eq + 1)).c_str(), help_hint(app, argc, argv).c_str());
             return kExitUsage;
         }
         // An option that takes a value, followed by another option: CLI11 took the option for
@@ -222,9 +234,10 @@ int run_cli(int argc, char** argv)
         if (i > 0 && !options_end && !ends_next && a.starts_with("--") && a.find('=') == std::string::npos &&
             takes_value(a) && i + 1 < args.size() && looks_like_option(args[i + 1])) {
             const bool file = std::find(std::begin(kFileOptions), std::end(kFileOptions), a) != std::end(kFileOptions);
-            std::fprintf(stderr, "prismrelief: usage: %s: expected a value, got the option '%s'%s (see prismrelief --help)\n",
+            std::fprintf(stderr, "prismrelief: usage: %s: expected a value, got the option '%s'%s (%s)\n",
                          one_line(a).c_str(), one_line(args[i + 1].substr(0, args[i + 1].find('='))).c_str(),
-                         file ? one_line(" (a file of that name: ./" + args[i + 1] + ")").c_str() : "");
+                         file ? one_line(" (a file of that name: ./" + args[i + 1] + ")").c_str() : "",
+                         help_hint(app, argc, argv).c_str());
             return kExitUsage;
         }
         const std::string name = a.size() > 3 && a.back() == '=' ? a.substr(0, a.size() - 1) : std::string();
@@ -257,8 +270,8 @@ int run_cli(int argc, char** argv)
         if (help_asked && (dynamic_cast<const CLI::ConversionError*>(&e) || dynamic_cast<const CLI::ValidationError*>(&e) ||
                            dynamic_cast<const CLI::ArgumentMismatch*>(&e)))
             return help_or_usage(app, CLI::CallForHelp(), argc, argv); // (an unknown option stays usage)
-        std::fprintf(stderr, "prismrelief: usage: %s (see prismrelief --help)\n",
-                     one_line(usage_message(app, e, argc, argv)).c_str());
+        std::fprintf(stderr, "prismrelief: usage: %s (%s)\n", one_line(usage_message(app, e, argc, argv)).c_str(),
+                     help_hint(app, argc, argv).c_str());
         return kExitUsage;
     }
 
