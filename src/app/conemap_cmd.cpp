@@ -67,7 +67,7 @@ CommandAction add_conemap_command(CLI::App& app)
         ->capture_default_str();
     cmd->add_option("--gl-backend", s->gl_backend, "With --backend gpu: osmesa (llvmpipe) or egl")
         ->capture_default_str();
-    cmd->add_option("--threads", s->threads, "CPU threads (0: all cores)")
+    cmd->add_option("--threads", s->threads, "CPU threads, 0 to 1024 (0: all cores; no more are started than the map has rows of work)")
         ->transform(saturating<int>())
         ->capture_default_str();
     cmd->add_option("--cache-dir", s->cache_dir,
