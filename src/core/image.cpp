@@ -44,6 +44,16 @@
 namespace pr {
 namespace {
 
+// Apple's CgBI PNGs (Xcode's "optimized" form: BGRA, colour premultiplied by alpha, raw deflate):
+// stb reads their data but leaves it as stored unless told, so a red map came out blue and a
+// height read the blue channel (found by an exploratory session, fiftieth). Told once, before any
+// decode; the flags act on CgBI files only.
+const bool kCgbiConverted = [] {
+    stbi_convert_iphone_png_to_rgb(1);
+    stbi_set_unpremultiply_on_load(1);
+    return true;
+}();
+
 struct StbiFree {
     void operator()(void* p) const { stbi_image_free(p); }
 };
@@ -361,6 +371,10 @@ Checked check_header(const std::string& subject, std::vector<std::uint8_t>& byte
     return c;
 }
 
+// A file whose data ends before its pixels do (decode_image, check_gif_frame).
+constexpr const char* kEndsBeforeItsPixels =
+    "not a supported image (truncated or corrupt data: the file ends before its pixels do)";
+
 // stb's decode of `c` by `decode` (stbi_load_from_memory's arguments). Where a decoder could
 // read past the end without failing (needs_padding_check: every format but PNG, JPEG and HDR),
 // it decodes the bytes followed by kPadding zeros and again followed by as many 0xFF bytes: a
@@ -419,7 +433,7 @@ StbiPtr<T> decode_image(const std::string& subject, const std::vector<std::uint8
     const std::size_t count = zeros ? std::size_t(*w) * std::size_t(*h) * std::size_t(channels ? channels : *n) : 0;
     if (!zeros || !ones || w2 != *w || h2 != *h || n2 != *n ||
         std::memcmp(zeros.get(), ones.get(), count * sizeof(T)) != 0)
-        throw Error(subject, "not a supported image (truncated or corrupt data: the file ends before its pixels do)");
+        throw Error(subject, kEndsBeforeItsPixels);
     return zeros;
 }
 
@@ -513,6 +527,52 @@ void apply_orientation(StbiPtr<T>& data, int& w, int& h, int n, int orientation)
     h = oh;
 }
 
+// A GIF's first frame must draw every pixel of its screen. stb fills the ones it does not with the
+// background colour, or leaves them transparent black where the background index is 0, without a
+// word: image data that ends before the frame is full (an end code, or its blocks ending early,
+// in a file complete to its trailer, which the padding check cannot see) made an 8 x 8 map of 10
+// pixels all white, or warned of "transparent" pixels the file does not have; a frame smaller
+// than the screen read its surroundings as white or as 0 by the background's index alone (found
+// by an exploratory session, fiftieth). Found by stb's own first-frame decode, whose record of
+// the pixels drawn (this file holds its implementation) stb_image's API does not give.
+void check_gif_frame(const std::string& subject, const std::vector<std::uint8_t>& bytes)
+{
+    const std::optional<Sniffed> kind = sniff(bytes);
+    if (!kind || std::strcmp(kind->format, "GIF") != 0 || bytes.size() > std::size_t(INT_MAX)) return;
+    stbi__context s;
+    stbi__start_mem(&s, bytes.data(), int(bytes.size()));
+    const auto g = std::make_unique<stbi__gif>(); // (value-initialized: all zero, as stb's own call makes it)
+    int comp = 0;
+    const stbi_uc* frame = stbi__gif_load_next(&s, g.get(), &comp, 4, nullptr);
+    const bool no_image = frame == reinterpret_cast<const stbi_uc*>(&s); // (the trailer before any image)
+    std::size_t drawn = 0, frame_w = 0, frame_h = 0, frame_x = 0, frame_y = 0;
+    if (frame && !no_image && g->line_size > 0) {
+        frame_x = std::size_t(g->start_x / 4);
+        frame_y = std::size_t(g->start_y / g->line_size);
+        frame_w = std::size_t((g->max_x - g->start_x) / 4);
+        frame_h = std::size_t((g->max_y - g->start_y) / g->line_size);
+        for (std::size_t k = 0; k < std::size_t(g->w) * std::size_t(g->h); ++k) drawn += g->history[k] != 0;
+    }
+    const std::size_t screen = std::size_t(g->w) * std::size_t(g->h);
+    const bool file_ended = s.img_buffer >= s.img_buffer_end; // (stb reads zeros past the end)
+    STBI_FREE(g->out);
+    STBI_FREE(g->history);
+    STBI_FREE(g->background);
+    if (no_image) throw Error(subject, "not a supported image (a GIF with no image in it)");
+    if (!frame) return; // (the decode proper says what is wrong)
+    if (drawn < frame_w * frame_h && file_ended)
+        throw Error(subject, kEndsBeforeItsPixels);
+    if (drawn < frame_w * frame_h)
+        throw Error(subject, fmt::format("not a supported image (truncated or corrupt data: the GIF's image data "
+                                         "ends after {} of its {} pixels)",
+                                         drawn, frame_w * frame_h));
+    if (frame_w * frame_h < screen)
+        throw Error(subject, fmt::format("not a supported image (the GIF's first frame covers {}x{} pixels, from "
+                                         "{},{} at the top left, of its {}x{} screen, and the rest has no pixel of its "
+                                         "own: save the map whole, as PNG)",
+                                         frame_w, frame_h, frame_x, frame_y, g->w, g->h));
+}
+
 // stb gives a GIF's transparent pixels no colour (0, 0, 0, 0), where a PNG's keep their palette
 // entry's: said, not silent, with what they were read as (`as`). RGBA `data` of w x h. (As a
 // height a transparent white made whole areas fall from 1 to 0; as a colour map its pixels came
@@ -533,6 +593,7 @@ HeightField load_height_file(const std::string& path, const ImageLimits& limits)
 {
     std::vector<std::uint8_t> bytes = read_file(path, limits);
     const Checked c = check_header(path, bytes, limits);
+    check_gif_frame(path, bytes);
     HeightField hf;
     hf.name = path;
     int n = 0;
@@ -592,6 +653,7 @@ RgbaImage load_rgba_file(const std::string& path, const ImageLimits& limits, boo
 {
     std::vector<std::uint8_t> bytes = read_file(path, limits);
     const Checked c = check_header(path, bytes, limits);
+    check_gif_frame(path, bytes);
     int w = 0, h = 0, n = 0;
     StbiPtr<stbi_uc> data;
     if (is_pnm(bytes) && stbi_is_16_bit_from_memory(c.data, c.len)) {

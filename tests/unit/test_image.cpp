@@ -258,6 +258,32 @@ TEST_F(ImageFiles, ImageColorKeepsAlphaAndChannels)
     EXPECT_EQ(d.at(0, 1), glm::u8vec4(1, 2, 3, 4));
 }
 
+// An Apple CgBI PNG (Xcode's form: a CgBI chunk first, BGRA colour premultiplied by alpha, raw
+// deflate without zlib's header): stb left its bytes as stored, so a red map read blue and its
+// height was the blue channel (found by an exploratory session, fiftieth). Read as the colour it
+// stands for, as a PNG of that colour is.
+TEST_F(ImageFiles, AppleCgbiPngReadsAsItsColour)
+{
+    Bytes png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+    chunk(png, "CgBI", {0x50, 0x00, 0x20, 0x06});
+    Bytes ihdr;
+    put_be32(ihdr, 2);
+    put_be32(ihdr, 1);
+    ihdr.insert(ihdr.end(), {8, 6, 0, 0, 0});
+    chunk(png, "IHDR", ihdr);
+    // One row: red 200 opaque, then red 128 at alpha 128 (stored premultiplied: 64), as B G R A.
+    const Bytes raw = {0, 0, 0, 200, 255, 0, 0, 64, 128};
+    Bytes deflated = {1, std::uint8_t(raw.size()), 0, std::uint8_t(~raw.size()), 0xFF}; // one stored block
+    deflated.insert(deflated.end(), raw.begin(), raw.end());
+    chunk(png, "IDAT", deflated);
+    chunk(png, "IEND", {});
+    const std::string p = put("cgbi.png", png);
+    const pr::RgbaImage c = pr::load_color(p);
+    EXPECT_EQ(c.at(0, 0), glm::u8vec4(200, 0, 0, 255));
+    EXPECT_EQ(c.at(1, 0), glm::u8vec4(128, 0, 0, 128));
+    EXPECT_FLOAT_EQ(pr::load_height(p).at(0, 0), 200 / 255.0f);
+}
+
 // ---- heights from files ----
 
 TEST_F(ImageFiles, HeightFirstChannelOnly)
@@ -608,6 +634,23 @@ TEST_F(ImageFiles, FilesThatEndBeforeTheirPixelsAreRefused)
     const pr::HeightField whole_gif = pr::load_height(put("whole.gif", gif));
     EXPECT_EQ(whole_gif.width, 2);
     refused("cut.gif", Bytes(gif.begin(), gif.begin() + 33), "the file ends before its pixels do");
+    // A GIF complete to its trailer whose image data ends (an end code) after 1 of its 4 pixels:
+    // stb filled the rest with the background colour (or left it transparent, said as such, for
+    // background index 0) without a word; a frame smaller than its screen likewise; a GIF with no
+    // image said "corrupt data" (found by an exploratory session, fiftieth).
+    const Bytes head(gif.begin(), gif.begin() + 19);
+    const auto with = [&](std::initializer_list<std::uint8_t> rest) {
+        Bytes b = head;
+        b.insert(b.end(), rest);
+        return b;
+    };
+    refused("early_end.gif", with({0x2C, 0, 0, 0, 0, 2, 0, 2, 0, 0, 2, 2, 0x44, 0x01, 0, 0x3B}),
+            "truncated or corrupt data: the GIF's image data ends after 1 of its 4 pixels");
+    refused("early_end_no_trailer.gif", with({0x2C, 0, 0, 0, 0, 2, 0, 2, 0, 0, 2, 2, 0x44, 0x01}),
+            "the file ends before its pixels do");
+    refused("small_frame.gif", with({0x2C, 1, 0, 1, 0, 1, 0, 1, 0, 0, 2, 2, 0x44, 0x01, 0, 0x3B}),
+            "the GIF's first frame covers 1x1 pixels, from 1,1 at the top left, of its 2x2 screen");
+    refused("no_image.gif", with({0x3B}), "a GIF with no image in it");
     // PSD, RGB 1x1, 16 bits, run-length: stb decodes it as 8-bit data (garbage).
     Bytes psd = text("8BPS");
     psd.insert(psd.end(), {0, 1, 0, 0, 0, 0, 0, 0, 0, 3, 0, 0, 0, 1, 0, 0, 0, 1, 0, 16, 0, 3});
