@@ -122,6 +122,11 @@ std::string stb_reason()
     // Some decoders (JPEG cut inside its tables) fail without a reason of their own, leaving the
     // stale one of another format's signature test: the header was readable, the data was not.
     if (another_decoders_code(code)) return "truncated or corrupt data";
+    // (A JPEG whose scan data ends, cut short or without its end marker: "corrupt or unsupported:
+    // expected marker" until the fiftieth session; found by an exploratory session.)
+    if (code == "expected marker")
+        return "truncated or corrupt data: the JPEG's data ends where a marker should come: a file cut short, "
+               "or damaged";
     if (code == "0-pixel image" || code == "0 width") return "the image has no pixels (0x0)";
     if (code == "too large") return "its header claims absurd dimensions";
     if (code == "outofmem") return "out of memory while decoding";
@@ -357,6 +362,8 @@ Checked check_header(const std::string& subject, std::vector<std::uint8_t>& byte
             // stb's words for what it leaves out, said as what to do.
             const std::string said = why == "wrong color format" ? "not in RGB colour mode (stb reads RGB PSD only): save it as RGB"
                                      : why == "BMP RLE"          ? "run-length compressed (stb reads uncompressed BMP only)"
+                                     // (Said of an empty PLTE too; found by an exploratory session, fiftieth.)
+                                     : why == "no PLTE" ? "a palette image without the colours of its palette (PLTE)"
                                      : why == "unsupported data layout"
                                          ? "a pixel layout other than -Y height +X width (the only one stb reads)"
                                          : why;

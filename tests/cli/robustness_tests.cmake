@@ -686,6 +686,11 @@ pr_cli_special(summary_names_output_on_one_line BASH EXIT 0 STDOUT "^o\\\\nut[.]
 pr_cli(gif_transparent_pixels_are_said EXIT 0 ONE_LINE EXPECT_FILE o.png SETUP "printf '\\107\\111\\106\\070\\071\\141\\002\\000\\002\\000\\200\\000\\000\\310\\310\\310\\377\\377\\377\\041\\371\\004\\001\\000\\000\\000\\000\\054\\000\\000\\000\\000\\002\\000\\002\\000\\000\\002\\003\\204\\035\\005\\000\\073' > t.gif"
        STDERR "^prismrelief: warning: t.gif: 4 transparent GIF pixels read as height 0 \\(their palette colour is not kept"
        ARGS conemap --height t.gif --format rg8 --no-cache --out o.png)
+# A JPEG without its end marker (a file cut at its end): said as cut short or damaged (it read
+# "corrupt or unsupported: expected marker"; found by an exploratory session, fiftieth).
+pr_cli(jpeg_without_end_marker EXIT 1 ONE_LINE NO_FILE o.png SETUP "head -c 135 '${BAD}/tiny.jpg' > cut.jpg"
+       STDERR "${E}--height: cut.jpg: not a supported image \\(truncated or corrupt data: the JPEG's data ends where a marker should come: a file cut short, or damaged\\)"
+       ARGS conemap --height cut.jpg --no-cache --out o.png)
 # PNM in its ASCII forms or a bitmap: said as such (it was "unknown format; readable formats: …,
 # PNM"; found by an exploratory session, thirty-fourth).
 pr_cli(pnm_ascii_is_named EXIT 1 ONE_LINE NO_FILE o.png SETUP "printf 'P2\\n2 2\\n255\\n0 10\\n20 30\\n' > a.pgm"

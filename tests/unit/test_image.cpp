@@ -704,6 +704,14 @@ TEST_F(ImageFiles, PngPaletteIndicesPastThePlteAreRefused)
     EXPECT_FLOAT_EQ(h.at(0, 0), 1.0f);
     EXPECT_FLOAT_EQ(h.at(1, 0), 0.0f);
     EXPECT_EQ(pr::load_color(put("padded.png", make_png(3, 1, 3, {{0x5F}}, two))).at(1, 0), glm::u8vec4(255, 255, 255, 255));
+    // No palette at all, or an empty PLTE chunk: said in words (stb's "no PLTE"; found by an
+    // exploratory session, fiftieth).
+    refused("no_plte.png", make_png(2, 8, 3, {{0, 0}}), "a palette image without the colours of its palette (PLTE)");
+    Bytes empty = png_header(2, 1, 8, 3);
+    chunk(empty, "PLTE", {});
+    const Bytes rest = make_png(2, 8, 3, {{0, 0}});
+    empty.insert(empty.end(), rest.begin() + 33, rest.end()); // (past the signature and IHDR)
+    refused("empty_plte.png", empty, "a palette image without the colours of its palette (PLTE)");
 }
 
 // A PNM's samples run from 0 to its maxval: stb returns them as stored, so maxval 127 gave
