@@ -69,8 +69,11 @@ void unlink_live_temporaries()
         if (t.state.load() == kLive) ::unlink(t.path);
 }
 
-// The signals that end a run, whose handler removes the temporaries.
-constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
+// The signals that end a run, whose handler removes the temporaries: those a user or a job
+// system sends (timeout's and batch systems' SIGALRM, SIGUSR1/2, SIGXCPU past `ulimit -t`,
+// SIGVTALRM) as well as Ctrl-C, kill, a closed terminal and Ctrl-\ (they ended the process with
+// its temporaries left; found by an exploratory session, fiftieth).
+constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGALRM, SIGUSR1, SIGUSR2, SIGXCPU, SIGVTALRM};
 
 // While commit_together() renames a run's outputs, a signal handled on another thread (the
 // committing thread blocks them; llvmpipe's threads do not) is deferred to its end: the outputs
@@ -578,6 +581,13 @@ void remove_temporaries_on_signals()
         struct sigaction old {};
         if (::sigaction(sig, nullptr, &old) == 0 && old.sa_handler != SIG_IGN) install_handler(sig);
     }
+    // A write past `ulimit -f` (SIGXFSZ) or to a pipe whose reader has gone (SIGPIPE) killed the
+    // process without a word, leaving its temporaries, exit 153 or 141 (Mesa's shader cache alone
+    // reached the limit in a plain render; found by an exploratory session, fiftieth). Ignored,
+    // the write fails instead (EFBIG, EPIPE) and the writer says so: one line and exit 1 for an
+    // output or standard output, a warning for a cache entry.
+    std::signal(SIGXFSZ, SIG_IGN);
+    std::signal(SIGPIPE, SIG_IGN);
 }
 
 } // namespace pr

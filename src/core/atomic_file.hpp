@@ -82,10 +82,12 @@ void check_png_output(const std::filesystem::path& path);
 using NamedPath = std::pair<std::string, std::filesystem::path>; // option, path
 void check_distinct_outputs(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs);
 
-// Makes SIGINT, SIGTERM, SIGHUP and SIGQUIT remove every temporary file still being written
-// (by any thread) before the process dies of the signal as it would have without the handler,
-// so an interrupted run leaves no ".NAME.tmpNNNNNN" behind. Signals the process ignores (nohup)
-// stay ignored. Called once by main(); unit tests call it in a child process.
+// Makes SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGALRM, SIGUSR1, SIGUSR2, SIGXCPU and SIGVTALRM
+// remove every temporary file still being written (by any thread) before the process dies of the
+// signal as it would have without the handler, so an interrupted run leaves no
+// ".NAME.tmpNNNNNN" behind. Signals the process ignores (nohup) stay ignored. SIGXFSZ and SIGPIPE
+// are ignored: a write past `ulimit -f` or into a closed pipe fails, and is reported, instead of
+// ending the process. Called once by main(); unit tests call it in a child process.
 void remove_temporaries_on_signals();
 
 } // namespace pr

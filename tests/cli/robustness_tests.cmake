@@ -604,6 +604,16 @@ pr_cli_special(newline_in_name BASH EXIT 1 ONE_LINE STDERR "${E}no\\\\nsuch.obj:
 # A table printed to a full disk was lost with exit 0.
 pr_cli_special(stdout_full BASH EXIT 1 STDERR "${E}standard output: cannot write: No space left on device"
                REQUIRES /dev/full ARGS render --mesh '${M}/cube.obj' --size 8x8 --out o.png ">" /dev/full)
+# The help and the version likewise (lost with exit 0; found by an exploratory session, fiftieth).
+pr_cli_special(help_stdout_full BASH EXIT 1 STDERR "${E}standard output: cannot write: No space left on device"
+               REQUIRES /dev/full ARGS render --help ">" /dev/full)
+pr_cli_special(version_stdout_full BASH EXIT 1 STDERR "${E}standard output: cannot write: No space left on device"
+               REQUIRES /dev/full ARGS --version ">" /dev/full)
+# A write past `ulimit -f` (16 blocks): the output's error, exit 1, no temporary left (SIGXFSZ
+# killed the process without a word, exit 153, its .o.png.tmpNNNNNN left behind; found by an
+# exploratory session, fiftieth). (A reader that leaves early, SIGPIPE: OutputSafetyDeathTest.)
+pr_cli_special(file_size_limit EXIT 1 ONE_LINE NO_FILE o.png STDERR "${E}o.png: cannot write: File too large"
+               SETUP "ulimit -f 16" ARGS conemap --height builtin:noise@256 --no-cache --out o.png)
 # A loader's error names the object's place in the scene ("builtin:nah" alone did not say which).
 pr_cli_special(scene_builtin_place EXIT 1 ONE_LINE NO_FILE o.png
                SETUP "printf '{\"objects\":[{\"mesh\":\"${M}/cube.obj\"},{\"mesh\":\"${M}/cube.obj\",\"color\":\"builtin:nah\"}]}' > b.json"

@@ -20,6 +20,7 @@
 #include <optional>
 #include <pthread.h>
 #include <string>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/un.h>
@@ -305,6 +306,55 @@ TEST(OutputSafetyDeathTest, SignalRemovesStagedTemporaries)
             std::_Exit(2);
         },
         ::testing::KilledBySignal(SIGTERM), "");
+    EXPECT_TRUE(fs::is_empty(d));
+}
+
+// The signals a job system or a user sends besides those (timeout's SIGALRM, SIGUSR1, SIGXCPU
+// past `ulimit -t`) left the temporaries too (found by an exploratory session, fiftieth).
+TEST(OutputSafetyDeathTest, JobSignalsRemoveStagedTemporaries)
+{
+    for (const int sig : {SIGALRM, SIGUSR1, SIGUSR2, SIGVTALRM}) {
+        prtest::TempDir dir;
+        const fs::path d = dir.path();
+        EXPECT_EXIT(
+            {
+                remove_temporaries_on_signals();
+                StagedFile image(d / "a.png", std::string_view("image"));
+                if (temporaries_in(d).size() != 1) std::_Exit(1);
+                std::raise(sig);
+                std::_Exit(2);
+            },
+            ::testing::KilledBySignal(sig), "")
+            << strsignal(sig);
+        EXPECT_TRUE(fs::is_empty(d)) << strsignal(sig);
+    }
+}
+
+// A write past `ulimit -f` (SIGXFSZ) or into a pipe whose reader has gone (SIGPIPE) ended the
+// process without a word, its temporaries left (exit 153 or 141; found by an exploratory
+// session, fiftieth). They fail instead, and the writer reports it (exit code 4 here).
+TEST(OutputSafetyDeathTest, WritesPastTheFileLimitOrIntoAClosedPipeFail)
+{
+    prtest::TempDir dir;
+    const fs::path d = dir.path();
+    EXPECT_EXIT(
+        {
+            remove_temporaries_on_signals();
+            int fds[2];
+            if (::pipe(fds) != 0) std::_Exit(1);
+            ::close(fds[0]);
+            if (::write(fds[1], "x", 1) != -1 || errno != EPIPE) std::_Exit(2);
+            struct rlimit limit {};
+            limit.rlim_cur = limit.rlim_max = 16;
+            if (::setrlimit(RLIMIT_FSIZE, &limit) != 0) std::_Exit(1);
+            try {
+                write_file_atomic(d / "big.bin", std::string(4096, 'x'));
+            } catch (const pr::Error& e) {
+                std::_Exit(std::string(e.what()).find("File too large") != std::string::npos ? 4 : 3);
+            }
+            std::_Exit(5);
+        },
+        ::testing::ExitedWithCode(4), "");
     EXPECT_TRUE(fs::is_empty(d));
 }
 
