@@ -3,7 +3,10 @@
 // file (a character device)": the input reader refuses such files, an output refuses to replace
 // them.
 #include <sys/stat.h>
+#include <unistd.h>
 
+#include <cerrno>
+#include <climits>
 #include <string>
 
 namespace pr {
@@ -27,6 +30,20 @@ inline std::string not_a_file_reason(const char* path)
     if (stat(path, &st) != 0 || S_ISREG(st.st_mode)) return {};
     if (S_ISDIR(st.st_mode)) return "is a folder";
     return std::string("is not a regular file (") + special_file_kind(st.st_mode) + ")";
+}
+
+// Where `path` is a symbolic link that leads nowhere, what it is: "is a symbolic link to T,
+// which does not exist" or "…, which leads back to itself (a loop of links)"; empty where it is
+// no such link. For the folders a cache makes: mkdir says "File exists" of a link to nothing.
+inline std::string broken_link_reason(const std::string& path)
+{
+    struct stat st {};
+    if (lstat(path.c_str(), &st) != 0 || !S_ISLNK(st.st_mode) || stat(path.c_str(), &st) == 0) return {};
+    const bool loop = errno == ELOOP;
+    char target[PATH_MAX];
+    const ssize_t n = readlink(path.c_str(), target, sizeof target);
+    return "is a symbolic link to " + (n >= 0 ? std::string(target, std::size_t(n)) : std::string("?")) +
+           (loop ? ", which leads back to itself (a loop of links)" : ", which does not exist");
 }
 
 } // namespace pr

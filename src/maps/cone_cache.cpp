@@ -143,26 +143,23 @@ std::filesystem::path entry_for_key(const HeightField& field, ConeKind kind, Con
 }
 
 // Why `folder` could not be made: create_directories says "File exists" where a part of the path
-// is a file, or a link to nothing (a --cache-dir link whose target is missing).
+// is a file, or a link to nothing (a --cache-dir link whose target is missing), and "No such file
+// or directory" where a folder takes no new entry (/proc: it read as if /proc were missing; found
+// by an exploratory session, fiftieth).
 std::string folder_problem(const std::filesystem::path& folder, const std::error_code& ec)
 {
-    std::filesystem::path part;
+    std::filesystem::path part, parent;
     for (const std::filesystem::path& name : folder) {
+        parent = part;
         part /= name;
         std::error_code e;
-        const std::filesystem::file_status st = std::filesystem::symlink_status(part, e);
-        if (std::filesystem::is_symlink(st)) {
-            std::error_code followed;
-            const bool target = std::filesystem::exists(part, followed);
-            const std::string link = "cannot create it: " + part.string() + " is a symbolic link to " +
-                                     std::filesystem::read_symlink(part, e).string();
-            // (A loop of links is no missing target: stat says ELOOP, exists() false for both.)
-            if (followed == std::errc::too_many_symbolic_link_levels)
-                return link + ", which leads back to itself (a loop of links)";
-            if (!target) return link + ", which does not exist";
-        }
+        if (const std::string link = broken_link_reason(part.string()); !link.empty())
+            return "cannot create it: " + part.string() + " " + link;
         if (std::filesystem::exists(part, e) && !std::filesystem::is_directory(part, e))
             return "cannot create it: " + part.string() + " is not a folder";
+        if (!std::filesystem::exists(part, e) && ec == std::errc::no_such_file_or_directory && !parent.empty() &&
+            std::filesystem::is_directory(parent, e))
+            return "cannot create it: " + parent.string() + " takes no new folder (a file system such as /proc or /sys)";
     }
     return ec.message();
 }
@@ -375,8 +372,11 @@ EntryRead read_entry(const std::filesystem::path& entry, const HeightField& fiel
 std::string entry_not_a_file_reason(const std::filesystem::path& entry)
 {
     if (std::string why = not_a_file_reason(entry.c_str()); !why.empty()) return why;
+    // (The entry's own link: a loop in the cache's folder said every entry there loops; found by
+    // an exploratory session, fiftieth. The write says what is wrong with the folder.)
     struct stat st {};
-    if (::stat(entry.c_str(), &st) != 0 && errno == ELOOP) return "is a symbolic link that loops";
+    if (::lstat(entry.c_str(), &st) == 0 && S_ISLNK(st.st_mode) && ::stat(entry.c_str(), &st) != 0 && errno == ELOOP)
+        return "is a symbolic link that loops";
     return "";
 }
 

@@ -1,5 +1,7 @@
 #include "platform/mesa_cache.hpp"
 
+#include "core/file_kind.hpp"
+
 #include <pwd.h>
 #include <strings.h>
 #include <sys/stat.h>
@@ -34,6 +36,8 @@ std::string folder_problem(const std::string& path, bool& made)
     }
     const int error = errno;
     if (error == EEXIST && is_folder(path)) return ""; // (made meanwhile)
+    // (A link to nothing read "cannot make …/dl: File exists"; found by an exploratory session.)
+    if (const std::string link = broken_link_reason(path); !link.empty()) return path + " " + link;
     return "cannot make " + path + ": " + std::strerror(error);
 }
 

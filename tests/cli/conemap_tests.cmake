@@ -41,6 +41,15 @@ pr_cli(conemap_cache_not_written_has_no_entry EXIT 0 ONE_LINE EXPECT_FILE o.png 
        STDERR "^prismrelief: warning: cone-map cache not written: "
        JSON j.json CHECKS "from_cache:STREQUAL:OFF|cache_entry:TYPE:NULL"
        ARGS conemap --height builtin:bumps@16 --out o.png --cache-dir cfile --json j.json)
+# A cache folder that is a loop of links: one warning, naming the folder (every entry was first
+# said to be "a symbolic link that loops"), and /proc's "takes no new folder" (it read "No such
+# file or directory" as if /proc were missing); found by an exploratory session, fiftieth.
+pr_cli(conemap_cache_dir_loop EXIT 0 ONE_LINE EXPECT_FILE o.png SETUP "ln -s l2 l1 && ln -s l1 l2"
+       STDERR "^prismrelief: warning: cone-map cache not written: l1/cone: cannot create it: l1 is a symbolic link to l2, which leads back to itself \\(a loop of links\\)"
+       ARGS conemap --height builtin:bumps@16 --out o.png --cache-dir l1)
+pr_cli(conemap_cache_dir_in_proc EXIT 0 ONE_LINE EXPECT_FILE o.png SETUP "test -d /proc/self || exit 77"
+       STDERR "^prismrelief: warning: cone-map cache not written: /proc/self/cone: cannot create it: /proc/self takes no new folder \\(a file system such as /proc or /sys\\)"
+       ARGS conemap --height builtin:bumps@16 --out o.png --cache-dir /proc/self)
 add_test(NAME cli.conemap_cache_reset COMMAND ${CMAKE_COMMAND} -E rm -rf ${PR_CLI_WORK}/conemap_cache/c)
 set_tests_properties(cli.conemap_cache_reset PROPERTIES LABELS "cli" FIXTURES_SETUP conemap_cache)
 set_tests_properties(cli.conemap_cache_miss PROPERTIES FIXTURES_REQUIRED conemap_cache)

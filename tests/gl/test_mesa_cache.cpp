@@ -65,6 +65,16 @@ TEST_F(MesaCache, FolderOrFileThereOrMissingParent)
     fs::remove(dir_ / "used" / "mesa_shader_cache");
     fs::create_directories(dir_ / "used" / "mesa_shader_cache");
     EXPECT_EQ(problem(), "");
+    // A link to nothing, or a loop of links: said as such (mkdir said "File exists"; found by an
+    // exploratory session, fiftieth).
+    fs::create_symlink(dir_ / "nowhere", dir_ / "dangling");
+    env_["MESA_SHADER_CACHE_DIR"] = (dir_ / "dangling").string();
+    EXPECT_EQ(problem(), (dir_ / "dangling").string() + " is a symbolic link to " + (dir_ / "nowhere").string() +
+                             ", which does not exist");
+    fs::create_symlink("loop2", dir_ / "loop1");
+    fs::create_symlink("loop1", dir_ / "loop2");
+    env_["MESA_SHADER_CACHE_DIR"] = (dir_ / "loop1").string();
+    EXPECT_EQ(problem(), (dir_ / "loop1").string() + " is a symbolic link to loop2, which leads back to itself (a loop of links)");
 }
 
 TEST_F(MesaCache, PlacesInMesasOrder)
