@@ -473,13 +473,22 @@ pr_cli_special(prism_walk_cut_short_said EXIT 0 EXPECT_FILE o.png
                SETUP "awk -v v=v -v f=f 'BEGIN {\n n = 5000\n print v, 0, 0, 0\n i = 0\n while (i < n) {\n a = 6.283185307 * i / n\n print v, cos(a), sin(a), 0\n i++\n }\n i = 0\n while (i < n) {\n print f, 1, i + 2, (i + 1) % n + 2\n i++\n }\n }' > fan.obj"
                STDERR "fan.obj: a position has 4[0-9][0-9][0-9] triangles around it, more than the prism's walk follows \\(4096\\): rays that pass near it may be dropped"
                ARGS render --mesh fan.obj --technique prism --size 16x16 --no-cache --out o.png)
-# …and a triangle a ten-thousandth as wide as it is long: a straight path through its shell may
-# cross about 10,800 such prisms, more than the walk's 8448 (an open cylinder of slivers took
-# minutes a frame and lost its outline's rays without a word).
+# …and a row of 20,000 slivers a ten-thousandth as wide as they are long (CAD's tube, unrolled):
+# a straight path through its shell may cross about 15,000 such prisms, more than the walk's
+# 8448 (an open cylinder of slivers took minutes a frame and lost its outline's rays without a
+# word).
 pr_cli_special(prism_walk_narrow_triangles_said EXIT 0 EXPECT_FILE o.png
-               SETUP "printf 'v 0 0 0\\nv 1 0 0\\nv 0 0.0001 0\\nf 1 2 3\\n' > s.obj"
-               STDERR "s.obj: its triangles are narrow for its size and shell: a ray through the shell may cross up to about [0-9]+ prisms, more than the prism's walk follows \\(8448\\)"
-               ARGS render --mesh s.obj --technique prism --size 16x16 --no-cache --out o.png)
+               SETUP "awk -v v=v -v f=f 'BEGIN {\n n = 10000\n i = 0\n while (i <= n) {\n print v, i / n, 0, 0\n print v, i / n, 1, 0\n i++\n }\n i = 0\n while (i < n) {\n print f, 2 * i + 1, 2 * i + 3, 2 * i + 4\n print f, 2 * i + 1, 2 * i + 4, 2 * i + 2\n i++\n }\n }' > row.obj"
+               STDERR "row.obj: its triangles are narrow for its size and shell: a ray through the shell may cross up to about 1[0-9][0-9][0-9][0-9] prisms, more than the prism's walk follows \\(8448\\)"
+               ARGS render --mesh row.obj --technique prism --size 16x16 --no-cache --out o.png)
+# A few slivers cannot be crossed more often than they are there: no warning (a square of four
+# triangles, one a sliver, read "about 15273506 prisms", one sliver alone "about 10800"; the cube
+# at --depth 5000 "about 7074 …, more than … (8448)"; found by an exploratory session, fiftieth).
+pr_cli_special(prism_walk_few_slivers_quiet EXIT 0 EXPECT_FILE o.png STDERR "^$"
+               SETUP "printf 'v 0 0 0\\nv 1 0 0\\nv 1 1 0\\nv 0 1 0\\nv 0.5 1e-7 0\\nvt 0 0\\nvt 1 0\\nvt 1 1\\nvt 0 1\\nvt 0.5 0\\nf 1/1 5/5 3/3 4/4\\nf 1/1 2/2 5/5\\nf 5/5 2/2 3/3\\n' > tj.obj"
+               ARGS render --mesh tj.obj --technique prism --size 16x16 --no-cache --out o.png)
+pr_cli(prism_walk_deep_cube_quiet EXIT 0 EXPECT_FILE o.png STDERR "^$"
+       ARGS render --mesh ${M}/cube.obj --technique prism --depth 5000 --size 16x16 --no-cache --out o.png)
 # Two triangles 2 units wide, 2e5 apart in one file: a displacement of 0.05 is under a millionth
 # of the file's size, too thin a shell for the prism's single precision, and it drew them flat
 # without a word, while its walk's estimate took the whole file's size for a ray's path and warned
