@@ -975,7 +975,13 @@ void main()
                     visibility = frame_differs ? min(walked, horizon) : max(visibility, min(walked, horizon));
             }
 #if PR_SHADOWS == PR_SHADOWS_SOFT
-            if (!below && !light_above_horizon(l_tex)) {
+            // Where the disc is partly under the base surface's horizon, its centre under it or
+            // less than its radius over it: the walk along the light's own ray, not bounded by
+            // that horizon. (Only where the centre was under it until the fiftieth session: a
+            // light 1e-7 over the plane's horizon darkened the bumps' flanks facing it to about
+            // half, 25.8 dB against the reference where a light at 0 gave 40.5; found by an
+            // exploratory session.)
+            if (!below && horizon < 1.0) {
                 soft_light_own_ray();
                 visibility = max(visibility, light_walk(prim, from, hit, ray_dir, false));
             }
