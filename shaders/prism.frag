@@ -879,9 +879,9 @@ void main()
             vec3 from = tex;
             // The back of a closed mesh's surface (seen through a tear, or from an eye inside a
             // bump): its body is under it, and the texture plane's march does not light it.
-            bool dark_back = false;
+            bool dark_back = false, turned = false;
 #if defined(PR_PRISM_TEARS) || !defined(PR_PRISM_WALK)
-            bool turned = below && (u_march.w & PR_FLAG_OPEN_SHELL) != 0;
+            turned = below && (u_march.w & PR_FLAG_OPEN_SHELL) != 0;
             dark_back = below && !turned;
             if (turned) {
                 from.z = 1.0 - from.z;
@@ -962,15 +962,32 @@ void main()
 #else
             bool back = false;
 #endif
-            if (back || (!below && (frame_differs || visibility < horizon))) {
-                if (back) soft_light_own_ray();
-                vec3 walk_dir = back || l_walk == l_tex
+            // The back of an open sheet (`turned`): where the march through the heights turned
+            // over, in the hit's frame, finds shadow, the walk from under the surface says whether
+            // the sheet casts it; its march met the map's copies that the texture plane wraps past
+            // the sheet's open edge, as a front's does (a ramp's wrapped cliff seen from under the
+            // plane's edge was left at the ambient level where the reference's light comes in
+            // under the edge: 201 pixels, 38.5 dB without shadows and 21.6 with; found by an
+            // exploratory session, fiftieth). It only takes shadow away, and only where the march
+            // found the light blocked: the walk from under the surface leaves through a bottom
+            // cap into the open space under the sheet with no soft light's run past it, so a
+            // penumbra that the march found it would light (boxes seen and lit from under the
+            // plane, soft: 40.5 -> 35.8 dB against the reference).
+            bool open_back = turned && visibility <= 0.0;
+            if (back || open_back || (!below && (frame_differs || visibility < horizon))) {
+                // (The open back's slope, turned for its march, back to the light's own: the walk
+                // turns it where it goes under the surface.)
+                if (open_back) turned_light(l_tex);
+                if (back || open_back) soft_light_own_ray();
+                vec3 walk_dir = back || open_back || l_walk == l_tex
                                     ? ray_dir
                                     : unit_vector(t_axis * l_walk.x + b_axis * l_walk.y + n * (u_displace.x * l_walk.z));
-                vec3 walk_from = back ? vec3(tex.xy, min(tex.z, height_at(tex.xy, g))) : from;
-                float walked = light_walk(prim, walk_from, hit, walk_dir, back);
+                vec3 walk_from = back || open_back ? vec3(tex.xy, min(tex.z, height_at(tex.xy, g))) : from;
+                float walked = light_walk(prim, walk_from, hit, walk_dir, back || open_back);
                 if (back)
                     visibility = max(walked, 0.0);
+                else if (walked >= 0.0 && open_back) // (along the light's own ray: no flat horizon bounds it)
+                    visibility = max(visibility, walked);
                 else if (walked >= 0.0)
                     visibility = frame_differs ? min(walked, horizon) : max(visibility, min(walked, horizon));
             }
