@@ -12,6 +12,7 @@
 #include "mesh/raw_mesh.hpp"
 
 #include "core/error.hpp"
+#include "core/file_kind.hpp"
 #include "core/input_file.hpp"
 
 #include <OpenMesh/Core/IO/Options.hh>
@@ -1751,9 +1752,7 @@ string read_whole_file(const fs::path& path, const string& subject, const MeshOp
         // (A loop of links, or one whose target is missing, said "does not exist" of the name
         // given, which is there.)
         if (ec == std::errc::too_many_symbolic_link_levels) fail(subject, "is a loop of symbolic links");
-        std::error_code lec;
-        if (fs::is_symlink(fs::symlink_status(path, lec)))
-            fail(subject, "is a symbolic link to " + fs::read_symlink(path, lec).string() + ", which does not exist");
+        if (const string link = broken_link_reason(path.string()); !link.empty()) fail(subject, link);
         fail(subject, "does not exist");
     }
     return read_input_text(
