@@ -205,6 +205,9 @@ struct Expect {
     // OFF whose counts line has no edge count ("4 2"): where to add " 0" in the bytes OpenMesh
     // parses, which otherwise takes the first vertex's x for it and shifts every later value.
     size_t off_counts_end = string_view::npos;
+    // ASCII OFF without C: the face colours (offset, length) blanked for OpenMesh, which reads
+    // them only after a C header.
+    std::vector<std::pair<size_t, size_t>> off_blanks;
     // ASCII [ST]C[N]OFF: the values handed to OpenMesh separated by single spaces.
     bool off_single_spaces = false;
     // OBJ faces that repeat a vertex, by the number of their importer call: OpenMesh's reader
@@ -222,6 +225,7 @@ struct Expect {
     // PLY: the vertex properties of u, v, s and t the reader is not given (ply_uv_names), renamed
     // by normalize_ply_header.
     std::vector<string> ply_unread_uv;
+    bool ply_texture_uv = false; // read texture_u texture_v as u v (ply_texture_uv_alias)
 };
 
 void check_triangle_budget(const string& subject, unsigned long long triangles,
@@ -604,11 +608,19 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
         // without them, or with words there, left undefined.
         const size_t fixed = has_n ? 6 : 3;
         const size_t rest = n >= fixed ? n - fixed : 0;
+        // Without a colour, OpenMesh takes s t from the two values after x y z (nx ny nz) and
+        // ignores the rest: a line with more ("x y z 0.9 s t") read (0.9, s), silently, where the
+        // layout (and a colour-minded writer) puts them at the end (found by an exploratory
+        // session, fifty-first): refused, as which two are meant is not known.
         const bool rest_ok =
-            !has_st || (has_c ? rest == 2 || rest == 3 || rest == 5 || rest == 6 : rest >= 2);
+            !has_st || (has_c ? rest == 2 || rest == 3 || rest == 5 || rest == 6 : rest == 2);
         if (n < fixed || !rest_ok || (has_c && has_st && n > 16)) // (16: the most values read here)
             fail(subject, line_prefix(lines.line()) + "a " + header_name + " vertex needs " +
-                              vertex_layout + " (" + std::to_string(n) + " values here)");
+                              vertex_layout + " (" + std::to_string(n) + " values here" +
+                              (has_st && !has_c && rest > 2
+                                   ? string("; a colour before s t needs a C in the header: STC") + (has_n ? "N" : "") + "OFF"
+                                   : string()) +
+                              ")");
         if (!has_c && !has_st && n > fixed && extra_lines++ == 0) first_extra = lines.line();
         const size_t st = has_c ? n - 2 : fixed;
         for (size_t k = 3; k < std::min<size_t>(n, 16); ++k)
@@ -650,10 +662,28 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
         if (got < static_cast<size_t>(count) + 1)
             fail(subject,
                  line_prefix(lines.line()) + "face " + std::to_string(f) + " is truncated");
-        if (got > static_cast<size_t>(count) + 1 && !has_c)
-            fail(subject,
-                 line_prefix(lines.line()) + "face " + std::to_string(f) +
-                     " has values after its vertex indices (face colours need a COFF header)");
+        // A face's colour (Geomview: 1, 3 or 4 numbers after its indices, in any OFF) is read by
+        // OpenMesh only after a C header, which takes the rest of the line; after another it
+        // took the colour for the next face's values. Colours are not used: blanked for it. (The
+        // message said a COFF header was needed, which is vertex colours; found by an
+        // exploratory session, fifty-first.)
+        const size_t extra = got - static_cast<size_t>(count) - 1;
+        if (extra > 0 && !has_c) {
+            bool colour = extra == 1 || extra == 3 || extra == 4;
+            if (colour) {
+                ftok.resize(got);
+                tokenize(line, ftok.data(), ftok.size());
+            }
+            for (size_t k = 0; colour && k < extra; ++k)
+                colour = parse_finite_float(ftok[static_cast<size_t>(count) + 1 + k]);
+            if (!colour)
+                fail(subject, line_prefix(lines.line()) + "face " + std::to_string(f) + " has " +
+                                  std::to_string(extra) + " value" + (extra == 1 ? "" : "s") +
+                                  " after its vertex indices, which are not a colour (1, 3 or 4 numbers)");
+            const string_view last = ftok[static_cast<size_t>(count)];
+            const size_t from = static_cast<size_t>(last.data() + last.size() - text.data());
+            e.off_blanks.emplace_back(from, static_cast<size_t>(line.data() + line.size() - text.data()) - from);
+        }
         for (long long k = 1; k <= count; ++k) {
             long long idx = 0;
             if (!parse_int(ftok[size_t(k)], idx) || idx < 0 ||
@@ -896,6 +926,17 @@ bool is_ply_colour(string_view element, string_view name)
 // a word (found by an exploratory session, forty-first). So a whole pair is read, u v before s t
 // (or one first and one second coordinate, u t or s v), and the other names of the four are not
 // (renamed unread_, normalize_ply_header); half a pair is not read at all, and UVs are generated.
+// MeshLab's names for them, texture_u and texture_v, are read as u v where the vertex has neither
+// of those pairs (renamed by normalize_ply_header; they were reported as not read and UVs
+// generated; found by an exploratory session, fifty-first).
+bool ply_texture_uv_alias(const std::vector<PlyProperty>& vertex)
+{
+    const auto has = [&](string_view n) {
+        return std::any_of(vertex.begin(), vertex.end(), [&](const PlyProperty& p) { return p.count_size == 0 && p.name == n; });
+    };
+    return has("texture_u") && has("texture_v") && !has("u") && !has("v") && !has("s") && !has("t");
+}
+
 struct PlyUvNames {
     std::vector<string> unread; // of u, v, s and t, those the reader is not given
     string why;                 // what the scan warns, or empty
@@ -943,8 +984,9 @@ PlyUvNames ply_uv_names(const std::vector<string_view>& names)
 // convert, with a line on stderr for every value and the rest of the file misread ("face 0 has
 // fewer than 3 vertices"), and an ASCII one into an integer, which "255.0" or "0.5" misaligned
 // (found by an exploratory session, thirty-eighth). So are the vertex's texture-coordinate
-// properties the scan leaves unread (`unread`: Expect::ply_unread_uv, ply_uv_names).
-void normalize_ply_header(string& text, const std::vector<string>& unread)
+// properties the scan leaves unread (`unread`: Expect::ply_unread_uv, ply_uv_names), and MeshLab's
+// texture_u texture_v become u v where `texture_uv` (ply_texture_uv_alias).
+void normalize_ply_header(string& text, const std::vector<string>& unread, bool texture_uv)
 {
     const size_t header_end = [&] {
         LineReader lines(text);
@@ -980,6 +1022,9 @@ void normalize_ply_header(string& text, const std::vector<string>& unread)
             fixed = "property list " + string(ply_count_type_as_read(tok[2])) + " " + string(tok[3]) + " " + string(tok[4]);
         if (words == 3 && tok[0] == "property" && (is_ply_colour(element, tok[2]) || unread_uv(element, tok[2])))
             fixed = "property " + string(tok[1]) + " unread_" + string(tok[2]);
+        if (words == 3 && tok[0] == "property" && texture_uv && element == "vertex" &&
+            (tok[2] == "texture_u" || tok[2] == "texture_v"))
+            fixed = "property " + string(tok[1]) + " " + string(tok[2].substr(8));
         const bool last = words == 1 && tok[0] == "end_header";
         if (last) fixed = "end_header";
         out += fixed;
@@ -1105,10 +1150,12 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
     // normal or a texture coordinate: a short x printed "unsupported conversion type to float"
     // for every value and misread the rest (30,000 lines for a grid of 10,000 vertices; found by
     // an exploratory session, thirty-third). ASCII values are read as numbers, whatever their type.
+    e.ply_texture_uv = ply_texture_uv_alias(vertex->properties);
     if (!ascii)
         for (const PlyProperty& p : vertex->properties) {
             static const string_view kFloats[] = {"x", "y", "z", "nx", "ny", "nz", "u", "v", "s", "t"};
-            const bool read_as_float = std::find(std::begin(kFloats), std::end(kFloats), p.name) != std::end(kFloats);
+            const bool read_as_float = std::find(std::begin(kFloats), std::end(kFloats), p.name) != std::end(kFloats) ||
+                                       (e.ply_texture_uv && (p.name == "texture_u" || p.name == "texture_v"));
             if (read_as_float && p.count_size == 0 && p.type != "float" && p.type != "float32" && p.type != "double" &&
                 p.type != "float64")
                 fail(subject, "binary PLY vertex property '" + p.name + "' is a " + p.type +
@@ -1176,6 +1223,8 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
     for (const PlyProperty& p : vertex->properties) {
         if (p.name == "u" || p.name == "v" || p.name == "s" || p.name == "t")
             has_uv = has_uv || std::find(uv.unread.begin(), uv.unread.end(), p.name) == uv.unread.end();
+        else if (e.ply_texture_uv && (p.name == "texture_u" || p.name == "texture_v"))
+            has_uv = true;
         else if (p.name.find("tex") != std::string::npos)
             ignored_uv += (ignored_uv.empty() ? "" : ", ") + p.name;
     }
@@ -1470,7 +1519,18 @@ Expect scan_stl(const string& subject, string_view text, const MeshOptions& opti
     while (words.next(word, word_line)) {
         if (stl_keyword(word, "solid") || stl_keyword(word, "endsolid")) {
             solid_ended = stl_keyword(word, "endsolid");
+            const size_t name_at = words.read();
             words.skip_line(); // (its name)
+            // Facets on the "solid" line (a file on one line) are its name, as the reader takes
+            // it: the file said "contains no faces" (found by an exploratory session, fifty-first).
+            if (!solid_ended) {
+                string_view name[64];
+                const size_t n = tokenize(text.substr(name_at, words.read() - name_at), name, 64);
+                for (size_t i = 0; i + 1 < std::min<size_t>(n, 64); ++i)
+                    if (stl_keyword(name[i], "outer") && stl_keyword(name[i + 1], "loop"))
+                        fail(subject, line_prefix(word_line) + "facets on the 'solid' line, whose rest is the solid's "
+                                                               "name: each facet must start on a line of its own");
+            }
             continue;
         }
         // Words after an "endsolid" that no "solid" follows are in no solid: skipped, as
@@ -1984,7 +2044,20 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
     // UTF-16 text (Windows tools write it, with its byte-order mark): every other byte is NUL.
     if (ext != ".stl") {
         const string_view head = string_view(text).substr(0, 2);
-        if (head == "\xFF\xFE" || head == "\xFE\xFF" || (text.size() >= 2 && text[0] != '\0' && text[1] == '\0'))
+        // Without the mark: a NUL second (little-endian), or first in ASCII text's pairs
+        // (big-endian, which was read as another kind of file; found by an exploratory session,
+        // fifty-first).
+        const auto big_endian_ascii = [&] {
+            const size_t pairs = std::min<size_t>(text.size() / 2, 32);
+            for (size_t i = 0; i < pairs; ++i) {
+                const unsigned char c = static_cast<unsigned char>(text[2 * i + 1]);
+                if (text[2 * i] != '\0' || !(c == '\t' || c == '\n' || c == '\r' || (c >= 0x20 && c < 0x7f)))
+                    return false;
+            }
+            return pairs > 0;
+        };
+        if (head == "\xFF\xFE" || head == "\xFE\xFF" || (text.size() >= 2 && text[0] != '\0' && text[1] == '\0') ||
+            big_endian_ascii())
             fail(subject, "is UTF-16 text; the reader takes ASCII or UTF-8: save it as UTF-8");
     }
     Expect expect;
@@ -2003,11 +2076,14 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
     } else if (ext == ".off") {
         refuse_cr_line_ends(subject, text); // (first: with no line ends a comment would run to the file's end)
         strip_off_comments(text);
+        // White space before the header's keyword: OpenMesh's reader looks for it at the line's
+        // start ("the reader reported a failure"; found by an exploratory session, fifty-first).
+        text.erase(0, std::min(text.find_first_not_of(" \t"), text.size()));
         expect = scan_off(subject, text, options);
         requested += omio::Options::VertexTexCoord;
     } else if (ext == ".ply") {
         expect = scan_ply(subject, text, options);
-        normalize_ply_header(text, expect.ply_unread_uv); // (after the scan: its line numbers)
+        normalize_ply_header(text, expect.ply_unread_uv, expect.ply_texture_uv); // (after the scan: its line numbers)
         requested += omio::Options::VertexTexCoord;
     } else {
         expect = scan_stl(subject, text, options);
@@ -2016,6 +2092,7 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
 
     if (ext == ".obj") drop_obj_material_libraries(text); // after the scan: its line numbers
     if (expect.stl_ascii) rewrite_ascii_stl(text);
+    for (const auto& [at, length] : expect.off_blanks) text.replace(at, length, length, ' '); // (before the insert: offsets)
     if (expect.off_counts_end != string_view::npos) text.insert(expect.off_counts_end, " 0");
     if (!expect.off_binary_body.empty()) {
         text.replace(expect.off_binary_at, string::npos, expect.off_binary_body);
