@@ -205,6 +205,7 @@ void keep_exit(float e0, float e1, float e2, float a0, float a1, float a2, float
 // corner order, so where the ray grazes the face's plane both prisms could find it an exit, and
 // the walk would go back and forth between them to its prism limit (a hole).
 float g_top_entry_t; // nearest_exit: where the ray crosses the top's plane
+bool g_top_entering; // nearest_exit: it crosses that plane going in, at t_entry or after it (in the triangle or not)
 
 ExitFace nearest_exit(vec3 ray_origin, vec3 dir, float t_min, bool from_a[3], float slack, float orient, float t_entry,
                       int entry_face, out bool top_entry, out vec3 w_top)
@@ -234,7 +235,8 @@ ExitFace nearest_exit(vec3 ray_origin, vec3 dir, float t_min, bool from_a[3], fl
     bool top = abs(den_top) >= 1e-30;
     w_top = top ? vec3(et1, et2, et0) / den_top : vec3(0.0);
     float t_top = t_entry + (a[3] * w_top.x + a[4] * w_top.y + a[5] * w_top.z) * inv_dd;
-    top_entry = top && den_top * orient < 0.0 && in_triangle(w_top, slack) && t_top >= t_entry - 1e-5 * abs(t_entry);
+    g_top_entering = top && den_top * orient < 0.0 && t_top >= t_entry - 1e-5 * abs(t_entry);
+    top_entry = g_top_entering && in_triangle(w_top, slack);
     g_top_entry_t = t_top;
     keep_exit(et1, et2, et0, a[3], a[4], a[5], inv_dd, t_entry, 0, false, t_min, entry_face, t_back, orient, slack,
               best, key);
