@@ -205,9 +205,9 @@ struct Expect {
     // OFF whose counts line has no edge count ("4 2"): where to add " 0" in the bytes OpenMesh
     // parses, which otherwise takes the first vertex's x for it and shifts every later value.
     size_t off_counts_end = string_view::npos;
-    // ASCII OFF without C: the face colours (offset, length) blanked for OpenMesh, which reads
-    // them only after a C header.
-    std::vector<std::pair<size_t, size_t>> off_blanks;
+    // Bytes (offset, length) blanked for OpenMesh before it reads: ASCII OFF without C, the face
+    // colours, which it reads only after a C header; ASCII PLY, the faces' texcoord lists.
+    std::vector<std::pair<size_t, size_t>> blanks;
     // ASCII [ST]C[N]OFF: the values handed to OpenMesh separated by single spaces.
     bool off_single_spaces = false;
     // OBJ faces that repeat a vertex, by the number of their importer call: OpenMesh's reader
@@ -226,6 +226,14 @@ struct Expect {
     // by normalize_ply_header.
     std::vector<string> ply_unread_uv;
     bool ply_texture_uv = false; // read texture_u texture_v as u v (ply_texture_uv_alias)
+    // PLY faces' corner UVs from a `texcoord` list (MeshLab's layout: u v per corner, in the
+    // face's corner order), all faces' in file order; the list is taken out of what OpenMesh
+    // reads (it took it for more indices): blanked in ASCII, and in binary the body from
+    // `ply_binary_at` on rewritten without it (`ply_binary_body`).
+    int ply_face_uv_list = -1; // the list's place among the face's properties
+    std::vector<glm::vec2> ply_face_uvs;
+    string ply_binary_body;
+    size_t ply_binary_at = 0;
 };
 
 void check_triangle_budget(const string& subject, unsigned long long triangles,
@@ -682,7 +690,7 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
                                   " after its vertex indices, which are not a colour (1, 3 or 4 numbers)");
             const string_view last = ftok[static_cast<size_t>(count)];
             const size_t from = static_cast<size_t>(last.data() + last.size() - text.data());
-            e.off_blanks.emplace_back(from, static_cast<size_t>(line.data() + line.size() - text.data()) - from);
+            e.blanks.emplace_back(from, static_cast<size_t>(line.data() + line.size() - text.data()) - from);
         }
         for (long long k = 1; k <= count; ++k) {
             long long idx = 0;
@@ -985,8 +993,9 @@ PlyUvNames ply_uv_names(const std::vector<string_view>& names)
 // fewer than 3 vertices"), and an ASCII one into an integer, which "255.0" or "0.5" misaligned
 // (found by an exploratory session, thirty-eighth). So are the vertex's texture-coordinate
 // properties the scan leaves unread (`unread`: Expect::ply_unread_uv, ply_uv_names), and MeshLab's
-// texture_u texture_v become u v where `texture_uv` (ply_texture_uv_alias).
-void normalize_ply_header(string& text, const std::vector<string>& unread, bool texture_uv)
+// texture_u texture_v become u v where `texture_uv` (ply_texture_uv_alias). The faces' texcoord
+// list goes where `face_uvs` (Expect::ply_face_uv_list: read by the scan, taken out of the body).
+void normalize_ply_header(string& text, const std::vector<string>& unread, bool texture_uv, bool face_uvs)
 {
     const size_t header_end = [&] {
         LineReader lines(text);
@@ -1018,6 +1027,8 @@ void normalize_ply_header(string& text, const std::vector<string>& unread, bool 
         const size_t words = tokenize(body, tok, 6);
         if (words == 0 || tok[0] == "comment" || tok[0] == "obj_info") continue;
         if (words == 3 && tok[0] == "element") element = tok[1];
+        if (face_uvs && element == "face" && words == 5 && tok[0] == "property" && tok[1] == "list" && tok[4] == "texcoord")
+            continue;
         if (words == 5 && tok[0] == "property" && tok[1] == "list" && ply_count_type_as_read(tok[2]) != tok[2])
             fixed = "property list " + string(ply_count_type_as_read(tok[2])) + " " + string(tok[3]) + " " + string(tok[4]);
         if (words == 3 && tok[0] == "property" && (is_ply_colour(element, tok[2]) || unread_uv(element, tok[2])))
@@ -1034,6 +1045,105 @@ void normalize_ply_header(string& text, const std::vector<string>& unread, bool 
     }
     // (The header alone is rewritten, where it changed: the body may be hundreds of megabytes.)
     if (string_view(text).substr(0, header_end) != out) text.replace(0, header_end, out);
+}
+
+// An ASCII PLY face line `line` (line `number` of `text`, face `f`, `values` words) whose face has
+// a texcoord list (Expect::ply_face_uv_list): its lists walked by their counts, the list's u v
+// pairs kept (two for each of the face's corners, vertex_indices' count) and the list blanked.
+void ascii_face_uvs(const string& subject, size_t number, string_view line, size_t values, const PlyElement& face,
+                    unsigned long long f, string_view text, Expect& e)
+{
+    std::vector<string_view> word(values);
+    tokenize(line, word.data(), values);
+    size_t at = 0;
+    long long corners = -1;
+    for (size_t k = 0; k < face.properties.size(); ++k) {
+        long long count = 1;
+        if (face.properties[k].count_size > 0 && (at >= values || !parse_int(word[at], count) || count < 0))
+            fail(subject, line_prefix(number) + "face line's " + face.properties[k].name + " list " +
+                              (at >= values ? string("is missing") : "count " + shown(word[at]) + " is not a whole number"));
+        if (k == 0) corners = count;
+        if (face.properties[k].count_size == 0) {
+            ++at;
+            continue;
+        }
+        if (static_cast<int>(k) == e.ply_face_uv_list) {
+            if (count != 2 * corners)
+                fail(subject, line_prefix(number) + "face " + std::to_string(f) + "'s texcoord list counts " +
+                                  std::to_string(count) + " values; its " + std::to_string(corners) +
+                                  " corners call for " + std::to_string(2 * corners) + " (u v each)");
+            for (size_t c = 0; at + 1 + size_t(count) <= values && c < size_t(corners); ++c) {
+                double uv[2];
+                for (size_t j = 0; j < 2; ++j)
+                    if (!parse_finite_float(word[at + 1 + 2 * c + j], &uv[j]))
+                        fail(subject, line_prefix(number) + "face " + std::to_string(f) + "'s texcoord value " +
+                                          shown(word[at + 1 + 2 * c + j]) + " is not a finite number");
+                e.ply_face_uvs.emplace_back(uv[0], uv[1]);
+            }
+            if (at + 1 + size_t(count) <= values) { // (else said below, with the line's count)
+                const string_view last = word[at + size_t(count)];
+                const size_t from = size_t(word[at].data() - text.data());
+                e.blanks.emplace_back(from, size_t(last.data() + last.size() - text.data()) - from);
+            }
+        }
+        at += 1 + size_t(count);
+    }
+    if (at != values)
+        fail(subject, line_prefix(number) + "face line has " + std::to_string(values) + " values; its properties call for " +
+                          std::to_string(at) + " (each list: its count, then that many values)");
+}
+
+// A binary PLY body (checked by binary_ply_end) without its faces' texcoord list, whose u v pairs
+// (two for each of the face's corners) go to Expect::ply_face_uvs.
+string binary_ply_without_face_uvs(const string& subject, string_view body, const std::vector<PlyElement>& elements,
+                                   bool big_endian, Expect& e)
+{
+    string out;
+    out.reserve(body.size());
+    size_t at = 0;
+    for (const PlyElement& el : elements) {
+        if (el.name != "face") {
+            // (Lists are refused outside the face element: fixed-size items.)
+            const size_t bytes = fixed_item_size(el) * size_t(el.count);
+            out.append(body.substr(at, bytes));
+            at += bytes;
+            continue;
+        }
+        for (unsigned long long i = 0; i < el.count; ++i) {
+            size_t corners = 0;
+            for (size_t k = 0; k < el.properties.size(); ++k) {
+                const PlyProperty& p = el.properties[k];
+                const size_t from = at;
+                if (p.count_size == 0) {
+                    at += size_t(p.size);
+                    out.append(body.substr(from, size_t(p.size)));
+                    continue;
+                }
+                const size_t count = size_t(ply_binary_value(body.data() + at, p.count_type, big_endian));
+                at += size_t(p.count_size) + count * size_t(p.size);
+                if (k == 0) corners = count;
+                if (static_cast<int>(k) != e.ply_face_uv_list) {
+                    out.append(body.substr(from, at - from));
+                    continue;
+                }
+                if (count != 2 * corners)
+                    fail(subject, "binary PLY face " + std::to_string(i) + "'s texcoord list counts " + std::to_string(count) +
+                                      " values; its " + std::to_string(corners) + " corners call for " +
+                                      std::to_string(2 * corners) + " (u v each)");
+                const char* value = body.data() + from + size_t(p.count_size);
+                for (size_t c = 0; c < corners; ++c) {
+                    const double u = ply_binary_value(value + 2 * c * size_t(p.size), p.type, big_endian);
+                    const double v = ply_binary_value(value + (2 * c + 1) * size_t(p.size), p.type, big_endian);
+                    if (!std::isfinite(u) || !std::isfinite(v))
+                        fail(subject, "binary PLY face " + std::to_string(i) + "'s texcoord list holds a value that is "
+                                                                               "not a finite number");
+                    e.ply_face_uvs.emplace_back(u, v);
+                }
+            }
+        }
+    }
+    out.append(body.substr(std::min(at, body.size())));
+    return out;
 }
 
 Expect scan_ply(const string& subject, string_view text, const MeshOptions& options)
@@ -1185,6 +1295,11 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
     bool has_indices = false;
     for (const PlyProperty& p : face->properties) {
         const bool indices = is_ply_index_list(p.name);
+        // MeshLab's per-corner texture coordinates: read by the scan (one such list).
+        if (p.count_size > 0 && p.name == "texcoord" && has_indices && e.ply_face_uv_list < 0) {
+            e.ply_face_uv_list = static_cast<int>(&p - face->properties.data());
+            continue;
+        }
         if (!has_indices && !indices)
             fail(subject, "PLY face property '" + p.name +
                               "' comes before vertex_indices, which the reader cannot take (put it after)");
@@ -1207,7 +1322,7 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
         if (p.count_size > 0 && !indices)
             fail(subject, "PLY face element has a list property '" + p.name +
                               "' besides vertex_indices, which is not read (texture coordinates are read "
-                              "per vertex, as u v or s t)");
+                              "per vertex, as u v or s t, or per face as one texcoord list)");
     }
     if (!has_indices) fail(subject, "PLY face element lacks a vertex_indices list");
     // Texture coordinates under names the reader does not take are dropped: say which, rather
@@ -1263,8 +1378,11 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
                 if (&el == face) {
                     long long corners = -1;
                     const size_t others = face->properties.size() - 1;
-                    if (!parse_int(tok[0], corners) || corners < 0 ||
-                        values != 1 + static_cast<size_t>(corners) + others)
+                    if (e.ply_face_uv_list >= 0) {
+                        ascii_face_uvs(subject, lines.line(), line, values, *face, i, text, e);
+                        parse_int(tok[0], corners);
+                    } else if (!parse_int(tok[0], corners) || corners < 0 ||
+                               values != 1 + static_cast<size_t>(corners) + others)
                         fail(subject, line_prefix(lines.line()) + "face line has " + std::to_string(values) +
                                           " values; its count " + shown(tok[0]) + " and " + std::to_string(others) +
                                           " other face propert" + (others == 1 ? "y" : "ies") + " call for " +
@@ -1345,6 +1463,10 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
                           "counts (" + std::to_string(face->count) + " face" + (face->count == 1 ? "" : "s") +
                           "; is a count too small?)");
         e.positions = binary_ply_positions(text.substr(lines.offset()), elements, *vertex, big_endian);
+        if (e.ply_face_uv_list >= 0) {
+            e.ply_binary_at = lines.offset();
+            e.ply_binary_body = binary_ply_without_face_uvs(subject, data, elements, big_endian, e);
+        }
         for (const PlyProperty& p : vertex->properties)
             if (p.name == "x" || p.name == "y" || p.name == "z")
                 e.positions_from_floats = e.positions_from_floats || (p.type != "double" && p.type != "float64");
@@ -1610,6 +1732,12 @@ Expect scan_stl(const string& subject, string_view text, const MeshOptions& opti
     }
     check_triangle_budget(subject, e.file_faces, options);
     return e;
+}
+
+// Each (offset, length) of `text` made spaces (Expect::blanks).
+void blank(string& text, const std::vector<std::pair<size_t, size_t>>& ranges)
+{
+    for (const auto& [at, length] : ranges) text.replace(at, length, length, ' ');
 }
 
 // ---- the importer ---------------------------------------------------------------------------
@@ -2080,10 +2208,16 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
         // start ("the reader reported a failure"; found by an exploratory session, fifty-first).
         text.erase(0, std::min(text.find_first_not_of(" \t"), text.size()));
         expect = scan_off(subject, text, options);
+        blank(text, expect.blanks); // (before off_counts_end's insert: offsets)
         requested += omio::Options::VertexTexCoord;
     } else if (ext == ".ply") {
         expect = scan_ply(subject, text, options);
-        normalize_ply_header(text, expect.ply_unread_uv, expect.ply_texture_uv); // (after the scan: its line numbers)
+        // (Before the header's rewrite: the scan's offsets.)
+        blank(text, expect.blanks);
+        if (!expect.ply_binary_body.empty()) text.replace(expect.ply_binary_at, string::npos, expect.ply_binary_body);
+        expect.ply_binary_body = {};
+        normalize_ply_header(text, expect.ply_unread_uv, expect.ply_texture_uv,
+                             expect.ply_face_uv_list >= 0); // (after the scan: its line numbers)
         requested += omio::Options::VertexTexCoord;
     } else {
         expect = scan_stl(subject, text, options);
@@ -2092,7 +2226,6 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
 
     if (ext == ".obj") drop_obj_material_libraries(text); // after the scan: its line numbers
     if (expect.stl_ascii) rewrite_ascii_stl(text);
-    for (const auto& [at, length] : expect.off_blanks) text.replace(at, length, length, ' '); // (before the insert: offsets)
     if (expect.off_counts_end != string_view::npos) text.insert(expect.off_counts_end, " 0");
     if (!expect.off_binary_body.empty()) {
         text.replace(expect.off_binary_at, string::npos, expect.off_binary_body);
@@ -2184,6 +2317,13 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
                                                      " faces are degenerate (repeated vertices)"
                                                : string("contains no faces"));
 
+    // A PLY's texcoord lists: each face's corners in the file's order (the importer stores every
+    // face the reader hands it, in order, or the read fails), over per-vertex ones.
+    if (!expect.ply_face_uvs.empty() && expect.ply_face_uvs.size() == mesh.corners.size()) {
+        std::copy(expect.ply_face_uvs.begin(), expect.ply_face_uvs.end(), mesh.corner_uvs.begin());
+        std::fill(mesh.face_has_uv.begin(), mesh.face_has_uv.end(), std::uint8_t(1));
+        mesh.file_had_uvs = true;
+    }
     // Per-vertex texture coordinates (PLY, STOFF) become corner UVs of faces whose vertices all
     // have one.
     if (importer.any_vertex_uv) {
