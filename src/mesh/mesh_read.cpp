@@ -1062,17 +1062,20 @@ void ascii_face_uvs(const string& subject, size_t number, string_view line, size
         if (face.properties[k].count_size > 0 && (at >= values || !parse_int(word[at], count) || count < 0))
             fail(subject, line_prefix(number) + "face line's " + face.properties[k].name + " list " +
                               (at >= values ? string("is missing") : "count " + shown(word[at]) + " is not a whole number"));
-        if (k == 0) corners = count;
         if (face.properties[k].count_size == 0) {
             ++at;
             continue;
         }
+        if (static_cast<unsigned long long>(count) > values - at - 1)
+            fail(subject, line_prefix(number) + "face line has " + std::to_string(values) + " values; its " +
+                              face.properties[k].name + " list counts " + std::to_string(count) + ", past the line's end");
+        if (k == 0) corners = count;
         if (static_cast<int>(k) == e.ply_face_uv_list) {
             if (count != 2 * corners)
                 fail(subject, line_prefix(number) + "face " + std::to_string(f) + "'s texcoord list counts " +
                                   std::to_string(count) + " values; its " + std::to_string(corners) +
                                   " corners call for " + std::to_string(2 * corners) + " (u v each)");
-            for (size_t c = 0; at + 1 + size_t(count) <= values && c < size_t(corners); ++c) {
+            for (size_t c = 0; c < size_t(corners); ++c) {
                 double uv[2];
                 for (size_t j = 0; j < 2; ++j)
                     if (!parse_finite_float(word[at + 1 + 2 * c + j], &uv[j]))
@@ -1080,11 +1083,9 @@ void ascii_face_uvs(const string& subject, size_t number, string_view line, size
                                           shown(word[at + 1 + 2 * c + j]) + " is not a finite number");
                 e.ply_face_uvs.emplace_back(uv[0], uv[1]);
             }
-            if (at + 1 + size_t(count) <= values) { // (else said below, with the line's count)
-                const string_view last = word[at + size_t(count)];
-                const size_t from = size_t(word[at].data() - text.data());
-                e.blanks.emplace_back(from, size_t(last.data() + last.size() - text.data()) - from);
-            }
+            const string_view last = word[at + size_t(count)];
+            const size_t from = size_t(word[at].data() - text.data());
+            e.blanks.emplace_back(from, size_t(last.data() + last.size() - text.data()) - from);
         }
         at += 1 + size_t(count);
     }

@@ -2690,6 +2690,10 @@ TEST(MeshLoad, PlyFaceTexcoordListsAreRead)
     short_list.replace(short_list.find(" 6 "), 3, " 4 ");
     EXPECT_EQ(prtest::error_of([&] { pr::load_mesh(dir.write("s.ply", short_list)); }).problem(),
               "line 16: face 0's texcoord list counts 4 values; its 3 corners call for 6 (u v each)");
+    std::string long_list = ascii;
+    long_list.replace(long_list.find(" 6 "), 3, " 60 ");
+    EXPECT_EQ(prtest::error_of([&] { pr::load_mesh(dir.write("l.ply", long_list)); }).problem(),
+              "line 16: face line has 12 values; its texcoord list counts 60, past the line's end");
     EXPECT_EQ(prtest::error_of([&] { pr::load_mesh(dir.write_bytes("sb.ply", binary(2))); }).problem(),
               "binary PLY face 0's texcoord list counts 4 values; its 3 corners call for 6 (u v each)");
     std::string other = ascii;
