@@ -2298,14 +2298,16 @@ TEST(MeshLoad, TriangleRepeatedInOneFaceIsDroppedQuickly)
     EXPECT_NEAR(area, 3.0, 1e-6);
 }
 
-// Many faces sharing an edge, none a repeat (100,000 pages of a book on one spine): finding the
+// Many faces sharing an edge, none a repeat (300,000 pages of a book on one spine): finding the
 // faces across each edge for the generated UVs scanned the triangles around an edge's end, the
 // square of their number where thousands meet at both ends (30,000 copies of a triangle took
-// 21 s so; 100,000 pages here about 6 s; now edges are sorted).
+// 21 s so; 100,000 pages about 6 s; now edges are sorted). 300,000 pages (by the square about
+// 54 s the old way, 1.2 s now) keep the bound far from both: with 100,000 pages and a bound of
+// 3 s it failed once on a machine busy with a second test suite (fifty-first session).
 TEST(MeshLoad, ManyFacesOnOneEdgeLoadQuickly)
 {
     TempDir dir;
-    const int pages = 100000;
+    const int pages = 300000;
     std::string text = "v 0 0 0\nv 1 0 0\n";
     char line[96];
     for (int i = 0; i < pages; ++i) {
@@ -2321,7 +2323,7 @@ TEST(MeshLoad, ManyFacesOnOneEdgeLoadQuickly)
     ::testing::internal::GetCapturedStderr();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     EXPECT_EQ(m.triangle_count(), std::size_t(pages));
-    EXPECT_LT(seconds, 3.0 * kSlower);
+    EXPECT_LT(seconds, 15.0 * kSlower);
 }
 
 // A circle of 200,000 corners in one face, its positions floats: neighbours 3e-5 apart bend by
