@@ -630,11 +630,19 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
                                    : string()) +
                               ")");
         if (!has_c && !has_st && n > fixed && extra_lines++ == 0) first_extra = lines.line();
-        const size_t st = has_c ? n - 2 : fixed;
+        const size_t st = has_c && has_st ? n - 2 : (has_c ? n : fixed); // (past the colour, if any)
         for (size_t k = 3; k < std::min<size_t>(n, 16); ++k)
-            if ((k < fixed || (has_st && (k == st || k == st + 1))) && !parse_finite_float(value[k]))
+            if ((k < st || (has_st && (k == st || k == st + 1))) && !parse_finite_float(value[k]))
                 fail(subject, line_prefix(lines.line()) + "a " + header_name + " vertex needs " +
                                   vertex_layout + ", with numbers (" + shown(value[k]) + " here)");
+        // The colour before s t: OpenMesh tells integers from floats by the first value's point
+        // and reads the rest alike, so `1 0 0 0.5` (integers, then 0.5) left ".5" for s and read
+        // (0.5, 0.2) for (0.2, 0.8), without a word (found by an exploratory session,
+        // fifty-first). Colours are not used: blanked for it, which then reads none.
+        if (has_c && has_st && st > fixed) {
+            const size_t from = static_cast<size_t>(value[fixed].data() - text.data());
+            e.blanks.emplace_back(from, static_cast<size_t>(value[st - 1].data() + value[st - 1].size() - text.data()) - from);
+        }
     }
     // Values past a plain vertex's (a colour without a C in the header, say) are ignored by the
     // reader, and were without a word (found by an exploratory session, forty-ninth).
@@ -675,8 +683,10 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
         // took the colour for the next face's values. Colours are not used: blanked for it. (The
         // message said a COFF header was needed, which is vertex colours; found by an
         // exploratory session, fifty-first.)
+        // After a C header OpenMesh takes the rest of the line itself (and ignored words there:
+        // checked alike).
         const size_t extra = got - static_cast<size_t>(count) - 1;
-        if (extra > 0 && !has_c) {
+        if (extra > 0) {
             bool colour = extra == 1 || extra == 3 || extra == 4;
             if (colour) {
                 ftok.resize(got);
@@ -690,7 +700,7 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
                                   " after its vertex indices, which are not a colour (1, 3 or 4 numbers)");
             const string_view last = ftok[static_cast<size_t>(count)];
             const size_t from = static_cast<size_t>(last.data() + last.size() - text.data());
-            e.blanks.emplace_back(from, static_cast<size_t>(line.data() + line.size() - text.data()) - from);
+            if (!has_c) e.blanks.emplace_back(from, static_cast<size_t>(line.data() + line.size() - text.data()) - from);
         }
         for (long long k = 1; k <= count; ++k) {
             long long idx = 0;
@@ -2207,7 +2217,7 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
         strip_off_comments(text);
         // White space before the header's keyword: OpenMesh's reader looks for it at the line's
         // start ("the reader reported a failure"; found by an exploratory session, fifty-first).
-        text.erase(0, std::min(text.find_first_not_of(" \t"), text.size()));
+        text.erase(0, std::min(text.find_first_not_of(" \t\f\v"), text.size()));
         expect = scan_off(subject, text, options);
         blank(text, expect.blanks); // (before off_counts_end's insert: offsets)
         requested += omio::Options::VertexTexCoord;

@@ -592,6 +592,17 @@ TEST(MeshLoad, OffVertexLinesMissingValuesAreRefused)
               "line 3: a STOFF vertex needs x y z s t, with numbers ('a' here)");
     EXPECT_EQ(message("nx.off", "NOFF\n3 1 0\n0 0 0 0 0 x\n1 0 0 0 0 1\n0 1 0 0 0 1\n"),
               "line 3: a NOFF vertex needs x y z nx ny nz, with numbers ('x' here)");
+    // OpenMesh tells a colour's integers from floats by its first value's point and reads the rest
+    // alike: `1 0 0 0.5` left ".5" for s, and (0.5, 0.2) was read for (0.2, 0.8), silently (found
+    // by an exploratory session, fifty-first). The colour is blanked for it; a word in a colour
+    // is refused, as it left the texture coordinate undefined.
+    const pr::PreparedMesh mixed = pr::load_mesh(dir.write(
+        "mixed.off", "STCOFF\n3 1 0\n0 0 0 1 0 0 0.5 0 0\n1 0 0 1 0 0.5 1 0\n0 1 0 1 0.5 0 0 1\n" + faces));
+    for (const pr::MeshVertex& v : mixed.vertices) EXPECT_EQ(v.uv, glm::vec2(v.position));
+    EXPECT_EQ(message("word.off", "STCOFF\n3 1 0\n0 0 0 1 x 0 0 0\n1 0 0 1 0\n0 1 0 0 1\n"),
+              "line 3: a STCOFF vertex needs x y z [colour: 0, 1, 3 or 4 numbers] s t, with numbers ('x' here)");
+    EXPECT_EQ(message("cword.off", "COFF\n3 1 0\n0 0 0 1 0 nan\n1 0 0\n0 1 0\n"),
+              "line 3: a COFF vertex needs x y z [colour: 0, 1, 3 or 4 numbers], with numbers ('nan' here)");
     // OpenMesh counts a line's colour values by single spaces: tabs and double spaces read the
     // colour as the texture coordinate ((255, 0) for (0, 0)).
     const pr::PreparedMesh spaced = pr::load_mesh(dir.write(
@@ -2579,10 +2590,17 @@ TEST(MeshLoad, OffIndentedHeaderAndFaceColoursAreRead)
         }
         EXPECT_NEAR(area, 1.0f, 1e-5f); // the whole square
     }
-    const auto message = [&](const std::string& face) {
-        return prtest::error_of([&] { pr::load_mesh(dir.write("bad.off", "OFF\n" + square + face + "\n3 0 2 3\n")); })
+    // (A form feed or vertical tab there too.)
+    expect_sane(pr::load_mesh(dir.write("ff.off", "\f\v OFF\n" + square + "3 0 1 2\n3 0 2 3\n")));
+    const auto message = [&](const std::string& face, const std::string& header = "OFF") {
+        return prtest::error_of([&] {
+                   pr::load_mesh(dir.write("bad.off", header + "\n" + square + face + "\n3 0 2 3\n"));
+               })
             .problem();
     };
+    // After a C header OpenMesh takes the rest of a face's line itself, and ignored words there.
+    EXPECT_EQ(message("3 0 1 2 foo bar", "COFF"),
+              "line 7: face 0 has 2 values after its vertex indices, which are not a colour (1, 3 or 4 numbers)");
     EXPECT_EQ(message("3 0 1 2 1 0"),
               "line 7: face 0 has 2 values after its vertex indices, which are not a colour (1, 3 or 4 numbers)");
     EXPECT_EQ(message("3 0 1 2 red"),
