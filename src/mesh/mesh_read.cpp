@@ -205,8 +205,9 @@ struct Expect {
     // OFF whose counts line has no edge count ("4 2"): where to add " 0" in the bytes OpenMesh
     // parses, which otherwise takes the first vertex's x for it and shifts every later value.
     size_t off_counts_end = string_view::npos;
-    // Bytes (offset, length) blanked for OpenMesh before it reads: ASCII OFF without C, the face
-    // colours, which it reads only after a C header; ASCII PLY, the faces' texcoord lists.
+    // Bytes (offset, length) blanked for OpenMesh before it reads (rewrite_for_reader): ASCII OFF,
+    // the face colours without a C header (it reads them only after one) and the vertex colours
+    // before s t; ASCII PLY, the faces' texcoord lists.
     std::vector<std::pair<size_t, size_t>> blanks;
     // ASCII [ST]C[N]OFF: the values handed to OpenMesh separated by single spaces.
     bool off_single_spaces = false;
@@ -218,22 +219,22 @@ struct Expect {
     std::vector<size_t> repeating_calls;
     std::vector<size_t> repeating_offsets{0};
     std::vector<std::uint32_t> repeating_corners;
-    // Binary OFF in another layout than OpenMesh's (binary_off_in_openmesh_layout): the bytes from
-    // `off_binary_at` on, rewritten in OpenMesh's.
-    string off_binary_body;
-    size_t off_binary_at = 0;
+    // A binary body rewritten for OpenMesh: the bytes from `binary_at` on, replaced by these
+    // (rewrite_for_reader). Binary OFF in another layout than OpenMesh's
+    // (binary_off_in_openmesh_layout); binary PLY without its faces' texcoord lists
+    // (binary_ply_without_face_uvs).
+    string binary_body;
+    size_t binary_at = 0;
     // PLY: the vertex properties of u, v, s and t the reader is not given (ply_uv_names), renamed
     // by normalize_ply_header.
     std::vector<string> ply_unread_uv;
     bool ply_texture_uv = false; // read texture_u texture_v as u v (ply_texture_uv_alias)
     // PLY faces' corner UVs from a `texcoord` list (MeshLab's layout: u v per corner, in the
     // face's corner order), all faces' in file order; the list is taken out of what OpenMesh
-    // reads (it took it for more indices): blanked in ASCII, and in binary the body from
-    // `ply_binary_at` on rewritten without it (`ply_binary_body`).
+    // reads (it took it for more indices): blanked in ASCII, and in binary the body rewritten
+    // without it (binary_body).
     int ply_face_uv_list = -1; // the list's place among the face's properties
     std::vector<glm::vec2> ply_face_uvs;
-    string ply_binary_body;
-    size_t ply_binary_at = 0;
 };
 
 void check_triangle_budget(const string& subject, unsigned long long triangles,
@@ -528,9 +529,9 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
             fail(subject, "binary " + header_name +
                               " (colours) is not supported; use the ASCII variant or OFF BINARY");
         const size_t vertex_words = 3 + (has_n ? 3 : 0) + (has_st ? 2 : 0);
-        e.off_binary_body = binary_off_in_openmesh_layout(text.substr(body), vertex_words);
-        e.off_binary_at = body;
-        const string_view words = e.off_binary_body.empty() ? text.substr(body) : string_view(e.off_binary_body);
+        e.binary_body = binary_off_in_openmesh_layout(text.substr(body), vertex_words);
+        e.binary_at = body;
+        const string_view words = e.binary_body.empty() ? text.substr(body) : string_view(e.binary_body);
         std::uint32_t counts[2];
         std::memcpy(counts, words.data(), sizeof counts);
         nv = counts[0];
@@ -552,7 +553,7 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
         // No layout fits: OpenMesh read what there was (a file cut short inside its last face drew
         // the faces before it, and a face claiming more corners than follow took the next words,
         // exit 0; found by an exploratory session).
-        if (e.off_binary_body.empty() && !BinaryOffWords(text.substr(body), {}).walk(vertex_words, [](size_t, size_t) {}))
+        if (e.binary_body.empty() && !BinaryOffWords(text.substr(body), {}).walk(vertex_words, [](size_t, size_t) {}))
             fail(subject, "binary OFF whose faces do not end where the file does: it is cut short, or a face has "
                           "fewer than 3 corners, more corners than follow or an index out of range, or bytes "
                           "follow the last face");
@@ -679,12 +680,10 @@ Expect scan_off(const string& subject, string_view text, const MeshOptions& opti
             fail(subject,
                  line_prefix(lines.line()) + "face " + std::to_string(f) + " is truncated");
         // A face's colour (Geomview: 1, 3 or 4 numbers after its indices, in any OFF) is read by
-        // OpenMesh only after a C header, which takes the rest of the line; after another it
-        // took the colour for the next face's values. Colours are not used: blanked for it. (The
-        // message said a COFF header was needed, which is vertex colours; found by an
-        // exploratory session, fifty-first.)
-        // After a C header OpenMesh takes the rest of the line itself (and ignored words there:
-        // checked alike).
+        // OpenMesh only after a C header, which takes the rest of the line (and ignored words
+        // there: checked alike); after another it took the colour for the next face's values.
+        // Colours are not used: blanked for it. (The message said a COFF header was needed,
+        // which is vertex colours; found by an exploratory session, fifty-first.)
         const size_t extra = got - static_cast<size_t>(count) - 1;
         if (extra > 0) {
             bool colour = extra == 1 || extra == 3 || extra == 4;
@@ -1060,7 +1059,8 @@ void normalize_ply_header(string& text, const std::vector<string>& unread, bool 
 // An ASCII PLY face line `line` (line `number` of `text`, face `f`, `values` words) whose face has
 // a texcoord list (Expect::ply_face_uv_list): its lists walked by their counts, the list's u v
 // pairs kept (two for each of the face's corners, vertex_indices' count) and the list blanked.
-void ascii_face_uvs(const string& subject, size_t number, string_view line, size_t values, const PlyElement& face,
+// Returns the face's corner count.
+long long ascii_face_uvs(const string& subject, size_t number, string_view line, size_t values, const PlyElement& face,
                     unsigned long long f, string_view text, Expect& e)
 {
     std::vector<string_view> word(values);
@@ -1102,6 +1102,7 @@ void ascii_face_uvs(const string& subject, size_t number, string_view line, size
     if (at != values)
         fail(subject, line_prefix(number) + "face line has " + std::to_string(values) + " values; its properties call for " +
                           std::to_string(at) + " (each list: its count, then that many values)");
+    return corners;
 }
 
 // A binary PLY body (checked by binary_ply_end) without its faces' texcoord list, whose u v pairs
@@ -1389,11 +1390,10 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
                 if (&el == face) {
                     long long corners = -1;
                     const size_t others = face->properties.size() - 1;
-                    if (e.ply_face_uv_list >= 0) {
-                        ascii_face_uvs(subject, lines.line(), line, values, *face, i, text, e);
-                        parse_int(tok[0], corners);
-                    } else if (!parse_int(tok[0], corners) || corners < 0 ||
-                               values != 1 + static_cast<size_t>(corners) + others)
+                    if (e.ply_face_uv_list >= 0)
+                        corners = ascii_face_uvs(subject, lines.line(), line, values, *face, i, text, e);
+                    else if (!parse_int(tok[0], corners) || corners < 0 ||
+                             values != 1 + static_cast<size_t>(corners) + others)
                         fail(subject, line_prefix(lines.line()) + "face line has " + std::to_string(values) +
                                           " values; its count " + shown(tok[0]) + " and " + std::to_string(others) +
                                           " other face propert" + (others == 1 ? "y" : "ies") + " call for " +
@@ -1475,8 +1475,8 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
                           "; is a count too small?)");
         e.positions = binary_ply_positions(text.substr(lines.offset()), elements, *vertex, big_endian);
         if (e.ply_face_uv_list >= 0) {
-            e.ply_binary_at = lines.offset();
-            e.ply_binary_body = binary_ply_without_face_uvs(subject, data, elements, big_endian, e);
+            e.binary_at = lines.offset();
+            e.binary_body = binary_ply_without_face_uvs(subject, data, elements, big_endian, e);
         }
         for (const PlyProperty& p : vertex->properties)
             if (p.name == "x" || p.name == "y" || p.name == "z")
@@ -1745,10 +1745,13 @@ Expect scan_stl(const string& subject, string_view text, const MeshOptions& opti
     return e;
 }
 
-// Each (offset, length) of `text` made spaces (Expect::blanks).
-void blank(string& text, const std::vector<std::pair<size_t, size_t>>& ranges)
+// The scan's rewrites of `text` for OpenMesh at the offsets it found them, so before any rewrite
+// that moves bytes: each of Expect::blanks made spaces, and the binary body replaced.
+void rewrite_for_reader(string& text, Expect& e)
 {
-    for (const auto& [at, length] : ranges) text.replace(at, length, length, ' ');
+    for (const auto& [at, length] : e.blanks) text.replace(at, length, length, ' ');
+    if (!e.binary_body.empty()) text.replace(e.binary_at, string::npos, e.binary_body);
+    e.binary_body = {};
 }
 
 // ---- the importer ---------------------------------------------------------------------------
@@ -2219,14 +2222,11 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
         // start ("the reader reported a failure"; found by an exploratory session, fifty-first).
         text.erase(0, std::min(text.find_first_not_of(" \t\f\v"), text.size()));
         expect = scan_off(subject, text, options);
-        blank(text, expect.blanks); // (before off_counts_end's insert: offsets)
+        rewrite_for_reader(text, expect); // (before off_counts_end's insert)
         requested += omio::Options::VertexTexCoord;
     } else if (ext == ".ply") {
         expect = scan_ply(subject, text, options);
-        // (Before the header's rewrite: the scan's offsets.)
-        blank(text, expect.blanks);
-        if (!expect.ply_binary_body.empty()) text.replace(expect.ply_binary_at, string::npos, expect.ply_binary_body);
-        expect.ply_binary_body = {};
+        rewrite_for_reader(text, expect); // (before the header's rewrite)
         normalize_ply_header(text, expect.ply_unread_uv, expect.ply_texture_uv,
                              expect.ply_face_uv_list >= 0); // (after the scan: its line numbers)
         requested += omio::Options::VertexTexCoord;
@@ -2238,10 +2238,6 @@ RawMesh read_raw_mesh(const fs::path& path, const MeshOptions& options)
     if (ext == ".obj") drop_obj_material_libraries(text); // after the scan: its line numbers
     if (expect.stl_ascii) rewrite_ascii_stl(text);
     if (expect.off_counts_end != string_view::npos) text.insert(expect.off_counts_end, " 0");
-    if (!expect.off_binary_body.empty()) {
-        text.replace(expect.off_binary_at, string::npos, expect.off_binary_body);
-        expect.off_binary_body = {};
-    }
     if (expect.off_single_spaces) {
         size_t out = 0;
         for (size_t i = 0; i < text.size(); ++i) {
