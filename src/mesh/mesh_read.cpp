@@ -817,10 +817,11 @@ std::vector<glm::dvec3> binary_ply_positions(string_view body, const std::vector
 // as the file has it: the reader's 32-bit handles showed an unsigned index past 2^31 as a negative
 // number (3000000000 as "-1294967296").
 [[noreturn]] void short_binary_ply_face(const string& subject, string_view body, const std::vector<PlyElement>& elements,
-                                        bool big_endian, unsigned long long face, unsigned long long corners);
+                                        bool big_endian, int face_uv_list, unsigned long long face,
+                                        unsigned long long corners);
 
 size_t binary_ply_end(const string& subject, string_view body, const std::vector<PlyElement>& elements,
-                      bool big_endian, unsigned long long vertices, bool probing = false)
+                      bool big_endian, unsigned long long vertices, int face_uv_list, bool probing = false)
 {
     size_t at = 0;
     // (It returned the body's size and left the reader to fail: "the reader reported a failure",
@@ -845,8 +846,10 @@ size_t binary_ply_end(const string& subject, string_view body, const std::vector
             at += size_t(stride * el.count);
             continue;
         }
-        for (unsigned long long i = 0; i < el.count; ++i)
-            for (const PlyProperty& p : el.properties) {
+        for (unsigned long long i = 0; i < el.count; ++i) {
+            const size_t face_start = at; // (a face's first property is its index list: scan_ply)
+            for (size_t k = 0; k < el.properties.size(); ++k) {
+                const PlyProperty& p = el.properties[k];
                 if (p.count_size == 0) {
                     at += size_t(p.size);
                 } else {
@@ -864,12 +867,23 @@ size_t binary_ply_end(const string& subject, string_view body, const std::vector
                                                              " left in the file (truncated, or a bad count?)"));
                     if (el.name == "face" && is_ply_index_list(p.name) && count < 3.0) {
                         if (probing) fail(subject, "a face of fewer than 3 vertices");
-                        short_binary_ply_face(subject, body, elements, big_endian, i,
+                        short_binary_ply_face(subject, body, elements, big_endian, face_uv_list, i,
                                               static_cast<unsigned long long>(count));
                     }
+                    // The texcoord list (Expect::ply_face_uv_list), u v for each corner: said at its
+                    // face here, where a wrong count would put the next face's start off (it was said
+                    // at the face after it, as that face's fault).
+                    if (el.name == "face" && static_cast<int>(k) == face_uv_list) {
+                        const double corners = ply_binary_value(body.data() + face_start, el.properties[0].count_type, big_endian);
+                        if (count != 2.0 * corners)
+                            fail(subject, "binary PLY face " + std::to_string(i) + "'s texcoord list counts " +
+                                              std::to_string(static_cast<long long>(count)) + " values; its " +
+                                              std::to_string(static_cast<long long>(corners)) + " corners call for " +
+                                              std::to_string(2 * static_cast<long long>(corners)) + " (u v each)");
+                    }
                     if (el.name == "face" && is_ply_index_list(p.name))
-                        for (size_t k = 0; k < size_t(count); ++k) {
-                            const double index = ply_binary_value(body.data() + at + k * size_t(p.size), p.type, big_endian);
+                        for (size_t c = 0; c < size_t(count); ++c) {
+                            const double index = ply_binary_value(body.data() + at + c * size_t(p.size), p.type, big_endian);
                             if (index < 0.0 || index >= double(vertices))
                                 fail(subject, "face " + std::to_string(i) + " " +
                                                   out_of_range_index(std::to_string(static_cast<long long>(index)), vertices));
@@ -878,6 +892,7 @@ size_t binary_ply_end(const string& subject, string_view body, const std::vector
                 }
                 if (at > body.size()) ends_inside(el, i);
             }
+        }
     }
     return at;
 }
@@ -890,7 +905,7 @@ size_t binary_ply_end(const string& subject, string_view body, const std::vector
 // question "does the header count more vertices than the file holds?", a face "0" or "2 0 1"
 // written as such too; found by an exploratory session.)
 void short_binary_ply_face(const string& subject, string_view body, const std::vector<PlyElement>& elements,
-                           bool big_endian, unsigned long long face, unsigned long long corners)
+                           bool big_endian, int face_uv_list, unsigned long long face, unsigned long long corners)
 {
     const string problem = "face " + std::to_string(face) + " has fewer than 3 vertices (it lists " + std::to_string(corners) + ")";
     const auto vertex = std::find_if(elements.begin(), elements.end(),
@@ -902,7 +917,7 @@ void short_binary_ply_face(const string& subject, string_view body, const std::v
             v.count = vertex->count - k;
             bool whole = false;
             try {
-                const size_t end = binary_ply_end(subject, body, fewer, big_endian, v.count, true);
+                const size_t end = binary_ply_end(subject, body, fewer, big_endian, v.count, face_uv_list, true);
                 whole = std::all_of(body.begin() + std::ptrdiff_t(end), body.end(), is_space);
             } catch (const Error&) {
             }
@@ -1138,10 +1153,7 @@ string binary_ply_without_face_uvs(const string& subject, string_view body, cons
                     out.append(body.substr(from, at - from));
                     continue;
                 }
-                if (count != 2 * corners)
-                    fail(subject, "binary PLY face " + std::to_string(i) + "'s texcoord list counts " + std::to_string(count) +
-                                      " values; its " + std::to_string(corners) + " corners call for " +
-                                      std::to_string(2 * corners) + " (u v each)");
+                // (Its length, two values for each corner, checked by binary_ply_end.)
                 const char* value = body.data() + from + size_t(p.count_size);
                 for (size_t c = 0; c < corners; ++c) {
                     const double u = ply_binary_value(value + 2 * c * size_t(p.size), p.type, big_endian);
@@ -1468,7 +1480,7 @@ Expect scan_ply(const string& subject, string_view text, const MeshOptions& opti
     }
     if (!ascii) {
         const string_view data = text.substr(lines.offset());
-        const size_t end = binary_ply_end(subject, data, elements, big_endian, vertex->count);
+        const size_t end = binary_ply_end(subject, data, elements, big_endian, vertex->count, e.ply_face_uv_list);
         if (end < data.size() && !std::all_of(data.begin() + std::ptrdiff_t(end), data.end(), is_space))
             fail(subject, "binary PLY has " + std::to_string(data.size() - end) + " bytes after the elements the header "
                           "counts (" + std::to_string(face->count) + " face" + (face->count == 1 ? "" : "s") +

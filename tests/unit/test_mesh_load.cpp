@@ -2716,6 +2716,12 @@ TEST(MeshLoad, PlyFaceTexcoordListsAreRead)
               "line 16: face line has 12 values; its texcoord list counts 60, past the line's end");
     EXPECT_EQ(prtest::error_of([&] { pr::load_mesh(dir.write_bytes("sb.ply", binary(2))); }).problem(),
               "binary PLY face 0's texcoord list counts 4 values; its 3 corners call for 6 (u v each)");
+    // A count that puts the next face's start off (4 where 6 values follow): said at its face,
+    // not at the next one, which then read from the middle of the list.
+    std::vector<char> miscounted = binary(3);
+    miscounted[header("binary_little_endian").size() + 4 * 12 + 1 + 3 * 4] = 4;
+    EXPECT_EQ(prtest::error_of([&] { pr::load_mesh(dir.write_bytes("mb.ply", miscounted)); }).problem(),
+              "binary PLY face 0's texcoord list counts 4 values; its 3 corners call for 6 (u v each)");
     std::string other = ascii;
     other.replace(other.find("texcoord"), 8, "texcoords");
     EXPECT_EQ(prtest::error_of([&] { pr::load_mesh(dir.write("o.ply", other)); }).problem(),
