@@ -17,6 +17,7 @@
 #include <imgui.h>
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_opengl3.h>
+#include <imgui_internal.h> // (ClosePopupsOverWindow: Esc closes an open list)
 
 #include <algorithm>
 #include <array>
@@ -904,6 +905,16 @@ void Viewer::handle_keys()
     const ImGuiIO& io = ImGui::GetIO();
     const std::vector<GlfwWindow::KeyPress> keys = window_.take_key_presses();
     if (io.WantCaptureKeyboard || io.WantTextInput || ImGui::IsAnyItemActive()) return; // (the panel's)
+    // A list of the panel's open (a combo's): its keys too, and Esc closes it. Dear ImGui 1.86 sets
+    // WantCaptureKeyboard for an active item or keyboard navigation only, so with the shadows
+    // list open Esc quit the viewer and a number key changed the technique behind the list
+    // (found by an exploratory session, fifty-second; view.keys.popup).
+    if (ImGui::IsPopupOpen("", ImGuiPopupFlags_AnyPopupId)) {
+        const int esc = ImGui::GetKeyIndex(ImGuiKey_Escape);
+        if (std::any_of(keys.begin(), keys.end(), [&](const GlfwWindow::KeyPress& k) { return k.key == esc; }))
+            ImGui::ClosePopupsOverWindow(nullptr, true);
+        return;
+    }
     // The half drawn under the cursor: its renderer column against the right half's first
     // (divider_ * width unrounded gave the right half's first column to the left half where the
     // product's fraction was under a half; found by an exploratory session, thirty-fourth).

@@ -73,7 +73,7 @@ if(TARGET pr_view)
         target_link_libraries(view_x11_send PRIVATE X11::X11)
         set(x11_send $<TARGET_FILE:view_x11_send>)
     endif()
-    foreach(case screenshot screenshot_refused shader_break shader_broken_start compositor_break close_key close_wm techniques orbit tap build divider tab summary)
+    foreach(case screenshot screenshot_refused shader_break shader_broken_start compositor_break close_key close_wm techniques orbit tap build divider tab summary popup)
         add_test(NAME view.keys.${case}
                  COMMAND sh ${CMAKE_CURRENT_SOURCE_DIR}/cli/view_keys.sh ${case} $<TARGET_FILE:prismrelief>
                          $<TARGET_FILE:view_mask_check> "${x11_send}" ${CMAKE_CURRENT_BINARY_DIR}/view_work/keys_${case}
