@@ -414,7 +414,12 @@ void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<Draw
             if (given(flag))
                 throw Error(flag->get_name(), "applies to the reference technique only, and " + drawn +
                                                   " draws none: draw reference too, or leave the flag out");
-    if (given(o.reference_max_triangles_flag) && o.reference_level > 0)
+    check_reference_flags_pair(o);
+}
+
+void check_reference_flags_pair(const TechniqueOptions& o)
+{
+    if (o.reference_max_triangles_flag != nullptr && o.reference_max_triangles_flag->count() > 0 && o.reference_level > 0)
         throw Error("--reference-max-triangles", "has no effect: it bounds the automatic level only, and --reference-level " +
                                                      std::to_string(o.reference_level) + " is given");
 }

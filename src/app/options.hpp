@@ -178,13 +178,16 @@ void check_prism_flags_apply(const TechniqueOptions& o, bool any_prism, const st
 // - --steps, --refine, --normal-quality, --depth-write and --light-size where no draw reads them
 //   (reads_steps and the others, render/technique.hpp);
 // - --reference-level and --reference-max-triangles where the reference is not drawn (compare
-//   always draws it).
+//   always draws it), and the cap next to a level (check_reference_flags_pair).
 // Whether anything drawn reads a cone map (render, compare, bench); where nothing does,
 // --cone-backend is refused, as the quality flags are. --no-cache next to --cache-dir is refused.
 bool check_cone_map_flags_apply(const SceneOptions& o, const std::vector<DrawSettings>& drawn_settings,
                                 const std::string& drawn);
 void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<DrawSettings>& drawn_settings,
                                const std::string& drawn);
+// --reference-max-triangles next to a --reference-level: the cap bounds the automatic level only
+// (check_quality_flags_apply's last check; the viewer's too, whose panel sets no level).
+void check_reference_flags_pair(const TechniqueOptions& o);
 
 // "x,y,z" -> vec3; throws pr::Error(option, …).
 glm::vec3 parse_vec3(const std::string& text, const std::string& option);

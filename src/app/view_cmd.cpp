@@ -130,7 +130,10 @@ CommandAction add_view_command(CLI::App& app)
         // --normal-quality, --depth-write, --shadows or the reference's flags where the techniques
         // it starts with do not read them (check_quality_flags_apply): its panel and keys turn to
         // any technique (the reference, --reference-overlay's too) while it runs, and the flags
-        // are the settings it starts them with.
+        // are the settings it starts them with. The reference's cap next to its level is refused
+        // as render refuses it: the panel sets no level, so the cap could never act (it was taken;
+        // found by an exploratory session, fifty-second).
+        check_reference_flags_pair(s->technique);
         if (!(s->divider >= 0.0f && s->divider <= 1.0f)) throw Error("--divider", "must be between 0 and 1");
         o.divider = s->divider;
         o.overlay = view::parse_wire_overlay(s->overlay);

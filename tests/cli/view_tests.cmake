@@ -100,6 +100,11 @@ if(TARGET pr_view)
     # (here: no display), which it told the window stayed open.
     pr_cli(view_screenshot_without_frames_refused_says_no_more EXIT 1 ENV DISPLAY= WAYLAND_DISPLAY=
            STDOUT "^$" ARGS view --mesh ${M}/torus.obj --screenshot s.png)
+    # The reference's cap next to its level: refused as render refuses it (the panel sets no level,
+    # so the cap could never act; it was taken, found by an exploratory session, fifty-second).
+    pr_cli(view_reference_cap_with_level_refused EXIT 1 ONE_LINE ENV DISPLAY= WAYLAND_DISPLAY=
+           STDERR "${E}--reference-max-triangles: has no effect: it bounds the automatic level only, and --reference-level 24 is given"
+           ARGS view --mesh ${M}/torus.obj --reference-level 24 --reference-max-triangles 100 --frames 1)
     # --backend picks render's headless context; the viewer draws with its window's (it was
     # accepted and ignored).
     pr_cli(view_backend_refused EXIT 1 ONE_LINE ENV DISPLAY= WAYLAND_DISPLAY=
