@@ -471,6 +471,12 @@ pr_cli(render_reference_capped_per_object EXIT 0 JSON r.json
        CHECKS "reference.triangles:EQUAL:25344|reference.levels.0:EQUAL:3|reference.levels.1:EQUAL:3"
        ARGS render --scene ${M}/scenes/plane_and_torus.json --technique reference --reference-max-triangles 40000 --size 64x64
             --out r.png --json r.json)
+# A cap under the meshes' own triangles cannot be kept (level 1 is the meshes): said in a warning,
+# the report's `capped` alone read as if it had been (found by an exploratory session, fifty-second).
+pr_cli(render_reference_cap_under_the_mesh_said EXIT 0 ONE_LINE JSON r.json
+       STDERR "^prismrelief: warning: --reference-max-triangles: 1 is under the 2304 triangles of the meshes themselves \\(level 1\\): the reference has those"
+       CHECKS "reference.triangles:EQUAL:2304|reference.level:EQUAL:1"
+       ARGS render --mesh ${M}/torus.obj --technique reference --reference-max-triangles 1 --size 32x24 --out r.png --json r.json)
 # Objects that want less keep their levels; the cap falls on those that want more: a torus far
 # off (level 7, the scene's cheap floor) beside a near one (32), under a cap of 350,000: the near
 # one at 10 (it was at 12, the most it took alone: 444,672 triangles in all).
