@@ -346,7 +346,8 @@ void add_technique_options(CLI::App& app, TechniqueOptions& o, bool single_techn
         ->group("Technique");
     o.reference_level_flag = app.add_option("--reference-level", o.reference_level,
                    "reference: split each triangle into LEVEL^2 (0: automatic, edges about one texel "
-                   "or one pixel, whichever is coarser)")
+                   "or one pixel, whichever is coarser, but no coarser than about 262,000 triangles "
+                   "in all where the texels are finer; see docs/compare.md)")
         ->transform(saturating<int>())
         ->group("Technique")
         ->capture_default_str();
