@@ -140,7 +140,10 @@ if(TARGET pr_view)
     # The quality flags, the reference's and --uv-scale that render refuses where nothing drawn
     # reads them are the viewer's settings for the techniques its panel turns to, and for meshes
     # dropped on it: kept (the options are checked, and the mesh read, before the window opens).
+    # (The reference's level and its cap apart: together they are refused, view_reference_cap_with_level_refused.)
     pr_cli(view_keeps_quality_flags EXIT 1 ONE_LINE STDERR "${E}view: cannot open a window" ENV DISPLAY= WAYLAND_DISPLAY=
            ARGS view --mesh ${M}/torus.obj --technique flat --steps 8 --refine 2 --normal-quality gather --depth-write
-                --shadows hard --light-size 4 --reference-level 2 --reference-max-triangles 1000 --uv-scale 4 --frames 1)
+                --shadows hard --light-size 4 --reference-max-triangles 1000 --uv-scale 4 --frames 1)
+    pr_cli(view_keeps_reference_level EXIT 1 ONE_LINE STDERR "${E}view: cannot open a window" ENV DISPLAY= WAYLAND_DISPLAY=
+           ARGS view --mesh ${M}/torus.obj --technique flat --reference-level 2 --frames 1)
 endif()
