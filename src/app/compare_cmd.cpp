@@ -134,11 +134,23 @@ CommandAction add_compare_command(CLI::App& app)
         const FrameCapture reference = capture(session, ref_settings, ref_ms);
         warn_if_shadow_map_coarse(session.renderer->shadow_fit(), "compare");
 
-        std::vector<Tile> top = {{"reference", reference.color}};
-        std::vector<std::size_t> tile_images = {0}; // their images in `top`, in tile_files' order
-        std::vector<Tile> bottom = {{"silhouette diff", RgbaImage{}}};
-        bottom[0].image = reference.color;
-        for (auto& p : bottom[0].image.pixels) p = 0; // an empty tile under the reference: legend only
+        // The grid's cells are kept for --out alone, and each tile is staged (written to its
+        // temporary) as soon as it is drawn: with --json alone every technique's image and its
+        // silhouette diff were kept to the end, 8 bytes a pixel each (16384 x 16384: 2.1 GB a
+        // technique; found by an exploratory session, fifty-second).
+        const bool grid_wanted = !s->out.empty();
+        std::vector<std::unique_ptr<StagedFile>> tiles;
+        const auto stage_tile = [&](const RgbaImage& image) {
+            const std::filesystem::path& file = tile_files[tiles.size()];
+            tiles.push_back(std::make_unique<StagedFile>(file, encode_png_for(file, image)));
+        };
+        if (!tile_files.empty()) stage_tile(reference.color);
+        std::vector<Tile> top, bottom;
+        if (grid_wanted) {
+            top.push_back({"reference", reference.color});
+            bottom.push_back({"silhouette diff", reference.color});
+            for (auto& p : bottom[0].image.pixels) p = 0; // an empty tile under the reference: legend only
+        }
         bool nothing_drawn = drew_nothing(reference.color); // by the reference and every technique
         bool technique_covers = false; // a technique covers a pixel (alpha of one half or more, as the metrics count)
         // A reference of a few pixels: each is a large share of the IoU, and the depth error and
@@ -188,10 +200,12 @@ CommandAction add_compare_command(CLI::App& app)
             // The name and the IoU on lines of their own, each cut at the strip's end where it is
             // too long (on one line, at 128 px the IoU of "prism:max-mip" read "IoU 0"; with the
             // number first, at 256 px "prism:relaxed-cone" read "prism:re").
-            top.push_back({run.label + "\nIoU " + iou_text(m.iou), frame.color});
-            if (run.settings.technique != Technique::Reference) tile_images.push_back(top.size() - 1);
-            bottom.push_back({std::to_string(m.silhouette_wrong_px) + " px wrong",
-                              silhouette_diff_tile(frame.color, reference.color)});
+            if (!tile_files.empty() && run.settings.technique != Technique::Reference) stage_tile(frame.color);
+            if (grid_wanted) {
+                top.push_back({run.label + "\nIoU " + iou_text(m.iou), frame.color});
+                bottom.push_back({std::to_string(m.silhouette_wrong_px) + " px wrong",
+                                  silhouette_diff_tile(frame.color, reference.color)});
+            }
         }
 
         nlohmann::json report = {
@@ -210,13 +224,9 @@ CommandAction add_compare_command(CLI::App& app)
         report.update(lighting_json(session.light, session.spec.mesh_options));
         // Both outputs staged before either replaces a file: a failure leaves both as they were.
         std::optional<StagedFile> grid, json;
-        // The tiles first: the grid then takes the images over instead of copying them (a copy of
-        // every image at once, 9 techniques at 4096²: another 1.2 GB).
-        std::vector<std::unique_ptr<StagedFile>> tiles;
-        for (std::size_t i = 0; i < tile_files.size(); ++i)
-            tiles.push_back(
-                std::make_unique<StagedFile>(tile_files[i], encode_png_for(tile_files[i], top[tile_images[i]].image)));
-        if (!s->out.empty()) {
+        // (The grid takes the images over instead of copying them: a copy of every image at once,
+        // 9 techniques at 4096², was another 1.2 GB.)
+        if (grid_wanted) {
             const int columns = static_cast<int>(top.size());
             std::vector<Tile> cells = std::move(top);
             cells.insert(cells.end(), std::make_move_iterator(bottom.begin()), std::make_move_iterator(bottom.end()));
