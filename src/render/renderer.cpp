@@ -1453,6 +1453,28 @@ void Renderer::check_drawable(const DrawSettings& settings, const std::string& o
     }
 }
 
+namespace {
+
+// How far a prism object's displaced surface reaches from its base mesh: the height range's
+// furthest texel from the midlevel, times the depth (Renderer::draw's thin shells).
+template <class Object>
+double shell_reach(const Object& o)
+{
+    const double m = double(o.midlevel);
+    const double surface = std::max(std::abs(double(o.height_low) - m), std::abs(double(o.height_high) - m));
+    return std::min(double(displacement_reach(o.depth, o.midlevel)), double(o.depth) * surface);
+}
+
+} // namespace
+
+bool Renderer::prism_shell_too_thin(std::size_t object) const
+{
+    if (object >= objects_.size()) return false;
+    const GpuObject& o = objects_[object];
+    const double reach = shell_reach(o);
+    return reach > 0.0 && reach <= 1e-6 * double(o.shell_radius);
+}
+
 double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSettings& settings)
 {
     const bool walk = settings.prism_walk();
@@ -1529,11 +1551,6 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     // no thickness at any depth (the rock at depth 1e-3: 10 pinholes at 256x192, IoU 0.9987, and
     // at the default depth too; found by an exploratory session). The reach is the height range's
     // furthest texel from the midlevel.
-    const auto shell_reach = [](const GpuObject& o) {
-        const double m = double(o.midlevel);
-        const double surface = std::max(std::abs(double(o.height_low) - m), std::abs(double(o.height_high) - m));
-        return std::min(double(displacement_reach(o.depth, o.midlevel)), double(o.depth) * surface);
-    };
     const auto flat_shell = [&](const GpuObject& o) { return prism && shell_reach(o) <= 1e-6 * double(o.shell_radius); };
     // Said, once an upload, where a displacement was asked for and is lost so: one file of pieces
     // far apart has one frame, whose size sets the bound (two cubes 2 units wide, 2e5 apart, at

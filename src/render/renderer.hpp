@@ -127,6 +127,11 @@ public:
     // `option`: the flag that chose the technique, named by the error ("--techniques" in compare).
     void check_drawable(const DrawSettings& settings, const std::string& option = "--technique") const;
 
+    // Whether the prism draws object `object`'s base mesh instead of its shell: a displacement
+    // asked for (reach over 0) under a millionth of the object's size, too thin for the prism's
+    // single precision (draw() warns once an upload). render --json says so per object.
+    bool prism_shell_too_thin(std::size_t object) const;
+
     // Clears to transparent and draws every object. Returns the wall time of the draw up to
     // glFinish in milliseconds (contract "ms"). Builds the shader variant on first use.
     double draw(const Camera& camera, glm::vec3 light_dir, const DrawSettings& settings);

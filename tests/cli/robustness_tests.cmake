@@ -499,6 +499,14 @@ pr_cli_special(prism_shell_too_thin_for_the_file_said EXIT 0 EXPECT_FILE o.png O
                STDERR "^prismrelief: warning: two.obj: its displacement reaches 0.0[0-9]+, under a millionth of its size \\(radius 1e\\+05\\): too thin a shell for the prism's single precision, so it draws the base mesh \\(where a file's pieces lie far apart, an object of its own for each, in a scene file, helps\\)"
                ARGS render --mesh two.obj --depth 0.05 --eye 100001,1,3 --target 100001,1,0 --technique prism
                     --size 16x16 --no-cache --out o.png)
+# The report says so of the object (it gave the depth asked for alone; found by an exploratory
+# session, fifty-second); an object drawn with its shell has no such key.
+pr_cli(prism_shell_too_thin_in_the_report EXIT 0 ONE_LINE JSON o.json
+       STDERR "under a millionth of its size"
+       CHECKS "objects.0.prism_shell_too_thin:STREQUAL:ON|objects.0.depth:LESS:1e-6"
+       ARGS render --mesh ${M}/torus.obj --technique prism --depth 1e-7 --size 16x16 --no-cache --out o.png --json o.json)
+pr_cli(prism_shell_drawn_not_in_the_report EXIT 0 JSON o.json STDERR "^$" CHECKS "objects.0.prism_shell_too_thin:ABSENT"
+       ARGS render --mesh ${M}/torus.obj --technique prism --size 16x16 --no-cache --out o.png --json o.json)
 pr_cli(depth_past_float_range EXIT 1 ONE_LINE NO_FILE o.png
        STDERR "${E}--depth: must be at most 3.4e38 in magnitude \\(the renderer's single precision\\)"
        ARGS render --mesh ${M}/torus.obj --depth 1e300 --size 32x32 --out o.png)
