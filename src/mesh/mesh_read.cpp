@@ -820,6 +820,13 @@ std::vector<glm::dvec3> binary_ply_positions(string_view body, const std::vector
                                         bool big_endian, int face_uv_list, unsigned long long face,
                                         unsigned long long corners);
 
+// A PLY face's texcoord list (Expect::ply_face_uv_list) whose length is not u v for each corner.
+string texcoord_length_problem(unsigned long long face, long long count, long long corners)
+{
+    return "face " + std::to_string(face) + "'s texcoord list counts " + std::to_string(count) + " values; its " +
+           std::to_string(corners) + " corners call for " + std::to_string(2 * corners) + " (u v each)";
+}
+
 size_t binary_ply_end(const string& subject, string_view body, const std::vector<PlyElement>& elements,
                       bool big_endian, unsigned long long vertices, int face_uv_list, bool probing = false)
 {
@@ -876,10 +883,8 @@ size_t binary_ply_end(const string& subject, string_view body, const std::vector
                     if (el.name == "face" && static_cast<int>(k) == face_uv_list) {
                         const double corners = ply_binary_value(body.data() + face_start, el.properties[0].count_type, big_endian);
                         if (count != 2.0 * corners)
-                            fail(subject, "binary PLY face " + std::to_string(i) + "'s texcoord list counts " +
-                                              std::to_string(static_cast<long long>(count)) + " values; its " +
-                                              std::to_string(static_cast<long long>(corners)) + " corners call for " +
-                                              std::to_string(2 * static_cast<long long>(corners)) + " (u v each)");
+                            fail(subject, "binary PLY " + texcoord_length_problem(i, static_cast<long long>(count),
+                                                                                  static_cast<long long>(corners)));
                     }
                     if (el.name == "face" && is_ply_index_list(p.name))
                         for (size_t c = 0; c < size_t(count); ++c) {
@@ -1096,10 +1101,7 @@ long long ascii_face_uvs(const string& subject, size_t number, string_view line,
                               face.properties[k].name + " list counts " + std::to_string(count) + ", past the line's end");
         if (k == 0) corners = count;
         if (static_cast<int>(k) == e.ply_face_uv_list) {
-            if (count != 2 * corners)
-                fail(subject, line_prefix(number) + "face " + std::to_string(f) + "'s texcoord list counts " +
-                                  std::to_string(count) + " values; its " + std::to_string(corners) +
-                                  " corners call for " + std::to_string(2 * corners) + " (u v each)");
+            if (count != 2 * corners) fail(subject, line_prefix(number) + texcoord_length_problem(f, count, corners));
             for (size_t c = 0; c < size_t(corners); ++c) {
                 double uv[2];
                 for (size_t j = 0; j < 2; ++j)

@@ -1465,14 +1465,21 @@ double shell_reach(const Object& o)
     return std::min(double(displacement_reach(o.depth, o.midlevel)), double(o.depth) * surface);
 }
 
+// A shell the prism draws as its base mesh: its reach under a millionth of the object's size, too
+// thin for single precision (or none at all).
+template <class Object>
+bool shell_under_precision(const Object& o)
+{
+    return shell_reach(o) <= 1e-6 * double(o.shell_radius);
+}
+
 } // namespace
 
 bool Renderer::prism_shell_too_thin(std::size_t object) const
 {
     if (object >= objects_.size()) return false;
     const GpuObject& o = objects_[object];
-    const double reach = shell_reach(o);
-    return reach > 0.0 && reach <= 1e-6 * double(o.shell_radius);
+    return shell_reach(o) > 0.0 && shell_under_precision(o);
 }
 
 double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSettings& settings)
@@ -1551,7 +1558,7 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
     // no thickness at any depth (the rock at depth 1e-3: 10 pinholes at 256x192, IoU 0.9987, and
     // at the default depth too; found by an exploratory session). The reach is the height range's
     // furthest texel from the midlevel.
-    const auto flat_shell = [&](const GpuObject& o) { return prism && shell_reach(o) <= 1e-6 * double(o.shell_radius); };
+    const auto flat_shell = [&](const GpuObject& o) { return prism && shell_under_precision(o); };
     // Said, once an upload, where a displacement was asked for and is lost so: one file of pieces
     // far apart has one frame, whose size sets the bound (two cubes 2 units wide, 2e5 apart, at
     // --depth 0.09: their bumps were drawn flat without a word; found by an exploratory session,
