@@ -76,7 +76,8 @@ CommandAction add_bench_command(CLI::App& app)
             std::vector<DrawSettings> drawn;
             for (const TechniqueRun& run : runs) drawn.push_back(run.settings);
             check_quality_flags_apply(s->quality, drawn, "--techniques " + s->quality.techniques);
-            s->scene.reads_cone_maps = check_cone_map_flags_apply(s->scene, drawn, "--techniques " + s->quality.techniques);
+            s->scene.reads_cone_maps =
+                check_cone_map_flags_apply(s->scene, drawn, with_prism_flags(s->quality, "--techniques " + s->quality.techniques));
         }
         if (s->frames < 1 || s->frames > 100000) throw Error("--frames", "must be between 1 and 100000");
         if (s->warmup < 0 || s->warmup > 1000) throw Error("--warmup", "must be between 0 and 1000");

@@ -88,7 +88,8 @@ CommandAction add_compare_command(CLI::App& app)
             std::vector<DrawSettings> drawn = {ref_settings};
             for (const TechniqueRun& run : runs) drawn.push_back(run.settings);
             check_quality_flags_apply(s->quality, drawn, "--techniques " + s->quality.techniques);
-            s->scene.reads_cone_maps = check_cone_map_flags_apply(s->scene, drawn, "--techniques " + s->quality.techniques);
+            s->scene.reads_cone_maps =
+                check_cone_map_flags_apply(s->scene, drawn, with_prism_flags(s->quality, "--techniques " + s->quality.techniques));
         }
         if (!s->out.empty()) check_png_output(s->out);
         if (!s->json.empty()) check_output_folder(s->json);

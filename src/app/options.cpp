@@ -366,6 +366,14 @@ void check_prism_flags_apply(const TechniqueOptions& o, bool any_prism, const st
             throw Error(flag->get_name(), "applies to the prism technique only, and " + drawn + " draws none");
 }
 
+std::string with_prism_flags(const TechniqueOptions& o, const std::string& drawn)
+{
+    std::string with = drawn;
+    for (const CLI::Option* flag : {o.marcher_flag, o.prism_exit_flag})
+        if (flag != nullptr && flag->count() > 0) with += " " + flag->get_name() + " " + flag->as<std::string>();
+    return with;
+}
+
 void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<DrawSettings>& drawn_settings,
                                const std::string& drawn)
 {
@@ -399,12 +407,7 @@ void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<Draw
     if (given(o.light_size_flag) && parse_shadows(o.shadows, "--shadows") != Shadows::Soft && any(reads_shadows))
         throw Error(o.light_size_flag->get_name(), "has no effect without --shadows soft (it is the soft light's "
                                                    "size): add --shadows soft, or leave it out");
-    // The prism's marcher and exit decide what it steps and refines: where given, they are said
-    // with what is drawn ("--technique prism refines no hit" read as if no prism did, where the
-    // default one does both and --marcher linear was the cause; an exploratory session, forty-ninth).
-    std::string drawn_with = drawn;
-    for (const CLI::Option* flag : {o.marcher_flag, o.prism_exit_flag})
-        if (given(flag)) drawn_with += " " + flag->get_name() + " " + flag->as<std::string>();
+    const std::string drawn_with = with_prism_flags(o, drawn);
     for (const auto& u : unread)
         if (given(u.flag) && !any(u.reads))
             throw Error(u.flag->get_name(), "has no effect: " + drawn_with + " " + u.not_done + ": leave it out");

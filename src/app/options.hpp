@@ -185,6 +185,12 @@ bool check_cone_map_flags_apply(const SceneOptions& o, const std::vector<DrawSet
                                 const std::string& drawn);
 void check_quality_flags_apply(const TechniqueOptions& o, const std::vector<DrawSettings>& drawn_settings,
                                const std::string& drawn);
+// `drawn` ("--technique prism") with the --marcher and --prism-exit given, which decide what the
+// prism steps, refines and reads: the errors above say them ("--technique prism refines no hit"
+// read as if no prism did, where the default one does and --marcher linear was the cause; an
+// exploratory session, forty-ninth; "--technique prism reads no cone map", where --marcher
+// max-mip was the cause, fifty-third).
+std::string with_prism_flags(const TechniqueOptions& o, const std::string& drawn);
 // --reference-max-triangles next to a --reference-level: the cap bounds the automatic level only
 // (check_quality_flags_apply's last check; the viewer's too, whose panel sets no level).
 void check_reference_flags_pair(const TechniqueOptions& o);

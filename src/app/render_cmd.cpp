@@ -47,7 +47,8 @@ CommandAction add_render_command(CLI::App& app)
                                 "--technique " + s->technique.technique);
         const ReferenceOptions ref = make_reference_options(s->technique);
         check_quality_flags_apply(s->technique, {settings}, "--technique " + s->technique.technique);
-        s->scene.reads_cone_maps = check_cone_map_flags_apply(s->scene, {settings}, "--technique " + s->technique.technique);
+        s->scene.reads_cone_maps =
+            check_cone_map_flags_apply(s->scene, {settings}, with_prism_flags(s->technique, "--technique " + s->technique.technique));
         const std::span<const glm::vec2> offsets = sample_offsets(s->msaa, s->msaa_typed); // refuses other counts, naming --msaa
         check_png_output(s->out);
         if (!s->json.empty()) check_output_folder(s->json);

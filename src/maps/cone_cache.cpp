@@ -278,7 +278,12 @@ std::uint64_t cone_cache_max_bytes()
     std::uint64_t mib = 0;
     const char* end = env + std::strlen(env);
     const auto [at, ec] = std::from_chars(env, end, mib);
-    if (ec != std::errc() || at != end || mib > (std::uint64_t(1) << 43)) {
+    // A size past 2^43 MiB (8 EiB), or past 64 bits, bounds nothing a disk holds: no bound, as 0
+    // (it fell back to the default, 2048 MiB, said as "not a size"; found by an exploratory
+    // session, fifty-third).
+    if (at == end && (ec == std::errc::result_out_of_range || (ec == std::errc() && mib > (std::uint64_t(1) << 43))))
+        return std::numeric_limits<std::uint64_t>::max();
+    if (ec != std::errc() || at != end) {
         warn(std::string("PRISMRELIEF_CACHE_MAX_MB: '") + env + "' is not a size in MiB; the cache keeps " +
              std::to_string(kDefaultMiB) + " MiB");
         return kDefaultMiB << 20;

@@ -132,6 +132,11 @@ pr_cli(render_cone_backend_gpu EXIT 0 EXPECT_FILE g.png STDOUT "g.png: 64x48 pri
 pr_cli(cone_backend_unread EXIT 1 ONE_LINE NO_FILE o.png
        STDERR "${CM}--cone-backend: has no effect: --technique relief reads no cone map \\(cone, relaxed-cone and the prism's cone marchers do\\): leave it out"
        ARGS render --mesh ${M}/cube.obj --technique relief --cone-backend cpu --size 16x16 --out o.png)
+# (The marcher given is said: "--technique prism reads no cone map" read as if no prism did; found
+# by an exploratory session, fifty-third.)
+pr_cli(cone_backend_unread_prism_marcher EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${CM}--cone-backend: has no effect: --technique prism --marcher max-mip reads no cone map"
+       ARGS render --mesh ${M}/cube.obj --technique prism --marcher max-mip --cone-backend cpu --size 16x16 --out o.png)
 pr_cli(cone_backend_unread_compare EXIT 1 ONE_LINE NO_FILE o.png STDERR "${CM}--cone-backend: has no effect: --techniques pom,prism:max-mip"
        ARGS compare --mesh ${M}/cube.obj --techniques pom,prism:max-mip --cone-backend cpu --size 16x16 --out o.png)
 pr_cli(cone_backend_read_in_a_list EXIT 0 EXPECT_FILE o.png

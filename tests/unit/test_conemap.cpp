@@ -735,6 +735,15 @@ TEST(ConeMap, CacheDropsTheLeastRecentlyUsedEntriesBeyondItsBound)
     EXPECT_TRUE(fs::exists(foreign));
     ASSERT_EQ(setenv("PRISMRELIEF_CACHE_MAX_MB", "0", 1), 0);
     EXPECT_EQ(cone_cache_max_bytes(), std::numeric_limits<std::uint64_t>::max()); // no bound
+    // Past 2^43 MiB, or past 64 bits: no bound either (it fell back to the default).
+    ASSERT_EQ(setenv("PRISMRELIEF_CACHE_MAX_MB", "8796093022209", 1), 0);
+    EXPECT_EQ(cone_cache_max_bytes(), std::numeric_limits<std::uint64_t>::max());
+    ASSERT_EQ(setenv("PRISMRELIEF_CACHE_MAX_MB", "99999999999999999999", 1), 0);
+    EXPECT_EQ(cone_cache_max_bytes(), std::numeric_limits<std::uint64_t>::max());
+    ASSERT_EQ(setenv("PRISMRELIEF_CACHE_MAX_MB", "8796093022208", 1), 0);
+    EXPECT_EQ(cone_cache_max_bytes(), std::uint64_t(8796093022208) << 20);
+    ASSERT_EQ(setenv("PRISMRELIEF_CACHE_MAX_MB", "-5", 1), 0);
+    EXPECT_EQ(cone_cache_max_bytes(), std::uint64_t(2048) << 20); // warned, the default
     ASSERT_EQ(setenv("PRISMRELIEF_CACHE_MAX_MB", "lots", 1), 0);
     EXPECT_EQ(cone_cache_max_bytes(), std::uint64_t(2048) << 20); // warned, the default
     ASSERT_EQ(unsetenv("PRISMRELIEF_CACHE_MAX_MB"), 0);
