@@ -608,6 +608,8 @@ void check_linear_part(const glm::dmat4& t, const std::string& subject)
 // (read_scene_file and json_transform read them). SceneKeys refuses any other as the file is
 // parsed, so the readers meet none.
 const std::set<std::string, std::less<>> kSceneKeys{"objects", "camera", "light", "size"};
+// The most objects a scene holds (SceneParser).
+constexpr std::size_t kMaxSceneObjects = 10000;
 const std::set<std::string, std::less<>> kObjectKeys{"mesh",     "height",     "color",    "depth",
                                                      "midlevel", "base_color", "transform"};
 const std::set<std::string, std::less<>> kCameraKeys{"eye", "target", "up", "fovy", "elevation", "azimuth"};
@@ -663,35 +665,44 @@ glm::dmat4 json_transform(const json& j, const std::string& where)
 }
 
 // nlohmann::json keeps the last of duplicate keys, so a scene saying "mesh" twice (a typo, a merge
-// gone wrong) passed silently, which docs/scenes.md promises it does not. The parser calls this
-// for every key before storing it; it tracks where it is (objects[0].transform) to name the
+// gone wrong) passed silently, which docs/scenes.md promises it does not. The parser tells this
+// of every key before storing it; it tracks where it is (objects[0].transform) to name the
 // place of a key its object already has, and refuses a key the place does not take there and
 // then: refused after the parse, an unknown key at the start of a 62 MB scene took 10 s and 1 GB
 // (the values are checked after it, in read_scene_file; where the file's shape is not a scene's,
-// it refuses that shape before it reads any key).
-class SceneKeys {
+// it refuses that shape before it reads any key). A SAX handler in front of the library's own
+// document builder, not the library's parse callback: after each object the callback's parser
+// searches the array holding it for a value the callback discarded, so an array of n objects
+// took n^2 / 2 steps (400,000 empty objects, a 1.2 MB file: 29 s; a file under the size limit
+// could take a day; found by an exploratory session, fifty-third).
+class SceneParser : public nlohmann::json_sax<json> {
 public:
-    explicit SceneKeys(std::string file) : file_(std::move(file)) {}
+    SceneParser(std::string file, json& result) : file_(std::move(file)), dom_(result) {}
 
-    bool operator()(int /*depth*/, json::parse_event_t event, json& parsed)
+    bool null() override { return value(), dom_.null(); }
+    bool boolean(bool v) override { return value(), dom_.boolean(v); }
+    bool number_integer(number_integer_t v) override { return value(), dom_.number_integer(v); }
+    bool number_unsigned(number_unsigned_t v) override { return value(), dom_.number_unsigned(v); }
+    bool number_float(number_float_t v, const string_t& text) override { return value(), dom_.number_float(v, text); }
+    bool string(string_t& v) override { return value(), dom_.string(v); }
+    bool binary(binary_t& v) override { return value(), dom_.binary(v); }
+    bool start_object(std::size_t n) override { return enter(false), dom_.start_object(n); }
+    bool end_object() override { return levels_.pop_back(), dom_.end_object(); }
+    bool start_array(std::size_t n) override { return enter(true), dom_.start_array(n); }
+    bool end_array() override { return levels_.pop_back(), dom_.end_array(); }
+    bool key(string_t& k) override
     {
-        switch (event) {
-        case json::parse_event_t::object_start: enter(false); break;
-        case json::parse_event_t::array_start: enter(true); break;
-        case json::parse_event_t::object_end:
-        case json::parse_event_t::array_end: levels_.pop_back(); break;
-        case json::parse_event_t::value: next_element(); break;
-        case json::parse_event_t::key: {
-            Level& level = levels_.back();
-            level.key = parsed.get<std::string>();
-            if (!level.keys.insert(level.key).second)
-                throw Error(where(), "\"" + level.key + "\" is given twice");
-            if (const auto* keys = keys_taken(); keys && !keys->contains(level.key))
-                throw Error(where(), "unknown key '" + level.key + "'");
-            break;
-        }
-        }
-        return true;
+        Level& level = levels_.back();
+        level.key = k;
+        if (!level.keys.insert(level.key).second) throw Error(where(), "\"" + level.key + "\" is given twice");
+        if (const auto* keys = keys_taken(); keys && !keys->contains(level.key))
+            throw Error(where(), "unknown key '" + level.key + "'");
+        return dom_.key(k);
+    }
+    // (Throws the library's parse error, which read_scene_file words.)
+    bool parse_error(std::size_t position, const std::string& token, const nlohmann::detail::exception& e) override
+    {
+        return dom_.parse_error(position, token, e);
     }
 
 private:
@@ -703,16 +714,24 @@ private:
         std::string name; // "objects" (in the top-level object), "[0]", ".transform"
     };
 
-    void next_element()
-    {
-        if (!levels_.empty() && levels_.back().array) ++levels_.back().elements;
-    }
-
     // A scene nests five levels at most, its own object counted (objects[k].transform.translate); a file of nothing but
     // brackets nested millions deep took about 270 bytes a level here and in the parser, gigabytes
     // for a file under the size limit, and ran out of memory naming no file (found by an
     // exploratory session).
     static constexpr std::size_t kMaxDepth = 64;
+
+    // A value in the level being parsed: counted where that is an array. Past kMaxSceneObjects in
+    // the scene's "objects", refused there and then (each object is read, uploaded and drawn on
+    // its own: 100,000 objects naming a one-triangle mesh took 18 s and 823 MB before the size's
+    // check refused them; a file under the size limit holds a million).
+    void value()
+    {
+        if (levels_.empty() || !levels_.back().array) return;
+        if (++levels_.back().elements > kMaxSceneObjects && levels_.size() == 2 && levels_[1].name == "objects")
+            throw Error(file_ + ": objects", "more than " + std::to_string(kMaxSceneObjects) +
+                                                 " objects (a scene holds at most that many; put meshes that "
+                                                 "share their maps into one file)");
+    }
 
     void enter(bool array)
     {
@@ -726,7 +745,7 @@ private:
             level.name = parent.array ? "[" + std::to_string(parent.elements) + "]"
                                       : (levels_.size() > 1 ? "." : "") + parent.key;
         }
-        next_element();
+        value();
         levels_.push_back(std::move(level));
     }
 
@@ -752,6 +771,7 @@ private:
 
     std::string file_;
     std::vector<Level> levels_;
+    nlohmann::detail::json_sax_dom_parser<json> dom_; // (the library's document builder, as json::parse's)
 };
 
 // The whole file, or a message that names it: an ifstream on a folder threw libstdc++'s own
@@ -780,7 +800,8 @@ SceneFileValues read_scene_file(const std::string& file, SceneSpec& spec)
     if (const auto nul = text.find('\0'); nul != std::string::npos)
         throw Error(file, "not valid JSON (a NUL byte at offset " + std::to_string(nul) + ")");
     try {
-        j = json::parse(text, SceneKeys(file));
+        SceneParser parser(file, j);
+        json::sax_parse(text, &parser);
     } catch (const json::exception& e) {
         std::string what = e.what();
         throw Error(file, "not valid JSON (" + what.substr(what.find(']') + 2) + ")");

@@ -301,6 +301,19 @@ pr_cli(scene_triangles_together_over_the_limit EXIT 1 ONE_LINE NO_FILE o.png
        ARGS render --scene ${CMAKE_CURRENT_BINARY_DIR}/three_tori.json --max-triangles 5000 --size 16x16 --out o.png)
 pr_cli(scene_triangles_together_under_the_limit EXIT 0 EXPECT_FILE o.png
        ARGS render --scene ${CMAKE_CURRENT_BINARY_DIR}/three_tori.json --max-triangles 6912 --size 16x16 --out o.png)
+# A scene holds at most 10,000 objects, refused as the file is parsed (100,000 objects naming a
+# one-triangle mesh took 18 s and 823 MB; an exploratory session, fifty-third). The same session
+# found the parse itself quadratic in an array's objects (the JSON library's callback parser):
+# 400,000 empty objects took 29 s, now a quarter of a second (not a test: a time).
+string(REPEAT "{\"mesh\": \"${M}/plane.obj\"}, " 9999 scene_objects)
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/objects_10000.json "{\"objects\": [${scene_objects}{\"mesh\": \"${M}/plane.obj\"}]}\n")
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/objects_10001.json
+     "{\"objects\": [${scene_objects}{\"mesh\": \"${M}/plane.obj\"}, {\"mesh\": \"${M}/plane.obj\"}]}\n")
+pr_cli(scene_objects_over_the_limit EXIT 1 ONE_LINE NO_FILE o.png
+       STDERR "${E}${CMAKE_CURRENT_BINARY_DIR}/objects_10001.json: objects: more than 10000 objects \\(a scene holds at most that many"
+       ARGS render --scene ${CMAKE_CURRENT_BINARY_DIR}/objects_10001.json --technique flat --size 16x16 --out o.png)
+pr_cli(scene_objects_at_the_limit EXIT 0 EXPECT_FILE o.png STDOUT "o.png: 16x16 flat"
+       ARGS render --scene ${CMAKE_CURRENT_BINARY_DIR}/objects_10000.json --technique flat --size 16x16 --out o.png)
 pr_cli_special(conemap_process_substitution BASH EXIT 0 EXPECT_FILE c.png STDOUT "c.png: 32x32 cone rg16"
                ARGS conemap --height "<(cat '${BAD}/sixteen_bit.png')" --no-cache --out c.png)
 pr_cli_special(height_process_substitution_empty BASH EXIT 1 ONE_LINE NO_FILE o.png
