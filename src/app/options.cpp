@@ -564,14 +564,17 @@ float json_checked(const json& j, const std::string& where, void (*check)(double
     return finite(v, where);
 }
 
-std::string json_path(const json& j, const std::string& where, const std::filesystem::path& base)
+// `maps`: a height or colour map, which may name a built-in one ("builtin:NAME"); a mesh has none,
+// so "builtin:rock.obj" is a file in the scene's folder (it was looked for in the working folder;
+// found by an exploratory session, fifty-third).
+std::string json_path(const json& j, const std::string& where, const std::filesystem::path& base, bool maps = true)
 {
     if (!j.is_string()) throw Error(where, "expected a string");
     const std::string s = j.get<std::string>();
     // (The system reads a name up to its first NUL: "a\u0000b.obj" opened the file "a", and the
     // report named the other; found by an exploratory session, thirty-fifth.)
     if (s.find('\0') != std::string::npos) throw Error(where, "a file name cannot hold a NUL character");
-    if (s.rfind("builtin:", 0) == 0 || s.empty()) return s;
+    if ((maps && s.rfind("builtin:", 0) == 0) || s.empty()) return s;
     const std::filesystem::path p(s);
     // Not lexically_normal(): "scn/../meshes/m.obj" is not "meshes/m.obj" where scn is a link to
     // a folder elsewhere (the kernel goes up from where the link leads; the scene loaded another
@@ -822,7 +825,7 @@ SceneFileValues read_scene_file(const std::string& file, SceneSpec& spec)
                     // (An empty name: "mesh" said the object had none, "color" drew the plain
                     // colour without a word; found by an exploratory session.)
                     if (k == "mesh") {
-                        o.mesh = json_path(v, w, base);
+                        o.mesh = json_path(v, w, base, false);
                         o.mesh_place = w;
                         if (o.mesh.empty()) throw Error(w, "empty file name");
                     } else if (k == "height") {
