@@ -614,7 +614,7 @@ void Renderer::upload(const Scene& scene)
         const Sphere shell = k < scene.object_bounds.size() ? scene.object_bounds[k] : sphere_around(shell_box(so));
         o.shell_radius = float(shell.radius);
         o.shell_center = shell.center;
-        o.name = so.mesh_name.empty() ? "object " + std::to_string(k) : so.mesh_name;
+        o.name = !so.place.empty() ? so.place : so.mesh_name.empty() ? "object " + std::to_string(k) : so.mesh_name;
         o.origin = glm::dvec3(so.transform[3]);
         o.local = linear_part(so.transform);
         o.base_color = so.base_color;
@@ -1570,8 +1570,8 @@ double Renderer::draw(const Camera& camera, glm::vec3 light_dir, const DrawSetti
             std::snprintf(reach, sizeof reach, "%.3g", shell_reach(o));
             std::snprintf(radius, sizeof radius, "%.3g", double(o.shell_radius));
             warn(o.name + ": its displacement reaches " + reach + ", under a millionth of its size (radius " + radius +
-                 "): too thin a shell for the prism's single precision, so it draws the base mesh (where a file's "
-                 "pieces lie far apart, an object of its own for each, in a scene file, helps)");
+                 "): too thin a shell for the prism's single precision, so it draws the base mesh (a larger depth "
+                 "helps, or, where a file's pieces lie far apart, an object of its own for each in a scene file)");
         }
     DrawSettings flat_settings = settings;
     flat_settings.technique = Technique::Reference;

@@ -245,7 +245,7 @@ private:
         // prisms: holes, IoU 0.92), and twice the object's diameter over its narrow triangles'
         // width (slivers along a cylinder).
         int walk_max_prisms = 256;
-        std::string name; // its mesh as the scene names it (warnings)
+        std::string name; // what warnings call it (SceneObject::place)
         // Whether the base mesh is closed (every edge paired, consistently wound), for culling
         // a depth-writing base technique's back faces; learnt on first need (closed_shell()).
         std::optional<bool> closed;

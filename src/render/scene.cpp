@@ -108,6 +108,7 @@ Scene load_scene(const SceneSpec& spec)
     for (const ObjectSpec& o : spec.objects) {
         SceneObject obj;
         obj.mesh_name = o.mesh;
+        obj.place = o.mesh_place.empty() ? o.mesh : o.mesh_place;
         // Each file read and prepared once (a scene of 60 objects of one 1M-triangle mesh read it
         // 60 times: over two minutes; found by an exploratory session); each object its copy,
         // the last one naming it the mesh itself (one object: no copy at all).
@@ -121,7 +122,7 @@ Scene load_scene(const SceneSpec& spec)
         // forty-ninth).
         triangles += found->second.triangle_count();
         if (triangles > spec.mesh_options.max_triangles)
-            throw Error(o.mesh_place.empty() ? o.mesh : o.mesh_place,
+            throw Error(obj.place,
                         "the scene's objects up to this one hold " + std::to_string(triangles) +
                             " triangles together, more than --max-triangles " +
                             std::to_string(spec.mesh_options.max_triangles) +
@@ -146,8 +147,8 @@ Scene load_scene(const SceneSpec& spec)
             obj.color = c;
             obj.color_name = o.color;
         }
-        const std::string& mesh_place = o.mesh_place.empty() ? o.mesh : o.mesh_place;
-        warn_if_uv_too_coarse(obj, o.mesh);
+        const std::string& mesh_place = obj.place;
+        warn_if_uv_too_coarse(obj, mesh_place);
         // (A mesh far from its file's origin is kept relative to PreparedMesh::origin.) Positions
         // past kMaxCoordinate are refused as a scene's translations are.
         obj.transform = o.transform * glm::translate(glm::dmat4(1.0), obj.mesh.origin);

@@ -58,6 +58,10 @@ struct SceneSpec {
 
 struct SceneObject {
     std::string mesh_name;
+    // What messages call the object: its place in the scene file ("s.json: objects[1].mesh"), or
+    // its mesh where it has none (--mesh). (Warnings named the mesh alone, which a scene may name
+    // for several objects; found by an exploratory session, fifty-third.)
+    std::string place;
     PreparedMesh mesh;
     std::shared_ptr<const HeightField> height; // shared by the objects that name one file
     std::string height_name;                   // the map's file or builtin name as this object gives it

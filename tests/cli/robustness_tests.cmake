@@ -509,9 +509,16 @@ pr_cli(prism_walk_deep_cube_quiet EXIT 0 EXPECT_FILE o.png STDERR "^$"
 # the one line says why the relief is gone and what helps.
 pr_cli_special(prism_shell_too_thin_for_the_file_said EXIT 0 EXPECT_FILE o.png ONE_LINE
                SETUP "printf 'v 100000 0 0\\nv 100002 0 0\\nv 100000 2 0\\nv -100000 0 0\\nv -99998 0 0\\nv -100000 2 0\\nvt 0 0\\nvt 1 0\\nvt 0 1\\nf 1/1 2/2 3/3\\nf 4/1 5/2 6/3\\n' > two.obj"
-               STDERR "^prismrelief: warning: two.obj: its displacement reaches 0.0[0-9]+, under a millionth of its size \\(radius 1e\\+05\\): too thin a shell for the prism's single precision, so it draws the base mesh \\(where a file's pieces lie far apart, an object of its own for each, in a scene file, helps\\)"
+               STDERR "^prismrelief: warning: two.obj: its displacement reaches 0.0[0-9]+, under a millionth of its size \\(radius 1e\\+05\\): too thin a shell for the prism's single precision, so it draws the base mesh \\(a larger depth helps, or, where a file's pieces lie far apart, an object of its own for each in a scene file\\)"
                ARGS render --mesh two.obj --depth 0.05 --eye 100001,1,3 --target 100001,1,0 --technique prism
                     --size 16x16 --no-cache --out o.png)
+# In a scene, the warning names the object by its place (it named the mesh, which the scene
+# names twice here; found by an exploratory session, fifty-third).
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/thin_second.json
+     "{\"objects\": [{\"mesh\": \"${M}/torus.obj\"}, {\"mesh\": \"${M}/torus.obj\", \"depth\": 1e-7, \"transform\": {\"translate\": [3, 0, 0]}}]}\n")
+pr_cli(prism_shell_too_thin_names_the_object EXIT 0 ONE_LINE EXPECT_FILE o.png
+       STDERR "^prismrelief: warning: ${CMAKE_CURRENT_BINARY_DIR}/thin_second.json: objects\\[1\\].mesh: its displacement reaches"
+       ARGS render --scene ${CMAKE_CURRENT_BINARY_DIR}/thin_second.json --technique prism --size 16x16 --no-cache --out o.png)
 # The report says so of the object (it gave the depth asked for alone; found by an exploratory
 # session, fifty-second); an object drawn with its shell has no such key.
 pr_cli(prism_shell_too_thin_in_the_report EXIT 0 ONE_LINE JSON o.json
