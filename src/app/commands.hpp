@@ -117,11 +117,21 @@ inline std::string listed_text(const std::vector<std::string>& items)
     return text;
 }
 
-// "level 4", or with objects at different levels "levels 5 and 6" (each object's, in order).
+// More objects than this are summed up in the reference's lines (their levels are in the JSON).
+constexpr std::size_t kObjectsListed = 6;
+
+// "level 4", or with objects at different levels "levels 5 and 6" (each object's, in order), and
+// past kObjectsListed objects "levels 3 to 10 over 50 objects" (a scene of 50 listed 50 levels;
+// found by an exploratory session, fifty-third).
 inline std::string reference_levels_text(const Renderer::ReferenceStats& stats)
 {
     const bool same = std::all_of(stats.levels.begin(), stats.levels.end(), [&](int l) { return l == stats.level; });
     if (same) return "level " + std::to_string(stats.level);
+    if (stats.levels.size() > kObjectsListed) {
+        const auto [lo, hi] = std::minmax_element(stats.levels.begin(), stats.levels.end());
+        return "levels " + std::to_string(*lo) + " to " + std::to_string(*hi) + " over " +
+               std::to_string(stats.levels.size()) + " objects";
+    }
     std::vector<std::string> levels;
     for (int l : stats.levels) levels.push_back(std::to_string(l));
     return "levels " + listed_text(levels);
@@ -134,8 +144,16 @@ inline std::string reference_capped_text(const Renderer::ReferenceStats& stats)
 {
     if (stats.levels.size() <= 1) return "level " + std::to_string(stats.level);
     std::vector<std::string> capped;
+    int lo = 0, hi = 0;
     for (std::size_t k = 0; k < stats.levels.size() && k < stats.capped_objects.size(); ++k)
-        if (stats.capped_objects[k]) capped.push_back("object " + std::to_string(k) + " at level " + std::to_string(stats.levels[k]));
+        if (stats.capped_objects[k]) {
+            lo = capped.empty() ? stats.levels[k] : std::min(lo, stats.levels[k]);
+            hi = capped.empty() ? stats.levels[k] : std::max(hi, stats.levels[k]);
+            capped.push_back("object " + std::to_string(k) + " at level " + std::to_string(stats.levels[k]));
+        }
+    if (capped.size() > kObjectsListed) // ("12 objects at levels 3 to 5", "8 objects at level 1")
+        return std::to_string(capped.size()) + " objects at " +
+               (lo == hi ? "level " + std::to_string(lo) : "levels " + std::to_string(lo) + " to " + std::to_string(hi));
     return listed_text(capped);
 }
 

@@ -499,6 +499,21 @@ pr_cli(render_reference_capped_near_not_far EXIT 0 JSON r.json
        CHECKS "reference.triangles:LESS:350001|reference.levels.0:EQUAL:10|reference.levels.1:EQUAL:7"
        ARGS render --scene ${CMAKE_CURRENT_BINARY_DIR}/near_far_torus.json --technique reference
             --reference-max-triangles 350000 --size 128x96 --out r.png --json r.json)
+# Past six objects the levels are summed up (a scene of 50 listed 50; an exploratory session,
+# fifty-third): eight tori in a row away from the eye, and all eight capped.
+set(eight_tori "")
+foreach(i RANGE 7)
+    math(EXPR z "-3 * ${i}")
+    list(APPEND eight_tori "{\"mesh\": \"${M}/torus.obj\", \"transform\": {\"translate\": [0, 0, ${z}]}}")
+endforeach()
+list(JOIN eight_tori ", " eight_tori)
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/eight_tori.json "{\"objects\": [${eight_tori}], \"camera\": {\"eye\": [0, 2, 6], \"target\": [0, 0, -10]}}\n")
+pr_cli(render_reference_levels_summed_up EXIT 0 EXPECT_FILE r.png STDOUT "^reference: levels 3 to 6 over 8 objects, 244224 triangles"
+       ARGS render --scene ${CMAKE_CURRENT_BINARY_DIR}/eight_tori.json --technique reference --size 64x48 --out r.png)
+pr_cli(render_reference_capped_summed_up EXIT 0 EXPECT_FILE r.png
+       STDOUT "^reference: level 1, 18432 triangles.*\\(8 objects at level 1 capped by --reference-max-triangles\\)"
+       ARGS render --scene ${CMAKE_CURRENT_BINARY_DIR}/eight_tori.json --technique reference --size 64x48
+            --reference-max-triangles 30000 --out r.png)
 # Objects out of view take no more than the scene's cheap level, and leave the cap to those in
 # view: two rocks behind the eye lowered the torus from level 32 to 25 under a cap of 3 M and were
 # built at 9 (found by an exploratory session, thirty-eighth).
