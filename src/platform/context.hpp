@@ -43,6 +43,12 @@ private:
 // library is missing or no 4.5 core context can be created.
 std::unique_ptr<Context> create_headless_context(Backend backend, const std::string& option = "--backend");
 
+// What in the environment keeps Mesa from giving the backend a working 4.5 context (empty: nothing
+// known): MESA_GLSL_VERSION_OVERRIDE under 450 and MESA_GL_VERSION_OVERRIDE under 4.5,
+// LP_NATIVE_VECTOR_WIDTH other than 128 or 256, and for OSMesa GALLIUM_TRACE (it hung) and
+// GALLIUM_DDEBUG (it crashed). create_headless_context() refuses them, naming the variable.
+std::string mesa_environment_problem(Backend backend);
+
 // Starts loading the backend's library on a thread of its own, so that a command can read its
 // mesh and maps meanwhile; create_headless_context() then waits for it. Loading libOSMesa (Mesa
 // and LLVM) takes about 75 ms on the 2-core machine, most of what a context costs. Errors are

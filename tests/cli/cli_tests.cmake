@@ -182,6 +182,29 @@ pr_cli(osmesa_foreign_gallium_driver EXIT 1 ONE_LINE NO_FILE out.png ENV GALLIUM
 pr_cli(osmesa_softpipe EXIT 1 ONE_LINE NO_FILE out.png ENV GALLIUM_DRIVER=softpipe
        STDERR "${E}--backend: osmesa: GALLIUM_DRIVER=softpipe has no OpenGL 4.5 core context"
        ARGS render --mesh ${M}/cube.obj --size 8x8 --out out.png)
+# Mesa's own settings that crashed it (SIGSEGV, SIGFPE), hung it (GALLIUM_TRACE: until the test's
+# timeout) or refused a 4.5 context without naming them, on either backend: refused, named
+# (found by an exploratory session, fifty-third). LP_NATIVE_VECTOR_WIDTH=128 draws.
+foreach(setting "MESA_GLSL_VERSION_OVERRIDE=130|MESA_GLSL_VERSION_OVERRIDE=130 asks for GLSL under 4.50"
+        "MESA_GL_VERSION_OVERRIDE=3.3|MESA_GL_VERSION_OVERRIDE=3.3 asks for OpenGL under 4.5"
+        "LP_NATIVE_VECTOR_WIDTH=512|LP_NATIVE_VECTOR_WIDTH=512: llvmpipe draws at 128 or 256 bits"
+        "LP_NATIVE_VECTOR_WIDTH=7|LP_NATIVE_VECTOR_WIDTH=7: llvmpipe draws at 128 or 256 bits"
+        "GALLIUM_TRACE=trace.xml|GALLIUM_TRACE is set: Mesa's OSMesa hung"
+        "GALLIUM_DDEBUG=always|GALLIUM_DDEBUG is set: Mesa's OSMesa crashed")
+    string(REPLACE "|" ";" setting "${setting}")
+    list(GET setting 0 assignment)
+    list(GET setting 1 said)
+    string(TOLOWER "${assignment}" name)
+    string(REGEX REPLACE "[^0-9a-z]+" "_" name "${name}")
+    pr_cli(mesa_setting_refused_${name} EXIT 1 ONE_LINE NO_FILE out.png ENV ${assignment}
+           STDERR "${E}--backend: osmesa: ${said}"
+           ARGS render --mesh ${M}/cube.obj --size 8x8 --out out.png)
+endforeach()
+pr_cli(mesa_setting_refused_egl EXIT 1 ONE_LINE NO_FILE out.png ENV MESA_GLSL_VERSION_OVERRIDE=130
+       STDERR "${E}--backend: egl: MESA_GLSL_VERSION_OVERRIDE=130 asks for GLSL under 4.50"
+       ARGS render --backend egl --mesh ${M}/cube.obj --size 8x8 --out out.png)
+pr_cli(mesa_vector_width_128_draws EXIT 0 EXPECT_FILE out.png ENV LP_NATIVE_VECTOR_WIDTH=128
+       ARGS render --mesh ${M}/cube.obj --size 8x8 --out out.png)
 pr_cli(out_folder_missing EXIT 1 ONE_LINE STDERR "${E}no/such/dir/out.png: " 
        ARGS render --mesh ${M}/cube.obj --size 32x32 --out no/such/dir/out.png)
 pr_cli(scene_bad_value EXIT 1 ONE_LINE STDERR "${E}.*bad_scene.json: objects\\[0\\].mesh: expected a string" NO_FILE out.png
