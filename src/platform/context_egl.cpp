@@ -29,6 +29,10 @@ EglApi& api()
 {
     static EglApi a;
     if (!a.lib) {
+        // Mesa's libEGL writes its warnings to stderr, unprefixed, before the one line that says
+        // why no context came (three to seven lines with GALLIUM_DRIVER=nonexistent; found by an
+        // exploratory session, fifty-third): only its fatal ones, where the user set no level.
+        setenv("EGL_LOG_LEVEL", "fatal", 0);
         // PRISMRELIEF_EGL_LIBRARY names another libEGL (like PRISMRELIEF_OSMESA_LIBRARY).
         if (const char* lib = std::getenv("PRISMRELIEF_EGL_LIBRARY"); lib && *lib) {
             if (const std::string why = not_a_file_reason(lib); !why.empty())
@@ -106,7 +110,14 @@ public:
             ok = attempt(get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr),
                          "surfaceless");
         if (!ok && get_display) ok = attempt(get_display(EGL_DEFAULT_DISPLAY), "default");
-        if (!ok) throw Error("--backend", "egl: no OpenGL 4.5 core context (" + tried + ")");
+        if (!ok) {
+            // (A driver the user named is the likely cause: said, as OSMesa's check says it.)
+            const char* driver = std::getenv("GALLIUM_DRIVER");
+            throw Error("--backend", "egl: no OpenGL 4.5 core context (" + tried + ")" +
+                                         (driver != nullptr && *driver
+                                              ? std::string("; GALLIUM_DRIVER=") + driver + " is set: unset it (llvmpipe)"
+                                              : std::string()));
+        }
         try {
             load_gl(&egl_get_proc, "--backend", std::string("EGL (") + platform_ + ")");
         } catch (...) {

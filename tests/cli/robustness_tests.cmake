@@ -363,6 +363,11 @@ if(EGL_INCLUDE_DIR)
            STDERR "${E}--backend: egl: PRISMRELIEF_EGL_PLATFORM=gpu is not device or surfaceless"
            NO_FILE o.png ENV PRISMRELIEF_EGL_PLATFORM=gpu
            ARGS render --mesh ${M}/cube.obj --backend egl --size 32x32 --out o.png)
+    # A driver Mesa does not have: one line that names it (libEGL's own warnings came first, three
+    # to seven lines; found by an exploratory session, fifty-third).
+    pr_cli(egl_foreign_gallium_driver EXIT 1 ONE_LINE NO_FILE o.png ENV GALLIUM_DRIVER=nonexistent
+           STDERR "^prismrelief: error: --backend: egl: no OpenGL 4.5 core context \\(.*\\); GALLIUM_DRIVER=nonexistent is set: unset it"
+           ARGS render --mesh ${M}/cube.obj --backend egl --size 32x32 --out o.png)
 endif()
 # Named by the variable (it offered --shader-dir, which render does not have, and named
 # shaders/surface.vert, a file the user had not given).
