@@ -37,15 +37,18 @@ EglApi& api()
         if (const char* lib = std::getenv("PRISMRELIEF_EGL_LIBRARY"); lib && *lib) {
             if (const std::string why = not_a_file_reason(lib); !why.empty())
                 throw Error("--backend", std::string("egl: cannot load ") + lib + ": it " + why);
-            a.lib = dlopen(lib, RTLD_NOW | RTLD_LOCAL);
-            if (!a.lib) throw Error("--backend", std::string("egl: cannot load ") + lib + ": " + loader_reason(lib));
+            std::string why;
+            a.lib = open_named_library(lib, why);
+            if (!a.lib) throw Error("--backend", std::string("egl: cannot load ") + lib + ": " + why);
         }
         std::string reason; // (as OSMesa's: a libEGL there that cannot be loaded says why)
         if (!a.lib) a.lib = open_first_library({"libEGL.so.1", "libEGL.so"}, reason);
         if (!a.lib && !reason.empty()) throw Error("--backend", "egl: libEGL is installed but cannot be loaded: " + reason);
         if (!a.lib) throw Error("--backend", "egl: libEGL is not installed");
         a.get_proc = reinterpret_cast<PFNEGLGETPROCADDRESSPROC>(dlsym(a.lib, "eglGetProcAddress"));
-        if (!a.get_proc) throw Error("--backend", "egl: libEGL has no eglGetProcAddress");
+        if (!a.get_proc)
+            throw Error("--backend", "egl: " + named_library("PRISMRELIEF_EGL_LIBRARY", "libEGL") +
+                                         " has no eglGetProcAddress (not a libEGL)");
     }
     return a;
 }

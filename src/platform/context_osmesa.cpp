@@ -41,8 +41,9 @@ OSMesaApi load_osmesa()
         // (dlopen would wait forever on a FIFO without a writer.)
         if (const std::string why = not_a_file_reason(lib); !why.empty())
             return {.error = std::string("osmesa: cannot load ") + lib + ": it " + why};
-        a.lib = dlopen(lib, RTLD_NOW | RTLD_LOCAL);
-        if (!a.lib) return {.error = std::string("osmesa: cannot load ") + lib + ": " + loader_reason(lib)};
+        std::string why;
+        a.lib = open_named_library(lib, why);
+        if (!a.lib) return {.error = std::string("osmesa: cannot load ") + lib + ": " + why};
     }
     // Where a name is there but cannot be loaded (a library it needs is missing; too little
     // address space under `ulimit -v`: LLVM's segments do not map), the loader's reason is said
@@ -56,7 +57,8 @@ OSMesaApi load_osmesa()
     a.destroy = reinterpret_cast<decltype(a.destroy)>(dlsym(a.lib, "OSMesaDestroyContext"));
     a.get_proc = reinterpret_cast<decltype(a.get_proc)>(dlsym(a.lib, "OSMesaGetProcAddress"));
     if (!a.create_attribs || !a.make_current || !a.destroy || !a.get_proc)
-        return {.error = "osmesa: libOSMesa lacks OSMesaCreateContextAttribs (Mesa too old)"};
+        return {.error = "osmesa: " + named_library("PRISMRELIEF_OSMESA_LIBRARY", "libOSMesa") +
+                         " lacks OSMesaCreateContextAttribs (not a libOSMesa, or one older than Mesa 11)"};
     return a;
 }
 

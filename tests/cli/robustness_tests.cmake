@@ -280,6 +280,18 @@ pr_cli_special(osmesa_library_not_elf EXIT 1 ONE_LINE NO_FILE o.png
                SETUP "printf 'this text is long enough to hold an ELF header but is none at all\\n' > lib.so && export PRISMRELIEF_OSMESA_LIBRARY=./lib.so"
                STDERR "${E}--backend: osmesa: cannot load ./lib.so: invalid ELF header"
                ARGS render --mesh ${M}/cube.obj --size 32x32 --out o.png)
+# A name without a folder is looked for in the library path, not here: said where the working
+# folder has such a file; a library that is not libOSMesa is named (it read "libOSMesa lacks
+# OSMesaCreateContextAttribs (Mesa too old)"; found by an exploratory session, fifty-third).
+pr_cli_special(osmesa_library_bare_name EXIT 1 ONE_LINE NO_FILE o.png
+               SETUP "printf 'x\\n' > libfake.so && export PRISMRELIEF_OSMESA_LIBRARY=libfake.so"
+               STDERR "${E}--backend: osmesa: cannot load libfake.so: .*\\(a name without a folder is looked for in the library path: ./libfake.so names the file here\\)"
+               ARGS render --mesh ${M}/cube.obj --size 32x32 --out o.png)
+pr_cli_special(osmesa_library_not_osmesa EXIT 1 ONE_LINE NO_FILE o.png
+               REQUIRES /lib/x86_64-linux-gnu/libz.so.1
+               SETUP "cp /lib/x86_64-linux-gnu/libz.so.1 ./libz.so && export PRISMRELIEF_OSMESA_LIBRARY=./libz.so"
+               STDERR "${E}--backend: osmesa: ./libz.so lacks OSMesaCreateContextAttribs \\(not a libOSMesa"
+               ARGS render --mesh ${M}/cube.obj --size 32x32 --out o.png)
 # Pipes with a writer are read: bash's process substitution (worked before, must go on working)
 # and, for meshes, a named FIFO with a writer (OpenMesh opened the file again by name: "cannot be
 # read (size unknown)" before, and a hang had that been passed).

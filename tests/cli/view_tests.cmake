@@ -110,6 +110,14 @@ if(TARGET pr_view)
     pr_cli(view_backend_refused EXIT 1 ONE_LINE ENV DISPLAY= WAYLAND_DISPLAY=
            STDERR "${E}--backend: has no effect: view draws with its window's OpenGL context"
            ARGS view --mesh ${M}/torus.obj --backend egl --frames 1)
+    # Its usage errors name it (it is out of the help's groups, and CLI11 gave its name as empty:
+    # ": given 2 times"; found by an exploratory session, fifty-third).
+    pr_cli(view_backend_twice_named EXIT 2 ONE_LINE ENV DISPLAY= WAYLAND_DISPLAY=
+           STDERR "^prismrelief: usage: --backend: given 2 times; give it once"
+           ARGS view --mesh ${M}/torus.obj --backend egl --backend egl --frames 1)
+    pr_cli(view_backend_without_value_named EXIT 2 ONE_LINE ENV DISPLAY= WAYLAND_DISPLAY=
+           STDERR "^prismrelief: usage: --backend: 1 required TEXT missing"
+           ARGS view --mesh ${M}/torus.obj --frames 1 --backend)
     # The prism's flags with a --split of two base techniques: the panel may turn a half to the
     # prism, which takes them (the refusal meant for compare and bench caught --split too). The
     # options are checked before the window opens: with no display, the window is what fails.
