@@ -230,6 +230,16 @@ void check_destination(const fs::path& path, const fs::path& target)
     if (const std::optional<fs::path> fd = descriptor_link_of(path))
         throw Error(subject, "is an open file descriptor's link (" + fd->string() +
                                  "): an output replaces its file, it does not write to the descriptor; give the file's own name");
+    // The file standard output or standard error goes to, under its own name (`--json run.log >>
+    // run.log 2>&1`): replaced the same way, it kept only the report, and what the run printed went
+    // to the old, unlinked file (found by an exploratory session, fifty-third).
+    if (::stat(target.c_str(), &st) == 0 && S_ISREG(st.st_mode))
+        for (const auto& [fd, name] : {std::pair{1, "standard output"}, std::pair{2, "standard error"}}) {
+            struct stat open_file;
+            if (::fstat(fd, &open_file) == 0 && open_file.st_dev == st.st_dev && open_file.st_ino == st.st_ino)
+                throw Error(subject, it + "is the file " + name + " goes to: an output replaces its file, and what was "
+                                          "written there would be lost; name another file");
+        }
     const fs::path dir = folder_of(target);
     std::error_code ec;
     // Names and paths past the system's limits fail at the rename, after the work (a 256-byte

@@ -280,6 +280,12 @@ pr_cli_special(osmesa_library_not_elf EXIT 1 ONE_LINE NO_FILE o.png
                SETUP "printf 'this text is long enough to hold an ELF header but is none at all\\n' > lib.so && export PRISMRELIEF_OSMESA_LIBRARY=./lib.so"
                STDERR "${E}--backend: osmesa: cannot load ./lib.so: invalid ELF header"
                ARGS render --mesh ${M}/cube.obj --size 32x32 --out o.png)
+# An output that is the file standard output goes to (`--json run.log >> run.log`) is refused
+# before the work: replaced, it kept the report alone, and what the run printed went to the old,
+# unlinked file (found by an exploratory session, fifty-third).
+pr_cli_special(output_is_standard_output EXIT 1 ONE_LINE BASH SETUP "printf 'earlier\\n' > run.log"
+               STDERR "${E}run.log: is the file standard output goes to: an output replaces its file"
+               ARGS render --mesh '${M}/cube.obj' --size 8x8 --out o.png --json run.log ">>run.log")
 # A name without a folder is looked for in the library path, not here: said where the working
 # folder has such a file; a library that is not libOSMesa is named (it read "libOSMesa lacks
 # OSMesaCreateContextAttribs (Mesa too old)"; found by an exploratory session, fifty-third).
