@@ -774,7 +774,9 @@ private:
 
     std::string file_;
     std::vector<Level> levels_;
-    nlohmann::detail::json_sax_dom_parser<json> dom_; // (the library's document builder, as json::parse's)
+    // The library's document builder, as json::parse's (its detail namespace: one template
+    // parameter in nlohmann-json 3.11, Debian 12's and 13's; 3.12 adds an input adapter's).
+    nlohmann::detail::json_sax_dom_parser<json> dom_;
 };
 
 // The whole file, or a message that names it: an ifstream on a folder threw libstdc++'s own
