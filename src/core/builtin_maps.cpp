@@ -426,6 +426,12 @@ RgbaImage make_color(const std::string& spec, const ImageLimits& limits)
             for (int i = 0; i < p.width; ++i)
                 put(std::size_t(j) * p.width + i,
                     e.fn((i + 0.5) / p.width, (j + 0.5) / p.height));
+        // As a height map's (height_values): checker@4 and bricks@4 came out one colour, the
+        // checker's one square and the mortar, without a word (found by an exploratory session,
+        // fifty-third).
+        bool one_colour = true;
+        for (std::size_t k = 4; k < img.pixels.size() && one_colour; ++k) one_colour = img.pixels[k] == img.pixels[k % 4];
+        if (one_colour) throw Error(spec, "too small for its pattern: every texel centre takes the same colour");
         return img;
     }
     // Any height map without a colour of its own: its height, tinted.
