@@ -59,6 +59,7 @@ struct PreparedMesh {
     bool had_normals = false;           // file normals are read but the shell always uses welded ones
     std::size_t dropped_triangles = 0;  // degenerate (zero area) triangles removed
     float largest_uv = 0.0f;            // the largest |u| or |v| (load_scene: its float precision)
+    glm::vec2 largest_uv_axes{0.0f};    // the largest |u| and the largest |v|, apart
     bool largest_uv_generated = false;  // ... on a face whose UVs were generated (--uv-scale)
     std::size_t triangle_count() const { return indices.size() / 3; }
 };

@@ -1477,6 +1477,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
     float largest_uv = 0.0f;
     bool largest_generated = false;
     for (size_t i = 0; i < tri_uv.size(); ++i) {
+        out.largest_uv_axes = glm::max(out.largest_uv_axes, glm::abs(glm::vec2(tri_uv[i])));
         const float m = std::max(std::fabs(tri_uv[i].x), std::fabs(tri_uv[i].y));
         if (m <= largest_uv) continue;
         largest_uv = m;

@@ -66,14 +66,27 @@ std::string file_identity(const std::string& name)
 // the height or colour map, and the surface comes out as noise (u offset by 1e5 on a 512² map:
 // 17 dB against the same mesh at 0; found by an exploratory session, thirty-fifth). Up to 2^20
 // they are taken (past it refused, mesh_prepare); said, with what to do.
+// Each axis against its maps' texels along it: u against their widths, v their heights (a v of 3000
+// over a 16384 x 2 colour map warned of 16384-texel maps, whose 2 rows it steps over finely;
+// found by an exploratory session, fifty-third).
 void warn_if_uv_too_coarse(const SceneObject& obj, const std::string& mesh)
 {
-    int texels = obj.height ? std::max(obj.height->width, obj.height->height) : 1;
-    if (obj.color) texels = std::max({texels, obj.color->width, obj.color->height});
-    const float largest = obj.mesh.largest_uv;
-    if (!(largest > 0.0f)) return;
-    const double step = double(std::nextafter(largest, INFINITY)) - double(largest); // a float's step there
-    if (step <= 1.0 / double(texels)) return;
+    float largest = 0.0f;
+    double step = 0.0;
+    int texels = 1;
+    for (int axis = 0; axis < 2; ++axis) {
+        const auto along = [axis](int width, int height) { return axis == 0 ? width : height; };
+        int n = obj.height ? along(obj.height->width, obj.height->height) : 1;
+        if (obj.color) n = std::max(n, along(obj.color->width, obj.color->height));
+        const float at = obj.mesh.largest_uv_axes[axis];
+        if (!(at > 0.0f)) continue;
+        const double s = double(std::nextafter(at, INFINITY)) - double(at); // a float's step there
+        if (s <= 1.0 / double(n) || s * n <= step * texels) continue;
+        largest = at;
+        step = s;
+        texels = n;
+    }
+    if (step == 0.0) return;
     char text[160];
     std::snprintf(text, sizeof text, "texture coordinates reach %.6g, where single precision steps by %.3g of a "
                                      "repeat, more than a texel of its %d-texel maps",

@@ -818,6 +818,18 @@ pr_cli_special(uv_far_from_zero_is_said EXIT 0 ONE_LINE EXPECT_FILE o.png
                SETUP "printf 'v 0 0 0\\nv 1 0 0\\nv 0 1 0\\nvt 100000 0\\nvt 100001 0\\nvt 100000 1\\nf 1/1 2/2 3/3\\n' > u.obj"
                STDERR "^prismrelief: warning: u.obj: texture coordinates reach 100001, where single precision steps by 0.00781 of a repeat, more than a texel of its 512-texel maps"
                ARGS render --mesh u.obj --size 16x16 --out o.png)
+# Each axis against its maps' texels along it: v at 3000 steps by 0.000244, finer than the 2 rows
+# of a 16384 x 2 colour map (warned of 16384-texel maps), coarser than a 2 x 16384 map's rows
+# (found by an exploratory session, fifty-third).
+foreach(case "16384x2|^$" "2x16384|^prismrelief: warning: v.obj: texture coordinates reach 3001, where single precision steps by 0.000244 of a repeat, more than a texel of its 16384-texel maps")
+    string(REPLACE "|" ";" case "${case}")
+    list(GET case 0 map)
+    list(GET case 1 said)
+    pr_cli_special(uv_far_from_zero_along_v_${map} EXIT 0 EXPECT_FILE o.png
+                   SETUP "printf 'v 0 0 0\\nv 1 0 0\\nv 0 1 0\\nvt 0 3000\\nvt 1 3000\\nvt 0 3001\\nf 1/1 2/2 3/3\\n' > v.obj"
+                   STDERR "${said}"
+                   ARGS render --mesh v.obj --color builtin:uv@${map} --size 16x16 --out o.png)
+endforeach()
 # …but a spelling through a folder that does not exist is no file, as for the kernel (it was taken
 # for the other object's file: weakly_canonical resolves only the part that exists).
 pr_cli_special(scene_path_through_missing_folder_refused EXIT 1 ONE_LINE NO_FILE o.png
