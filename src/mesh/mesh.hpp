@@ -20,7 +20,10 @@ namespace pr {
 // UV seams or frames keep the same `normal` and `weld_id`.
 struct MeshVertex {
     glm::vec3 position{0.0f};  // object space
-    glm::vec3 normal{0.0f, 0.0f, 1.0f}; // unit, angle-weighted, welded by position (shell direction)
+    // Unit, angle-weighted, welded by position (shell direction). A scene object under a shear or
+    // an unequal scale holds its placed mesh's normals here, unit in world space instead
+    // (render/scene.cpp, frames_as_placed): every use normalizes after the normal matrix.
+    glm::vec3 normal{0.0f, 0.0f, 1.0f};
     glm::vec2 uv{0.0f};        // texture space, origin bottom-left
     // Metric tangent frame (contract): tangent.xyz = dP/du, bitangent = dP/dv, both unnormalized
     // (object units per UV unit), averaged over the faces around this (position, UV) vertex and
