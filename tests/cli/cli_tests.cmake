@@ -21,6 +21,32 @@ function(pr_cli name)
     set_tests_properties(cli.${name} PROPERTIES LABELS "cli" TIMEOUT 180)
 endfunction()
 
+# The sanitizer build's preload for a run in which Mesa may unload its own libraries before
+# LeakSanitizer runs (libglvnd unloads GLX's and DRI's; libEGL the driver it failed with), whose
+# leaks then show as "<unknown module>" and escape tests/lsan.supp: the ASan runtime, which must
+# come first, then each of the libraries named, joined by ':' into `var`. Empty outside the
+# sanitizer build, or where one of them is not found.
+function(pr_sanitizer_preload var)
+    set(preload "")
+    if(PRISMRELIEF_SANITIZE)
+        execute_process(COMMAND ${CMAKE_CXX_COMPILER} -print-file-name=libasan.so
+                        OUTPUT_VARIABLE preload OUTPUT_STRIP_TRAILING_WHITESPACE)
+        if(NOT EXISTS "${preload}")
+            set(preload "")
+        endif()
+        foreach(lib IN LISTS ARGN)
+            find_file(found ${lib} PATH_SUFFIXES dri PATHS /usr/lib/x86_64-linux-gnu /usr/lib64 /usr/lib NO_CACHE)
+            if(NOT found OR NOT preload)
+                set(preload "")
+                break()
+            endif()
+            string(APPEND preload ":${found}")
+            unset(found)
+        endforeach()
+    endif()
+    set(${var} "${preload}" PARENT_SCOPE)
+endfunction()
+
 # Usage (exit 2) and information (exit 0).
 pr_cli(no_arguments EXIT 2 STDERR "usage: .*subcommand")
 pr_cli(unknown_option EXIT 2 STDERR "usage: .*--bogus" ARGS render --bogus --out x.png)

@@ -385,15 +385,9 @@ if(EGL_INCLUDE_DIR)
     # to seven lines; found by an exploratory session, fifty-third). In the sanitizer build Mesa's
     # EGL and DRI libraries are preloaded (after the ASan runtime), as the viewer's tests preload
     # theirs: libEGL unloads the driver it failed with, whose leaks then escape tests/lsan.supp.
-    set(egl_preload "")
-    if(PRISMRELIEF_SANITIZE)
-        execute_process(COMMAND ${CMAKE_CXX_COMPILER} -print-file-name=libasan.so
-                        OUTPUT_VARIABLE asan_runtime OUTPUT_STRIP_TRAILING_WHITESPACE)
-        find_file(PR_EGL_MESA libEGL_mesa.so.0 PATHS /usr/lib/x86_64-linux-gnu /usr/lib64 /usr/lib)
-        find_file(PR_SWRAST_DRI swrast_dri.so PATH_SUFFIXES dri PATHS /usr/lib/x86_64-linux-gnu /usr/lib64 /usr/lib)
-        if(EXISTS "${asan_runtime}" AND PR_EGL_MESA AND PR_SWRAST_DRI)
-            set(egl_preload "LD_PRELOAD=${asan_runtime}:${PR_EGL_MESA}:${PR_SWRAST_DRI}")
-        endif()
+    pr_sanitizer_preload(egl_preload libEGL_mesa.so.0 swrast_dri.so)
+    if(egl_preload)
+        set(egl_preload "LD_PRELOAD=${egl_preload}")
     endif()
     pr_cli(egl_foreign_gallium_driver EXIT 1 ONE_LINE NO_FILE o.png ENV GALLIUM_DRIVER=nonexistent ${egl_preload}
            STDERR "^prismrelief: error: --backend: egl: no OpenGL 4.5 core context \\(.*\\); GALLIUM_DRIVER=nonexistent is set: unset it"

@@ -42,16 +42,7 @@ if(TARGET pr_view)
     # Sanitizer build: libglvnd unloads Mesa's GLX and DRI libraries before LeakSanitizer runs, so
     # their leaks would show as "<unknown module>" and escape tests/lsan.supp. Preloading them (after
     # the ASan runtime, which must come first) keeps them mapped and their leaks attributable.
-    set(view_preload "")
-    if(PRISMRELIEF_SANITIZE)
-        execute_process(COMMAND ${CMAKE_CXX_COMPILER} -print-file-name=libasan.so
-                        OUTPUT_VARIABLE asan_runtime OUTPUT_STRIP_TRAILING_WHITESPACE)
-        find_file(PR_GLX_MESA libGLX_mesa.so.0 PATHS /usr/lib/x86_64-linux-gnu /usr/lib64 /usr/lib)
-        find_file(PR_SWRAST_DRI swrast_dri.so PATH_SUFFIXES dri PATHS /usr/lib/x86_64-linux-gnu /usr/lib64 /usr/lib)
-        if(EXISTS "${asan_runtime}" AND PR_GLX_MESA AND PR_SWRAST_DRI)
-            set(view_preload "${asan_runtime}:${PR_GLX_MESA}:${PR_SWRAST_DRI}")
-        endif()
-    endif()
+    pr_sanitizer_preload(view_preload libGLX_mesa.so.0 swrast_dri.so)
     foreach(case single split overlay drop shader_error cone_build)
         add_test(NAME view.${case}
                  COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:prismrelief> -DCHECK=$<TARGET_FILE:view_mask_check>
