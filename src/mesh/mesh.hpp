@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <glm/mat3x3.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -22,7 +23,7 @@ struct MeshVertex {
     glm::vec3 position{0.0f};  // object space
     // Unit, angle-weighted, welded by position (shell direction). A scene object under a shear or
     // an unequal scale holds its placed mesh's normals here, unit in world space instead
-    // (render/scene.cpp, frames_as_placed): every use normalizes after the normal matrix.
+    // (place_mesh_frames): every use normalizes after the normal matrix.
     glm::vec3 normal{0.0f, 0.0f, 1.0f};
     glm::vec2 uv{0.0f};        // texture space, origin bottom-left
     // Metric tangent frame (contract): tangent.xyz = dP/du, bitangent = dP/dv, both unnormalized
@@ -75,6 +76,25 @@ inline std::uint32_t welded_position_count(const std::vector<MeshVertex>& vertic
     for (const MeshVertex& v : vertices) n = std::max(n, v.weld_id + 1);
     return n;
 }
+
+// The welded normals and tangent frames of `mesh` as the linear map `linear` (a scene object's
+// transform) shapes it, where that is no similarity (a shear, a scale that differs by axis), as
+// prepare_mesh gives them for the mesh with the map baked into its file; stored in object space so
+// that the normal matrix and the model matrix give them back (every use of a normal normalizes;
+// they are of unit length in world space, not in the object's). Carried by those matrices, the
+// file's own are not those: a shear changes the faces' normals and the angles that weigh them, and
+// the frames were made perpendicular to the file's normals. A cube's corner normal turned more
+// than 90° from a face beside it, so that the walk lost a triangle of that face (IoU 0.74 against
+// the reference; baked 0.997), and a milder shear drew a dark skirt along edges (the cube under
+// rows [1, 1.5, 0], [0, 1, 0.7], [0, 0, 2]: IoU 0.926, baked 0.9994); found by exploratory
+// sessions, fourteenth and fifty-third. Normals: each position's angle-weighted normal of its
+// faces, slivers left out, as prepare_mesh's; a position whose faces cancel, or that only slivers
+// touch, keeps its own. Frames: each triangle's real metric frame (linear in the positions)
+// averaged with the placed corner angles and made perpendicular to the new normal; a vertex of a
+// triangle without UV area (a limit frame), or whose average is no usable frame, keeps its own.
+// The triangles must wind counter-clockwise seen from outside after the map (a mirroring one's
+// turned first: load_scene). A similarity changes nothing.
+void place_mesh_frames(PreparedMesh& mesh, const glm::dmat3& linear);
 
 // Reads OBJ (v/vt/vn, polygons, negative indices), OFF, PLY, STL (ASCII or binary) through
 // OpenMesh, validates what it returns, and prepares it. Throws pr::Error("<file>", "<problem>")

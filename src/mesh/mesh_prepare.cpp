@@ -427,6 +427,40 @@ double corner_angle(const dvec3& a, const dvec3& b, const dvec3& c)
     return std::atan2(glm::length(glm::cross(e1, e2)), glm::dot(e1, e2));
 }
 
+// Whether triangle (a, b, c), whose edges' cross product has length `cross_length`, has a normal
+// of its own: in one so thin that float rounding of its corners decides its normal, the obtuse
+// corner would weigh almost pi in an angle-weighted sum, which leaves it out.
+bool normal_is_sound(const dvec3& a, const dvec3& b, const dvec3& c, double cross_length)
+{
+    const double longest2 = std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
+    return cross_length > 1e-7 * longest2;
+}
+
+// A triangle's metric frame from its edges e1, e2 (p1 - p0, p2 - p0) and their UV differences d1,
+// d2 (P is linear in UV over a triangle: e1 = T du1 + B dv1, e2 = T du2 + B dv2), where its UVs
+// span an area (a real frame; false where not: see the limit frames in prepare_mesh), with its
+// `quality`: the UV area over the product of the UV extents (about 0.5 to 1 when well shaped).
+bool real_metric_frame(const dvec3& e1, const dvec3& e2, const dvec2& d1, const dvec2& d2, dvec3& T, dvec3& B,
+                       float& quality)
+{
+    const double det = cross2(d1, d2);
+    const double scale = (std::fabs(d1.x) + std::fabs(d2.x)) * (std::fabs(d1.y) + std::fabs(d2.y));
+    if (!(det != 0.0 && std::fabs(det) > 1e-7 * scale)) return false;
+    T = (e1 * d2.y - e2 * d1.y) / det;
+    B = (e2 * d1.x - e1 * d2.x) / det;
+    const double lt = glm::length(T), lb = glm::length(B);
+    if (!(std::isfinite(lt) && std::isfinite(lb) && lt > 0.0 && lb > 0.0)) return false;
+    quality = float(std::fabs(det) / scale);
+    return true;
+}
+
+// A real frame's weight beside its corner angle where a vertex's frames are averaged: triangles
+// nearly flat in UV, whose frame grows without bound, weigh less.
+float frame_shape(float quality)
+{
+    return std::min(1.0f, quality / 0.05f);
+}
+
 // Unit vector perpendicular to n (n unit).
 dvec3 any_perpendicular(const dvec3& n)
 {
@@ -1162,14 +1196,12 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         const dvec3 &a = wpos[w[0]], &b = wpos[w[1]], &c = wpos[w[2]];
         const dvec3 cr = glm::cross(b - a, c - a);
         const double len = glm::length(cr);
-        const double longest2 =
-            std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
         for (uint32_t wi : w) {
             csum[wi] += cr;
             cross_sum[wi] += len;
             if (len > 0.0 && first_normal[wi] == dvec3(0.0)) first_normal[wi] = cr / len;
         }
-        if (len <= 1e-7 * longest2) continue;
+        if (!normal_is_sound(a, b, c, len)) continue;
         const dvec3 fn = cr / len;
         const double angles[3] = {corner_angle(a, b, c), corner_angle(b, c, a),
                                   corner_angle(c, a, b)};
@@ -1536,22 +1568,13 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
                     &p2 = wpos[tri_weld(t, 2)];
         const dvec2 uv0(tri_uv[i * 3]), uv1(tri_uv[i * 3 + 1]), uv2(tri_uv[i * 3 + 2]);
         const dvec2 d1 = uv1 - uv0, d2 = uv2 - uv0;
-        const double det = cross2(d1, d2);
-        tri_det[i] = det;
-        const double scale =
-            (std::fabs(d1.x) + std::fabs(d2.x)) * (std::fabs(d1.y) + std::fabs(d2.y));
+        tri_det[i] = cross2(d1, d2);
         const dvec3 e1 = p1 - p0, e2 = p2 - p0;
-        if (det != 0.0 && std::fabs(det) > 1e-7 * scale) {
-            const dvec3 T = (e1 * d2.y - e2 * d1.y) / det;
-            const dvec3 B = (e2 * d1.x - e1 * d2.x) / det;
-            const double lt = glm::length(T), lb = glm::length(B);
-            if (std::isfinite(lt) && std::isfinite(lb) && lt > 0.0 && lb > 0.0) {
-                tri_t[i] = glm::vec3(T);
-                tri_b[i] = glm::vec3(B);
-                tri_quality[i] = float(std::fabs(det) / scale);
-                tri_kind[i] = kRealFrame;
-                continue;
-            }
+        if (dvec3 T, B; real_metric_frame(e1, e2, d1, d2, T, B, tri_quality[i])) {
+            tri_t[i] = glm::vec3(T);
+            tri_b[i] = glm::vec3(B);
+            tri_kind[i] = kRealFrame;
+            continue;
         }
         // A limit frame: UVs on a line (its longest UV edge gives the direction) or at a point.
         dvec2 longest = d1;
@@ -1679,7 +1702,7 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         }
         const double angles[3] = {corner_angle(p0, p1, p2), corner_angle(p1, p2, p0),
                                   corner_angle(p2, p0, p1)};
-        const float shape = tri_kind[i] == kLineFrame ? 1.0f : std::min(1.0f, tri_quality[i] / 0.05f);
+        const float shape = tri_kind[i] == kLineFrame ? 1.0f : frame_shape(tri_quality[i]);
         for (int k = 0; k < 3; ++k) {
             const uint32_t v = out.indices[i * 3 + size_t(k)];
             const float w = float(angles[k]) * shape;
@@ -1753,6 +1776,68 @@ PreparedMesh prepare_mesh(const RawMesh& raw, const MeshOptions& options, const 
         mv.bitangent = glm::vec3(B);
     }
     return out;
+}
+
+void place_mesh_frames(PreparedMesh& mesh, const glm::dmat3& linear)
+{
+    const glm::dmat3 gram = glm::transpose(linear) * linear;
+    const double scale = (gram[0][0] + gram[1][1] + gram[2][2]) / 3.0;
+    double off = 0.0;
+    for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r) off = std::max(off, std::abs(gram[c][r] - (c == r ? scale : 0.0)));
+    if (!(off > 1e-9 * scale)) return; // a similarity carries angles, normals and frames as they are
+    std::vector<MeshVertex>& vertices = mesh.vertices;
+    const uint32_t welds = welded_position_count(vertices);
+    std::vector<dvec3> nsum(welds, dvec3(0.0)), tsum(vertices.size(), dvec3(0.0)), bsum(vertices.size(), dvec3(0.0));
+    std::vector<double> nweight(welds, 0.0), fweight(vertices.size(), 0.0);
+    std::vector<uint8_t> keep_frame(vertices.size(), 0);
+    for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+        const uint32_t i[3] = {mesh.indices[t], mesh.indices[t + 1], mesh.indices[t + 2]};
+        const dvec3 a = linear * dvec3(vertices[i[0]].position), b = linear * dvec3(vertices[i[1]].position),
+                    c = linear * dvec3(vertices[i[2]].position);
+        const dvec3 cr = glm::cross(b - a, c - a);
+        const double len = glm::length(cr);
+        const double angles[3] = {corner_angle(a, b, c), corner_angle(b, c, a), corner_angle(c, a, b)};
+        if (normal_is_sound(a, b, c, len))
+            for (int k = 0; k < 3; ++k) {
+                nsum[vertices[i[k]].weld_id] += angles[k] * (cr / len);
+                nweight[vertices[i[k]].weld_id] += angles[k];
+            }
+        dvec3 T, B;
+        float quality = 0.0f;
+        if (!real_metric_frame(b - a, c - a, dvec2(vertices[i[1]].uv - vertices[i[0]].uv),
+                               dvec2(vertices[i[2]].uv - vertices[i[0]].uv), T, B, quality)) {
+            for (const uint32_t v : i) keep_frame[v] = 1;
+            continue;
+        }
+        for (int k = 0; k < 3; ++k) {
+            const double w = angles[k] * frame_shape(quality);
+            tsum[i[k]] += w * T;
+            bsum[i[k]] += w * B;
+            fweight[i[k]] += w;
+        }
+    }
+    const glm::dmat3 to_object_normal = glm::transpose(linear); // normal_matrix() of it gives the world's back
+    const glm::dmat3 to_object = glm::inverse(linear);
+    const glm::dmat3 to_world_normal = glm::transpose(to_object);
+    for (size_t k = 0; k < vertices.size(); ++k) {
+        MeshVertex& v = vertices[k];
+        const dvec3 sum = nsum[v.weld_id];
+        const double l = glm::length(sum);
+        // Of unit length in world space, not in the object's: interpolated in object space (the
+        // reference's tessellation), they then interpolate as the world's unit normals do.
+        const dvec3 world = to_world_normal * dvec3(v.normal);
+        const dvec3 n = l > 1e-6 * nweight[v.weld_id] ? sum / l : world / glm::length(world);
+        v.normal = glm::vec3(to_object_normal * n);
+        if (keep_frame[k] || !(fweight[k] > 0.0)) continue;
+        dvec3 T = tsum[k] / fweight[k], B = bsum[k] / fweight[k];
+        T -= n * glm::dot(n, T);
+        B -= n * glm::dot(n, B);
+        const double lt = glm::length(T), lb = glm::length(B);
+        if (!(lt > 0.0 && lb > 0.0 && std::isfinite(lt + lb) && glm::length(glm::cross(T / lt, B / lb)) > 1e-3)) continue;
+        v.tangent = glm::vec4(glm::vec3(to_object * T), v.tangent.w);
+        v.bitangent = glm::vec3(to_object * B);
+    }
 }
 
 } // namespace pr

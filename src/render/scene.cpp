@@ -96,99 +96,6 @@ void warn_if_uv_too_coarse(const SceneObject& obj, const std::string& mesh)
                                         : " (they repeat: take whole numbers off them in the file)"));
 }
 
-// The welded normals and tangent frames of the object as its transform shapes it, where that is
-// no similarity (a shear, a scale that differs by axis), as the mesh prepared with the transform
-// baked into its file has them (mesh_prepare.cpp), stored in object space so that the normal
-// matrix and the model matrix give them back (every use of a normal normalizes; such an object's
-// normals are of unit length in world space, not in its own). Carried by those
-// matrices, the file's own are not those: a shear changes the faces' normals and the angles that
-// weigh them, and the frames were made perpendicular to the file's normals. A cube's corner normal
-// turned more than 90° from a face beside it, so that the walk lost a triangle of that face
-// (IoU 0.74 against the reference; baked 0.997), and a milder shear drew a dark skirt along edges
-// (the cube under rows [1, 1.5, 0], [0, 1, 0.7], [0, 0, 2]: IoU 0.926, baked 0.9994); found by
-// exploratory sessions, fourteenth and fifty-third. Normals: each position's angle-weighted
-// normal of its faces in world space; a position whose faces cancel, or that only slivers touch,
-// keeps its own. Frames: each triangle's dP/du and dP/dv are the file's carried by the transform
-// (linear in the positions), averaged with the world's corner angles and made perpendicular to
-// the new normal; a vertex of a triangle without UV area (a limit frame), or whose average is no
-// usable frame, keeps its own. Called after a mirroring transform's triangles were turned, so
-// the triangles wind counter-clockwise seen from outside in world space.
-void frames_as_placed(SceneObject& obj)
-{
-    const glm::dmat3 linear(obj.transform);
-    const glm::dmat3 gram = glm::transpose(linear) * linear;
-    const double scale = (gram[0][0] + gram[1][1] + gram[2][2]) / 3.0;
-    double off = 0.0;
-    for (int c = 0; c < 3; ++c)
-        for (int r = 0; r < 3; ++r) off = std::max(off, std::abs(gram[c][r] - (c == r ? scale : 0.0)));
-    if (!(off > 1e-9 * scale)) return; // a similarity carries angles, normals and frames as they are
-    std::vector<MeshVertex>& vertices = obj.mesh.vertices;
-    const std::vector<std::uint32_t>& indices = obj.mesh.indices;
-    std::uint32_t welds = 0;
-    for (const MeshVertex& v : vertices) welds = std::max(welds, v.weld_id + 1);
-    std::vector<glm::dvec3> nsum(welds, glm::dvec3(0.0)), tsum(vertices.size(), glm::dvec3(0.0)),
-        bsum(vertices.size(), glm::dvec3(0.0));
-    std::vector<double> nweight(welds, 0.0), fweight(vertices.size(), 0.0);
-    std::vector<std::uint8_t> keep_frame(vertices.size(), 0);
-    const auto corner_angle = [](glm::dvec3 p, glm::dvec3 q, glm::dvec3 r) {
-        const glm::dvec3 u = q - p, v = r - p;
-        return std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v));
-    };
-    for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
-        const std::uint32_t i[3] = {indices[t], indices[t + 1], indices[t + 2]};
-        const glm::dvec3 p[3] = {glm::dvec3(vertices[i[0]].position), glm::dvec3(vertices[i[1]].position),
-                                 glm::dvec3(vertices[i[2]].position)};
-        const glm::dvec3 a = linear * p[0], b = linear * p[1], c = linear * p[2];
-        const glm::dvec3 cr = glm::cross(b - a, c - a);
-        const double len = glm::length(cr);
-        const double longest2 = std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
-        const double angles[3] = {corner_angle(a, b, c), corner_angle(b, c, a), corner_angle(c, a, b)};
-        if (len > 1e-7 * longest2) // (as mesh_prepare.cpp: rounding decides a sliver's normal)
-            for (int k = 0; k < 3; ++k) {
-                nsum[vertices[i[k]].weld_id] += angles[k] * (cr / len);
-                nweight[vertices[i[k]].weld_id] += angles[k];
-            }
-        // The triangle's frame, as mesh_prepare.cpp's per-triangle metric frames (real ones only).
-        const glm::dvec2 d1 = glm::dvec2(vertices[i[1]].uv - vertices[i[0]].uv),
-                         d2 = glm::dvec2(vertices[i[2]].uv - vertices[i[0]].uv);
-        const double det = d1.x * d2.y - d1.y * d2.x;
-        const double uv_box = (std::abs(d1.x) + std::abs(d2.x)) * (std::abs(d1.y) + std::abs(d2.y));
-        if (!(det != 0.0 && std::abs(det) > 1e-7 * uv_box)) {
-            for (const std::uint32_t v : i) keep_frame[v] = 1;
-            continue;
-        }
-        const glm::dvec3 e1 = b - a, e2 = c - a;
-        const glm::dvec3 T = (e1 * d2.y - e2 * d1.y) / det, B = (e2 * d1.x - e1 * d2.x) / det;
-        const double shape = std::min(1.0, std::abs(det) / uv_box / 0.05);
-        for (int k = 0; k < 3; ++k) {
-            tsum[i[k]] += angles[k] * shape * T;
-            bsum[i[k]] += angles[k] * shape * B;
-            fweight[i[k]] += angles[k] * shape;
-        }
-    }
-    const glm::dmat3 to_object_normal = glm::transpose(linear); // normal_matrix() of it gives the world's back
-    const glm::dmat3 to_object = glm::inverse(linear);
-    const glm::dmat3 to_world_normal = glm::transpose(to_object);
-    for (std::size_t k = 0; k < vertices.size(); ++k) {
-        MeshVertex& v = vertices[k];
-        const glm::dvec3 sum = nsum[v.weld_id];
-        const double l = glm::length(sum);
-        // Of unit length in world space, not in the object's: interpolated in object space (the
-        // reference's tessellation), they then interpolate as the world's unit normals do.
-        const glm::dvec3 world = to_world_normal * glm::dvec3(v.normal);
-        const glm::dvec3 n = l > 1e-6 * nweight[v.weld_id] ? sum / l : world / glm::length(world);
-        v.normal = glm::vec3(to_object_normal * n);
-        if (keep_frame[k] || !(fweight[k] > 0.0)) continue;
-        glm::dvec3 T = tsum[k] / fweight[k], B = bsum[k] / fweight[k];
-        T -= n * glm::dot(n, T);
-        B -= n * glm::dot(n, B);
-        const double lt = glm::length(T), lb = glm::length(B);
-        if (!(lt > 0.0 && lb > 0.0 && std::isfinite(lt + lb) && glm::length(glm::cross(T / lt, B / lb)) > 1e-3)) continue;
-        v.tangent = glm::vec4(glm::vec3(to_object * T), v.tangent.w);
-        v.bitangent = glm::vec3(to_object * B);
-    }
-}
-
 } // namespace
 
 Scene load_scene(const SceneSpec& spec)
@@ -266,7 +173,9 @@ Scene load_scene(const SceneSpec& spec)
         if (glm::determinant(glm::dmat3(o.transform)) < 0.0)
             for (std::size_t t = 0; t + 2 < obj.mesh.indices.size(); t += 3)
                 std::swap(obj.mesh.indices[t + 1], obj.mesh.indices[t + 2]);
-        frames_as_placed(obj);
+        // (Under a shear or an unequal scale: the mesh's normals and frames as placed, as the file
+        // with the transform baked into it gives them; a sheared cube lost a face's triangle.)
+        place_mesh_frames(obj.mesh, glm::dmat3(obj.transform));
         obj.midlevel = o.midlevel;
         obj.base_color = o.base_color;
 

@@ -324,7 +324,7 @@ pr_cli(compare_tight_shell_over_height_0 EXIT 0 JSON z.json
        ARGS compare --mesh ${M}/rock.obj --height builtin:const:0 --depth 1e-3 --size 256x192
             --techniques prism,prism:max-mip --json z.json)
 # A shearing transform: the welded normals and tangent frames of the object as placed, as the
-# mesh with the shear baked into its file has them (scene.cpp, frames_as_placed). Carried by the
+# mesh with the shear baked into its file has them (mesh_prepare.cpp, place_mesh_frames). Carried by the
 # normal matrix, the cube's corner normal turned more than 90 degrees from a face beside it and
 # the walk lost a triangle of that face (IoU 0.745, PSNR 18.7; baked 0.997 and 30.1; found by
 # exploratory sessions, fourteenth and fifty-third).
