@@ -205,7 +205,8 @@ void check_destination(const fs::path& path, const fs::path& target)
     // What is said of the file replaced: "is a folder", or "links to real/t.png, which is a folder".
     const std::string it = target == path ? "" : "links to " + target.string() + ", which ";
     struct stat st;
-    if (::lstat(target.c_str(), &st) == 0) {
+    const bool replaces = ::lstat(target.c_str(), &st) == 0; // (past the checks below: a regular file, in st)
+    if (replaces) {
         if (S_ISLNK(st.st_mode)) {
             if (!may_follow(target, st))
                 throw Error(subject, it + "is another user's symbolic link in " + folder_of(target).string() +
@@ -233,7 +234,7 @@ void check_destination(const fs::path& path, const fs::path& target)
     // The file standard output or standard error goes to, under its own name (`--json run.log >>
     // run.log 2>&1`): replaced the same way, it kept only the report, and what the run printed went
     // to the old, unlinked file (found by an exploratory session, fifty-third).
-    if (::stat(target.c_str(), &st) == 0 && S_ISREG(st.st_mode))
+    if (replaces)
         for (const auto& [fd, name] : {std::pair{1, "standard output"}, std::pair{2, "standard error"}}) {
             struct stat open_file;
             if (::fstat(fd, &open_file) == 0 && open_file.st_dev == st.st_dev && open_file.st_ino == st.st_ino)
