@@ -120,6 +120,13 @@ inline std::string listed_text(const std::vector<std::string>& items)
 // More objects than this are summed up in the reference's lines (their levels are in the JSON).
 constexpr std::size_t kObjectsListed = 6;
 
+// "level 3", or "levels 3 to 6": the range of `levels` (not empty).
+inline std::string level_range_text(const std::vector<int>& levels)
+{
+    const auto [lo, hi] = std::minmax_element(levels.begin(), levels.end());
+    return *lo == *hi ? "level " + std::to_string(*lo) : "levels " + std::to_string(*lo) + " to " + std::to_string(*hi);
+}
+
 // "level 4", or with objects at different levels "levels 5 and 6" (each object's, in order), and
 // past kObjectsListed objects "levels 3 to 10 over 50 objects" (a scene of 50 listed 50 levels;
 // found by an exploratory session, fifty-third).
@@ -127,11 +134,8 @@ inline std::string reference_levels_text(const Renderer::ReferenceStats& stats)
 {
     const bool same = std::all_of(stats.levels.begin(), stats.levels.end(), [&](int l) { return l == stats.level; });
     if (same) return "level " + std::to_string(stats.level);
-    if (stats.levels.size() > kObjectsListed) {
-        const auto [lo, hi] = std::minmax_element(stats.levels.begin(), stats.levels.end());
-        return "levels " + std::to_string(*lo) + " to " + std::to_string(*hi) + " over " +
-               std::to_string(stats.levels.size()) + " objects";
-    }
+    if (stats.levels.size() > kObjectsListed)
+        return level_range_text(stats.levels) + " over " + std::to_string(stats.levels.size()) + " objects";
     std::vector<std::string> levels;
     for (int l : stats.levels) levels.push_back(std::to_string(l));
     return "levels " + listed_text(levels);
@@ -144,16 +148,14 @@ inline std::string reference_capped_text(const Renderer::ReferenceStats& stats)
 {
     if (stats.levels.size() <= 1) return "level " + std::to_string(stats.level);
     std::vector<std::string> capped;
-    int lo = 0, hi = 0;
+    std::vector<int> levels;
     for (std::size_t k = 0; k < stats.levels.size() && k < stats.capped_objects.size(); ++k)
         if (stats.capped_objects[k]) {
-            lo = capped.empty() ? stats.levels[k] : std::min(lo, stats.levels[k]);
-            hi = capped.empty() ? stats.levels[k] : std::max(hi, stats.levels[k]);
             capped.push_back("object " + std::to_string(k) + " at level " + std::to_string(stats.levels[k]));
+            levels.push_back(stats.levels[k]);
         }
     if (capped.size() > kObjectsListed) // ("12 objects at levels 3 to 5", "8 objects at level 1")
-        return std::to_string(capped.size()) + " objects at " +
-               (lo == hi ? "level " + std::to_string(lo) : "levels " + std::to_string(lo) + " to " + std::to_string(hi));
+        return std::to_string(capped.size()) + " objects at " + level_range_text(levels);
     return listed_text(capped);
 }
 
